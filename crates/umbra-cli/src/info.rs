@@ -1,0 +1,63 @@
+//! `umbra info`: mesh statistics that matter for shadow volumes.
+
+use serde::Serialize;
+use umbra_geom::adjacency::EdgeAdjacency;
+use umbra_geom::silhouette::silhouette_stats;
+use umbra_geom::weld::weld;
+
+use crate::args::InfoArgs;
+use crate::config::{load_scene, parse_light, CliError};
+
+/// The JSON keys are a contract (`umbra info --json`).
+#[derive(Serialize, Debug, PartialEq)]
+pub struct InfoReport {
+    /// After triangulation, before dropping degenerate ones.
+    pub triangles: usize,
+    /// After welding.
+    pub vertices: usize,
+    pub degenerate_triangles: usize,
+    pub edges: usize,
+    pub open_edges: usize,
+    pub nonmanifold_edges: usize,
+    pub max_opposites: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub silhouette_edges: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub multiplicity_sum: Option<u64>,
+}
+
+pub fn run(a: &InfoArgs) -> Result<(), CliError> {
+    let light = a.light.as_deref().map(parse_light).transpose()?;
+    let mesh = load_scene(&a.scene, a.ground, a.max_input_bytes)?;
+    let welded = weld(&mesh);
+    let adj = EdgeAdjacency::build(&welded);
+    let silhouette = light.map(|l| silhouette_stats(&welded, &adj, l));
+    let report = InfoReport {
+        triangles: mesh.triangles.len(),
+        vertices: welded.positions.len(),
+        degenerate_triangles: welded.degenerate_triangles,
+        edges: adj.len(),
+        open_edges: adj.open_edges(),
+        nonmanifold_edges: adj.nonmanifold_edges(),
+        max_opposites: adj.max_opposites(),
+        silhouette_edges: silhouette.map(|s| s.0),
+        multiplicity_sum: silhouette.map(|s| s.1),
+    };
+    if a.json {
+        println!("{}", serde_json::to_string(&report).map_err(|e| CliError::Other(e.to_string()))?);
+    } else {
+        println!("scene                 {}", a.scene);
+        println!("triangles             {}", report.triangles);
+        println!("vertices (welded)     {}", report.vertices);
+        println!("degenerate triangles  {}", report.degenerate_triangles);
+        println!("edges                 {}", report.edges);
+        println!("open edges            {}", report.open_edges);
+        println!("non-manifold edges    {}", report.nonmanifold_edges);
+        println!("max opposite vertices {}", report.max_opposites);
+        if let (Some(e), Some(s)) = (report.silhouette_edges, report.multiplicity_sum) {
+            println!("silhouette edges      {e}");
+            println!("sum of |multiplicity| {s}");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,105 @@
+//! Typed loader errors. Every variant's `Display` names the file and where in it the
+//! problem is: a 1-based line for text formats, a byte offset for binary ones, a JSON
+//! path (`accessors[3]`) for glTF documents.
+
+use std::fmt;
+
+/// Where in a file an error was found.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// 1-based line number of a text file.
+    Line(u64),
+    /// 0-based byte offset into the (decompressed) file.
+    Byte(u64),
+    /// A position inside a glTF JSON document, e.g. `accessors[3].count`.
+    Json(String),
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Line(l) => write!(f, "line {l}"),
+            Location::Byte(b) => write!(f, "byte offset {b}"),
+            Location::Json(p) => write!(f, "{p}"),
+        }
+    }
+}
+
+/// Why a file could not be loaded. `file` is the name the caller gave (a path or the
+/// `name_for_errors` of [`crate::load::load_bytes`]).
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be opened or read.
+    #[error("{file}: cannot read file (byte offset 0): {source}")]
+    Io {
+        file: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The extension names no supported format.
+    #[error("{file}: unknown mesh format {extension:?} (byte offset 0); supported: .obj .ply .stl .gltf .glb, optionally .gz")]
+    UnknownFormat { file: String, extension: String },
+    /// The gzip stream is corrupt.
+    #[error("{file}: gzip decompression failed at decompressed byte offset {offset}: {message}")]
+    Decompress { file: String, offset: u64, message: String },
+    /// The (decompressed) input is larger than `LoadOptions::max_input_bytes`.
+    #[error("{file}: input exceeds the limit of {limit} bytes (at byte offset {limit}); raise LoadOptions::max_input_bytes to load it")]
+    InputTooLarge { file: String, limit: u64 },
+    /// The file ends before the data its header or syntax promises.
+    #[error("{file}: {location}: file truncated: {what}")]
+    Truncated { file: String, location: Location, what: String },
+    /// A vertex index refers to a vertex that does not exist.
+    #[error("{file}: {location}: vertex index {index} out of range (the file has {count} vertices)")]
+    IndexOutOfRange { file: String, location: Location, index: i64, count: u64 },
+    /// A coordinate is NaN or infinite.
+    #[error("{file}: {location}: coordinate is not finite ({value})")]
+    NonFinite { file: String, location: Location, value: String },
+    /// A number or token could not be parsed, or a structure is invalid.
+    #[error("{file}: {location}: {message}")]
+    Malformed { file: String, location: Location, message: String },
+    /// A header claims more elements than the rest of the file can possibly hold
+    /// (checked before allocating anything for them).
+    #[error("{file}: {location}: header claims {claimed} {what} but only {available} bytes remain, enough for at most {max_possible}")]
+    TooManyElements {
+        file: String,
+        location: Location,
+        what: String,
+        claimed: u64,
+        available: u64,
+        max_possible: u64,
+    },
+    /// The file uses a feature this loader does not implement (e.g. a required glTF extension).
+    #[error("{file}: {location}: unsupported: {what}")]
+    Unsupported { file: String, location: Location, what: String },
+}
+
+impl LoadError {
+    /// The file name the error refers to.
+    pub fn file(&self) -> &str {
+        match self {
+            LoadError::Io { file, .. }
+            | LoadError::UnknownFormat { file, .. }
+            | LoadError::Decompress { file, .. }
+            | LoadError::InputTooLarge { file, .. }
+            | LoadError::Truncated { file, .. }
+            | LoadError::IndexOutOfRange { file, .. }
+            | LoadError::NonFinite { file, .. }
+            | LoadError::Malformed { file, .. }
+            | LoadError::TooManyElements { file, .. }
+            | LoadError::Unsupported { file, .. } => file,
+        }
+    }
+
+    /// Where in the file, when the error has a precise location.
+    pub fn location(&self) -> Option<&Location> {
+        match self {
+            LoadError::Truncated { location, .. }
+            | LoadError::IndexOutOfRange { location, .. }
+            | LoadError::NonFinite { location, .. }
+            | LoadError::Malformed { location, .. }
+            | LoadError::TooManyElements { location, .. }
+            | LoadError::Unsupported { location, .. } => Some(location),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,64 @@
+//! The indexed triangle mesh every loader and procedural generator yields.
+
+/// Positions, triangles (indices into `positions`) and optional per-vertex normals.
+///
+/// A mesh straight from a loader is a *soup*: vertices may be duplicated, triangles may be
+/// degenerate, edges open or shared by any number of triangles. That is normal input.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<[f32; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Per-vertex normals, same length as `positions`, when the file had them.
+    pub normals: Option<Vec<[f32; 3]>>,
+}
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+}
+
+impl Aabb {
+    pub fn center(&self) -> [f32; 3] {
+        [0, 1, 2].map(|i| 0.5 * (self.min[i] + self.max[i]))
+    }
+    pub fn extent(&self) -> [f32; 3] {
+        [0, 1, 2].map(|i| self.max[i] - self.min[i])
+    }
+    /// Length of the diagonal.
+    pub fn diagonal(&self) -> f32 {
+        let e = self.extent();
+        (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt()
+    }
+}
+
+impl Mesh {
+    /// Bounds of the vertices referenced by triangles; `None` for a mesh without triangles.
+    pub fn bounds(&self) -> Option<Aabb> {
+        let mut it = self.triangles.iter().flatten().map(|&i| self.positions[i as usize]);
+        let first = it.next()?;
+        let mut b = Aabb { min: first, max: first };
+        for p in it {
+            for k in 0..3 {
+                b.min[k] = b.min[k].min(p[k]);
+                b.max[k] = b.max[k].max(p[k]);
+            }
+        }
+        Some(b)
+    }
+
+    /// Appends `other`, offsetting its indices. Normals are kept only if both meshes have them.
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        let keep_normals = (self.normals.is_some() || self.positions.is_empty()) && other.normals.is_some();
+        match (&mut self.normals, &other.normals) {
+            (Some(n), Some(on)) if keep_normals => n.extend_from_slice(on),
+            (None, Some(on)) if keep_normals => self.normals = Some(on.clone()),
+            _ => self.normals = None,
+        }
+        self.positions.extend_from_slice(&other.positions);
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
+    }
+}

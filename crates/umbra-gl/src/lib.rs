@@ -1,0 +1,47 @@
+//! umbra-gl: exact per-sample stencil shadow volumes for triangle soups on OpenGL 4.5 core.
+//!
+//! * [`context`]: headless GL 4.5 core / GLES 3 context through EGL loaded at run time
+//!   (Mesa surfaceless platform, EGL device platform fallback), KHR_debug error capture.
+//! * [`extra`]: entry points glow 0.18 lacks (glClipControl, multi-draw indirect).
+//! * [`state`]: [`GlState`], the full fixed-function state of one draw, applied explicitly.
+//! * [`camera`]: look-at + infinite-far perspective (Everitt & Kilgard 2002).
+//! * [`scene`]: [`SceneGpu`], a welded mesh uploaded once.
+//! * [`target`]: [`RenderTarget`] and readback helpers (top row first).
+//! * [`renderer`]: the frame: depth + ambient, per light stencil volumes + additive lighting.
+//! * [`methods`]: [`ShadowMethod`] trait, registry ([`method_names`], [`create_method`]),
+//!   `none` and `cpu-silhouette`.
+//! * [`timing`]: glQueryCounter(GL_TIMESTAMP) stage timing.
+//! * [`image`]: top-row-first images and PNG output.
+//!
+//! `unsafe` is confined to this crate; every block carries a SAFETY comment.
+
+pub mod camera;
+pub mod context;
+pub mod error;
+pub mod extra;
+pub mod image;
+pub mod methods;
+pub mod program;
+pub mod renderer;
+mod saved;
+pub mod scene;
+pub mod state;
+pub mod target;
+pub mod timing;
+
+pub use camera::Camera;
+pub use context::{ContextError, ContextOptions, GlApi, HeadlessContext};
+pub use error::{GlError, GlErrorLog};
+pub use extra::GlExtra;
+pub use image::{Image, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+pub use methods::{
+    create_method, method_names, Classification, ShadowMethod, StageHook, StageMark, UnknownMethod, VolumeFrame,
+};
+pub use renderer::{CaptureFlags, FrameImages, FrameParams, FrameTarget, Renderer, StencilCapture, StencilMask};
+pub use scene::{SceneGpu, SceneId};
+pub use state::{BlendState, GlState, StencilFace};
+pub use target::{read_rgba8, read_stencil, Attachments, RenderTarget, NO_TRIANGLE};
+pub use timing::{StageTiming, TimestampHook};
+
+pub use glam;
+pub use glow;

@@ -1,0 +1,158 @@
+//! Shadow methods behind one trait, and their registry.
+//!
+//! A method turns (scene, light, camera) into a per-pixel "shadowed" classification that the
+//! lighting pass reads. Counting methods (stencil shadow volumes, z-fail or z-pass) draw
+//! volumes into a stencil cleared to 0 and use [`Classification::StencilZero`]; a method with
+//! its own stencil scheme (paper 002: INVERT / INCR with masks) describes its test with
+//! [`Classification::StencilTest`]; a method that does not use the stencil at all (shadow
+//! maps) supplies a GLSL function with [`Classification::Shader`].
+//!
+//! Frame protocol, per light, as run by [`crate::Renderer`]:
+//! 1. the stencil is cleared to 0 (write mask 0xFF);
+//! 2. [`ShadowMethod::draw_volumes`] — the method applies its own [`crate::GlState`] for every
+//!    draw (for counting methods [`crate::GlState::shadow_volume`]), may bind its own
+//!    programs, vertex arrays, buffers, and even other framebuffers/viewports (shadow maps);
+//!    the renderer re-binds its target, program and vertex array afterwards;
+//! 3. the lighting pass, restricted by [`ShadowMethod::classification`].
+//!
+//! Stage boundaries are reported through [`VolumeFrame::mark`] so a benchmark can time them
+//! ([`crate::TimestampHook`]).
+
+use glam::DMat4;
+use umbra_geom::Light;
+
+use crate::error::GlError;
+use crate::scene::{SceneGpu, SceneId};
+
+pub mod cpu_silhouette;
+pub mod none;
+
+/// How the lighting pass decides that a pixel is lit for the current light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Classification {
+    /// Lit where the stencil is 0 (counting methods; glStencilFunc(EQUAL, 0, 0xFF)).
+    StencilZero,
+    /// Lit where `glStencilFunc(func, reference, value_mask)` passes.
+    StencilTest { func: u32, reference: i32, value_mask: u32 },
+    /// Lit where the method's GLSL `bool umbra_lit(vec3 world_pos)` returns true
+    /// ([`ShadowMethod::lighting_glsl`]); resources bound in [`ShadowMethod::bind_lighting`].
+    Shader,
+}
+
+/// Label and light of a stage boundary: "stage `label` starts here".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StageMark {
+    /// Name of the method (or "renderer" for the renderer's own passes).
+    pub source: &'static str,
+    pub label: &'static str,
+    /// Light index, `None` for per-frame stages.
+    pub light: Option<usize>,
+}
+
+/// Receives stage boundaries (e.g. to issue glQueryCounter(GL_TIMESTAMP)).
+pub trait StageHook {
+    fn mark(&mut self, gl: &glow::Context, mark: StageMark);
+}
+
+/// What a method gets for one light of one frame.
+pub struct VolumeFrame<'a> {
+    /// Camera clip space from world space, infinite far plane (f64; upload as f32).
+    pub clip_from_world: DMat4,
+    /// Eye position in world space.
+    pub eye: [f64; 3],
+    /// The light (w = 1 point, w = 0 directional).
+    pub light: Light,
+    pub light_index: usize,
+    /// z-pass counting instead of z-fail (no caps needed).
+    pub zpass: bool,
+    /// Size of the render target in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// The framebuffer the frame renders into (None = default framebuffer): a method that
+    /// renders elsewhere (shadow maps) must bind this one back before drawing to the stencil.
+    pub target_framebuffer: Option<glow::Framebuffer>,
+    pub(crate) source: &'static str,
+    pub(crate) hook: Option<&'a mut dyn StageHook>,
+}
+
+impl VolumeFrame<'_> {
+    /// Reports that stage `label` of this method starts now (no-op without a hook).
+    pub fn mark(&mut self, gl: &glow::Context, label: &'static str) {
+        let mark = StageMark { source: self.source, label, light: Some(self.light_index) };
+        if let Some(h) = self.hook.as_deref_mut() {
+            h.mark(gl, mark);
+        }
+    }
+
+    /// `clip_from_world` as column-major f32 for glUniformMatrix4fv.
+    pub fn clip_from_world_f32(&self) -> [f32; 16] {
+        crate::camera::to_f32_cols(&self.clip_from_world)
+    }
+}
+
+/// One way of classifying pixels as shadowed for one light.
+///
+/// GL objects are created in [`ShadowMethod::prepare`] (the constructor touches no GL, so the
+/// registry can build a method before a context exists) and freed in
+/// [`ShadowMethod::destroy`].
+pub trait ShadowMethod {
+    /// Registry name (e.g. "cpu-silhouette").
+    fn name(&self) -> &'static str;
+
+    /// Stage labels this method reports through [`VolumeFrame::mark`], in order.
+    fn stages(&self) -> &'static [&'static str];
+
+    /// Once per mesh: preprocessing (adjacency, GPU buffers, programs). The renderer calls it
+    /// whenever [`ShadowMethod::prepared_scene`] differs from the scene being drawn.
+    fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError>;
+
+    /// The scene the last successful `prepare` was for.
+    fn prepared_scene(&self) -> Option<SceneId>;
+
+    /// Marks the stencil (or its own resources) for one light; see the module doc.
+    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError>;
+
+    /// How the lighting pass tests "lit".
+    fn classification(&self) -> Classification {
+        Classification::StencilZero
+    }
+
+    /// For [`Classification::Shader`]: GLSL 4.50 source (no `#version`) defining
+    /// `bool umbra_lit(vec3 world_pos)`; appended to the lighting fragment shader.
+    fn lighting_glsl(&self) -> Option<&'static str> {
+        None
+    }
+
+    /// For [`Classification::Shader`]: binds what `umbra_lit` reads (uniforms on `program`,
+    /// which is current, textures, buffers) before the lighting draw.
+    fn bind_lighting(&mut self, _gl: &glow::Context, _program: glow::Program, _frame: &VolumeFrame<'_>) -> Result<(), GlError> {
+        Ok(())
+    }
+
+    /// Bytes of GPU memory the method holds (buffers, textures).
+    fn gpu_bytes(&self) -> usize;
+
+    /// Frees the GL objects (context current); the method can be prepared again afterwards.
+    fn destroy(&mut self, gl: &glow::Context);
+}
+
+/// A method name the registry does not know.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown shadow method {name:?}; known methods: {}", method_names().join(", "))]
+pub struct UnknownMethod {
+    pub name: String,
+}
+
+/// Every registered method, in a stable order.
+pub fn method_names() -> &'static [&'static str] {
+    &[none::NAME, cpu_silhouette::NAME]
+}
+
+/// Builds a method by registry name (no GL calls; see [`ShadowMethod::prepare`]).
+pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod> {
+    match name {
+        none::NAME => Ok(Box::new(none::NoShadows::new())),
+        cpu_silhouette::NAME => Ok(Box::new(cpu_silhouette::CpuSilhouette::new())),
+        _ => Err(UnknownMethod { name: name.to_string() }),
+    }
+}

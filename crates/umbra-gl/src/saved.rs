@@ -1,0 +1,100 @@
+//! Saving and restoring the caller's GL state around a frame (library-first: the renderer
+//! may run on somebody else's context).
+//!
+//! Restored exactly: every [`GlState`] field, the current program, vertex array, draw and
+//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, the generic and indexed
+//! (binding 0) SHADER_STORAGE_BUFFER bindings.
+
+use std::num::NonZeroU32;
+
+use glow::HasContext;
+
+use crate::scene::NORMALS_BINDING;
+use crate::state::GlState;
+
+pub(crate) fn buffer(name: u32) -> Option<glow::Buffer> {
+    NonZeroU32::new(name).map(glow::NativeBuffer)
+}
+pub(crate) fn framebuffer(name: u32) -> Option<glow::Framebuffer> {
+    NonZeroU32::new(name).map(glow::NativeFramebuffer)
+}
+fn program(name: u32) -> Option<glow::Program> {
+    NonZeroU32::new(name).map(glow::NativeProgram)
+}
+fn vertex_array(name: u32) -> Option<glow::VertexArray> {
+    NonZeroU32::new(name).map(glow::NativeVertexArray)
+}
+
+/// Everything the renderer changes on the context, as it was before.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SavedState {
+    state: GlState,
+    program: u32,
+    vertex_array: u32,
+    draw_framebuffer: u32,
+    read_framebuffer: u32,
+    viewport: [i32; 4],
+    scissor_test: bool,
+    rasterizer_discard: bool,
+    ssbo_generic: u32,
+    ssbo_indexed: u32,
+    ssbo_offset: i64,
+    ssbo_size: i64,
+}
+
+impl SavedState {
+    pub(crate) fn capture(gl: &glow::Context) -> Self {
+        // SAFETY: glGet* queries of core state on the current context.
+        unsafe {
+            let mut viewport = [0; 4];
+            gl.get_parameter_i32_slice(glow::VIEWPORT, &mut viewport);
+            Self {
+                state: GlState::capture(gl),
+                program: gl.get_parameter_i32(glow::CURRENT_PROGRAM) as u32,
+                vertex_array: gl.get_parameter_i32(glow::VERTEX_ARRAY_BINDING) as u32,
+                draw_framebuffer: gl.get_parameter_i32(glow::DRAW_FRAMEBUFFER_BINDING) as u32,
+                read_framebuffer: gl.get_parameter_i32(glow::READ_FRAMEBUFFER_BINDING) as u32,
+                viewport,
+                scissor_test: gl.is_enabled(glow::SCISSOR_TEST),
+                rasterizer_discard: gl.is_enabled(glow::RASTERIZER_DISCARD),
+                ssbo_generic: gl.get_parameter_i32(glow::SHADER_STORAGE_BUFFER_BINDING) as u32,
+                ssbo_indexed: gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, NORMALS_BINDING) as u32,
+                ssbo_offset: gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, NORMALS_BINDING),
+                ssbo_size: gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, NORMALS_BINDING),
+            }
+        }
+    }
+
+    pub(crate) fn restore(&self, gl: &glow::Context) {
+        self.state.apply(gl);
+        // SAFETY: re-binding names that were bound before (still alive: the renderer deletes
+        // none of the caller's objects).
+        unsafe {
+            gl.use_program(program(self.program));
+            gl.bind_vertex_array(vertex_array(self.vertex_array));
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, framebuffer(self.draw_framebuffer));
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, framebuffer(self.read_framebuffer));
+            let [x, y, w, h] = self.viewport;
+            gl.viewport(x, y, w, h);
+            for (cap, on) in [(glow::SCISSOR_TEST, self.scissor_test), (glow::RASTERIZER_DISCARD, self.rasterizer_discard)] {
+                if on {
+                    gl.enable(cap)
+                } else {
+                    gl.disable(cap)
+                }
+            }
+            match buffer(self.ssbo_indexed) {
+                // A range binding with size 0 means the whole buffer was bound (glBindBufferBase).
+                Some(b) if self.ssbo_size > 0 => gl.bind_buffer_range(
+                    glow::SHADER_STORAGE_BUFFER,
+                    NORMALS_BINDING,
+                    Some(b),
+                    self.ssbo_offset as i32,
+                    self.ssbo_size as i32,
+                ),
+                other => gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, other),
+            }
+            gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, buffer(self.ssbo_generic));
+        }
+    }
+}

@@ -1,0 +1,206 @@
+//! A welded mesh uploaded once: positions (vertex buffer), triangles (index buffer) and one
+//! flat normal per triangle (shader storage buffer indexed by `gl_PrimitiveID`).
+//!
+//! Drawn with ONE `glDrawElements(GL_TRIANGLES)` over all triangles in order, so
+//! `gl_PrimitiveID` == index into `WeldedMesh::triangles` (the triangle id the renderer
+//! writes to the id attachment and the ray-traced oracle receives).
+//!
+//! GL state touched: none besides creating objects (direct state access, no bindings change).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, OnceLock};
+
+use glow::HasContext;
+use umbra_geom::{Aabb, EdgeAdjacency, WeldedMesh};
+
+use crate::error::GlError;
+
+/// Identifies one uploaded scene (unique per process), so a method knows whether it has
+/// prepared for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SceneId(u64);
+
+/// Shader-storage binding point of the per-triangle normals (`vec4 normals[]`, xyz used).
+pub const NORMALS_BINDING: u32 = 0;
+/// Vertex attribute location of the position (`vec3`).
+pub const POSITION_LOCATION: u32 = 0;
+
+/// GPU copy of a [`WeldedMesh`]. Delete with [`SceneGpu::destroy`] while its context is
+/// current (dropping without it leaks the GL objects until the context dies).
+pub struct SceneGpu {
+    id: SceneId,
+    mesh: Arc<WeldedMesh>,
+    adjacency: OnceLock<Arc<EdgeAdjacency>>,
+    bounds: Option<Aabb>,
+    vao: glow::VertexArray,
+    positions: glow::Buffer,
+    indices: glow::Buffer,
+    normals: glow::Buffer,
+    gpu_bytes: usize,
+}
+
+/// Unit normal of triangle `t` (counter-clockwise = front), computed in f64; zero for a
+/// zero-area triangle.
+pub fn flat_normal(p: &[[f32; 3]], t: [u32; 3]) -> [f32; 3] {
+    let [a, b, c] = t.map(|i| p[i as usize].map(f64::from));
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len > 0.0 && len.is_finite() {
+        n.map(|x| (x / len) as f32)
+    } else {
+        [0.0; 3]
+    }
+}
+
+fn as_bytes<T: Copy>(v: &[T]) -> &[u8] {
+    // SAFETY: T is a plain array of f32/u32 (no padding, every bit pattern valid as bytes);
+    // the slice covers exactly size_of_val(v) initialised bytes.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
+}
+
+pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlError> {
+    i32::try_from(bytes).map_err(|_| GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)")))
+}
+
+/// Bounds of the vertices the triangles use; `None` without triangles.
+fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
+    let mut it = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]);
+    let first = it.next()?;
+    Some(it.fold(Aabb { min: first, max: first }, |mut b, p| {
+        for k in 0..3 {
+            b.min[k] = b.min[k].min(p[k]);
+            b.max[k] = b.max[k].max(p[k]);
+        }
+        b
+    }))
+}
+
+impl SceneGpu {
+    /// Uploads `mesh` (positions, indices, flat normals). Static data: `STATIC_DRAW`.
+    pub fn upload(gl: &glow::Context, mesh: Arc<WeldedMesh>) -> Result<Self, GlError> {
+        static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+        if let Some(bad) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= mesh.positions.len()) {
+            return Err(GlError::InvalidParams(format!(
+                "triangle index {bad} out of range for {} positions",
+                mesh.positions.len()
+            )));
+        }
+        let index_count = mesh.triangles.len() * 3;
+        if i32::try_from(index_count).is_err() {
+            return Err(GlError::InvalidParams(format!("{} triangles exceed one glDrawElements call", mesh.triangles.len())));
+        }
+        let normals: Vec<[f32; 4]> = mesh
+            .triangles
+            .iter()
+            .map(|&t| {
+                let n = flat_normal(&mesh.positions, t);
+                [n[0], n[1], n[2], 0.0]
+            })
+            .collect();
+        let pos_bytes = as_bytes(&mesh.positions);
+        let idx_bytes = as_bytes(&mesh.triangles);
+        let nrm_bytes = as_bytes(&normals);
+        for (b, what) in [(pos_bytes, "position buffer"), (idx_bytes, "index buffer"), (nrm_bytes, "normal buffer")] {
+            checked_size(b.len(), what)?;
+        }
+        let bounds = triangle_bounds(&mesh);
+        // SAFETY: DSA object creation and uploads on the current context; slices outlive the calls.
+        unsafe {
+            let create = |what| gl.create_named_buffer().map_err(|detail| GlError::Create { what, detail });
+            let positions = create("position buffer")?;
+            let indices = create("index buffer")?;
+            let normals_buf = create("normal buffer")?;
+            // An empty mesh still gets (empty) buffers so every draw path stays uniform;
+            // glNamedBufferData with size 0 is legal.
+            gl.named_buffer_data_u8_slice(positions, pos_bytes, glow::STATIC_DRAW);
+            gl.named_buffer_data_u8_slice(indices, idx_bytes, glow::STATIC_DRAW);
+            gl.named_buffer_data_u8_slice(normals_buf, nrm_bytes, glow::STATIC_DRAW);
+            let vao = gl
+                .create_named_vertex_array()
+                .map_err(|detail| GlError::Create { what: "vertex array", detail })?;
+            gl.vertex_array_vertex_buffer(vao, 0, Some(positions), 0, 12);
+            gl.vertex_array_attrib_format_f32(vao, POSITION_LOCATION, 3, glow::FLOAT, false, 0);
+            gl.vertex_array_attrib_binding_f32(vao, POSITION_LOCATION, 0);
+            gl.enable_vertex_array_attrib(vao, POSITION_LOCATION);
+            gl.vertex_array_element_buffer(vao, Some(indices));
+            Ok(Self {
+                id: SceneId(NEXT_ID.fetch_add(1, Ordering::Relaxed)),
+                gpu_bytes: pos_bytes.len() + idx_bytes.len() + nrm_bytes.len(),
+                mesh,
+                adjacency: OnceLock::new(),
+                bounds,
+                vao,
+                positions,
+                indices,
+                normals: normals_buf,
+            })
+        }
+    }
+
+    pub fn id(&self) -> SceneId {
+        self.id
+    }
+
+    /// The CPU mesh (shared, e.g. with the oracle).
+    pub fn mesh(&self) -> &Arc<WeldedMesh> {
+        &self.mesh
+    }
+
+    /// Edge adjacency, built on first use (once per mesh) and shared by every method.
+    pub fn adjacency(&self) -> &Arc<EdgeAdjacency> {
+        self.adjacency.get_or_init(|| Arc::new(EdgeAdjacency::build(&self.mesh)))
+    }
+
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.bounds
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.mesh.triangles.len()
+    }
+
+    /// VAO with the position attribute at location 0 and the index buffer.
+    pub fn vertex_array(&self) -> glow::VertexArray {
+        self.vao
+    }
+
+    /// `vec3` positions, tightly packed (12-byte stride).
+    pub fn position_buffer(&self) -> glow::Buffer {
+        self.positions
+    }
+
+    /// `uvec3` triangles.
+    pub fn index_buffer(&self) -> glow::Buffer {
+        self.indices
+    }
+
+    /// `vec4` per-triangle unit normals (w = 0).
+    pub fn normal_buffer(&self) -> glow::Buffer {
+        self.normals
+    }
+
+    /// Bytes of GPU buffers owned by the scene.
+    pub fn gpu_bytes(&self) -> usize {
+        self.gpu_bytes
+    }
+
+    /// Issues the single indexed draw of all triangles (VAO must be bound by the caller).
+    pub(crate) fn draw_triangles(&self, gl: &glow::Context) {
+        // SAFETY: the scene VAO is bound (caller), its element buffer holds exactly
+        // 3 * triangle_count u32 indices, all checked < positions.len() at upload.
+        unsafe { gl.draw_elements(glow::TRIANGLES, (self.mesh.triangles.len() * 3) as i32, glow::UNSIGNED_INT, 0) };
+    }
+
+    /// Deletes the GL objects (context must be current).
+    pub fn destroy(self, gl: &glow::Context) {
+        // SAFETY: objects created by this scene on this context, not used afterwards.
+        unsafe {
+            gl.delete_vertex_array(self.vao);
+            gl.delete_buffer(self.positions);
+            gl.delete_buffer(self.indices);
+            gl.delete_buffer(self.normals);
+        }
+    }
+}

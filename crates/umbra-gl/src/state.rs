@@ -1,0 +1,267 @@
+//! Fixed-function GL state as one small `Copy` value, applied in full before every draw
+//! (the approach of asny/three-d): no draw depends on state another draw left lying around.
+//!
+//! What [`GlState::apply`] sets (and [`GlState::capture`] reads back, so a caller's state can
+//! be restored): DEPTH_TEST, glDepthFunc, glDepthMask, DEPTH_CLAMP, STENCIL_TEST,
+//! glStencilFuncSeparate / glStencilMaskSeparate / glStencilOpSeparate for FRONT and BACK,
+//! glColorMask (all draw buffers), CULL_FACE, glCullFace, glFrontFace, BLEND,
+//! glBlendFuncSeparate, glBlendEquationSeparate (all draw buffers), POLYGON_OFFSET_FILL and
+//! glPolygonOffset. Nothing else.
+
+use glow::HasContext;
+
+/// One face's stencil function and operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StencilFace {
+    pub func: u32,
+    pub reference: i32,
+    pub value_mask: u32,
+    pub write_mask: u32,
+    pub stencil_fail: u32,
+    pub depth_fail: u32,
+    pub depth_pass: u32,
+}
+
+impl StencilFace {
+    /// Test always passes, nothing is written (GL's defaults except the write mask).
+    pub const KEEP: StencilFace = StencilFace {
+        func: glow::ALWAYS,
+        reference: 0,
+        value_mask: !0,
+        write_mask: 0,
+        stencil_fail: glow::KEEP,
+        depth_fail: glow::KEEP,
+        depth_pass: glow::KEEP,
+    };
+}
+
+/// Blend function and equation (same for every draw buffer).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlendState {
+    pub src_rgb: u32,
+    pub dst_rgb: u32,
+    pub src_alpha: u32,
+    pub dst_alpha: u32,
+    pub equation_rgb: u32,
+    pub equation_alpha: u32,
+}
+
+impl BlendState {
+    /// `dst + src` on all channels.
+    pub const ADDITIVE: BlendState = BlendState {
+        src_rgb: glow::ONE,
+        dst_rgb: glow::ONE,
+        src_alpha: glow::ONE,
+        dst_alpha: glow::ONE,
+        equation_rgb: glow::FUNC_ADD,
+        equation_alpha: glow::FUNC_ADD,
+    };
+}
+
+/// The complete fixed-function state of one draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlState {
+    pub depth_test: bool,
+    pub depth_func: u32,
+    pub depth_write: bool,
+    /// GL_DEPTH_CLAMP: no near/far clipping, depths clamped to the depth range instead.
+    pub depth_clamp: bool,
+    pub stencil_test: bool,
+    pub stencil_front: StencilFace,
+    pub stencil_back: StencilFace,
+    pub color_write: [bool; 4],
+    /// `Some(face)` enables GL_CULL_FACE with glCullFace(face).
+    pub cull_face: Option<u32>,
+    pub front_face: u32,
+    pub blend: Option<BlendState>,
+    /// `Some((factor, units))` enables POLYGON_OFFSET_FILL.
+    pub polygon_offset: Option<(f32, f32)>,
+}
+
+impl Default for GlState {
+    /// GL's initial state.
+    fn default() -> Self {
+        Self {
+            depth_test: false,
+            depth_func: glow::LESS,
+            depth_write: true,
+            depth_clamp: false,
+            stencil_test: false,
+            stencil_front: StencilFace { write_mask: !0, ..StencilFace::KEEP },
+            stencil_back: StencilFace { write_mask: !0, ..StencilFace::KEEP },
+            color_write: [true; 4],
+            cull_face: None,
+            front_face: glow::CCW,
+            blend: None,
+            polygon_offset: None,
+        }
+    }
+}
+
+fn set_enabled(gl: &glow::Context, cap: u32, on: bool) {
+    // SAFETY: glEnable/glDisable with a valid capability on the current context.
+    unsafe {
+        if on {
+            gl.enable(cap)
+        } else {
+            gl.disable(cap)
+        }
+    }
+}
+
+impl GlState {
+    /// Sets every field on the current context.
+    pub fn apply(&self, gl: &glow::Context) {
+        set_enabled(gl, glow::DEPTH_TEST, self.depth_test);
+        set_enabled(gl, glow::DEPTH_CLAMP, self.depth_clamp);
+        set_enabled(gl, glow::STENCIL_TEST, self.stencil_test);
+        set_enabled(gl, glow::CULL_FACE, self.cull_face.is_some());
+        set_enabled(gl, glow::BLEND, self.blend.is_some());
+        set_enabled(gl, glow::POLYGON_OFFSET_FILL, self.polygon_offset.is_some());
+        // SAFETY: plain state setters with enums taken from this struct on the current context.
+        unsafe {
+            gl.depth_func(self.depth_func);
+            gl.depth_mask(self.depth_write);
+            for (face, s) in [(glow::FRONT, &self.stencil_front), (glow::BACK, &self.stencil_back)] {
+                gl.stencil_func_separate(face, s.func, s.reference, s.value_mask);
+                gl.stencil_mask_separate(face, s.write_mask);
+                gl.stencil_op_separate(face, s.stencil_fail, s.depth_fail, s.depth_pass);
+            }
+            let [r, g, b, a] = self.color_write;
+            gl.color_mask(r, g, b, a);
+            if let Some(face) = self.cull_face {
+                gl.cull_face(face);
+            }
+            gl.front_face(self.front_face);
+            if let Some(bl) = self.blend {
+                gl.blend_func_separate(bl.src_rgb, bl.dst_rgb, bl.src_alpha, bl.dst_alpha);
+                gl.blend_equation_separate(bl.equation_rgb, bl.equation_alpha);
+            }
+            if let Some((factor, units)) = self.polygon_offset {
+                gl.polygon_offset(factor, units);
+            }
+        }
+    }
+
+    /// Reads the current values of every field (draw buffer 0 for colour mask and blend).
+    /// `capture` followed later by `apply` restores what a caller had.
+    ///
+    /// Fields whose enable flag is off are still read (`cull_face`, `blend`,
+    /// `polygon_offset` become `None` then, and their parameters are not restored).
+    pub fn capture(gl: &glow::Context) -> GlState {
+        // SAFETY: glGet*/glIsEnabled queries of core state on the current context.
+        unsafe {
+            let u = |pname: u32| gl.get_parameter_i32(pname) as u32;
+            let face = |p: [u32; 7]| StencilFace {
+                func: u(p[0]),
+                reference: gl.get_parameter_i32(p[1]),
+                value_mask: u(p[2]),
+                write_mask: u(p[3]),
+                stencil_fail: u(p[4]),
+                depth_fail: u(p[5]),
+                depth_pass: u(p[6]),
+            };
+            let mask = gl.get_parameter_bool_array::<4>(glow::COLOR_WRITEMASK);
+            GlState {
+                depth_test: gl.is_enabled(glow::DEPTH_TEST),
+                depth_func: u(glow::DEPTH_FUNC),
+                depth_write: gl.get_parameter_bool(glow::DEPTH_WRITEMASK),
+                depth_clamp: gl.is_enabled(glow::DEPTH_CLAMP),
+                stencil_test: gl.is_enabled(glow::STENCIL_TEST),
+                stencil_front: face([
+                    glow::STENCIL_FUNC,
+                    glow::STENCIL_REF,
+                    glow::STENCIL_VALUE_MASK,
+                    glow::STENCIL_WRITEMASK,
+                    glow::STENCIL_FAIL,
+                    glow::STENCIL_PASS_DEPTH_FAIL,
+                    glow::STENCIL_PASS_DEPTH_PASS,
+                ]),
+                stencil_back: face([
+                    glow::STENCIL_BACK_FUNC,
+                    glow::STENCIL_BACK_REF,
+                    glow::STENCIL_BACK_VALUE_MASK,
+                    glow::STENCIL_BACK_WRITEMASK,
+                    glow::STENCIL_BACK_FAIL,
+                    glow::STENCIL_BACK_PASS_DEPTH_FAIL,
+                    glow::STENCIL_BACK_PASS_DEPTH_PASS,
+                ]),
+                color_write: mask,
+                cull_face: gl.is_enabled(glow::CULL_FACE).then(|| u(glow::CULL_FACE_MODE)),
+                front_face: u(glow::FRONT_FACE),
+                blend: gl.is_enabled(glow::BLEND).then(|| BlendState {
+                    src_rgb: u(glow::BLEND_SRC_RGB),
+                    dst_rgb: u(glow::BLEND_DST_RGB),
+                    src_alpha: u(glow::BLEND_SRC_ALPHA),
+                    dst_alpha: u(glow::BLEND_DST_ALPHA),
+                    equation_rgb: u(glow::BLEND_EQUATION_RGB),
+                    equation_alpha: u(glow::BLEND_EQUATION_ALPHA),
+                }),
+                polygon_offset: gl.is_enabled(glow::POLYGON_OFFSET_FILL).then(|| {
+                    (gl.get_parameter_f32(glow::POLYGON_OFFSET_FACTOR), gl.get_parameter_f32(glow::POLYGON_OFFSET_UNITS))
+                }),
+            }
+        }
+    }
+
+    /// The standard counting stencil state for shadow volumes (Heidmann 1991 z-pass,
+    /// Everitt & Kilgard 2002 z-fail), two-sided in one pass with glStencilOpSeparate.
+    /// Per-field reasons are written next to each choice.
+    pub fn shadow_volume(zpass: bool) -> GlState {
+        let counting = |depth_fail: u32, depth_pass: u32| StencilFace {
+            // Reason: every volume fragment must reach the stencil op; the count is all we want.
+            func: glow::ALWAYS,
+            reference: 0,
+            value_mask: !0,
+            // Reason: all 8 bits count; INCR_WRAP/DECR_WRAP make the count exact modulo 256.
+            write_mask: 0xFF,
+            // Reason: the stencil test always passes, so this op never runs.
+            stencil_fail: glow::KEEP,
+            depth_fail,
+            depth_pass,
+        };
+        let (front, back) = if zpass {
+            // z-pass: count the volume faces IN FRONT of the visible sample: entering a
+            // volume (front face) +1, leaving it (back face) -1. Wrong when the camera is
+            // inside a volume (the entry face lies behind the eye).
+            (counting(glow::KEEP, glow::INCR_WRAP), counting(glow::KEEP, glow::DECR_WRAP))
+        } else {
+            // z-fail: count the faces BEHIND the visible sample: a back face behind it means the
+            // ray leaves a volume it was inside of (+1), a front face behind it means it enters
+            // one after the sample (-1). Correct wherever the camera is, given closed volumes.
+            (counting(glow::DECR_WRAP, glow::KEEP), counting(glow::INCR_WRAP, glow::KEEP))
+        };
+        GlState {
+            // Reason: "behind / in front of the visible sample" is exactly the depth test result.
+            depth_test: true,
+            // Reason: LESS, not LEQUAL: a cap pushed to depth 1 must FAIL on background (depth
+            // 1.0) and on every sample, so it is counted consistently (see cpu-silhouette caps).
+            depth_func: glow::LESS,
+            // Reason: the volumes are invisible; the scene's depth must stay intact for the
+            // lighting pass (depth func EQUAL).
+            depth_write: false,
+            // Reason: nothing of a volume may be clipped by the near or far plane, or the
+            // count misses faces. Far: sides and dark caps have w = 0 vertices that land at
+            // depth exactly 1 with the infinite projection; rounding could put them a hair
+            // beyond it. Near: parts in front of the near plane are clamped to depth 0 and
+            // still counted (they pass the depth test, as they should).
+            depth_clamp: true,
+            stencil_test: true,
+            stencil_front: front,
+            stencil_back: back,
+            // Reason: the volume pass only counts; colour is untouched.
+            color_write: [false; 4],
+            // Reason: both faces are counted with different ops in ONE pass (two-sided stencil);
+            // culling would drop half of them.
+            cull_face: None,
+            // Reason: VolumeGeometry triangles are CCW seen from outside the volume, so the
+            // outward side is the GL front face.
+            front_face: glow::CCW,
+            // Reason: no colour is written, blending is irrelevant; off for clarity.
+            blend: None,
+            // Reason: an offset would move volume faces relative to the scene depth and break
+            // exactness; the self-shadowing fight is solved by pushing light caps to depth 1.
+            polygon_offset: None,
+        }
+    }
+}

@@ -1,0 +1,1 @@
+fn main() {} // placeholder (lead): the oracle engineer replaces this

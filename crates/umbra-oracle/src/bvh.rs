@@ -1,0 +1,445 @@
+//! Bounding volume hierarchy over triangles for the CPU shadow reference.
+//!
+//! Build: binned surface area heuristic, Ingo Wald, "On fast Construction of SAH-based Bounding
+//! Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007, Section 3 (centroid
+//! binning, 32 bins per axis, SAH sweep over the bin boundaries), with the two child subtrees of
+//! large nodes built in parallel (`rayon::join`).
+//!
+//! Traversal: ordered stack traversal; the ray/box slab test is made conservative as in Thiago
+//! Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013, Section 3 (the far distance is enlarged by
+//! `1 + 2 gamma(3)` so rounding can never cull a box the ray touches; NaN slabs from a zero
+//! direction component with the origin on the slab plane are ignored, i.e. treated as hit).
+//! Triangles are tested with the watertight test of [`crate::watertight`], so together nothing
+//! can slip between two triangles sharing an edge.
+//!
+//! Triangle ids are indices into the `triangles` slice given to [`Bvh::build`]. Triangles with a
+//! non-finite vertex coordinate are left out (they could not be hit anyway) and counted.
+
+use crate::watertight::ShearedRay;
+use crate::OracleError;
+
+/// Bins per axis for the SAH sweep (Wald 2007 uses 16-32; 32 is cheap at our sizes).
+const BINS: usize = 32;
+/// Maximum triangles per leaf; the SAH may choose smaller leaves.
+const MAX_LEAF: usize = 8;
+/// Depth cap: nodes at this depth become leaves whatever their size, so a fixed traversal stack
+/// of `STACK` entries always suffices (each level pushes at most one node).
+const MAX_DEPTH: usize = 60;
+const STACK: usize = MAX_DEPTH + 4;
+/// Subtrees with more triangles than this are built in parallel.
+const PARALLEL_THRESHOLD: usize = 4096;
+/// SAH cost of one traversal step relative to one triangle test.
+const TRAVERSAL_COST: f32 = 1.0;
+
+/// A ray hit: parameter `t` along the ray direction and the id of the triangle hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f64,
+    pub triangle: u32,
+}
+
+/// One node, 32 bytes. `count == 0`: interior node with children `first` and `first + 1`;
+/// otherwise a leaf holding triangles `first .. first + count` of the BVH order.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    min: [f32; 3],
+    first: u32,
+    max: [f32; 3],
+    count: u32,
+}
+
+/// The hierarchy: nodes plus the triangles' vertices copied in leaf order.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    /// Vertices of the triangles in BVH order.
+    vertices: Vec<[[f32; 3]; 3]>,
+    /// Original triangle id of each entry of `vertices`.
+    ids: Vec<u32>,
+    /// Number of triangles in the input (ids range over `0..triangle_count`).
+    triangle_count: usize,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+impl Bounds {
+    const EMPTY: Bounds = Bounds { min: [f32::INFINITY; 3], max: [f32::NEG_INFINITY; 3] };
+    fn grow(&mut self, b: &Bounds) {
+        for k in 0..3 {
+            self.min[k] = self.min[k].min(b.min[k]);
+            self.max[k] = self.max[k].max(b.max[k]);
+        }
+    }
+    fn grow_point(&mut self, p: [f32; 3]) {
+        for k in 0..3 {
+            self.min[k] = self.min[k].min(p[k]);
+            self.max[k] = self.max[k].max(p[k]);
+        }
+    }
+    /// Half the surface area (the SAH only needs ratios); 0 for an empty box.
+    fn half_area(&self) -> f32 {
+        let e = [0, 1, 2].map(|k| (self.max[k] - self.min[k]).max(0.0));
+        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+    }
+}
+
+/// What the builder sorts: one triangle's box, centroid and id.
+#[derive(Clone, Copy, Debug)]
+struct PrimRef {
+    bounds: Bounds,
+    centroid: [f32; 3],
+    id: u32,
+}
+
+/// Build-time tree, flattened into [`Node`]s afterwards.
+enum BuildNode {
+    Leaf { bounds: Bounds, first: usize, count: usize },
+    Interior { bounds: Bounds, children: Box<[BuildNode; 2]> },
+}
+
+impl BuildNode {
+    fn bounds(&self) -> Bounds {
+        match self {
+            BuildNode::Leaf { bounds, .. } | BuildNode::Interior { bounds, .. } => *bounds,
+        }
+    }
+}
+
+impl Bvh {
+    /// Builds the hierarchy over `triangles` (indices into `positions`), in parallel.
+    ///
+    /// Errors if a triangle indexes past `positions` or there are more than `u32::MAX - 1`
+    /// triangles (`u32::MAX` is reserved for "no triangle").
+    pub fn build(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Result<Bvh, OracleError> {
+        use rayon::prelude::*;
+        if triangles.len() >= u32::MAX as usize {
+            return Err(OracleError::TooManyTriangles { count: triangles.len() });
+        }
+        if let Some((triangle, vertex)) = triangles.iter().enumerate().find_map(|(i, t)| {
+            t.iter().find(|&&v| v as usize >= positions.len()).map(|&v| (i, v))
+        }) {
+            return Err(OracleError::VertexOutOfRange { triangle, vertex, vertices: positions.len() });
+        }
+        let mut prims: Vec<PrimRef> = triangles
+            .par_iter()
+            .enumerate()
+            .filter_map(|(i, t)| {
+                let v = t.map(|k| positions[k as usize]);
+                if v.iter().flatten().any(|c| !c.is_finite()) {
+                    return None;
+                }
+                let mut bounds = Bounds::EMPTY;
+                v.iter().for_each(|&p| bounds.grow_point(p));
+                let centroid = [0, 1, 2].map(|k| 0.5 * (bounds.min[k] + bounds.max[k]));
+                Some(PrimRef { bounds, centroid, id: i as u32 })
+            })
+            .collect();
+        let root = if prims.is_empty() {
+            BuildNode::Leaf { bounds: Bounds::EMPTY, first: 0, count: 0 }
+        } else {
+            build_recursive(&mut prims, 0, 0)
+        };
+        let mut nodes = Vec::with_capacity(2 * prims.len() / 2 + 1);
+        let b = root.bounds();
+        nodes.push(Node { min: b.min, first: 0, max: b.max, count: 0 });
+        flatten(&root, 0, &mut nodes);
+        let vertices = prims
+            .par_iter()
+            .map(|p| triangles[p.id as usize].map(|k| positions[k as usize]))
+            .collect();
+        let ids = prims.iter().map(|p| p.id).collect();
+        Ok(Bvh { nodes, vertices, ids, triangle_count: triangles.len() })
+    }
+
+    /// Number of triangles the BVH was built from (including left-out non-finite ones).
+    pub fn triangle_count(&self) -> usize {
+        self.triangle_count
+    }
+
+    /// Number of triangles left out because a vertex coordinate was not finite.
+    pub fn skipped_triangles(&self) -> usize {
+        self.triangle_count - self.ids.len()
+    }
+
+    /// Number of nodes (for statistics).
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Any-hit query: does `origin + t * direction` hit a triangle other than
+    /// `ignore_triangle` (pass `u32::MAX` to ignore none) with `t_min < t < t_max`?
+    /// Exits at the first hit found.
+    pub fn occluded(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64, ignore_triangle: u32) -> bool {
+        let mut found = false;
+        self.traverse(origin, direction, t_min, t_max, |bvh, i, ray, t_far| {
+            if bvh.ids[i] == ignore_triangle {
+                return None;
+            }
+            let [a, b, c] = bvh.vertices[i];
+            if ray.intersect(a, b, c, t_min, t_far).is_some() {
+                found = true;
+                // Returning t_min as the new far limit empties the interval: traversal stops.
+                Some(t_min)
+            } else {
+                None
+            }
+        });
+        found
+    }
+
+    /// Closest-hit query over `t_min < t < t_max`. Among hits at exactly equal `t` (a ray through
+    /// a shared edge) the one met first in the fixed traversal order wins, deterministically.
+    pub fn intersect(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.traverse(origin, direction, t_min, t_max, |bvh, i, ray, t_far| {
+            let [a, b, c] = bvh.vertices[i];
+            let t = ray.intersect(a, b, c, t_min, t_far)?;
+            best = Some(Hit { t, triangle: bvh.ids[i] });
+            Some(t)
+        });
+        best
+    }
+
+    /// Ordered stack traversal. `visit(bvh, index in BVH order, ray, current far limit)` returns
+    /// `Some(new far limit)` to shrink the interval (closest hit) or end it (any hit).
+    #[inline]
+    fn traverse<F>(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64, mut visit: F)
+    where
+        F: FnMut(&Bvh, usize, &ShearedRay, f64) -> Option<f64>,
+    {
+        if self.ids.is_empty() || !(t_min < t_max) {
+            return;
+        }
+        let ray = ShearedRay::new(origin, direction);
+        let inv = direction.map(|d| 1.0 / d);
+        let mut t_far = t_max;
+        let mut stack = [0u32; STACK];
+        let mut top = 0usize;
+        let mut node = 0usize;
+        loop {
+            let n = &self.nodes[node];
+            if n.count > 0 {
+                let first = n.first as usize;
+                for i in first..first + n.count as usize {
+                    if let Some(t) = visit(self, i, &ray, t_far) {
+                        t_far = t;
+                    }
+                }
+                if !(t_min < t_far) {
+                    return;
+                }
+            } else {
+                let left = n.first as usize;
+                let hl = slab(&self.nodes[left], origin, inv, t_min, t_far);
+                let hr = slab(&self.nodes[left + 1], origin, inv, t_min, t_far);
+                match (hl, hr) {
+                    (Some(dl), Some(dr)) => {
+                        let (near, far) = if dl <= dr { (left, left + 1) } else { (left + 1, left) };
+                        // Depth is capped at MAX_DEPTH so the stack holds at most one entry per level.
+                        stack[top] = far as u32;
+                        top += 1;
+                        node = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        node = left;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        node = left + 1;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            if top == 0 {
+                return;
+            }
+            top -= 1;
+            node = stack[top] as usize;
+        }
+    }
+}
+
+/// gamma(3) of Ize 2013 / PBRT for f64: `3u / (1 - 3u)`, u = 2^-53.
+const GAMMA3: f64 = 3.0 * (f64::EPSILON * 0.5) / (1.0 - 3.0 * (f64::EPSILON * 0.5));
+
+/// Conservative slab test; returns the entry distance if the ray's `(t_min, t_max)` interval
+/// overlaps the box. `f64::max`/`min` drop NaN operands, so a NaN slab (zero direction
+/// component, origin on the plane) constrains nothing.
+#[inline]
+fn slab(n: &Node, o: [f64; 3], inv: [f64; 3], t_min: f64, t_max: f64) -> Option<f64> {
+    let mut near = t_min;
+    let mut far = t_max;
+    for k in 0..3 {
+        let t0 = (n.min[k] as f64 - o[k]) * inv[k];
+        let t1 = (n.max[k] as f64 - o[k]) * inv[k];
+        let (lo, hi) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        near = near.max(lo);
+        far = far.min(hi * (1.0 + 2.0 * GAMMA3));
+    }
+    if near <= far {
+        Some(near)
+    } else {
+        None
+    }
+}
+
+/// Writes the children of `b` (whose own node is at `index`, already pushed) and recurses.
+fn flatten(b: &BuildNode, index: usize, nodes: &mut Vec<Node>) {
+    match b {
+        BuildNode::Leaf { first, count, .. } => {
+            nodes[index].first = *first as u32;
+            nodes[index].count = *count as u32;
+        }
+        BuildNode::Interior { children, .. } => {
+            let left = nodes.len();
+            nodes[index].first = left as u32;
+            nodes[index].count = 0;
+            for c in children.iter() {
+                let cb = c.bounds();
+                nodes.push(Node { min: cb.min, first: 0, max: cb.max, count: 0 });
+            }
+            flatten(&children[0], left, nodes);
+            flatten(&children[1], left + 1, nodes);
+        }
+    }
+}
+
+/// Builds the subtree over `prims` (which start at `offset` in the global order), reordering
+/// `prims` in place so that each leaf is a contiguous range.
+fn build_recursive(prims: &mut [PrimRef], offset: usize, depth: usize) -> BuildNode {
+    let mut bounds = Bounds::EMPTY;
+    let mut centroids = Bounds::EMPTY;
+    for p in prims.iter() {
+        bounds.grow(&p.bounds);
+        centroids.grow_point(p.centroid);
+    }
+    let n = prims.len();
+    let leaf = BuildNode::Leaf { bounds, first: offset, count: n };
+    if n <= 2 || depth >= MAX_DEPTH {
+        return leaf;
+    }
+    let split = best_split(prims, &bounds, &centroids);
+    let mid = match split {
+        Some((cost, axis, bin)) => {
+            let leaf_cost = n as f32;
+            if n <= MAX_LEAF && leaf_cost <= cost {
+                return leaf;
+            }
+            let (lo, scale) = bin_mapping(&centroids, axis);
+            partition(prims, |p| bin_of(p.centroid[axis], lo, scale) < bin)
+        }
+        None => 0,
+    };
+    // A split that leaves one side empty (all centroids equal, or rounding) falls back to the
+    // median along the widest centroid axis, or to halving by position when all are equal.
+    let mid = if mid == 0 || mid == n {
+        if n <= MAX_LEAF {
+            return leaf;
+        }
+        let axis = widest_axis(&centroids);
+        let half = n / 2;
+        prims.select_nth_unstable_by(half, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+        half
+    } else {
+        mid
+    };
+    let (left, right) = prims.split_at_mut(mid);
+    let (l, r) = if n > PARALLEL_THRESHOLD {
+        rayon::join(
+            || build_recursive(left, offset, depth + 1),
+            || build_recursive(right, offset + mid, depth + 1),
+        )
+    } else {
+        (build_recursive(left, offset, depth + 1), build_recursive(right, offset + mid, depth + 1))
+    };
+    BuildNode::Interior { bounds, children: Box::new([l, r]) }
+}
+
+fn widest_axis(b: &Bounds) -> usize {
+    let e = [0, 1, 2].map(|k| b.max[k] - b.min[k]);
+    if e[0] >= e[1] && e[0] >= e[2] {
+        0
+    } else if e[1] >= e[2] {
+        1
+    } else {
+        2
+    }
+}
+
+/// Centroid-to-bin mapping of Wald 2007 Eq. (2): `bin = floor(BINS (1 - eps) (c - lo) / extent)`.
+fn bin_mapping(centroids: &Bounds, axis: usize) -> (f32, f32) {
+    let lo = centroids.min[axis];
+    let extent = centroids.max[axis] - lo;
+    let scale = if extent > 0.0 { BINS as f32 * (1.0 - 1e-6) / extent } else { 0.0 };
+    (lo, scale)
+}
+
+#[inline]
+fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
+    (((c - lo) * scale) as usize).min(BINS - 1)
+}
+
+/// Best SAH split `(cost, axis, first bin of the right side)` over all axes, costs in units of
+/// one triangle test relative to the parent's area.
+fn best_split(prims: &[PrimRef], bounds: &Bounds, centroids: &Bounds) -> Option<(f32, usize, usize)> {
+    let parent_area = bounds.half_area();
+    let mut best: Option<(f32, usize, usize)> = None;
+    for axis in 0..3 {
+        let (lo, scale) = bin_mapping(centroids, axis);
+        if scale == 0.0 {
+            continue;
+        }
+        let mut counts = [0usize; BINS];
+        let mut boxes = [Bounds::EMPTY; BINS];
+        for p in prims {
+            let b = bin_of(p.centroid[axis], lo, scale);
+            counts[b] += 1;
+            boxes[b].grow(&p.bounds);
+        }
+        // Right-to-left sweep: area * count of the right side for each split position.
+        let mut right_cost = [0f32; BINS];
+        let mut acc = Bounds::EMPTY;
+        let mut count = 0usize;
+        for i in (1..BINS).rev() {
+            acc.grow(&boxes[i]);
+            count += counts[i];
+            right_cost[i] = acc.half_area() * count as f32;
+        }
+        let mut acc = Bounds::EMPTY;
+        let mut count = 0usize;
+        for i in 1..BINS {
+            acc.grow(&boxes[i - 1]);
+            count += counts[i - 1];
+            if count == 0 || count == prims.len() {
+                continue;
+            }
+            let cost = TRAVERSAL_COST
+                + if parent_area > 0.0 { (acc.half_area() * count as f32 + right_cost[i]) / parent_area } else { prims.len() as f32 };
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, axis, i));
+            }
+        }
+    }
+    best
+}
+
+/// Stable-order-free in-place partition; returns the number of elements satisfying `pred`.
+fn partition<F: Fn(&PrimRef) -> bool>(prims: &mut [PrimRef], pred: F) -> usize {
+    let mut i = 0;
+    let mut j = prims.len();
+    while i < j {
+        if pred(&prims[i]) {
+            i += 1;
+        } else {
+            j -= 1;
+            prims.swap(i, j);
+        }
+    }
+    i
+}

@@ -1,0 +1,149 @@
+//! Watertight ray/triangle intersection: Sven Woop, Carsten Benthin, Ingo Wald,
+//! "Watertight Ray/Triangle Intersection", Journal of Computer Graphics Techniques 2(1), 2013,
+//! Section 3 (the algorithm) and Fig. 1-2 (its pseudocode), two-sided variant (no culling).
+//!
+//! The ray is sheared and scaled so that it becomes the +z axis from the origin; the triangle's
+//! vertices are transformed the same way and the test becomes a 2D point-in-triangle test of
+//! the origin with three *edge functions* `U`, `V`, `W` (scaled barycentrics).
+//!
+//! Why it is watertight: every vertex is transformed by the same operations whichever triangle
+//! it belongs to, so two triangles sharing an edge see bit-identical transformed endpoints, and
+//! the edge function of that edge is evaluated from the same products in the other order —
+//! exactly its negation. By monotonicity of IEEE rounding, `fl(fl(p) - fl(q))` never has the
+//! wrong sign, only possibly a false zero, and a zero edge function is accepted by the
+//! triangles on *both* sides. So a ray through a shared edge or vertex can produce a double
+//! hit, never a miss.
+//!
+//! Precision: we evaluate in `f64` from `f32` vertices. The paper evaluates in `f32` and redoes
+//! the edge functions in `f64` when one of them is exactly zero, to remove false zeros; with
+//! `f64` throughout false zeros need cancellation of ~50 bits and can only turn a miss next to
+//! an edge into a hit *on* it, which cannot break watertightness, so we omit that fallback.
+//! Degenerate (zero-area, or seen exactly edge-on) triangles give `det == 0` and never hit;
+//! non-finite data gives NaN comparisons and never hits.
+
+/// A ray prepared for the watertight test (paper Fig. 1, "precalculations per ray").
+#[derive(Clone, Copy, Debug)]
+pub struct ShearedRay {
+    /// Ray origin.
+    pub origin: [f64; 3],
+    /// Index of the dominant direction axis (`z` after the permutation).
+    kz: usize,
+    kx: usize,
+    ky: usize,
+    /// Shear constants `Sx = d[kx]/d[kz]`, `Sy = d[ky]/d[kz]`, `Sz = 1/d[kz]`.
+    sx: f64,
+    sy: f64,
+    sz: f64,
+}
+
+impl ShearedRay {
+    /// Prepares the ray `origin + t * direction`. `t` is measured in units of `direction`.
+    pub fn new(origin: [f64; 3], direction: [f64; 3]) -> ShearedRay {
+        let abs = direction.map(f64::abs);
+        // Dominant axis becomes z: the division by d[kz] is then as well conditioned as it gets.
+        let kz = if abs[0] >= abs[1] && abs[0] >= abs[2] {
+            0
+        } else if abs[1] >= abs[2] {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        // Swapping keeps the winding of the transformed triangle (paper Fig. 1); irrelevant for a
+        // two-sided test but kept so that the sign of `det` tells the facing consistently.
+        if direction[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let sz = 1.0 / direction[kz];
+        ShearedRay {
+            origin,
+            kz,
+            kx,
+            ky,
+            sx: direction[kx] * sz,
+            sy: direction[ky] * sz,
+            sz,
+        }
+    }
+
+    /// Two-sided watertight intersection with triangle `(a, b, c)`; returns the ray parameter
+    /// `t` if the ray hits it with `t_min < t < t_max` (open interval).
+    #[inline]
+    pub fn intersect(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64) -> Option<f64> {
+        let o = self.origin;
+        // Vertices relative to the ray origin.
+        let rel = |p: [f32; 3]| [p[0] as f64 - o[0], p[1] as f64 - o[1], p[2] as f64 - o[2]];
+        let (pa, pb, pc) = (rel(a), rel(b), rel(c));
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        // Shear and scale of the vertices (paper Fig. 2, first block).
+        let ax = pa[kx] - self.sx * pa[kz];
+        let ay = pa[ky] - self.sy * pa[kz];
+        let bx = pb[kx] - self.sx * pb[kz];
+        let by = pb[ky] - self.sy * pb[kz];
+        let cx = pc[kx] - self.sx * pc[kz];
+        let cy = pc[ky] - self.sy * pc[kz];
+        // Scaled barycentric coordinates = 2D edge functions.
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        // Outside if the edge functions have mixed signs; zeros count as inside on both sides.
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        // Edge-on or degenerate: no area seen from the ray. NaN also fails here (`!(det != 0)`).
+        if det == 0.0 || det.is_nan() {
+            return None;
+        }
+        // Scaled hit distance, then t by one division (the paper defers it; we need t anyway).
+        let az = self.sz * pa[kz];
+        let bz = self.sz * pb[kz];
+        let cz = self.sz * pc[kz];
+        let t = (u * az + v * bz + w * cz) / det;
+        if t > t_min && t < t_max {
+            Some(t)
+        } else {
+            None
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hits_triangle_interior_at_expected_t() {
+        let r = ShearedRay::new([0.25, 0.25, 5.0], [0.0, 0.0, -1.0]);
+        let t = r.intersect([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, f64::INFINITY);
+        assert_eq!(t, Some(5.0));
+    }
+
+    #[test]
+    fn misses_outside_and_respects_open_interval() {
+        let r = ShearedRay::new([2.0, 2.0, 5.0], [0.0, 0.0, -1.0]);
+        assert_eq!(r.intersect([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, f64::INFINITY), None);
+        let r = ShearedRay::new([0.25, 0.25, 5.0], [0.0, 0.0, -1.0]);
+        // t = 5 exactly is excluded by an open interval ending at 5.
+        assert_eq!(r.intersect([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, 5.0), None);
+        assert_eq!(r.intersect([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 5.0, 9.0), None);
+    }
+
+    #[test]
+    fn degenerate_and_edge_on_triangles_never_hit() {
+        let r = ShearedRay::new([0.5, 0.0, 5.0], [0.0, 0.0, -1.0]);
+        // Collinear vertices.
+        assert_eq!(r.intersect([0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0], 0.0, f64::INFINITY), None);
+        // Triangle in the plane y = 0, containing the ray: edge-on.
+        assert_eq!(r.intersect([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0, f64::INFINITY), None);
+    }
+
+    #[test]
+    fn non_finite_input_never_hits() {
+        let r = ShearedRay::new([0.25, 0.25, 5.0], [0.0, 0.0, -1.0]);
+        assert_eq!(r.intersect([f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, f64::INFINITY), None);
+        let r = ShearedRay::new([0.25, 0.25, 5.0], [0.0, 0.0, 0.0]);
+        assert_eq!(r.intersect([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], 0.0, f64::INFINITY), None);
+    }
+}
