@@ -121,21 +121,56 @@ pub struct ViewConfig {
     pub zpass: bool,
 }
 
-/// The default light: inside the bounds at about 70 % of their height, slightly off-centre
-/// (the scenes' README), which lights interiors and casts long shadows over open scenes.
-pub fn default_light(b: &Aabb) -> Light {
-    let c = b.center();
-    let e = b.extent();
-    [c[0] + 0.11 * e[0], b.min[1] + 0.7 * e[1].max(1e-3), c[2] + 0.07 * e[2], 1.0]
+/// How a scene is framed by default: interiors (the papers' scenes, any file) are seen and
+/// lit from inside; procedural scenes (objects over a ground plane) from above and outside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Framing {
+    Interior,
+    Exterior,
 }
 
-/// The default camera: from the front-left, slightly above the middle, looking at the
-/// centre. For a scene that is much wider than tall (a ground plane) it stands higher.
-pub fn default_camera(b: &Aabb) -> CameraConfig {
+impl Framing {
+    pub fn of(spec: &SceneSpec) -> Framing {
+        match spec {
+            SceneSpec::File(_) => Framing::Interior,
+            _ => Framing::Exterior,
+        }
+    }
+}
+
+/// The default light. Interiors: inside the bounds at about 70 % of their height, slightly
+/// off-centre (the scenes' README). Exteriors: above the objects, off-centre, so shadows
+/// fall on the ground beside them.
+pub fn default_light(b: &Aabb, framing: Framing) -> Light {
+    let c = b.center();
+    let e = b.extent();
+    let horizontal = e[0].max(e[2]);
+    match framing {
+        Framing::Interior => [c[0] + 0.11 * e[0], b.min[1] + 0.7 * e[1], c[2] + 0.07 * e[2], 1.0],
+        Framing::Exterior => {
+            [c[0] + 0.15 * e[0], b.min[1] + (2.0 * e[1]).max(0.35 * horizontal), c[2] + 0.1 * e[2], 1.0]
+        }
+    }
+}
+
+/// The default camera. Interiors: at 45 % of the height, 30 % of the way in from one end of
+/// the longer horizontal axis, looking along it slightly downwards (for Crytek Sponza: down
+/// the atrium from the first gallery; for Conference: over the table). Exteriors: from above the front-left, at the centre.
+pub fn default_camera(b: &Aabb, framing: Framing) -> CameraConfig {
     let c = b.center().map(f64::from);
     let e = b.extent().map(f64::from);
-    let eye = [c[0] - 0.42 * e[0], c[1] + 0.1 * e[1].max(0.05 * (e[0] + e[2])), c[2] + 0.12 * e[2]];
-    CameraConfig { eye, target: c, up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 }
+    let min_y = f64::from(b.min[1]);
+    let horizontal = e[0].max(e[2]);
+    let (eye, target) = match framing {
+        Framing::Interior if e[0] >= e[2] => {
+            ([c[0] - 0.2 * e[0], min_y + 0.45 * e[1], c[2]], [c[0] + 0.2 * e[0], min_y + 0.3 * e[1], c[2]])
+        }
+        Framing::Interior => {
+            ([c[0], min_y + 0.45 * e[1], c[2] - 0.2 * e[2]], [c[0], min_y + 0.3 * e[1], c[2] + 0.2 * e[2]])
+        }
+        Framing::Exterior => ([c[0] - 0.3 * e[0], c[1] + 0.25 * horizontal + 0.5 * e[1], c[2] + 0.4 * e[2]], c),
+    };
+    CameraConfig { eye, target, up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 }
 }
 
 impl ViewConfig {
@@ -151,9 +186,14 @@ impl ViewConfig {
         let explicit_lights = a.light.iter().map(|l| parse_light(l)).collect::<Result<Vec<_>, _>>()?;
         let eye = a.eye.as_deref().map(|s| parse_vec3("--eye", s)).transpose()?;
         let target = a.target.as_deref().map(|s| parse_vec3("--target", s)).transpose()?;
-        let mesh = load_scene(&a.scene, a.ground, a.max_input_bytes)?;
+        let framing = Framing::of(&scene::parse(&a.scene)?);
+        let mut mesh = load_scene(&a.scene, false, a.max_input_bytes)?;
+        // Camera and light follow the scene itself, not the (ten times wider) ground plane.
         let bounds = mesh.bounds().unwrap_or(Aabb { min: [-1.0; 3], max: [1.0; 3] });
-        let mut camera = default_camera(&bounds);
+        if a.ground {
+            scene::add_ground(&mut mesh);
+        }
+        let mut camera = default_camera(&bounds, framing);
         camera.up = up;
         camera.fov_y_degrees = a.fov;
         if let Some(e) = eye {
@@ -165,7 +205,7 @@ impl ViewConfig {
         if camera.eye == camera.target {
             return Err(bad("--eye", "the eye and the target must differ"));
         }
-        let lights = if explicit_lights.is_empty() { vec![default_light(&bounds)] } else { explicit_lights };
+        let lights = if explicit_lights.is_empty() { vec![default_light(&bounds, framing)] } else { explicit_lights };
         Ok(ViewConfig { scene_spec: a.scene.clone(), mesh, camera, lights, width, height, zpass: a.zpass })
     }
 }

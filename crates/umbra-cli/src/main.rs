@@ -4,6 +4,8 @@
 mod args;
 mod config;
 mod info;
+mod render;
+mod session;
 
 use clap::Parser;
 
@@ -11,7 +13,8 @@ fn main() {
     let cli = args::Cli::parse();
     let result = match &cli.command {
         args::Command::Info(a) => info::run(a),
-        args::Command::Render(_) | args::Command::Verify(_) => Err(config::CliError::Other("not yet wired".into())),
+        args::Command::Render(a) => render::run(a),
+        args::Command::Verify(_) => Err(config::CliError::Other("not yet wired".into())),
     };
     if let Err(e) = result {
         eprintln!("umbra: error: {e}");

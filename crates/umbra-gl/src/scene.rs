@@ -68,12 +68,9 @@ pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlEr
 fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
     let mut it = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]);
     let first = it.next()?;
-    Some(it.fold(Aabb { min: first, max: first }, |mut b, p| {
-        for k in 0..3 {
-            b.min[k] = b.min[k].min(p[k]);
-            b.max[k] = b.max[k].max(p[k]);
-        }
-        b
+    Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
+        min: [0, 1, 2].map(|k| b.min[k].min(p[k])),
+        max: [0, 1, 2].map(|k| b.max[k].max(p[k])),
     }))
 }
 

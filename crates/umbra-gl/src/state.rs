@@ -146,6 +146,9 @@ impl GlState {
     /// Reads the current values of every field (draw buffer 0 for colour mask and blend).
     /// `capture` followed later by `apply` restores what a caller had.
     ///
+    /// GL clamps the queried stencil reference to the stencil bits of the current DRAW
+    /// framebuffer: capture with the framebuffer the state is meant for bound.
+    ///
     /// Fields whose enable flag is off are still read (`cull_face`, `blend`,
     /// `polygon_offset` become `None` then, and their parameters are not restored).
     pub fn capture(gl: &glow::Context) -> GlState {

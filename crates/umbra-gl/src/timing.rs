@@ -24,11 +24,21 @@ pub struct TimestampHook {
     pool: Vec<glow::Query>,
     /// Set if a query object could not be created (the mark is then CPU-only and lost).
     pub failed: bool,
+    /// glFinish before every mark: each stage's work completes inside its own interval.
+    /// Needed for per-stage attribution on deferred renderers such as llvmpipe, which
+    /// rasterise a whole batch of stages at the next flush; costs the pipelining between
+    /// stages, so whole-frame numbers should be taken without it.
+    pub finish_each_stage: bool,
 }
 
 impl TimestampHook {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A hook that calls glFinish before every mark (see [`TimestampHook::finish_each_stage`]).
+    pub fn synchronous() -> Self {
+        Self { finish_each_stage: true, ..Self::default() }
     }
 
     /// Waits for the queries and returns one timing per mark except the last (which only
@@ -64,6 +74,10 @@ impl TimestampHook {
 
 impl StageHook for TimestampHook {
     fn mark(&mut self, gl: &glow::Context, mark: StageMark) {
+        if self.finish_each_stage {
+            // SAFETY: glFinish has no preconditions beyond a current context.
+            unsafe { gl.finish() };
+        }
         let query = match self.pool.pop() {
             Some(q) => q,
             // SAFETY: object creation on the current context.

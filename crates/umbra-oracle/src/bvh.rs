@@ -143,7 +143,7 @@ impl Bvh {
         } else {
             build_recursive(&mut prims, 0, 0)
         };
-        let mut nodes = Vec::with_capacity(2 * prims.len() / 2 + 1);
+        let mut nodes = Vec::with_capacity(prims.len());
         let b = root.bounds();
         nodes.push(Node { min: b.min, first: 0, max: b.max, count: 0 });
         flatten(&root, 0, &mut nodes);
@@ -234,8 +234,12 @@ impl Bvh {
                 }
             } else {
                 let left = n.first as usize;
-                let hl = slab(&self.nodes[left], origin, inv, t_min, t_far);
-                let hr = slab(&self.nodes[left + 1], origin, inv, t_min, t_far);
+                // The triangle test rounds t too: a hit computed slightly before a box's computed
+                // entry must not be culled by the current far limit, so boxes are tested against
+                // a limit enlarged by a relative 1e-9 (far above both rounding errors).
+                let box_far = t_far + t_far.abs() * BOX_MARGIN;
+                let hl = slab(&self.nodes[left], origin, inv, t_min, box_far);
+                let hr = slab(&self.nodes[left + 1], origin, inv, t_min, box_far);
                 match (hl, hr) {
                     (Some(dl), Some(dr)) => {
                         let (near, far) = if dl <= dr { (left, left + 1) } else { (left + 1, left) };
@@ -265,12 +269,15 @@ impl Bvh {
     }
 }
 
+/// Relative enlargement of the far limit for box tests, see [`Bvh::traverse`].
+const BOX_MARGIN: f64 = 1e-9;
+
 /// gamma(3) of Ize 2013 / PBRT for f64: `3u / (1 - 3u)`, u = 2^-53.
 const GAMMA3: f64 = 3.0 * (f64::EPSILON * 0.5) / (1.0 - 3.0 * (f64::EPSILON * 0.5));
 
 /// Conservative slab test; returns the entry distance if the ray's `(t_min, t_max)` interval
-/// overlaps the box. `f64::max`/`min` drop NaN operands, so a NaN slab (zero direction
-/// component, origin on the plane) constrains nothing.
+/// overlaps the box. A NaN slab (zero direction component, origin on the plane) constrains
+/// nothing.
 #[inline]
 fn slab(n: &Node, o: [f64; 3], inv: [f64; 3], t_min: f64, t_max: f64) -> Option<f64> {
     let mut near = t_min;
@@ -278,7 +285,15 @@ fn slab(n: &Node, o: [f64; 3], inv: [f64; 3], t_min: f64, t_max: f64) -> Option<
     for k in 0..3 {
         let t0 = (n.min[k] as f64 - o[k]) * inv[k];
         let t1 = (n.max[k] as f64 - o[k]) * inv[k];
-        let (lo, hi) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        let (lo, hi) = if t0 <= t1 {
+            (t0, t1)
+        } else if t1 < t0 {
+            (t1, t0)
+        } else {
+            // NaN: zero direction component with the origin exactly on this slab's plane. The
+            // ray runs inside the plane, i.e. within the slab: this axis constrains nothing.
+            continue;
+        };
         near = near.max(lo);
         far = far.min(hi * (1.0 + 2.0 * GAMMA3));
     }

@@ -8,15 +8,17 @@
 //!   shadow-boundary band.
 //! * [`metrics`]: mismatch counts of a method's stencil mask against the reference, and the
 //!   diff image.
+//! * [`synthetic`]: primary-ray samples from a pinhole camera, for tests and benchmarks only.
 
 pub mod bvh;
 pub mod metrics;
 pub mod reference;
+pub mod synthetic;
 pub mod watertight;
 
 pub use bvh::{Bvh, Hit};
 pub use metrics::{compare, diff_image, Metrics};
-pub use reference::{reference, segment_epsilon, Reference, SampleClass, Samples};
+pub use reference::{boundary_band, reference, segment_epsilon, Reference, SampleClass, Samples};
 
 /// Bad input to the oracle. Pixel coordinates are `(x, y)` with `y = 0` the top row.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

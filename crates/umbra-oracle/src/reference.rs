@@ -258,26 +258,30 @@ fn classify(mesh: &WeldedMesh, bvh: &Bvh, eps: f64, shading: &Shading, triangle:
 /// Background neighbours do not count as a class: the edge between a surface and the empty
 /// background is a silhouette, not a shadow boundary, and nothing about the sample's shadow
 /// is uncertain there. Background pixels themselves are never band.
-fn boundary_band(width: u32, height: u32, class: &[SampleClass], grazing: &[bool]) -> Vec<bool> {
+///
+/// `class` and `grazing` are row-major with `width * height` entries (shorter slices are
+/// treated as background beyond their end).
+pub fn boundary_band(width: u32, height: u32, class: &[SampleClass], grazing: &[bool]) -> Vec<bool> {
     let (w, h) = (width as usize, height as usize);
     let mut band = vec![false; w * h];
+    let class_at = |i: usize| class.get(i).copied().unwrap_or(SampleClass::Background);
     if w == 0 {
         return band;
     }
     band.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
         for x in 0..w {
             let i = y * w + x;
-            if class[i] == SampleClass::Background {
+            if class_at(i) == SampleClass::Background {
                 continue;
             }
-            if grazing[i] {
+            if grazing.get(i).copied().unwrap_or(false) {
                 row[x] = true;
                 continue;
             }
             let (mut lit, mut shadowed) = (false, false);
             for ny in y.saturating_sub(1)..(y + 2).min(h) {
                 for nx in x.saturating_sub(1)..(x + 2).min(w) {
-                    match class[ny * w + nx] {
+                    match class_at(ny * w + nx) {
                         SampleClass::Lit => lit = true,
                         SampleClass::Shadowed => shadowed = true,
                         SampleClass::Background => {}

@@ -133,8 +133,8 @@ fn large_soup_built_in_parallel_matches_brute_force() {
     for i in 0..20_000u32 {
         let a = [next() * 100.0, next() * 100.0, next() * 100.0];
         p.push(a);
-        p.push([a[0] + next(), a[1] + next(), a[2]]);
-        p.push([a[0], a[1] + next(), a[2] + next()]);
+        p.push([a[0] + 4.0 * next(), a[1] + 4.0 * next(), a[2]]);
+        p.push([a[0], a[1] + 4.0 * next(), a[2] + 4.0 * next()]);
         t.push([3 * i, 3 * i + 1, 3 * i + 2]);
     }
     let bvh = Bvh::build(&p, &t).unwrap();

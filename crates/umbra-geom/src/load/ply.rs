@@ -193,8 +193,9 @@ fn parse_header(bytes: &[u8], file: &str) -> Result<Header, LoadError> {
             b"element" => {
                 let name = toks.next().ok_or_else(|| malformed(line_no, "element without a name".into()))?;
                 let count_tok = toks.next().unwrap_or(b"");
-                let count = parse_i64(count_tok)
-                    .and_then(|c| u64::try_from(c).ok())
+                let count = std::str::from_utf8(count_tok)
+                    .ok()
+                    .and_then(|c| c.parse::<u64>().ok())
                     .ok_or_else(|| malformed(line_no, format!("bad element count {:?}", show(count_tok))))?;
                 elements.push(Element { name: name.to_vec(), count, properties: Vec::new(), header_line: line_no });
             }

@@ -1,0 +1,38 @@
+//! `umbra render`: one frame to a PNG.
+
+use std::path::Path;
+
+use umbra_gl::create_method;
+
+use crate::args::RenderArgs;
+use crate::config::{CliError, ViewConfig};
+use crate::session::{Session, DEFAULT_METHOD};
+
+pub fn run(a: &RenderArgs) -> Result<(), CliError> {
+    let method_name = a.method.as_deref().unwrap_or(DEFAULT_METHOD);
+    if method_name == "help" || method_name == "list" {
+        for name in umbra_gl::method_names() {
+            println!("{name}");
+        }
+        return Ok(());
+    }
+    let mut method = create_method(method_name).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
+    let view = ViewConfig::from_args(&a.view)?;
+    let mut s = Session::new(&view)?;
+    let params = s.frame_params(&view);
+    let gl = s.context.gl();
+    let images =
+        s.renderer.render(gl, &s.scene, method.as_mut(), &params, None).map_err(|e| CliError::Gl(e.to_string()))?;
+    images.rgba.save_png(Path::new(&a.out)).map_err(|e| CliError::Gl(e.to_string()))?;
+    method.destroy(gl);
+    eprintln!(
+        "umbra: wrote {} ({}x{}, {} triangles, method {}, {})",
+        a.out,
+        view.width,
+        view.height,
+        s.welded.triangles.len(),
+        method_name,
+        s.context.renderer_string()
+    );
+    Ok(())
+}

@@ -1,0 +1,72 @@
+//! One headless GL session for a checked view: context, uploaded scene, renderer. Shared by
+//! `render` and `verify` so both draw exactly the same frame.
+
+use std::sync::Arc;
+
+use umbra_geom::weld::{weld, WeldedMesh};
+use umbra_gl::{Camera, FrameParams, HeadlessContext, Renderer, SceneGpu};
+
+use crate::config::{CliError, ViewConfig};
+
+/// The method `render` uses when none is named: the best one available.
+pub const DEFAULT_METHOD: &str = "cpu-silhouette";
+
+pub struct Session {
+    pub context: HeadlessContext,
+    pub scene: SceneGpu,
+    pub renderer: Renderer,
+    pub welded: Arc<WeldedMesh>,
+}
+
+fn gl_err(e: impl std::fmt::Display) -> CliError {
+    CliError::Gl(e.to_string())
+}
+
+impl Session {
+    /// Welds the mesh, creates the context and uploads the scene. An empty scene is an
+    /// error that says so (there is nothing to draw).
+    pub fn new(view: &ViewConfig) -> Result<Self, CliError> {
+        let welded = Arc::new(weld(&view.mesh));
+        if welded.triangles.is_empty() {
+            return Err(CliError::Other(format!(
+                "scene {:?} has no triangles to draw ({} triangles in the file, {} degenerate)",
+                view.scene_spec,
+                view.mesh.triangles.len(),
+                welded.degenerate_triangles
+            )));
+        }
+        let context = HeadlessContext::new().map_err(gl_err)?;
+        let gl = context.gl();
+        let scene = SceneGpu::upload(gl, welded.clone()).map_err(gl_err)?;
+        let renderer = Renderer::new(gl).map_err(gl_err)?.with_error_log(context.error_log().cloned());
+        Ok(Session { context, scene, renderer, welded })
+    }
+
+    /// The frame parameters for a view (camera near plane scaled to the scene).
+    pub fn frame_params(&self, view: &ViewConfig) -> FrameParams {
+        let diagonal = self.scene.bounds().map_or(1.0, |b| b.diagonal() as f64).max(1e-6);
+        let c = &view.camera;
+        FrameParams {
+            camera: Camera {
+                eye: c.eye,
+                target: c.target,
+                up: c.up,
+                fov_y_degrees: c.fov_y_degrees,
+                // The infinite far plane puts all depth precision near the near plane: keep
+                // it as far out as the scene allows.
+                near: near_plane(c.eye, diagonal),
+            },
+            width: view.width,
+            height: view.height,
+            lights: view.lights.clone(),
+            zpass: view.zpass,
+            ..FrameParams::default()
+        }
+    }
+}
+
+/// A near-plane distance for a scene of `diagonal` seen from `eye`: a small fraction of the
+/// scene size, so nearby geometry is not clipped and depth precision is not wasted.
+fn near_plane(_eye: [f64; 3], diagonal: f64) -> f64 {
+    diagonal * 1e-3
+}

@@ -1,0 +1,177 @@
+//! `cargo bench -p umbra-geom`: the CPU geometry path of umbra on a real scene (Crytek
+//! Sponza) and on the synthetic sphere scene of paper 001 Table 5 (`spheres:10:1000000`).
+//!
+//! * preprocessing, once per mesh: exact-position [`weld`] and [`EdgeAdjacency::build`]
+//!   (throughput in triangles), next to meshoptimizer's adjacency index buffer
+//!   (`meshopt::generate_adjacency_indices`, the peer a user would otherwise pick; it assumes
+//!   manifold meshes and keeps one neighbour per edge, so it is a speed reference only);
+//! * per frame: [`extract`], i.e. every edge's multiplicity (paper 001 Alg. 3-4) plus the
+//!   side quads and caps (throughput in edges), for a point light inside the scene and for
+//!   a directional light, with the output buffers reused across frames as a renderer would.
+//!
+//! Scenes come from `UMBRA_SCENES` (default `<workspace>/../shared/scenes`); Sponza is
+//! skipped with a message when absent. Before measuring, each scene's counts, the volume
+//! sizes and the heap allocations of one warmed-up frame are printed.
+//! Figures are recorded in `docs/benchmarks.md`.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, SamplingMode, Throughput};
+use umbra_geom::adjacency::EdgeAdjacency;
+use umbra_geom::silhouette::{extract, VolumeGeometry};
+use umbra_geom::weld::{weld, WeldedMesh};
+use umbra_geom::{load, scene, Light, Mesh};
+
+/// Counts heap allocations, to check that a warmed-up frame allocates nothing.
+struct CountingAllocator;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+fn scenes_dir() -> PathBuf {
+    match std::env::var_os("UMBRA_SCENES") {
+        Some(d) => PathBuf::from(d),
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"),
+    }
+}
+
+/// The benchmark scenes that are available: (name, mesh).
+fn scenes() -> Vec<(&'static str, Mesh)> {
+    let mut out = Vec::new();
+    let sponza = scenes_dir().join("crytek-sponza.obj.gz");
+    if sponza.is_file() {
+        match load::load_path(&sponza) {
+            Ok(m) => out.push(("sponza", m)),
+            Err(e) => eprintln!("SKIPPED: sponza: {e}"),
+        }
+    } else {
+        eprintln!("SKIPPED: sponza: {} not found (set UMBRA_SCENES)", sponza.display());
+    }
+    match scene::load_scene("spheres:10:1000000") {
+        Ok(m) => out.push(("spheres-10-1M", m)),
+        Err(e) => eprintln!("SKIPPED: spheres:10:1000000: {e}"),
+    }
+    out
+}
+
+/// A point light inside the bounds, at 70% of the height, slightly off the vertical axis;
+/// and a directional light from above at an angle.
+fn lights(mesh: &WeldedMesh) -> [(&'static str, Light); 2] {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for p in &mesh.positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let e = [0, 1, 2].map(|k| hi[k] - lo[k]);
+    let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    let point = [c[0] + 0.0731 * e[0], lo[1] + 0.7 * e[1], c[2] + 0.0417 * e[2], 1.0];
+    [("point", point), ("directional", [0.31, 1.0, 0.17, 0.0])]
+}
+
+fn configure(group: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>) {
+    group
+        .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+}
+
+fn bench_geometry(c: &mut Criterion) {
+    for (name, mesh) in scenes() {
+        let welded = weld(&mesh);
+        let adj = EdgeAdjacency::build(&welded);
+        println!(
+            "{name}: {} input triangles, {} input vertices; welded: {} triangles ({} degenerate dropped), \
+             {} vertices; {} edges ({} open, {} non-manifold, at most {} opposites)",
+            mesh.triangles.len(),
+            mesh.positions.len(),
+            welded.triangles.len(),
+            welded.degenerate_triangles,
+            welded.positions.len(),
+            adj.len(),
+            adj.open_edges(),
+            adj.nonmanifold_edges(),
+            adj.max_opposites()
+        );
+
+        let mut pre = c.benchmark_group(format!("{name}/preprocess"));
+        configure(&mut pre);
+        pre.throughput(Throughput::Elements(mesh.triangles.len() as u64));
+        pre.bench_function("weld", |b| b.iter(|| weld(black_box(&mesh))));
+        pre.bench_function("weld+adjacency", |b| {
+            b.iter(|| {
+                let w = weld(black_box(&mesh));
+                EdgeAdjacency::build(&w)
+            })
+        });
+        pre.bench_function("meshopt_adjacency(input)", |b| {
+            let adapter = vertex_adapter(&mesh.positions);
+            let indices = mesh.triangles.as_flattened();
+            b.iter(|| meshopt::generate_adjacency_indices(black_box(indices), &adapter))
+        });
+        pre.throughput(Throughput::Elements(welded.triangles.len() as u64));
+        pre.bench_function("adjacency", |b| b.iter(|| EdgeAdjacency::build(black_box(&welded))));
+        pre.bench_function("meshopt_adjacency(welded)", |b| {
+            let adapter = vertex_adapter(&welded.positions);
+            let indices = welded.triangles.as_flattened();
+            b.iter(|| meshopt::generate_adjacency_indices(black_box(indices), &adapter))
+        });
+        pre.finish();
+
+        let mut frame = c.benchmark_group(format!("{name}/extract"));
+        configure(&mut frame);
+        frame.throughput(Throughput::Elements(adj.len() as u64));
+        for (light_name, light) in lights(&welded) {
+            for caps in [true, false] {
+                let mut out = VolumeGeometry::default();
+                extract(&welded, &adj, light, caps, &mut out);
+                extract(&welded, &adj, light, caps, &mut out);
+                let before = ALLOCATIONS.load(Ordering::Relaxed);
+                extract(&welded, &adj, light, caps, &mut out);
+                let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+                let label = format!("{light_name}{}", if caps { "+caps" } else { "" });
+                println!(
+                    "{name}/{label}: {} side, {} light-cap, {} dark-cap vertices; \
+                     {allocations} heap allocations in a warmed-up frame",
+                    out.sides.len(),
+                    out.light_caps.len(),
+                    out.dark_caps.len()
+                );
+                frame.bench_function(label, |b| {
+                    b.iter(|| extract(black_box(&welded), &adj, black_box(light), caps, &mut out))
+                });
+            }
+        }
+        frame.finish();
+    }
+}
+
+fn vertex_adapter(positions: &[[f32; 3]]) -> meshopt::VertexDataAdapter<'_> {
+    meshopt::VertexDataAdapter::new(meshopt::typed_to_bytes(positions), std::mem::size_of::<[f32; 3]>(), 0)
+        .expect("[f32; 3] positions are a whole number of 12-byte vertices")
+}
+
+criterion_group!(benches, bench_geometry);
+criterion_main!(benches);
