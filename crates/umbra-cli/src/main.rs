@@ -6,6 +6,7 @@ mod config;
 mod info;
 mod render;
 mod session;
+mod verify;
 
 use clap::Parser;
 
@@ -14,7 +15,12 @@ fn main() {
     let result = match &cli.command {
         args::Command::Info(a) => info::run(a),
         args::Command::Render(a) => render::run(a),
-        args::Command::Verify(_) => Err(config::CliError::Other("not yet wired".into())),
+        args::Command::Verify(a) => match verify::run(a) {
+            // A method that must be exact was not: exit status 1 (errors are 2).
+            Ok(false) => std::process::exit(1),
+            Ok(true) => Ok(()),
+            Err(e) => Err(e),
+        },
     };
     if let Err(e) = result {
         eprintln!("umbra: error: {e}");

@@ -48,6 +48,9 @@ unsafe impl GlobalAlloc for CountingAllocator {
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
 
+/// Frames over which the heap allocations of a warmed-up extraction are counted.
+const FRAMES_COUNTED: usize = 10;
+
 fn scenes_dir() -> PathBuf {
     match std::env::var_os("UMBRA_SCENES") {
         Some(d) => PathBuf::from(d),
@@ -116,6 +119,8 @@ fn bench_geometry(c: &mut Criterion) {
             adj.max_opposites()
         );
 
+        println!("{name}: fingerprint weld {:016x} adjacency {:016x}", fingerprint(&welded), fingerprint(&adj));
+
         let mut pre = c.benchmark_group(format!("{name}/preprocess"));
         configure(&mut pre);
         pre.throughput(Throughput::Elements(mesh.triangles.len() as u64));
@@ -149,15 +154,18 @@ fn bench_geometry(c: &mut Criterion) {
                 extract(&welded, &adj, light, caps, &mut out);
                 extract(&welded, &adj, light, caps, &mut out);
                 let before = ALLOCATIONS.load(Ordering::Relaxed);
-                extract(&welded, &adj, light, caps, &mut out);
+                for _ in 0..FRAMES_COUNTED {
+                    extract(&welded, &adj, light, caps, &mut out);
+                }
                 let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
                 let label = format!("{light_name}{}", if caps { "+caps" } else { "" });
                 println!(
                     "{name}/{label}: {} side, {} light-cap, {} dark-cap vertices; \
-                     {allocations} heap allocations in a warmed-up frame",
+                     {allocations} heap allocations in {FRAMES_COUNTED} warmed-up frames; fingerprint {:016x}",
                     out.sides.len(),
                     out.light_caps.len(),
-                    out.dark_caps.len()
+                    out.dark_caps.len(),
+                    fingerprint(&out)
                 );
                 frame.bench_function(label, |b| {
                     b.iter(|| extract(black_box(&welded), &adj, black_box(light), caps, &mut out))
@@ -166,6 +174,26 @@ fn bench_geometry(c: &mut Criterion) {
         }
         frame.finish();
     }
+}
+
+/// A hash of a result's `Debug` form (which prints every float exactly): equal fingerprints
+/// before and after an optimisation mean the same output, bit for bit in practice.
+fn fingerprint<T: std::fmt::Debug>(value: &T) -> u64 {
+    use std::hash::{DefaultHasher, Hasher};
+    use std::io::Write;
+    struct HashWriter(DefaultHasher);
+    impl Write for HashWriter {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.write(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let mut w = HashWriter(DefaultHasher::new());
+    write!(w, "{value:?}").expect("hashing never fails");
+    w.0.finish()
 }
 
 fn vertex_adapter(positions: &[[f32; 3]]) -> meshopt::VertexDataAdapter<'_> {

@@ -101,7 +101,45 @@ impl EdgeAdjacency {
 mod tests {
     use super::*;
     use crate::mesh::Mesh;
+    use crate::weld::tests::reference_inputs;
     use crate::weld::weld;
+
+    /// The original sort-based build the optimised one must reproduce exactly: one record
+    /// per (triangle, edge), sorted by (low index, high index, record position).
+    fn reference_build(mesh: &WeldedMesh) -> EdgeAdjacency {
+        let mut records: Vec<(u64, u32)> = Vec::new();
+        for (t, &[i0, i1, i2]) in mesh.triangles.iter().enumerate() {
+            let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
+            let base = 3 * t as u32;
+            records.extend([(key(i0, i1), base), (key(i1, i2), base + 1), (key(i2, i0), base + 2)]);
+        }
+        records.sort();
+        let mut adj = EdgeAdjacency::default();
+        for (i, &(key, slot)) in records.iter().enumerate() {
+            if i == 0 || records[i - 1].0 != key {
+                let (lo, hi) = ((key >> 32) as u32, key as u32);
+                let in_order = greater(mesh.positions[lo as usize], mesh.positions[hi as usize]) < 0;
+                adj.edges.push(if in_order { [lo, hi] } else { [hi, lo] });
+                adj.opposite_start.push(adj.opposites.len() as u32);
+            }
+            let tri = mesh.triangles[(slot / 3) as usize];
+            adj.opposites.push(tri[(slot as usize % 3 + 2) % 3]);
+        }
+        adj.opposite_start.push(adj.opposites.len() as u32);
+        adj
+    }
+
+    #[test]
+    fn adjacency_matches_sort_reference() {
+        let mut nonmanifold = 0;
+        for mesh in reference_inputs() {
+            let w = weld(&mesh);
+            let got = EdgeAdjacency::build(&w);
+            assert_eq!(got, reference_build(&w));
+            nonmanifold += got.nonmanifold_edges();
+        }
+        assert!(nonmanifold > 0, "the inputs must include non-manifold edges");
+    }
 
     #[test]
     fn adjacency_single_triangle_is_open() {

@@ -95,7 +95,7 @@ pub fn parse(spec: &str) -> Result<SceneSpec, SceneError> {
     }
     let n = u32::try_from(n)
         .ok()
-        .filter(|&n| u64::from(n) * u64::from(n) * 6 + 2 <= MAX_PROCEDURAL_TRIANGLES)
+        .filter(|&n| spheres_triangle_count(n, 3, 2) <= MAX_PROCEDURAL_TRIANGLES)
         .ok_or_else(|| invalid(format!("N = {n} is too large (at most {MAX_PROCEDURAL_TRIANGLES} triangles)")))?;
     match t_str {
         None => {
@@ -166,14 +166,20 @@ fn parse_count(s: &str) -> Option<u64> {
     value.checked_mul(scale)
 }
 
-/// Triangles of one UV sphere with shared poles: `2 * slices * (stacks - 1)`.
+/// Largest `slices` or `stacks` of [`uv_sphere`] (and segments of [`torus`]): keeps every
+/// vertex index within `u32`. Larger arguments are clamped.
+pub const MAX_SEGMENTS: u32 = 65_535;
+
+/// Triangles of one UV sphere with shared poles: `2 * slices * (stacks - 1)` (after the
+/// same clamping as [`uv_sphere`]).
 pub fn sphere_triangle_count(slices: u32, stacks: u32) -> u64 {
-    2 * u64::from(slices.max(3)) * u64::from(stacks.max(2) - 1)
+    2 * u64::from(slices.clamp(3, MAX_SEGMENTS)) * u64::from(stacks.clamp(2, MAX_SEGMENTS) - 1)
 }
 
-/// Triangles of the `spheres` scene: `n^2` spheres plus the two ground triangles.
+/// Triangles of the `spheres` scene: `n^2` spheres plus the two ground triangles
+/// (saturating at `u64::MAX`).
 pub fn spheres_triangle_count(n: u32, slices: u32, stacks: u32) -> u64 {
-    u64::from(n) * u64::from(n) * sphere_triangle_count(slices, stacks) + 2
+    (u64::from(n) * u64::from(n)).saturating_mul(sphere_triangle_count(slices, stacks)).saturating_add(2)
 }
 
 /// The `(slices, stacks)` for which `spheres:n` has a total triangle count within 2% of
@@ -186,12 +192,12 @@ pub fn tessellation_for_target(n: u32, target: u64) -> Option<(u32, u32)> {
     }
     let per_sphere = (target - 2) as f64 / spheres as f64;
     // per sphere 2 * s * m with m = stacks - 1 >= 1 and s >= 3
-    let max_m = ((per_sphere / 6.0).ceil() as u64).clamp(1, 2_000_000);
+    let max_m = ((per_sphere / 6.0).ceil() as u64).clamp(1, u64::from(MAX_SEGMENTS) - 1);
     let mut best: [Option<(f64, u64, u32, u32)>; 2] = [None, None];
     for m in 1..=max_m {
         let s_real = per_sphere / (2.0 * m as f64);
         for s in [s_real.floor(), s_real.ceil()] {
-            if !(3.0..=1.0e7).contains(&s) {
+            if !(3.0..=f64::from(MAX_SEGMENTS)).contains(&s) {
                 continue;
             }
             let (s, m32) = (s as u32, m as u32);
@@ -215,14 +221,14 @@ pub fn tessellation_for_target(n: u32, target: u64) -> Option<(u32, u32)> {
     best[0].or(best[1]).map(|(_, _, s, k)| (s, k))
 }
 
-/// A closed UV sphere: `slices` (>= 3) vertices around, `stacks` (>= 2) bands from pole to
-/// pole, single shared pole vertices, `2 + slices * (stacks - 1)` vertices and
+/// A closed UV sphere: `slices` (3..=[`MAX_SEGMENTS`]) vertices around, `stacks`
+/// (2..=[`MAX_SEGMENTS`]) bands from pole to pole, single shared pole vertices, `2 + slices * (stacks - 1)` vertices and
 /// `2 * slices * (stacks - 1)` triangles, counter-clockwise seen from outside, unit normals.
 pub fn uv_sphere(center: [f32; 3], radius: f32, slices: u32, stacks: u32) -> Mesh {
-    let slices = slices.max(3);
-    let stacks = stacks.max(2);
+    let slices = slices.clamp(3, MAX_SEGMENTS);
+    let stacks = stacks.clamp(2, MAX_SEGMENTS);
     let rings = stacks - 1;
-    let mut positions = Vec::with_capacity(2 + (slices * rings) as usize);
+    let mut positions = Vec::with_capacity(2 + slices as usize * rings as usize);
     let mut normals = Vec::with_capacity(positions.capacity());
     let mut push = |d: [f64; 3]| {
         positions.push([0, 1, 2].map(|k| (f64::from(center[k]) + f64::from(radius) * d[k]) as f32));
@@ -327,13 +333,13 @@ pub fn cuboid(center: [f32; 3], half_extent: [f32; 3]) -> Mesh {
     mesh
 }
 
-/// A closed torus around the Y axis: `major_segments` (>= 3) around the ring,
-/// `minor_segments` (>= 3) around the tube, `2 * major * minor` triangles, outward CCW.
+/// A closed torus around the Y axis: `major_segments` around the ring, `minor_segments`
+/// around the tube (each clamped to 3..=[`MAX_SEGMENTS`]), `2 * major * minor` triangles, outward CCW.
 pub fn torus(center: [f32; 3], major_radius: f32, minor_radius: f32, major_segments: u32, minor_segments: u32) -> Mesh {
-    let (nu, nv) = (major_segments.max(3), minor_segments.max(3));
+    let (nu, nv) = (major_segments.clamp(3, MAX_SEGMENTS), minor_segments.clamp(3, MAX_SEGMENTS));
     let (big_r, small_r) = (f64::from(major_radius), f64::from(minor_radius));
     let mut mesh = Mesh { normals: Some(Vec::new()), ..Mesh::default() };
-    let mut normals = Vec::with_capacity((nu * nv) as usize);
+    let mut normals = Vec::with_capacity(nu as usize * nv as usize);
     for i in 0..nu {
         let u = 2.0 * PI * f64::from(i) / f64::from(nu);
         for j in 0..nv {

@@ -58,79 +58,223 @@ fn point(p: [f32; 3]) -> [f32; 4] {
     [p[0], p[1], p[2], 1.0]
 }
 
-/// Edges per parallel work item: large enough to amortise the per-chunk vector, small enough
-/// to balance two to many cores.
-const EDGES_PER_CHUNK: usize = 8192;
+/// Edges (or triangles) per parallel work item: large enough to amortise the scheduling,
+/// small enough to balance two to many cores.
+const ITEMS_PER_CHUNK: usize = 4096;
 
-/// Appends the side quads of edge `[a, b]` (`a < b`) with multiplicity `m` to `out`.
-#[inline]
-fn emit_sides(out: &mut Vec<[f32; 4]>, a: [f32; 3], b: [f32; 3], m: i32, light: Light) {
+/// The per-frame scratch of [`extract`], kept per calling thread so a warmed-up frame does
+/// not allocate.
+#[derive(Default)]
+struct Scratch {
+    /// Multiplicity of every edge.
+    multiplicity: Vec<i32>,
+    /// Orientation of every triangle towards the light (caps only).
+    orientation: Vec<i8>,
+    /// Output vertices before each chunk (exclusive prefix sums; one more entry than chunks).
+    side_offsets: Vec<usize>,
+    cap_offsets: Vec<usize>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+/// Writes the side quads of edge `[a, b]` (`a < b`) with multiplicity `m != 0` at the start
+/// of `out` (which holds at least `6 |m|` vertices); returns the number of vertices written.
+#[inline(always)]
+fn write_sides(out: &mut [[f32; 4]], a: [f32; 3], b: [f32; 3], m: i32, light: Light) -> usize {
     let (a_inf, b_inf) = (extrude(a, light), extrude(b, light));
     let (a, b) = (point(a), point(b));
     // m > 0: quad B A A∞ B∞; m < 0: the reverse, A B B∞ A∞.
     let quad = if m > 0 { [b, a, a_inf, b, a_inf, b_inf] } else { [a, b, b_inf, a, b_inf, a_inf] };
-    for _ in 0..m.unsigned_abs() {
-        out.extend_from_slice(&quad);
+    let n = 6 * m.unsigned_abs() as usize;
+    for copy in out[..n].chunks_exact_mut(6) {
+        copy.copy_from_slice(&quad);
+    }
+    n
+}
+
+/// Sets `v`'s length to `len`, reusing its capacity; the contents are overwritten by the
+/// caller (only the part beyond the previous length is zero-filled first).
+fn set_len<T: Copy>(v: &mut Vec<T>, len: usize, zero: T) {
+    v.truncate(len);
+    v.resize(len, zero);
+}
+
+/// Turns `counts[1..]` (per-chunk counts, `counts[0]` ignored) in place into exclusive
+/// prefix sums scaled by `scale`: `counts[c]` = output vertices before chunk `c`.
+fn prefix_sums(counts: &mut [usize], scale: usize) {
+    counts[0] = 0;
+    let mut total = 0;
+    for c in counts.iter_mut() {
+        total += *c * scale;
+        *c = total;
+    }
+}
+
+/// Output buffers that can be cut where a chunk's output starts.
+trait SplitOutput: Send + Sized {
+    fn split(self, at: usize) -> (Self, Self);
+}
+
+impl<T: Send> SplitOutput for &mut [T] {
+    fn split(self, at: usize) -> (Self, Self) {
+        self.split_at_mut(at)
+    }
+}
+
+/// Light caps and dark caps, which have the same length or (directional light) no dark caps.
+impl<T: Send> SplitOutput for (&mut [T], &mut [T]) {
+    fn split(self, at: usize) -> (Self, Self) {
+        let (l0, l1) = self.0.split_at_mut(at);
+        if self.1.is_empty() {
+            ((l0, &mut []), (l1, &mut []))
+        } else {
+            let (d0, d1) = self.1.split_at_mut(at);
+            ((l0, d0), (l1, d1))
+        }
+    }
+}
+
+/// Runs `write(chunk, piece)` for every chunk in `chunks`, in parallel, where `piece` is the
+/// part of `out` from `offsets[chunk]` to `offsets[chunk + 1]` (relative to
+/// `offsets[chunks.start]`, where `out` starts). Splits recursively with `rayon::join`: no
+/// allocation.
+fn write_chunks<O: SplitOutput>(
+    chunks: std::ops::Range<usize>,
+    offsets: &[usize],
+    out: O,
+    write: &(impl Fn(usize, O) + Sync),
+) {
+    match chunks.len() {
+        0 => {}
+        1 => write(chunks.start, out),
+        n => {
+            let mid = chunks.start + n / 2;
+            let (left, right) = out.split(offsets[mid] - offsets[chunks.start]);
+            rayon::join(
+                || write_chunks(chunks.start..mid, offsets, left, write),
+                || write_chunks(mid..chunks.end, offsets, right, write),
+            );
+        }
     }
 }
 
 /// Computes every edge's multiplicity (in parallel) and emits the volume into `out`
-/// (cleared first). `caps` adds the light and dark caps z-fail needs.
+/// (its previous contents replaced, its capacity reused). `caps` adds the light and dark
+/// caps z-fail needs.
 ///
-/// Output order is deterministic (edge order, then triangle order).
+/// Output order is deterministic (edge order, then triangle order). Two parallel passes per
+/// output: multiplicities (or cap orientations) with a count per chunk, then, after prefix
+/// sums over the chunks, every chunk writes its vertices straight into its own part of
+/// `out`. Once warmed up (same thread, output not larger than before) a frame allocates
+/// nothing.
 pub fn extract(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light, caps: bool, out: &mut VolumeGeometry) {
-    out.clear();
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut scratch) => extract_with(mesh, adj, light, caps, out, &mut scratch),
+        // Re-entered on this thread (a rayon worker ran another extract while waiting): use
+        // a fresh scratch rather than share.
+        Err(_) => extract_with(mesh, adj, light, caps, out, &mut Scratch::default()),
+    })
+}
+
+fn extract_with(
+    mesh: &WeldedMesh,
+    adj: &EdgeAdjacency,
+    light: Light,
+    caps: bool,
+    out: &mut VolumeGeometry,
+    scratch: &mut Scratch,
+) {
     let positions = &mesh.positions;
-    let chunks: Vec<Vec<[f32; 4]>> = (0..adj.len())
-        .into_par_iter()
-        .step_by(EDGES_PER_CHUNK)
-        .map(|start| {
-            let end = (start + EDGES_PER_CHUNK).min(adj.len());
-            let mut local = Vec::new();
-            for e in start..end {
-                let edge = adj.edges[e];
-                let m = edge_multiplicity(positions, edge, adj.opposites(e), light);
-                if m != 0 {
-                    emit_sides(&mut local, positions[edge[0] as usize], positions[edge[1] as usize], m, light);
-                }
+    let Scratch { multiplicity, orientation, side_offsets, cap_offsets } = scratch;
+
+    // Pass 1: multiplicities, and |m| summed per chunk into `side_offsets[chunk + 1]`.
+    let edges = adj.len();
+    let edge_chunks = edges.div_ceil(ITEMS_PER_CHUNK);
+    set_len(multiplicity, edges, 0);
+    set_len(side_offsets, edge_chunks + 1, 0);
+    multiplicity
+        .par_chunks_mut(ITEMS_PER_CHUNK)
+        .zip(side_offsets[1..].par_iter_mut())
+        .enumerate()
+        .for_each(|(chunk, (ms, sum))| {
+            let first = chunk * ITEMS_PER_CHUNK;
+            let mut total = 0usize;
+            for (e, m) in (first..).zip(ms.iter_mut()) {
+                *m = edge_multiplicity(positions, adj.edges[e], adj.opposites(e), light);
+                total += m.unsigned_abs() as usize;
             }
-            local
-        })
-        .collect();
-    out.sides.reserve(chunks.iter().map(Vec::len).sum());
-    for c in &chunks {
-        out.sides.extend_from_slice(c);
-    }
+            *sum = total;
+        });
+    prefix_sums(side_offsets, 6);
+
+    // Pass 2: every chunk writes its quads into its own part of `out.sides`.
+    set_len(&mut out.sides, side_offsets[edge_chunks], [0.0; 4]);
+    let ms: &[i32] = multiplicity;
+    write_chunks(0..edge_chunks, side_offsets, &mut out.sides[..], &|chunk, piece: &mut [[f32; 4]]| {
+        let first = chunk * ITEMS_PER_CHUNK;
+        let last = (first + ITEMS_PER_CHUNK).min(edges);
+        let mut at = 0;
+        for e in first..last {
+            let m = ms[e];
+            if m != 0 {
+                let [a, b] = adj.edges[e];
+                at += write_sides(&mut piece[at..], positions[a as usize], positions[b as usize], m, light);
+            }
+        }
+    });
+
     if !caps {
+        out.light_caps.clear();
+        out.dark_caps.clear();
         return;
     }
+    // Caps, the same way: orientations with a count per chunk, then the writes.
     let directional = light[3] == 0.0;
-    let cap_chunks: Vec<(Vec<[f32; 4]>, Vec<[f32; 4]>)> = mesh
-        .triangles
-        .par_chunks(EDGES_PER_CHUNK)
-        .map(|tris| {
-            let mut light_caps = Vec::new();
-            let mut dark_caps = Vec::new();
-            for &tri in tris {
-                let s = triangle_orientation(positions, tri, light);
-                if s == 0 {
-                    continue;
-                }
-                // Wind the cap so that it faces the light.
-                let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
-                let [p0, p1, p2] = [i0, i1, i2].map(|i| positions[i as usize]);
-                light_caps.extend_from_slice(&[point(p0), point(p1), point(p2)]);
-                if !directional {
-                    dark_caps.extend_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
-                }
+    let triangles = mesh.triangles.len();
+    let tri_chunks = triangles.div_ceil(ITEMS_PER_CHUNK);
+    set_len(orientation, triangles, 0);
+    set_len(cap_offsets, tri_chunks + 1, 0);
+    orientation
+        .par_chunks_mut(ITEMS_PER_CHUNK)
+        .zip(mesh.triangles.par_chunks(ITEMS_PER_CHUNK))
+        .zip(cap_offsets[1..].par_iter_mut())
+        .for_each(|((ss, tris), count)| {
+            let mut n = 0;
+            for (s, &tri) in ss.iter_mut().zip(tris) {
+                let o = triangle_orientation(positions, tri, light);
+                *s = o as i8;
+                n += (o != 0) as usize;
             }
-            (light_caps, dark_caps)
-        })
-        .collect();
-    for (l, d) in &cap_chunks {
-        out.light_caps.extend_from_slice(l);
-        out.dark_caps.extend_from_slice(d);
-    }
+            *count = n;
+        });
+    prefix_sums(cap_offsets, 3);
+    let cap_vertices = cap_offsets[tri_chunks];
+    set_len(&mut out.light_caps, cap_vertices, [0.0; 4]);
+    set_len(&mut out.dark_caps, if directional { 0 } else { cap_vertices }, [0.0; 4]);
+    let ss: &[i8] = orientation;
+    let caps_out = (&mut out.light_caps[..], &mut out.dark_caps[..]);
+    write_chunks(0..tri_chunks, cap_offsets, caps_out, &|chunk, (light_caps, dark_caps): (&mut [[f32; 4]], &mut [[f32; 4]])| {
+        let first = chunk * ITEMS_PER_CHUNK;
+        let last = (first + ITEMS_PER_CHUNK).min(triangles);
+        let mut at = 0;
+        for t in first..last {
+            let s = ss[t];
+            if s == 0 {
+                continue;
+            }
+            let tri = mesh.triangles[t];
+            // Wind the cap so that it faces the light.
+            let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
+            let [p0, p1, p2] = [i0, i1, i2].map(|i| positions[i as usize]);
+            light_caps[at..at + 3].copy_from_slice(&[point(p0), point(p1), point(p2)]);
+            if !directional {
+                dark_caps[at..at + 3].copy_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
+            }
+            at += 3;
+        }
+    });
 }
 
 /// Per-edge multiplicities in edge order (for statistics and tests).
@@ -145,4 +289,88 @@ pub fn multiplicities(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light) -> V
 pub fn silhouette_stats(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light) -> (usize, u64) {
     let m = multiplicities(mesh, adj, light);
     (m.iter().filter(|&&x| x != 0).count(), m.iter().map(|&x| x.unsigned_abs() as u64).sum())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::weld::tests::{reference_inputs, reference_lights};
+    use crate::weld::weld;
+
+    /// The straightforward serial emission (one edge after another, one triangle after
+    /// another) that [`extract`] must reproduce exactly.
+    fn reference_extract(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light, caps: bool) -> VolumeGeometry {
+        let mut out = VolumeGeometry::default();
+        let p = &mesh.positions;
+        for e in 0..adj.len() {
+            let [a, b] = adj.edges[e];
+            let m = edge_multiplicity(p, [a, b], adj.opposites(e), light);
+            let (a, b) = (p[a as usize], p[b as usize]);
+            let (a_inf, b_inf) = (extrude(a, light), extrude(b, light));
+            let (a, b) = (point(a), point(b));
+            let quad = if m > 0 { [b, a, a_inf, b, a_inf, b_inf] } else { [a, b, b_inf, a, b_inf, a_inf] };
+            for _ in 0..m.unsigned_abs() {
+                out.sides.extend_from_slice(&quad);
+            }
+        }
+        if caps {
+            for &tri in &mesh.triangles {
+                let s = triangle_orientation(p, tri, light);
+                if s == 0 {
+                    continue;
+                }
+                let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
+                let [p0, p1, p2] = [i0, i1, i2].map(|i| p[i as usize]);
+                out.light_caps.extend_from_slice(&[point(p0), point(p1), point(p2)]);
+                if light[3] != 0.0 {
+                    out.dark_caps.extend_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
+                }
+            }
+        }
+        out
+    }
+
+    /// Bit patterns, so that `-0.0 != 0.0` and NaN == NaN.
+    fn bits(v: &VolumeGeometry) -> [Vec<[u32; 4]>; 3] {
+        [&v.sides, &v.light_caps, &v.dark_caps].map(|l| l.iter().map(|x| x.map(f32::to_bits)).collect())
+    }
+
+    /// Many chunks, multiplicities up to ±n on non-manifold edges, edge-on triangles, both
+    /// light kinds, caps on and off; one `out` reused across all of it, growing and
+    /// shrinking: the parallel two-pass emission equals the serial one bit for bit.
+    #[test]
+    fn extract_matches_serial_reference_with_reused_output() {
+        let mut out = VolumeGeometry::default();
+        let mut nonempty = 0;
+        for mesh in reference_inputs() {
+            let w = weld(&mesh);
+            let adj = EdgeAdjacency::build(&w);
+            for light in reference_lights(&w) {
+                for caps in [true, false] {
+                    extract(&w, &adj, light, caps, &mut out);
+                    let expected = reference_extract(&w, &adj, light, caps);
+                    assert!(bits(&out) == bits(&expected), "light {light:?} caps {caps}");
+                    nonempty += !out.sides.is_empty() as usize;
+                }
+            }
+        }
+        assert!(nonempty >= 8, "the inputs must cast silhouettes ({nonempty})");
+    }
+
+    /// An extraction running inside another one on the same thread (a rayon worker picks up
+    /// a second frame's job while it waits) gets its own scratch instead of a borrow panic.
+    #[test]
+    fn extract_reentrant_on_one_thread() {
+        let mesh = &reference_inputs()[0];
+        let w = weld(mesh);
+        let adj = EdgeAdjacency::build(&w);
+        let light = reference_lights(&w)[0];
+        let expected = reference_extract(&w, &adj, light, true);
+        SCRATCH.with(|cell| {
+            let _held = cell.borrow_mut();
+            let mut out = VolumeGeometry::default();
+            extract(&w, &adj, light, true, &mut out);
+            assert!(bits(&out) == bits(&expected));
+        });
+    }
 }

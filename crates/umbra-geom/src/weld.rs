@@ -96,8 +96,143 @@ impl WeldedMesh {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
+    use crate::Light;
+
+    /// xorshift64*: a deterministic stream for test inputs.
+    pub(crate) struct Rng(u64);
+    impl Rng {
+        pub(crate) fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+        pub(crate) fn below(&mut self, n: u64) -> u64 {
+            self.next() % n
+        }
+    }
+
+    /// Inputs the optimised weld, adjacency and extraction are checked against their
+    /// straightforward references on: a large random soup on a coarse grid (coincident
+    /// positions in many copies, `-0.0`, degenerate and duplicate triangles, non-manifold
+    /// edges, out-of-range indices), an exploded (unwelded, shuffled) grid of UV spheres
+    /// spanning many parallel chunks, a single triangle and an empty mesh.
+    pub(crate) fn reference_inputs() -> Vec<Mesh> {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut soup = Mesh::default();
+        for _ in 0..6000 {
+            let c = |rng: &mut Rng| match rng.below(8) {
+                0 => -0.0,
+                1 => (rng.below(1000) as f32) * 0.001 - 0.5,
+                k => (rng.below(5) as f32 - 2.0) * 0.5 * (k as f32 - 1.0),
+            };
+            soup.positions.push([c(&mut rng), c(&mut rng), c(&mut rng)]);
+        }
+        let n = soup.positions.len() as u64;
+        for _ in 0..20000 {
+            let mut t = [0; 3].map(|_| rng.below(n) as u32);
+            if rng.below(500) == 0 {
+                t[rng.below(3) as usize] = n as u32 + 7; // out of range
+            }
+            soup.triangles.push(t);
+            if rng.below(50) == 0 {
+                soup.triangles.push([t[1], t[0], t[2]]); // duplicate, opposite winding
+            }
+        }
+        let mut spheres = Mesh::default();
+        for k in 0..9 {
+            let s = crate::scene::uv_sphere([3.0 * (k % 3) as f32, 0.5 * k as f32, 3.0 * (k / 3) as f32], 1.0, 40, 25);
+            spheres.append(&s);
+        }
+        // Explode: every triangle corner its own vertex, triangles in a shuffled order.
+        let mut exploded = Mesh::default();
+        let mut order: Vec<usize> = (0..spheres.triangles.len()).collect();
+        for i in (1..order.len()).rev() {
+            order.swap(i, rng.below(i as u64 + 1) as usize);
+        }
+        for t in order {
+            let b = exploded.positions.len() as u32;
+            for &v in &spheres.triangles[t] {
+                exploded.positions.push(spheres.positions[v as usize]);
+            }
+            exploded.triangles.push([b, b + 1, b + 2]);
+        }
+        let single = Mesh {
+            positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            triangles: vec![[0, 1, 2]],
+            normals: None,
+        };
+        vec![soup, exploded, spheres, single, Mesh::default()]
+    }
+
+    /// Point lights inside the bounds and on the coarse grid (in the plane of many soup
+    /// triangles: edge-on cases), directional lights along an axis and oblique.
+    pub(crate) fn reference_lights(mesh: &WeldedMesh) -> [Light; 4] {
+        let c = mesh.positions.first().copied().unwrap_or([0.0; 3]);
+        [[c[0] + 0.123, c[1] + 0.71, c[2] - 0.05, 1.0], [0.5, 1.0, -0.5, 1.0], [0.0, 1.0, 0.0, 0.0], [0.3, 0.8, 0.2, 0.0]]
+    }
+
+    /// The original sort-based weld the optimised one must reproduce exactly.
+    fn reference_weld(mesh: &Mesh) -> WeldedMesh {
+        let n = mesh.positions.len();
+        let keys: Vec<[u32; 3]> = mesh.positions.iter().map(|&p| weld_key(p)).collect();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by_key(|&i| (keys[i as usize], i));
+        let mut representative = vec![0u32; n];
+        for i in 0..n {
+            let first = if i > 0 && keys[order[i] as usize] == keys[order[i - 1] as usize] {
+                representative[order[i - 1] as usize]
+            } else {
+                order[i]
+            };
+            representative[order[i] as usize] = first;
+        }
+        let mut welded_index = vec![u32::MAX; n];
+        let mut out = WeldedMesh::default();
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            if tri.iter().any(|&v| v as usize >= n) {
+                out.degenerate_triangles += 1;
+                continue;
+            }
+            let r = tri.map(|v| representative[v as usize]);
+            if r[0] == r[1] || r[1] == r[2] || r[0] == r[2] {
+                out.degenerate_triangles += 1;
+                continue;
+            }
+            let w = r.map(|v| {
+                if welded_index[v as usize] == u32::MAX {
+                    welded_index[v as usize] = out.positions.len() as u32;
+                    out.positions.push(mesh.positions[v as usize].map(|c| if c == 0.0 { 0.0 } else { c }));
+                }
+                welded_index[v as usize]
+            });
+            out.triangles.push(w);
+            out.source_triangle.push(t as u32);
+        }
+        out
+    }
+
+    fn position_bits(w: &WeldedMesh) -> Vec<[u32; 3]> {
+        w.positions.iter().map(|p| p.map(f32::to_bits)).collect()
+    }
+
+    #[test]
+    fn weld_matches_sort_reference() {
+        for mesh in reference_inputs() {
+            let (got, expected) = (weld(&mesh), reference_weld(&mesh));
+            assert_eq!(position_bits(&got), position_bits(&expected));
+            assert_eq!(got.triangles, expected.triangles);
+            assert_eq!(got.source_triangle, expected.source_triangle);
+            assert_eq!(got.degenerate_triangles, expected.degenerate_triangles);
+        }
+        // The inputs do exercise welding and dropping.
+        let inputs = reference_inputs();
+        let (soup, exploded) = (weld(&inputs[0]), weld(&inputs[1]));
+        assert!(soup.degenerate_triangles > 0 && soup.positions.len() < inputs[0].positions.len());
+        assert_eq!(exploded.positions.len(), 9 * (2 + 40 * 24));
+    }
 
     fn soup(tris: &[[[f32; 3]; 3]]) -> Mesh {
         let mut m = Mesh::default();

@@ -258,7 +258,7 @@ fn bad_specs_are_clear_errors() {
     for bad in [
         "spheres:0", "spheres:abc", "spheres:3:5", "spheres:", "spheres:3:", "spheres:-1",
         "spheres:10:abc", "spheres:1:2:3", "spheres:100000", "spheres:10:999999999999", "spheres:10:700",
-        "spheres:99999999999999999999999", "   ",
+        "spheres:99999999999999999999999", "spheres:4294967295", "spheres:4294967296", "spheres:1:k", "   ",
     ] {
         match scene::parse(bad) {
             Err(e @ SceneError::InvalidSpec { .. }) => {
@@ -289,4 +289,13 @@ fn scenes_are_deterministic() {
         assert_eq!(bits(&a), bits(&b), "{spec}");
         assert_eq!(a.triangles, b.triangles, "{spec}");
     }
+}
+
+#[test]
+fn triangle_counts_never_overflow() {
+    let max = scene::MAX_SEGMENTS as u64;
+    assert_eq!(scene::sphere_triangle_count(u32::MAX, u32::MAX), 2 * max * (max - 1));
+    assert_eq!(scene::spheres_triangle_count(u32::MAX, u32::MAX, u32::MAX), u64::MAX);
+    assert_eq!(scene::tessellation_for_target(u32::MAX, u64::MAX), None);
+    assert_eq!(scene::tessellation_for_target(0, 1000), None);
 }

@@ -1,27 +1,39 @@
-//! Debug probe: what does the shadow ray of one pixel hit?
+//! Profiling driver: loads Sponza, builds the BVH a few times, runs the reference once per
+//! light, printing wall and process CPU times. `cargo run --release --example oracle_probe [SCENE]`
+use std::time::Instant;
 use umbra_oracle::synthetic::{primary_samples, PinholeCamera};
-use umbra_oracle::Bvh;
-fn main() {
-    let mesh = umbra_geom::load::load_path(std::path::Path::new("/work/shared/scenes/crytek-sponza.obj.gz")).unwrap();
+use umbra_oracle::{reference, Bvh, Samples};
+
+/// Process CPU time (user + system) in seconds from /proc/self/stat (Linux; 0 elsewhere).
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<&str> = after.split_whitespace().collect();
+    let tick = |i: usize| f.get(i).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
+    (tick(11) + tick(12)) / 100.0
+}
+
+fn timed<T>(what: &str, f: impl FnOnce() -> T) -> T {
+    let (w, c) = (Instant::now(), cpu_seconds());
+    let r = f();
+    println!("{what}: wall {:.3?}, cpu {:.2}s", w.elapsed(), cpu_seconds() - c);
+    r
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let path = std::env::args().nth(1).unwrap_or_else(|| "/work/shared/scenes/crytek-sponza.obj.gz".into());
+    let mesh = umbra_geom::load::load_path(std::path::Path::new(&path))?;
     let w = umbra_geom::weld::weld(&mesh);
-    let bvh = Bvh::build(&w.positions, &w.triangles).unwrap();
-    for target in [[6.1f64, 2.1, 1.0], [6.1, 0.5, 0.2], [8.5, 1.5, 0.0]] {
-        let o = [-2.0f64, 1.0, 0.0];
-        let d = [target[0] - o[0], target[1] - o[1], target[2] - o[2]];
-        let h = bvh.intersect(o, d, 0.0, f64::INFINITY).unwrap();
-        println!("towards {target:?}: t {} point {:?} tri {}", h.t, [0, 1, 2].map(|k| o[k] + h.t * d[k]), h.triangle);
+    let mut bvh = None;
+    for _ in 0..3 {
+        bvh = Some(timed("bvh build", || Bvh::build(&w.positions, &w.triangles))?);
     }
-    let cam = PinholeCamera { eye: [0.0, 3.0, 0.0], target: [10.0, 3.0, 0.4], up: [0.0, 1.0, 0.0], fov_y: 1.047, width: 640, height: 360 };
-    let (pos, tri) = primary_samples(&bvh, &cam);
-    for (x, y) in [(320usize, 350usize), (320, 300), (100, 200)] {
-        let i = y * 640 + x;
-        let p = pos[i];
-        let d = [0.3f64, 1.0, 0.2];
-        let o = p.map(|c| c as f64);
-        let h = bvh.intersect(o, d, 1e-4, f64::INFINITY);
-        println!("pixel ({x},{y}) pos {p:?} tri {} {:?}", tri[i], w.triangles[tri[i] as usize].map(|k| w.positions[k as usize]));
-        if let Some(h) = h {
-            println!("   hit t {} tri {} {:?}", h.t, h.triangle, w.triangles[h.triangle as usize].map(|k| w.positions[k as usize]));
-        }
+    let bvh = bvh.ok_or("no bvh")?;
+    let cam = PinholeCamera { eye: [-8.2, 1.5, -0.1], target: [5.0, 2.5, 0.3], up: [0.0, 1.0, 0.0], fov_y: 60f32.to_radians(), width: 1280, height: 720 };
+    let (pos, tri) = timed("primary rays", || primary_samples(&bvh, &cam));
+    let samples = Samples { width: 1280, height: 720, world_pos: &pos, triangle: &tri };
+    for light in [[0.0f32, 6.0, 0.0, 1.0], [0.3, 1.0, 0.2, 0.0]] {
+        timed(&format!("reference {light:?}"), || reference(&w, &bvh, &samples, light, cam.eye))?;
     }
+    Ok(())
 }

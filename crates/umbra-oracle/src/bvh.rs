@@ -68,17 +68,18 @@ struct Bounds {
 
 impl Bounds {
     const EMPTY: Bounds = Bounds { min: [f32::INFINITY; 3], max: [f32::NEG_INFINITY; 3] };
+    // Plain compare-selects (one minss/maxss each): inputs are finite, non-finite triangles
+    // having been left out, so the NaN rules of f32::min/max are not needed.
+    #[inline]
     fn grow(&mut self, b: &Bounds) {
         for k in 0..3 {
-            self.min[k] = self.min[k].min(b.min[k]);
-            self.max[k] = self.max[k].max(b.max[k]);
+            self.min[k] = if b.min[k] < self.min[k] { b.min[k] } else { self.min[k] };
+            self.max[k] = if b.max[k] > self.max[k] { b.max[k] } else { self.max[k] };
         }
     }
+    #[inline]
     fn grow_point(&mut self, p: [f32; 3]) {
-        for k in 0..3 {
-            self.min[k] = self.min[k].min(p[k]);
-            self.max[k] = self.max[k].max(p[k]);
-        }
+        self.grow(&Bounds { min: p, max: p });
     }
     /// Half the surface area (the SAH only needs ratios); 0 for an empty box.
     fn half_area(&self) -> f32 {
@@ -141,7 +142,18 @@ impl Bvh {
         let root = if prims.is_empty() {
             BuildNode::Leaf { bounds: Bounds::EMPTY, first: 0, count: 0 }
         } else {
-            build_recursive(&mut prims, 0, 0)
+            let (bounds, centroids) = prims
+                .par_chunks(16384)
+                .map(bounds_of)
+                .reduce(
+                    || (Bounds::EMPTY, Bounds::EMPTY),
+                    |mut a, b| {
+                        a.0.grow(&b.0);
+                        a.1.grow(&b.1);
+                        a
+                    },
+                );
+            build_recursive(&mut prims, 0, 0, bounds, centroids)
         };
         let mut nodes = Vec::with_capacity(prims.len());
         let b = root.bounds();
@@ -325,53 +337,58 @@ fn flatten(b: &BuildNode, index: usize, nodes: &mut Vec<Node>) {
     }
 }
 
-/// Builds the subtree over `prims` (which start at `offset` in the global order), reordering
-/// `prims` in place so that each leaf is a contiguous range.
-fn build_recursive(prims: &mut [PrimRef], offset: usize, depth: usize) -> BuildNode {
+/// Bounds of the triangles and of their centroids.
+fn bounds_of(prims: &[PrimRef]) -> (Bounds, Bounds) {
     let mut bounds = Bounds::EMPTY;
     let mut centroids = Bounds::EMPTY;
-    for p in prims.iter() {
+    for p in prims {
         bounds.grow(&p.bounds);
         centroids.grow_point(p.centroid);
     }
+    (bounds, centroids)
+}
+
+/// Builds the subtree over `prims` (which start at `offset` in the global order), reordering
+/// `prims` in place so that each leaf is a contiguous range. `bounds` / `centroids` are the
+/// bounds of the triangles and of their centroids, computed by the caller's partition.
+fn build_recursive(prims: &mut [PrimRef], offset: usize, depth: usize, bounds: Bounds, centroids: Bounds) -> BuildNode {
     let n = prims.len();
     let leaf = BuildNode::Leaf { bounds, first: offset, count: n };
     if n <= 2 || depth >= MAX_DEPTH {
         return leaf;
     }
     let split = best_split(prims, &bounds, &centroids);
-    let mid = match split {
+    let mut mid = match split {
         Some((cost, axis, bin)) => {
             let leaf_cost = n as f32;
             if n <= MAX_LEAF && leaf_cost <= cost {
                 return leaf;
             }
-            let (lo, scale) = bin_mapping(&centroids, axis);
-            partition(prims, |p| bin_of(p.centroid[axis], lo, scale) < bin)
+            let bins = bin_count(n);
+            let (lo, scale) = bin_mapping(&centroids, axis, bins);
+            partition(prims, |p| bin_of(p.centroid[axis], lo, scale, bins) < bin)
         }
         None => 0,
     };
     // A split that leaves one side empty (all centroids equal, or rounding) falls back to the
     // median along the widest centroid axis, or to halving by position when all are equal.
-    let mid = if mid == 0 || mid == n {
+    if mid == 0 || mid == n {
         if n <= MAX_LEAF {
             return leaf;
         }
         let axis = widest_axis(&centroids);
-        let half = n / 2;
-        prims.select_nth_unstable_by(half, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-        half
-    } else {
-        mid
-    };
+        mid = n / 2;
+        prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
+    }
     let (left, right) = prims.split_at_mut(mid);
+    let build = |part: &mut [PrimRef], at: usize| {
+        let (b, c) = bounds_of(part);
+        build_recursive(part, at, depth + 1, b, c)
+    };
     let (l, r) = if n > PARALLEL_THRESHOLD {
-        rayon::join(
-            || build_recursive(left, offset, depth + 1),
-            || build_recursive(right, offset + mid, depth + 1),
-        )
+        rayon::join(|| build(left, offset), || build(right, offset + mid))
     } else {
-        (build_recursive(left, offset, depth + 1), build_recursive(right, offset + mid, depth + 1))
+        (build(left, offset), build(right, offset + mid))
     };
     BuildNode::Interior { bounds, children: Box::new([l, r]) }
 }
@@ -387,50 +404,62 @@ fn widest_axis(b: &Bounds) -> usize {
     }
 }
 
-/// Centroid-to-bin mapping of Wald 2007 Eq. (2): `bin = floor(BINS (1 - eps) (c - lo) / extent)`.
-fn bin_mapping(centroids: &Bounds, axis: usize) -> (f32, f32) {
+/// Bins used for a node of `n` triangles: up to [`BINS`], but no more than the triangles (the
+/// per-node sweep over the bins would otherwise dominate the many small nodes).
+fn bin_count(n: usize) -> usize {
+    n.clamp(2, BINS)
+}
+
+/// Centroid-to-bin mapping of Wald 2007 Eq. (2): `bin = floor(bins (1 - eps) (c - lo) / extent)`.
+fn bin_mapping(centroids: &Bounds, axis: usize, bins: usize) -> (f32, f32) {
     let lo = centroids.min[axis];
     let extent = centroids.max[axis] - lo;
-    let scale = if extent > 0.0 { BINS as f32 * (1.0 - 1e-6) / extent } else { 0.0 };
+    let scale = if extent > 0.0 { bins as f32 * (1.0 - 1e-6) / extent } else { 0.0 };
     (lo, scale)
 }
 
 #[inline]
-fn bin_of(c: f32, lo: f32, scale: f32) -> usize {
-    (((c - lo) * scale) as usize).min(BINS - 1)
+fn bin_of(c: f32, lo: f32, scale: f32, bins: usize) -> usize {
+    (((c - lo) * scale) as usize).min(bins - 1)
 }
 
 /// Best SAH split `(cost, axis, first bin of the right side)` over all axes, costs in units of
-/// one triangle test relative to the parent's area.
+/// one triangle test relative to the parent's area. One pass over the triangles bins all three
+/// axes at once.
 fn best_split(prims: &[PrimRef], bounds: &Bounds, centroids: &Bounds) -> Option<(f32, usize, usize)> {
     let parent_area = bounds.half_area();
+    let bins = bin_count(prims.len());
+    let maps = [0, 1, 2].map(|axis| bin_mapping(centroids, axis, bins));
+    let mut counts = [[0u32; BINS]; 3];
+    let mut boxes = [[Bounds::EMPTY; BINS]; 3];
+    for p in prims {
+        for axis in 0..3 {
+            let (lo, scale) = maps[axis];
+            let b = bin_of(p.centroid[axis], lo, scale, bins);
+            counts[axis][b] += 1;
+            boxes[axis][b].grow(&p.bounds);
+        }
+    }
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
-        let (lo, scale) = bin_mapping(centroids, axis);
-        if scale == 0.0 {
+        if maps[axis].1 == 0.0 {
             continue;
         }
-        let mut counts = [0usize; BINS];
-        let mut boxes = [Bounds::EMPTY; BINS];
-        for p in prims {
-            let b = bin_of(p.centroid[axis], lo, scale);
-            counts[b] += 1;
-            boxes[b].grow(&p.bounds);
-        }
+        let (counts, boxes) = (&counts[axis], &boxes[axis]);
         // Right-to-left sweep: area * count of the right side for each split position.
         let mut right_cost = [0f32; BINS];
         let mut acc = Bounds::EMPTY;
-        let mut count = 0usize;
-        for i in (1..BINS).rev() {
+        let mut count = 0u32;
+        for i in (1..bins).rev() {
             acc.grow(&boxes[i]);
             count += counts[i];
             right_cost[i] = acc.half_area() * count as f32;
         }
         let mut acc = Bounds::EMPTY;
         let mut count = 0usize;
-        for i in 1..BINS {
+        for i in 1..bins {
             acc.grow(&boxes[i - 1]);
-            count += counts[i - 1];
+            count += counts[i - 1] as usize;
             if count == 0 || count == prims.len() {
                 continue;
             }
@@ -444,7 +473,7 @@ fn best_split(prims: &[PrimRef], bounds: &Bounds, centroids: &Bounds) -> Option<
     best
 }
 
-/// Stable-order-free in-place partition; returns the number of elements satisfying `pred`.
+/// In-place partition (order not kept); returns the number of elements satisfying `pred`.
 fn partition<F: Fn(&PrimRef) -> bool>(prims: &mut [PrimRef], pred: F) -> usize {
     let mut i = 0;
     let mut j = prims.len();

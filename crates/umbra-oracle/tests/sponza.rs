@@ -31,8 +31,8 @@ fn sponza_reference_timing_and_brute_force_subset() {
     let bvh = Bvh::build(&welded.positions, &welded.triangles).unwrap();
     let build = t0.elapsed();
     let camera = PinholeCamera {
-        eye: [-10.0, 2.0, -0.3],
-        target: [8.0, 3.0, 0.4],
+        eye: [-8.2, 1.5, -0.1],
+        target: [5.0, 2.5, 0.3],
         up: [0.0, 1.0, 0.0],
         fov_y: 60f32.to_radians(),
         width: 1280,
@@ -43,7 +43,7 @@ fn sponza_reference_timing_and_brute_force_subset() {
     let primary = t0.elapsed();
     let samples = Samples { width: 1280, height: 720, world_pos: &pos, triangle: &tri };
     let mut results = Vec::new();
-    for light in [[0.0f32, 8.0, 0.0, 1.0], [0.3, 1.0, 0.2, 0.0]] {
+    for light in [[0.0f32, 6.0, 0.0, 1.0], [0.3, 1.0, 0.2, 0.0]] {
         let t0 = Instant::now();
         let r = reference(&welded, &bvh, &samples, light, camera.eye).unwrap();
         let time = t0.elapsed();

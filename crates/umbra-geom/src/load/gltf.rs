@@ -15,8 +15,9 @@
 //!   (a cycle or a node with two parents, both invalid glTF) is an error.
 //! * Buffers: the GLB `BIN` chunk, `data:` URIs with base64, or files relative to the
 //!   `.gltf` (percent-decoded URI), each bounded by `LoadOptions::max_input_bytes`. A
-//!   `.gltf` passed to `load_bytes` has no directory and can only use data URIs. A file
-//!   starting with the GLB magic `glTF` is read as GLB whatever its extension.
+//!   `.gltf` passed to `load_bytes` has no directory and can only use data URIs.
+//! * [`super::Format::Gltf`] and [`super::Format::Glb`] are parsed alike: input starting
+//!   with the GLB magic `glTF` is a GLB container, anything else JSON text.
 //! * Required extensions that change geometry encoding (Draco, meshopt) are reported as
 //!   [`LoadError::Unsupported`]; other extensions are ignored.
 //! * Errors name the file and a JSON path (`accessors[3]`) or, for the GLB container, a
@@ -37,7 +38,6 @@ const UNSUPPORTED_EXTENSIONS: &[&str] =
 
 pub(crate) fn parse(
     bytes: &[u8],
-    _glb_extension: bool,
     file: &str,
     base_dir: Option<&Path>,
     options: &LoadOptions,
@@ -782,10 +782,9 @@ fn mul(a: &[f64; 16], b: &[f64; 16]) -> [f64; 16] {
     out
 }
 
+/// Affine transform of a point (glTF node matrices are affine; the bottom row is ignored).
 fn transform_point(m: &[f64; 16], p: [f64; 3]) -> [f64; 3] {
-    let w = m[3] * p[0] + m[7] * p[1] + m[11] * p[2] + m[15];
-    let w = if w != 0.0 { w } else { 1.0 };
-    [0, 1, 2].map(|r| (m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r]) / w)
+    [0, 1, 2].map(|r| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r])
 }
 
 /// Determinant of the upper-left 3x3 block.

@@ -130,7 +130,7 @@ fn parse(
         Format::Ply => ply::parse(bytes, file, &mut warnings)?,
         Format::Stl => stl::parse(bytes, file, &mut warnings)?,
         Format::Gltf | Format::Glb => {
-            gltf::parse(bytes, format == Format::Glb, file, base_dir, options, &mut warnings)?
+            gltf::parse(bytes, file, base_dir, options, &mut warnings)?
         }
     };
     Ok(Loaded { mesh, warnings })

@@ -4,7 +4,8 @@
 //!   append) is ignored; a position is never divided by `w`.
 //! * `f` vertices may be `v`, `v/vt`, `v//vn` or `v/vt/vn`; indices are 1-based, negative
 //!   ones relative to the vertices defined so far; an index must refer to an already
-//!   defined vertex. Polygons are fan-triangulated from their first vertex; faces with
+//!   defined vertex; `vt` indices are syntax-checked only (texture coordinates are not
+//!   loaded). Polygons are fan-triangulated from their first vertex; faces with
 //!   fewer than three vertices are skipped with a warning.
 //! * Triangles index the `v` list directly (no vertex splitting), so the vertex count is the
 //!   number of `v` statements. Normals are returned only when every face vertex has a

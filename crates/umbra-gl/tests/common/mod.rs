@@ -129,13 +129,22 @@ impl<'a> PixelChecks<'a> {
         for p in &mut diff.pixels {
             *p = [p[0] / 3, p[1] / 3, p[2] / 3, 255];
         }
+        // Passed checks: one green pixel; failed ones: a red 5x5 square drawn on top.
+        let mut put = |x: i64, y: i64, c: [u8; 4]| {
+            if x >= 0 && y >= 0 && (x as u32) < diff.width && (y as u32) < diff.height {
+                diff.pixels[y as usize * diff.width as usize + x as usize] = c;
+            }
+        };
         for &(x, y, ok) in &self.marks {
-            let c = if ok { [0, 255, 0, 255] } else { [255, 0, 0, 255] };
-            for dy in -2i64..=2 {
-                for dx in -2i64..=2 {
-                    let (px, py) = (x as i64 + dx, y as i64 + dy);
-                    if px >= 0 && py >= 0 && (px as u32) < diff.width && (py as u32) < diff.height {
-                        diff.pixels[py as usize * diff.width as usize + px as usize] = c;
+            if ok {
+                put(x as i64, y as i64, [0, 160, 0, 255]);
+            }
+        }
+        for &(x, y, ok) in &self.marks {
+            if !ok {
+                for dy in -2i64..=2 {
+                    for dx in -2i64..=2 {
+                        put(x as i64 + dx, y as i64 + dy, [255, 0, 0, 255]);
                     }
                 }
             }

@@ -1,0 +1,146 @@
+//! `umbra verify`: every requested method against the ray-traced reference, per sample.
+//! Exit status 1 when a method that must be exact has a mismatch outside the boundary band.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use umbra_gl::{create_method, method_names, RgbaImage};
+use umbra_oracle::diff_image;
+use umbra_verify::{verify_method, view_reference, MethodReport};
+
+use crate::args::VerifyArgs;
+use crate::config::{CliError, ViewConfig};
+use crate::session::Session;
+
+/// One line of `verify --json`; the keys are a contract.
+#[derive(Serialize)]
+struct JsonRow<'a> {
+    method: &'a str,
+    samples: u64,
+    shadowed_reference: u64,
+    mismatches: u64,
+    band_samples: u64,
+    band_mismatches: u64,
+    mismatches_outside_band: u64,
+    reference_ms: f64,
+    render_ms: f64,
+}
+
+/// `all`, or a comma-separated list of registered names.
+fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
+    if text.trim() == "all" {
+        return Ok(method_names().iter().map(|s| s.to_string()).collect());
+    }
+    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
+    if names.is_empty() {
+        return Err(CliError::BadFlag { flag: "--method", message: "no method named".into() });
+    }
+    for n in &names {
+        create_method(n).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
+    }
+    Ok(names)
+}
+
+/// `diff.png` → `diff.METHOD.png` when several images are written (and `.lightN` per light).
+fn diff_path(base: &str, method: &str, light: usize, methods: usize, lights: usize) -> PathBuf {
+    let p = Path::new(base);
+    let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "diff".into());
+    let ext = p.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "png".into());
+    let mut name = stem;
+    if methods > 1 {
+        name.push('.');
+        name.push_str(&method.replace(':', "_"));
+    }
+    if lights > 1 {
+        name.push_str(&format!(".light{light}"));
+    }
+    p.with_file_name(format!("{name}.{ext}"))
+}
+
+fn write_diff(path: &Path, report: &MethodReport, reference: &umbra_oracle::Reference, light: usize) -> Result<(), CliError> {
+    let base: Vec<u8> = report.image.pixels.iter().flatten().copied().collect();
+    let shadowed = &report.per_light[light].shadowed;
+    let rgba = diff_image(reference, shadowed, &base).map_err(|e| CliError::Other(e.to_string()))?;
+    let pixels = rgba.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
+    let img = RgbaImage { width: reference.width, height: reference.height, pixels };
+    img.save_png(path).map_err(|e| CliError::Gl(e.to_string()))
+}
+
+/// Returns whether every method that must be exact passed.
+pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
+    let methods = parse_methods(&a.method)?;
+    let view = ViewConfig::from_args(&a.view)?;
+    let mut s = Session::new(&view)?;
+    let params = s.frame_params(&view);
+    let gl = s.context.gl();
+    let reference =
+        view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
+    let mut rows = Vec::new();
+    let mut all_passed = true;
+    for name in &methods {
+        let mut method = create_method(name).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
+        let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
+        method.destroy(gl);
+        let report = report.map_err(|e| CliError::Other(e.to_string()))?;
+        if let Some(base) = &a.diff {
+            for (i, lr) in reference.lights.iter().enumerate() {
+                let path = diff_path(base, name, i, methods.len(), reference.lights.len());
+                write_diff(&path, &report, &lr.reference, i)?;
+            }
+        }
+        all_passed &= report.passed();
+        rows.push((report, reference.total_ms()));
+    }
+    if a.json {
+        let json: Vec<JsonRow> = rows
+            .iter()
+            .map(|(r, reference_ms)| JsonRow {
+                method: &r.method,
+                samples: r.metrics.samples,
+                shadowed_reference: r.metrics.shadowed_reference,
+                mismatches: r.metrics.mismatches,
+                band_samples: r.metrics.band_samples,
+                band_mismatches: r.metrics.band_mismatches,
+                mismatches_outside_band: r.metrics.mismatches_outside_band,
+                reference_ms: *reference_ms,
+                render_ms: r.render_ms,
+            })
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Other(e.to_string()))?);
+    } else {
+        println!(
+            "{} at {}x{}, {} light(s), {}; reference {:.0} ms",
+            view.scene_spec,
+            view.width,
+            view.height,
+            view.lights.len(),
+            s.context.renderer_string(),
+            reference.total_ms()
+        );
+        println!(
+            "{:<24} {:>9} {:>9} {:>10} {:>9} {:>9} {:>13} {:>10}  verdict",
+            "method", "samples", "shadowed", "mismatch", "band", "band mis", "outside band", "render ms"
+        );
+        for (r, _) in &rows {
+            let m = &r.metrics;
+            let verdict = match (r.must_be_exact, r.passed()) {
+                (false, _) => "measured",
+                (true, true) => "EXACT",
+                (true, false) => "FAIL",
+            };
+            println!(
+                "{:<24} {:>9} {:>9} {:>10} {:>9} {:>9} {:>13} {:>10.1}  {}",
+                r.method,
+                m.samples,
+                m.shadowed_reference,
+                m.mismatches,
+                m.band_samples,
+                m.band_mismatches,
+                m.mismatches_outside_band,
+                r.render_ms,
+                verdict
+            );
+        }
+    }
+    Ok(all_passed)
+}

@@ -1,0 +1,232 @@
+//! Real scenes (shared/scenes, found through $UMBRA_SCENES or ../shared/scenes; SKIPPED with
+//! a message when absent): every shadow method's stencil classification is compared with a
+//! brute-force ray cast from each sampled pixel's world position to the light.
+//!
+//! Expected "shadowed": the segment to the light hits another triangle, or the side of the
+//! pixel's own triangle that the camera sees faces away from the light (the pushed light cap
+//! counts a triangle seen from its dark side as its own occluder; lighting gives it no
+//! diffuse either way). Mismatches are allowed only in the one-pixel band where the
+//! rendered classification changes between neighbours.
+
+mod common;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use common::*;
+use umbra_geom::WeldedMesh;
+use umbra_gl::{Camera, FrameImages, FrameParams, NO_TRIANGLE};
+
+fn scenes_dir() -> PathBuf {
+    std::env::var_os("UMBRA_SCENES")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"))
+}
+
+fn load(name: &str) -> Option<Arc<WeldedMesh>> {
+    let path = scenes_dir().join(name);
+    if !path.exists() {
+        println!("SKIPPED: {} not found (set UMBRA_SCENES)", path.display());
+        return None;
+    }
+    let mesh = umbra_geom::load::load_path(&path).unwrap_or_else(|e| panic!("loading {}: {e}", path.display()));
+    Some(Arc::new(umbra_geom::weld::weld(&mesh)))
+}
+
+type V = [f64; 3];
+fn sub(a: V, b: V) -> V {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: V, b: V) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: V, b: V) -> V {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+/// Möller-Trumbore: the parameter t of the segment origin + t * dir hitting the triangle,
+/// if t in (t_min, t_max).
+fn hit(o: V, d: V, t_min: f64, t_max: f64, [a, b, c]: [V; 3]) -> Option<f64> {
+    let (e1, e2) = (sub(b, a), sub(c, a));
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = sub(o, a);
+    let u = dot(s, p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = cross(s, e1);
+    let v = dot(d, q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = dot(e2, q) * inv;
+    (t > t_min && t < t_max).then_some(t)
+}
+
+/// Why a pixel is expected shadowed: its seen side faces away, or the first occluder found.
+#[derive(Clone, Copy, Debug)]
+enum Occlusion {
+    Lit,
+    /// With the cosine between the seen side's normal and the direction to the light.
+    SeenSideFacesAway(f64),
+    Occluder { triangle: usize, t: f64 },
+}
+
+/// `epsilon`: occluders closer than this distance along the segment are ignored (the world
+/// position is an f32 interpolation, so a point next to a shared edge may sit a hair behind
+/// the neighbour's plane: "shadow acne" of this reference, not of the renderer).
+fn expected_shadowed(mesh: &WeldedMesh, own: usize, world: V, eye: V, light: [f32; 4], epsilon: f64) -> Occlusion {
+    let l = light.map(f64::from);
+    let to_light = sub([l[0], l[1], l[2]], world.map(|x| x * l[3]));
+    let n = umbra_gl::scene::flat_normal(&mesh.positions, mesh.triangles[own]).map(f64::from);
+    let seen = if dot(n, sub(eye, world)) < 0.0 { n.map(|x| -x) } else { n };
+    let cos = dot(seen, to_light) / dot(to_light, to_light).sqrt();
+    if cos <= 0.0 {
+        return Occlusion::SeenSideFacesAway(cos);
+    }
+    // Point light: the segment ends at the light (t < 1); directional: unbounded.
+    let t_max = if l[3] == 1.0 { 1.0 } else { f64::INFINITY };
+    let scale = dot(to_light, to_light).sqrt();
+    let t_min = epsilon / scale.max(1e-30);
+    mesh.triangles
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != own)
+        .find_map(|(i, t)| {
+            hit(world, to_light, t_min, t_max, t.map(|v| mesh.positions[v as usize].map(f64::from)))
+                .map(|t| Occlusion::Occluder { triangle: i, t })
+        })
+        .unwrap_or(Occlusion::Lit)
+}
+
+/// Compares sampled pixels, returns (checked, shadowed, band mismatches).
+fn compare(ctx: &umbra_gl::HeadlessContext, test: &'static str, mesh: &WeldedMesh, img: &FrameImages, p: &FrameParams, step: u32, epsilon: f64) -> (usize, usize, usize) {
+    let (wp, ids) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("ids"));
+    let st = &img.stencil[0].image;
+    let light = p.lights[0];
+    let samples: Vec<(u32, u32)> =
+        (1..p.height - 1).step_by(step as usize).flat_map(|y| (1..p.width - 1).step_by(step as usize).map(move |x| (x, y))).collect();
+    let results: Vec<Option<(u32, u32, Occlusion, u32, bool, bool)>> = std::thread::scope(|s| {
+        let chunks: Vec<_> = samples
+            .chunks(samples.len().div_ceil(2).max(1))
+            .map(|chunk| {
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|&(x, y)| {
+                            let id = ids.get(x, y)?;
+                            if id == NO_TRIANGLE {
+                                return None;
+                            }
+                            let w = wp.get(x, y)?;
+                            let world = [w[0], w[1], w[2]].map(f64::from);
+                            let why = expected_shadowed(mesh, id as usize, world, p.camera.eye, light, epsilon);
+                            let got = st.get(x, y)? != 0;
+                            let band = (-1i64..=1).any(|dy| {
+                                (-1i64..=1).any(|dx| {
+                                    st.get((x as i64 + dx) as u32, (y as i64 + dy) as u32).is_some_and(|v| (v != 0) != got)
+                                })
+                            });
+                            Some((x, y, why, id, got, band))
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        chunks.into_iter().flat_map(|h| h.join().expect("ray thread")).collect()
+    });
+    let mut checks = PixelChecks::new(ctx, test, &img.rgba);
+    let (mut checked, mut shadowed, mut band_mismatch) = (0, 0, 0);
+    for (x, y, why, id, got, band) in results.into_iter().flatten() {
+        let expected = !matches!(why, Occlusion::Lit);
+        checked += 1;
+        shadowed += usize::from(expected);
+        if expected != got && band {
+            band_mismatch += 1;
+            continue;
+        }
+        checks.check(x, y, expected == got, || {
+            let detail = match why {
+                Occlusion::Occluder { triangle, t } => {
+                    let (a, b) = (mesh.triangles[id as usize], mesh.triangles[triangle]);
+                    let shared = a.iter().filter(|v| b.contains(v)).count();
+                    let area = {
+                        let [p0, p1, p2] = b.map(|v| mesh.positions[v as usize].map(f64::from));
+                        let c = cross(sub(p1, p0), sub(p2, p0));
+                        0.5 * dot(c, c).sqrt()
+                    };
+                    format!("occluder {triangle} {b:?} at t = {t:e}, area {area:e}, {shared} vertices shared with own {id} {a:?}")
+                }
+                other => format!("{other:?}, own triangle {id}"),
+            };
+            format!("ray cast shadowed {expected}, stencil {} ({detail})", st.get(x, y).unwrap_or(0))
+        });
+    }
+    checks.finish();
+    (checked, shadowed, band_mismatch)
+}
+
+/// Camera and lights from the scene bounds: `inside` puts the eye inside the bounding box
+/// (interiors: the eye is then usually inside some shadow volume, which z-fail must handle).
+fn check_scene(file: &str, test: &'static str, inside: bool) {
+    let Some(mesh) = load(file) else { return };
+    let ctx = context();
+    let b = umbra_geom::Mesh { positions: mesh.positions.clone(), triangles: mesh.triangles.clone(), normals: None }
+        .bounds()
+        .expect("non-empty scene");
+    let (c, d) = (b.center().map(f64::from), f64::from(b.diagonal()));
+    let e = b.extent().map(f64::from);
+    let camera = if inside {
+        Camera {
+            eye: [c[0] - 0.3 * e[0], c[1] - 0.25 * e[1], c[2] + 0.1 * e[2]],
+            target: [c[0] + 0.3 * e[0], c[1] - 0.35 * e[1], c[2] - 0.1 * e[2]],
+            near: d * 1e-4,
+            ..Camera::default()
+        }
+    } else {
+        Camera { eye: [c[0] + 0.45 * d, c[1] + 0.35 * d, c[2] + 0.55 * d], target: c, near: d * 1e-3, ..Camera::default() }
+    };
+    let lights = if inside {
+        [[c[0] as f32, (c[1] + 0.2 * e[1]) as f32, c[2] as f32, 1.0], [0.2, 1.0, 0.1, 0.0]]
+    } else {
+        [[(c[0] - 0.2 * d) as f32, (c[1] + 0.6 * d) as f32, (c[2] + 0.1 * d) as f32, 1.0], [0.3, 1.0, -0.4, 0.0]]
+    };
+    for light in lights {
+        let p = params(camera, vec![light], 200, 112);
+        for method in shadow_methods() {
+            let img = render_once(&ctx, &mesh, method, &p);
+            if std::env::var_os("UMBRA_KEEP_IMAGES").is_some() {
+                let name = format!("{test}-{method}-{}.png", if light[3] == 0.0 { "directional" } else { "point" });
+                img.rgba.save_png(&output_dir().join(name)).expect("png");
+            }
+            let (checked, shadowed, band) = compare(&ctx, test, &mesh, &img, &p, 2, 1e-5 * d);
+            println!("{file} {method} light {light:?}: {checked} pixels checked, {shadowed} shadowed, {band} mismatches in the boundary band");
+            assert!(checked > 500 && shadowed > 50 && checked - shadowed > 50, "{checked} / {shadowed}: the view must show light and shadow");
+        }
+    }
+}
+
+#[test]
+fn sibenik_outside_stencil_matches_ray_casting() {
+    check_scene("sibenik.obj.gz", "sibenik_outside", false);
+}
+
+#[test]
+fn sibenik_inside_stencil_matches_ray_casting() {
+    check_scene("sibenik.obj.gz", "sibenik_inside", true);
+}
+
+#[test]
+fn sponza_inside_stencil_matches_ray_casting() {
+    check_scene("crytek-sponza.obj.gz", "sponza_inside", true);
+}
+
+#[test]
+fn conference_inside_stencil_matches_ray_casting() {
+    check_scene("conference.obj.gz", "conference_inside", true);
+}
