@@ -35,8 +35,9 @@ impl Aabb {
 
 impl Mesh {
     /// Bounds of the vertices referenced by triangles; `None` for a mesh without triangles.
+    /// Indices out of range (which no loader produces) are ignored.
     pub fn bounds(&self) -> Option<Aabb> {
-        let mut it = self.triangles.iter().flatten().map(|&i| self.positions[i as usize]);
+        let mut it = self.triangles.iter().flatten().filter_map(|&i| self.positions.get(i as usize).copied());
         let first = it.next()?;
         let mut b = Aabb { min: first, max: first };
         for p in it {

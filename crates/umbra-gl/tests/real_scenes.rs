@@ -230,3 +230,55 @@ fn sponza_inside_stencil_matches_ray_casting() {
 fn conference_inside_stencil_matches_ray_casting() {
     check_scene("conference.obj.gz", "conference_inside", true);
 }
+
+/// Debug helper: prints everything about one pixel of the inside-Sponza point-light view.
+/// `UMBRA_DEBUG_PIXEL=x,y cargo test --release --test real_scenes debug_pixel -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn debug_pixel() {
+    let Some(spec) = std::env::var("UMBRA_DEBUG_PIXEL").ok() else { return };
+    let file = std::env::var("UMBRA_DEBUG_SCENE").unwrap_or("crytek-sponza.obj.gz".into());
+    let (x, y) = spec.split_once(',').map(|(a, b)| (a.parse().unwrap_or(0), b.parse().unwrap_or(0))).unwrap_or((0, 0));
+    let Some(mesh) = load(&file) else { return };
+    let ctx = context();
+    let b = umbra_geom::Mesh { positions: mesh.positions.clone(), triangles: mesh.triangles.clone(), normals: None }.bounds().expect("bounds");
+    let (c, d) = (b.center().map(f64::from), f64::from(b.diagonal()));
+    let e = b.extent().map(f64::from);
+    let camera = Camera {
+        eye: [c[0] - 0.3 * e[0], c[1] - 0.25 * e[1], c[2] + 0.1 * e[2]],
+        target: [c[0] + 0.3 * e[0], c[1] - 0.35 * e[1], c[2] - 0.1 * e[2]],
+        near: d * 1e-4,
+        ..Camera::default()
+    };
+    let light = [c[0] as f32, (c[1] + 0.2 * e[1]) as f32, c[2] as f32, 1.0];
+    let p = params(camera, vec![light], 200, 112);
+    let img = render_once(&ctx, &mesh, "cpu-silhouette", &p);
+    let (wp, ids, st) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("id"), &img.stencil[0].image);
+    println!("camera {camera:?}\nlight {light:?}");
+    for dy in -2i64..=2 {
+        let row: Vec<String> = (-2i64..=2)
+            .map(|dx| {
+                let (px, py) = ((x as i64 + dx) as u32, (y as i64 + dy) as u32);
+                format!("{:>7}:{:<3}", ids.get(px, py).unwrap_or(0) as i64, st.get(px, py).unwrap_or(0))
+            })
+            .collect();
+        println!("{}", row.join(" "));
+    }
+    let id = ids.get(x, y).expect("pixel");
+    let w = wp.get(x, y).expect("pixel");
+    let t = mesh.triangles[id as usize];
+    println!("pixel ({x},{y}) world {w:?} triangle {id} {t:?}");
+    for v in t {
+        println!("  v{v} {:?}", mesh.positions[v as usize]);
+    }
+    println!("orientation (geom) {}", umbra_geom::multiplicity::triangle_orientation(&mesh.positions, t, light));
+    let same: Vec<usize> = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| { let mut a = **o; a.sort(); let mut b = t; b.sort(); a == b })
+        .map(|(i, _)| i)
+        .collect();
+    println!("triangles on the same three vertices: {same:?}");
+    println!("{:?}", expected_shadowed(&mesh, id as usize, [w[0], w[1], w[2]].map(f64::from), camera.eye, light, 1e-5 * d));
+}

@@ -227,7 +227,7 @@ impl Bvh {
             return;
         }
         let ray = ShearedRay::new(origin, direction);
-        let inv = direction.map(|d| 1.0 / d);
+        let slabs = SlabRay::new(origin, direction);
         let mut t_far = t_max;
         let mut stack = [0u32; STACK];
         let mut top = 0usize;
@@ -250,8 +250,8 @@ impl Bvh {
                 // entry must not be culled by the current far limit, so boxes are tested against
                 // a limit enlarged by a relative 1e-9 (far above both rounding errors).
                 let box_far = t_far + t_far.abs() * BOX_MARGIN;
-                let hl = slab(&self.nodes[left], origin, inv, t_min, box_far);
-                let hr = slab(&self.nodes[left + 1], origin, inv, t_min, box_far);
+                let hl = slabs.enter(&self.nodes[left], t_min, box_far);
+                let hr = slabs.enter(&self.nodes[left + 1], t_min, box_far);
                 match (hl, hr) {
                     (Some(dl), Some(dr)) => {
                         let (near, far) = if dl <= dr { (left, left + 1) } else { (left + 1, left) };
@@ -287,32 +287,47 @@ const BOX_MARGIN: f64 = 1e-9;
 /// gamma(3) of Ize 2013 / PBRT for f64: `3u / (1 - 3u)`, u = 2^-53.
 const GAMMA3: f64 = 3.0 * (f64::EPSILON * 0.5) / (1.0 - 3.0 * (f64::EPSILON * 0.5));
 
-/// Conservative slab test; returns the entry distance if the ray's `(t_min, t_max)` interval
-/// overlaps the box. A NaN slab (zero direction component, origin on the plane) constrains
-/// nothing.
-#[inline]
-fn slab(n: &Node, o: [f64; 3], inv: [f64; 3], t_min: f64, t_max: f64) -> Option<f64> {
-    let mut near = t_min;
-    let mut far = t_max;
-    for k in 0..3 {
-        let t0 = (n.min[k] as f64 - o[k]) * inv[k];
-        let t1 = (n.max[k] as f64 - o[k]) * inv[k];
-        let (lo, hi) = if t0 <= t1 {
-            (t0, t1)
-        } else if t1 < t0 {
-            (t1, t0)
-        } else {
-            // NaN: zero direction component with the origin exactly on this slab's plane. The
-            // ray runs inside the plane, i.e. within the slab: this axis constrains nothing.
-            continue;
-        };
-        near = near.max(lo);
-        far = far.min(hi * (1.0 + 2.0 * GAMMA3));
+/// A ray prepared for the slab test: per axis the reciprocal direction and which box plane is
+/// met first (`min` for a positive direction, `max` for a negative one, including -0.0).
+struct SlabRay {
+    origin: [f64; 3],
+    inv: [f64; 3],
+    negative: [bool; 3],
+}
+
+impl SlabRay {
+    fn new(origin: [f64; 3], direction: [f64; 3]) -> SlabRay {
+        let inv = direction.map(|d| 1.0 / d);
+        SlabRay { origin, inv, negative: inv.map(|i| i.is_sign_negative()) }
     }
-    if near <= far {
-        Some(near)
-    } else {
-        None
+
+    /// Conservative slab test (Ize 2013, Sec. 3): the entry distance if the interval
+    /// `(t_min, t_max)` overlaps the box. The far distance of each slab is enlarged by
+    /// `2 gamma(3)` of its magnitude, so rounding never culls a box the ray touches.
+    ///
+    /// Zero direction components: `inv = +-inf`, so a slab the origin lies strictly inside gives
+    /// `(-inf, +inf)` and one it lies outside gives an empty interval, as it should. With the
+    /// origin exactly on a plane, `0 * inf = NaN`: the ray runs inside that plane, i.e. within
+    /// the slab, and the compare-selects below keep the current limit when the candidate is
+    /// NaN (every comparison with NaN is false), so that plane constrains nothing.
+    #[inline]
+    fn enter(&self, n: &Node, t_min: f64, t_max: f64) -> Option<f64> {
+        let mut near = t_min;
+        let mut far = t_max;
+        for k in 0..3 {
+            // Per-ray constant branch: perfectly predicted.
+            let (plane_near, plane_far) = if self.negative[k] { (n.max[k], n.min[k]) } else { (n.min[k], n.max[k]) };
+            let t_near = (plane_near as f64 - self.origin[k]) * self.inv[k];
+            let t_far = (plane_far as f64 - self.origin[k]) * self.inv[k];
+            let t_far = t_far + t_far.abs() * (2.0 * GAMMA3);
+            near = if t_near > near { t_near } else { near };
+            far = if t_far < far { t_far } else { far };
+        }
+        if near <= far {
+            Some(near)
+        } else {
+            None
+        }
     }
 }
 
