@@ -11,7 +11,9 @@
 //!
 //! Scenes come from `UMBRA_SCENES` (default `<workspace>/../shared/scenes`); Sponza is
 //! skipped with a message when absent. Before measuring, each scene's counts, the volume
-//! sizes and the heap allocations of one warmed-up frame are printed.
+//! sizes and the heap allocations of warmed-up frames are printed; with
+//! `UMBRA_BENCH_FINGERPRINTS=1` also a hash of every result, to check that an optimisation
+//! left the output unchanged.
 //! Figures are recorded in `docs/benchmarks.md`.
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -119,7 +121,9 @@ fn bench_geometry(c: &mut Criterion) {
             adj.max_opposites()
         );
 
-        println!("{name}: fingerprint weld {:016x} adjacency {:016x}", fingerprint(&welded), fingerprint(&adj));
+        if fingerprints() {
+            println!("{name}: fingerprint weld {:016x} adjacency {:016x}", fingerprint(&welded), fingerprint(&adj));
+        }
 
         let mut pre = c.benchmark_group(format!("{name}/preprocess"));
         configure(&mut pre);
@@ -161,12 +165,14 @@ fn bench_geometry(c: &mut Criterion) {
                 let label = format!("{light_name}{}", if caps { "+caps" } else { "" });
                 println!(
                     "{name}/{label}: {} side, {} light-cap, {} dark-cap vertices; \
-                     {allocations} heap allocations in {FRAMES_COUNTED} warmed-up frames; fingerprint {:016x}",
+                     {allocations} heap allocations in {FRAMES_COUNTED} warmed-up frames",
                     out.sides.len(),
                     out.light_caps.len(),
                     out.dark_caps.len(),
-                    fingerprint(&out)
                 );
+                if fingerprints() {
+                    println!("{name}/{label}: fingerprint {:016x}", fingerprint(&out));
+                }
                 frame.bench_function(label, |b| {
                     b.iter(|| extract(black_box(&welded), &adj, black_box(light), caps, &mut out))
                 });
@@ -174,6 +180,11 @@ fn bench_geometry(c: &mut Criterion) {
         }
         frame.finish();
     }
+}
+
+/// `UMBRA_BENCH_FINGERPRINTS=1` prints [`fingerprint`]s of every result (slow: seconds).
+fn fingerprints() -> bool {
+    std::env::var_os("UMBRA_BENCH_FINGERPRINTS").is_some_and(|v| v == "1")
 }
 
 /// A hash of a result's `Debug` form (which prints every float exactly): equal fingerprints
