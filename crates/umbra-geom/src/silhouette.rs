@@ -22,7 +22,8 @@
 use rayon::prelude::*;
 
 use crate::adjacency::EdgeAdjacency;
-use crate::multiplicity::{edge_multiplicity, triangle_orientation};
+use crate::multiplicity::{comp_multiplicity, edge_multiplicity, triangle_orientation};
+use crate::order::greater;
 use crate::weld::WeldedMesh;
 use crate::Light;
 
@@ -77,6 +78,58 @@ struct Scratch {
 
 thread_local! {
     static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+/// [`edge_multiplicity`] for the per-frame loop, with the same result bit for bit: for each
+/// opposite vertex the branch of Alg. 3 is *selected* (which sorted triple, which sign)
+/// rather than branched on, and [`comp_multiplicity`] is called on exactly the arguments
+/// [`crate::multiplicity::opposite_contribution`] gives it. The branches of Alg. 3 depend
+/// on the geometry and mispredict about every other time; selects do not.
+#[inline(always)]
+fn edge_multiplicity_select(positions: &[[f32; 3]], edge: [u32; 2], opposites: &[u32], light: Light) -> i32 {
+    let a = positions[edge[0] as usize];
+    let b = positions[edge[1] as usize];
+    let mut m = 0;
+    for &o in opposites {
+        let o = positions[o as usize];
+        let o_below_a = greater(a, o) > 0; // O < A < B: (O, A, B), even
+        let o_below_b = greater(b, o) > 0; // A < O < B: (A, O, B), odd; else (A, B, O), even
+        let first = if o_below_a { o } else { a };
+        let second = if o_below_a { a } else if o_below_b { o } else { b };
+        let third = if o_below_a | o_below_b { b } else { o };
+        let odd = !o_below_a & o_below_b;
+        let c = comp_multiplicity(first, second, third, light);
+        m += if odd { -c } else { c };
+    }
+    m
+}
+
+/// [`triangle_orientation`] for the per-frame loop, with the same result bit for bit: the
+/// three vertices are ranked by three comparisons (no data-dependent swaps) and
+/// [`comp_multiplicity`] gets them in sorted order, the parity of the permutation the sign.
+/// Ties (only possible with NaN coordinates) take the sorting network of
+/// [`triangle_orientation`] itself.
+#[inline(always)]
+fn triangle_orientation_select(positions: &[[f32; 3]], tri: [u32; 3], light: Light) -> i32 {
+    let [p0, p1, p2] = tri.map(|i| positions[i as usize]);
+    let (g01, g12, g02) = (greater(p0, p1), greater(p1, p2), greater(p0, p2));
+    if g01 == 0 || g12 == 0 || g02 == 0 {
+        return triangle_orientation(positions, tri, light);
+    }
+    let (g01, g12, g02) = (g01 > 0, g12 > 0, g02 > 0);
+    // Rank 0 is the smallest vertex.
+    let smallest = if !g01 & !g02 { p0 } else if g01 & !g12 { p1 } else { p2 };
+    let largest = if g01 & g02 { p0 } else if !g01 & g12 { p1 } else { p2 };
+    let rank0 = g01 as u8 + g02 as u8;
+    let rank1 = !g01 as u8 + g12 as u8;
+    let middle = if rank0 == 1 { p0 } else if rank1 == 1 { p1 } else { p2 };
+    let c = comp_multiplicity(smallest, middle, largest, light);
+    // Each inverted pair is one transposition of the permutation to sorted order.
+    if (g01 as u8 + g12 as u8 + g02 as u8) & 1 == 1 {
+        -c
+    } else {
+        c
+    }
 }
 
 /// Writes the side quads of edge `[a, b]` (`a < b`) with multiplicity `m != 0` at the start
@@ -202,7 +255,7 @@ fn extract_with(
             let first = chunk * ITEMS_PER_CHUNK;
             let mut total = 0usize;
             for (e, m) in (first..).zip(ms.iter_mut()) {
-                *m = edge_multiplicity(positions, adj.edges[e], adj.opposites(e), light);
+                *m = edge_multiplicity_select(positions, adj.edges[e], adj.opposites(e), light);
                 total += m.unsigned_abs() as usize;
             }
             *sum = total;
@@ -243,7 +296,7 @@ fn extract_with(
         .for_each(|((ss, tris), count)| {
             let mut n = 0;
             for (s, &tri) in ss.iter_mut().zip(tris) {
-                let o = triangle_orientation(positions, tri, light);
+                let o = triangle_orientation_select(positions, tri, light);
                 *s = o as i8;
                 n += (o != 0) as usize;
             }
@@ -355,6 +408,44 @@ mod tests {
             }
         }
         assert!(nonempty >= 8, "the inputs must cast silhouettes ({nonempty})");
+    }
+
+    /// The select forms equal Alg. 3-4 as written in `multiplicity`, on every ordering of
+    /// vertices from a small grid (ties between coordinates, equal vertices, NaN) and on
+    /// point and directional lights, including lights in the triangles' planes.
+    #[test]
+    fn select_forms_match_multiplicity_module() {
+        let grid = [-1.0f32, -0.0, 0.0, 0.5, 1.0];
+        let mut points = Vec::new();
+        for x in grid {
+            for y in [0.0f32, 1.0] {
+                for z in grid {
+                    points.push([x, y, z]);
+                }
+            }
+        }
+        points.push([f32::NAN, 0.0, 0.0]);
+        points.push([0.0, f32::NAN, 1.0]);
+        let lights = [[0.5, 0.5, 0.5, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.5, 0.0]];
+        let n = points.len() as u32;
+        let (mut nonzero, mut negative) = (0, 0);
+        for light in lights {
+            for i in 0..n {
+                for j in 0..n {
+                    for k in 0..n {
+                        let tri = [i, j, k];
+                        let want = triangle_orientation(&points, tri, light);
+                        assert_eq!(triangle_orientation_select(&points, tri, light), want, "{tri:?} {light:?}");
+                        nonzero += (want != 0) as usize;
+                        let opposites = [k, j, i, k];
+                        let want = edge_multiplicity(&points, [i, j], &opposites, light);
+                        assert_eq!(edge_multiplicity_select(&points, [i, j], &opposites, light), want);
+                        negative += (want < 0) as usize;
+                    }
+                }
+            }
+        }
+        assert!(nonzero > 1000 && negative > 1000, "{nonzero} {negative}");
     }
 
     /// An extraction running inside another one on the same thread (a rayon worker picks up

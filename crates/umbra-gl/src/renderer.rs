@@ -303,10 +303,13 @@ impl Renderer {
             .ok_or_else(|| GlError::InvalidParams(format!("no stencil captured for light {light}")))
     }
 
-    /// Draws one frame into a caller's framebuffer (must be `params.width x params.height`
-    /// with a depth24-stencil8 attachment; only draw buffer 0 receives colour, other draw
-    /// buffers get pass-1 outputs 1 and 2). Clears its draw buffer 0 and depth/stencil.
-    /// `params.capture` is ignored except stencil capture, which reads the caller's stencil.
+    /// Draws one frame into a caller's framebuffer (None = the default framebuffer). It must
+    /// be `params.width x params.height` with a depth24-stencil8 (any 8-bit stencil)
+    /// attachment and should have a single draw buffer: draw buffer 0 receives the colour;
+    /// further draw buffers would receive pass-1 outputs 1 (world position) and 2 (triangle
+    /// id) and are undefined after the lighting passes. Clears draw buffer 0, depth and
+    /// stencil. `params.capture` is ignored except the stencil capture, which reads the
+    /// caller's stencil (returned per captured light).
     pub fn draw_frame(
         &mut self,
         gl: &glow::Context,

@@ -29,11 +29,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let light = [nums[6], nums[7], nums[8], nums[9]];
     let r = reference(&welded, &bvh, &samples, light, camera.eye)?;
     let mut rgba = Vec::with_capacity(pos.len() * 4);
-    for i in 0..pos.len() {
-        let shade = if tri[i] == u32::MAX {
+    for (i, &t) in tri.iter().enumerate() {
+        let shade = if t == u32::MAX {
             0.0
         } else {
-            let [a, b, c] = welded.triangles[tri[i] as usize].map(|k| welded.positions[k as usize]);
+            let [a, b, c] = welded.triangles[t as usize].map(|k| welded.positions[k as usize]);
             let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
             let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
             let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];

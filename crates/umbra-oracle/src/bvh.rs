@@ -1,14 +1,15 @@
 //! Bounding volume hierarchy over triangles for the CPU shadow reference.
 //!
 //! Build: binned surface area heuristic, Ingo Wald, "On fast Construction of SAH-based Bounding
-//! Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007, Section 3 (centroid
-//! binning, 32 bins per axis, SAH sweep over the bin boundaries), with the two child subtrees of
-//! large nodes built in parallel (`rayon::join`).
+//! Volume Hierarchies", IEEE Symposium on Interactive Ray Tracing 2007, Section 3 (binning of
+//! the triangles' box centres, up to 32 bins per axis, SAH sweep over the bin boundaries), with
+//! the two child subtrees of large nodes built in parallel (`rayon::join`). Deterministic: the
+//! same input gives the same tree whatever the thread count.
 //!
 //! Traversal: ordered stack traversal; the ray/box slab test is made conservative as in Thiago
-//! Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013, Section 3 (the far distance is enlarged by
-//! `1 + 2 gamma(3)` so rounding can never cull a box the ray touches; NaN slabs from a zero
-//! direction component with the origin on the slab plane are ignored, i.e. treated as hit).
+//! Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013, Section 3 (each slab's far distance is
+//! enlarged by `2 gamma(3)` of its magnitude so rounding can never cull a box the ray touches;
+//! a zero direction component with the origin exactly on a box plane constrains nothing).
 //! Triangles are tested with the watertight test of [`crate::watertight`], so together nothing
 //! can slip between two triangles sharing an edge.
 //!
@@ -18,7 +19,7 @@
 use crate::watertight::ShearedRay;
 use crate::OracleError;
 
-/// Bins per axis for the SAH sweep (Wald 2007 uses 16-32; 32 is cheap at our sizes).
+/// Most bins per axis for the SAH sweep (Wald 2007 uses 16-32).
 const BINS: usize = 32;
 /// Maximum triangles per leaf; the SAH may choose smaller leaves.
 const MAX_LEAF: usize = 8;
@@ -223,7 +224,10 @@ impl Bvh {
     where
         F: FnMut(&Bvh, usize, &ShearedRay, f64) -> Option<f64>,
     {
-        if self.ids.is_empty() || !(t_min < t_max) {
+        // `>=` is not `!<`: a NaN limit must also end the query.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let empty = !(t_min < t_max);
+        if self.ids.is_empty() || empty {
             return;
         }
         let ray = ShearedRay::new(origin, direction);
@@ -241,7 +245,7 @@ impl Bvh {
                         t_far = t;
                     }
                 }
-                if !(t_min < t_far) {
+                if t_far <= t_min {
                     return;
                 }
             } else {

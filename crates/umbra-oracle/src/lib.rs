@@ -4,7 +4,7 @@
 //! * [`watertight`]: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection" (JCGT).
 //! * [`bvh`]: binned-SAH BVH (Wald 2007), parallel build, robust traversal (Ize 2013);
 //!   any-hit [`Bvh::occluded`] and closest-hit [`Bvh::intersect`].
-//! * [`reference`]: per-sample shadow classes of the rasterized samples and the one-pixel
+//! * [`mod@reference`]: per-sample shadow classes of the rasterized samples and the one-pixel
 //!   shadow-boundary band.
 //! * [`metrics`]: mismatch counts of a method's stencil mask against the reference, and the
 //!   diff image.

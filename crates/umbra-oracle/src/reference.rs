@@ -84,7 +84,8 @@ pub fn segment_epsilon(positions: &[[f32; 3]]) -> f64 {
             largest = largest.max(c.abs());
         }
     }
-    if !(min[0] <= max[0]) {
+    if min[0] > max[0] {
+        // No finite position at all.
         return 0.0;
     }
     let diagonal = (0..3).map(|k| (max[k] - min[k]).powi(2)).sum::<f64>().sqrt();
@@ -269,13 +270,13 @@ pub fn boundary_band(width: u32, height: u32, class: &[SampleClass], grazing: &[
         return band;
     }
     band.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        for x in 0..w {
+        for (x, out) in row.iter_mut().enumerate() {
             let i = y * w + x;
             if class_at(i) == SampleClass::Background {
                 continue;
             }
             if grazing.get(i).copied().unwrap_or(false) {
-                row[x] = true;
+                *out = true;
                 continue;
             }
             let (mut lit, mut shadowed) = (false, false);
@@ -288,7 +289,7 @@ pub fn boundary_band(width: u32, height: u32, class: &[SampleClass], grazing: &[
                     }
                 }
             }
-            row[x] = lit && shadowed;
+            *out = lit && shadowed;
         }
     });
     band

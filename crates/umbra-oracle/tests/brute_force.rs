@@ -55,9 +55,9 @@ fn soup(n: usize) -> impl Strategy<Value = (Vec<[f32; 3]>, Vec<[u32; 3]>)> {
     let coord = -10.0f32..10.0;
     let vert = [coord.clone(), coord.clone(), coord];
     (prop::collection::vec(vert, 3 * n), prop::collection::vec(any::<u32>(), n)).prop_map(move |(v, shared)| {
-        let mut p: Vec<[f32; 3]> = v.into_iter().map(|[x, y, z]| [x, y, z]).collect();
+        let mut p: Vec<[f32; 3]> = v;
         let mut t = Vec::with_capacity(n);
-        for i in 0..n {
+        for (i, &share) in shared.iter().enumerate() {
             let base = 3 * i as u32;
             // Shrink the triangle around its first vertex so they do not all overlap.
             for k in 1..3 {
@@ -67,7 +67,7 @@ fn soup(n: usize) -> impl Strategy<Value = (Vec<[f32; 3]>, Vec<[u32; 3]>)> {
                     q[c] = a[c] + (q[c] - a[c]) * 0.2;
                 }
             }
-            let first = if shared[i] % 4 == 0 && i > 0 { shared[i] % base } else { base };
+            let first = if share % 4 == 0 && i > 0 { share % base } else { base };
             t.push([first, base + 1, base + 2]);
         }
         (p, t)
@@ -76,6 +76,7 @@ fn soup(n: usize) -> impl Strategy<Value = (Vec<[f32; 3]>, Vec<[u32; 3]>)> {
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
 
     #[test]
     fn bvh_matches_brute_force(

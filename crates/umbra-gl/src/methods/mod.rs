@@ -84,6 +84,20 @@ impl VolumeFrame<'_> {
         }
     }
 
+    /// The clip-space z, as a multiple of clip w, of the far plane: light caps are pushed there
+    /// (paper 003, Eq. 6: `z = far_clip_z * w`). Shaders get it as the uniform `u_far_clip_z`
+    /// (see methods/shared/depth.glsl); it is 1 with the standard depth range and would be 0
+    /// with a reversed depth range. Always use this, never a literal.
+    pub fn far_clip_z(&self) -> f32 {
+        1.0
+    }
+
+    /// The GL state of a counting stencil pass (z-fail or z-pass per [`VolumeFrame::zpass`])
+    /// for this frame's depth convention. Counting methods apply exactly this.
+    pub fn shadow_volume_state(&self) -> crate::GlState {
+        crate::GlState::shadow_volume(self.zpass)
+    }
+
     /// `clip_from_world` as column-major f32 for glUniformMatrix4fv.
     pub fn clip_from_world_f32(&self) -> [f32; 16] {
         crate::camera::to_f32_cols(&self.clip_from_world)
