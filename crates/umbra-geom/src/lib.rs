@@ -15,6 +15,7 @@ pub mod mesh;
 pub mod multiplicity;
 pub mod order;
 pub mod scene;
+pub mod sides_data;
 pub mod silhouette;
 pub mod weld;
 

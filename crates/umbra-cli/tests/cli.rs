@@ -1,0 +1,183 @@
+//! The `umbra` binary as users run it: flags, JSON contracts, exit statuses, error messages.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn umbra(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_umbra")).args(args).output().expect("run umbra")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_str(&stdout(o)).unwrap_or_else(|e| panic!("not JSON ({e}): {}\nstderr: {}", stdout(o), stderr(o)))
+}
+
+#[test]
+fn info_json_box_counts() {
+    // A closed cube: 12 triangles, 8 welded vertices, 18 edges, all manifold.
+    let o = umbra(&["info", "box", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    assert_eq!(v["triangles"], 12);
+    assert_eq!(v["vertices"], 8);
+    assert_eq!(v["degenerate_triangles"], 0);
+    assert_eq!(v["edges"], 18);
+    assert_eq!(v["open_edges"], 0);
+    assert_eq!(v["nonmanifold_edges"], 0);
+    assert_eq!(v["max_opposites"], 2);
+    assert!(v.get("silhouette_edges").is_none(), "no light, no silhouette keys");
+}
+
+#[test]
+fn info_json_silhouette_of_box_from_above() {
+    // Light far above the unit cube's centre: the silhouette is the 4 edges around the top
+    // face, each with multiplicity 2 (a lit and an unlit face, Kim 2008), so the sum is 8.
+    // The top face's diagonal and the side faces' diagonals are not silhouettes.
+    let o = umbra(&["info", "box", "--json", "--light", "0,100,0"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    assert_eq!(v["silhouette_edges"], 4);
+    assert_eq!(v["multiplicity_sum"], 8);
+}
+
+#[test]
+fn info_text_names_every_count() {
+    let o = umbra(&["info", "default"]);
+    assert!(o.status.success());
+    let s = stdout(&o);
+    for key in ["triangles", "vertices", "degenerate", "edges", "open", "non-manifold", "max opposite"] {
+        assert!(s.contains(key), "missing {key:?} in:\n{s}");
+    }
+}
+
+#[test]
+fn render_writes_a_png_of_the_requested_size() {
+    let out = tmp("render.png");
+    let _ = std::fs::remove_file(&out);
+    let o = umbra(&["render", "--size", "64x48", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(&out).expect("png written");
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    // IHDR width and height, big-endian at bytes 16..24.
+    assert_eq!(u32::from_be_bytes(bytes[16..20].try_into().unwrap()), 64);
+    assert_eq!(u32::from_be_bytes(bytes[20..24].try_into().unwrap()), 48);
+}
+
+#[test]
+fn render_is_deterministic() {
+    let a = tmp("det-a.png");
+    let b = tmp("det-b.png");
+    for p in [&a, &b] {
+        let o = umbra(&["render", "--size", "96x64", "--out", p.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "same input, same PNG bytes");
+}
+
+#[test]
+fn bad_flags_are_errors_with_nonzero_status() {
+    for (args, needle) in [
+        (vec!["render", "--size", "0x10"], "--size"),
+        (vec!["render", "--light", "1,2"], "--light"),
+        (vec!["render", "--light", "0,0,0,0"], "directional"),
+        (vec!["render", "--method", "no-such-method"], "unknown shadow method"),
+        (vec!["render", "--scene", "spheres:0"], "spheres:0"),
+        (vec!["info", "/nonexistent/file.obj"], "/nonexistent/file.obj"),
+        (vec!["info", "scene.xyz"], "scene.xyz"),
+    ] {
+        let o = umbra(&args);
+        assert!(!o.status.success(), "{args:?} should fail");
+        let e = stderr(&o);
+        assert!(e.contains("umbra: error:") && e.contains(needle), "{args:?}: {e}");
+        assert!(!e.contains("panicked"), "{args:?} panicked: {e}");
+    }
+}
+
+#[test]
+fn bad_file_error_names_file_and_line() {
+    let f = tmp("bad.obj");
+    std::fs::write(&f, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").unwrap();
+    let o = umbra(&["info", f.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("bad.obj") && e.contains("line 4"), "{e}");
+}
+
+#[test]
+fn empty_scene_render_explains() {
+    let f = tmp("empty.obj");
+    std::fs::write(&f, "# nothing here\n").unwrap();
+    let o = umbra(&["render", "--scene", f.to_str().unwrap(), "--out", tmp("empty.png").to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("no triangles"), "{}", stderr(&o));
+}
+
+#[test]
+fn verify_json_contract_and_exit_status() {
+    let o = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette,none", "--json"]);
+    let v = json(&o);
+    let rows = v.as_array().expect("array");
+    assert_eq!(rows.len(), 2);
+    for r in rows {
+        for key in [
+            "method",
+            "samples",
+            "shadowed_reference",
+            "mismatches",
+            "band_samples",
+            "band_mismatches",
+            "mismatches_outside_band",
+            "reference_ms",
+            "render_ms",
+        ] {
+            assert!(r.get(key).is_some(), "missing {key} in {r}");
+        }
+    }
+    let cpu = rows.iter().find(|r| r["method"] == "cpu-silhouette").unwrap();
+    let none = rows.iter().find(|r| r["method"] == "none").unwrap();
+    assert!(cpu["samples"].as_u64().unwrap() > 10_000);
+    assert!(cpu["shadowed_reference"].as_u64().unwrap() > 500, "the default scene has shadows");
+    assert_eq!(cpu["mismatches_outside_band"], 0, "{cpu}");
+    // `none` misses every shadow: its mismatches are the shadowed samples.
+    assert_eq!(none["mismatches"], none["shadowed_reference"]);
+    // `none` is measured, never failed: exit status 0.
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn verify_zpass_with_camera_in_shadow_fails_with_status_1() {
+    // Camera on the ground under the default scene's sphere, inside its shadow volume:
+    // z-pass counting is wrong there (the documented reason z-fail is the default).
+    let o = umbra(&[
+        "verify", "--size", "160x120", "--method", "cpu-silhouette", "--zpass", "--eye", "-2.2,0.2,0.3", "--target",
+        "3,0,3", "--light", "-2.2,8,0.3",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "stdout {}\nstderr {}", stdout(&o), stderr(&o));
+    let o = umbra(&[
+        "verify", "--size", "160x120", "--method", "cpu-silhouette", "--eye", "-2.2,0.2,0.3", "--target", "3,0,3",
+        "--light", "-2.2,8,0.3",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "z-fail is right: stdout {}\nstderr {}", stdout(&o), stderr(&o));
+}
+
+#[test]
+fn verify_writes_diff_image() {
+    let d = tmp("diff.png");
+    let _ = std::fs::remove_file(&d);
+    let o = umbra(&["verify", "--size", "80x60", "--method", "cpu-silhouette", "--diff", d.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(&std::fs::read(&d).expect("diff written")[..4], b"\x89PNG");
+}
