@@ -16,6 +16,24 @@ use rayon::prelude::*;
 use crate::order::greater;
 use crate::weld::WeldedMesh;
 
+/// Vertices per parallel work item of [`EdgeAdjacency::build`].
+const VERTICES_PER_BLOCK: usize = 4096;
+
+/// `slice` cut into consecutive, non-overlapping mutable parts covering `ranges` (which must
+/// be ascending and adjacent, starting at 0).
+fn split_by_ranges<T>(mut slice: &mut [T], ranges: impl Iterator<Item = std::ops::Range<usize>>) -> Vec<&mut [T]> {
+    let mut parts = Vec::new();
+    let mut at = 0;
+    for range in ranges {
+        debug_assert_eq!(range.start, at);
+        let (part, rest) = std::mem::take(&mut slice).split_at_mut(range.end - at);
+        parts.push(part);
+        slice = rest;
+        at = range.end;
+    }
+    parts
+}
+
 /// All unique edges of a welded mesh with their opposite vertices (CSR layout).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EdgeAdjacency {
@@ -28,41 +46,102 @@ pub struct EdgeAdjacency {
 
 impl EdgeAdjacency {
     /// Builds the adjacency of `mesh` (whose triangles have three distinct vertices).
+    ///
+    /// One record per (triangle, edge) — the edge's high vertex index and its opposite
+    /// vertex — is bucketed by the edge's low vertex index with a counting sort (stable, so
+    /// each bucket is in triangle order), each bucket is stably sorted by high index, and
+    /// runs of equal (low, high) become the edges: edges sorted by their vertex indices,
+    /// opposites in triangle order.
+    ///
+    /// # Panics
+    /// If a triangle indexes past `mesh.positions` (never the case for a [`crate::weld`]
+    /// result).
     pub fn build(mesh: &WeldedMesh) -> Self {
-        // One record per (triangle, edge): key = the edge's vertex indices (low, high),
-        // tie-broken by the record's position so the sort is deterministic.
-        let mut records: Vec<(u64, u32)> = mesh
-            .triangles
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(t, &[i0, i1, i2])| {
-                let key = |a: u32, b: u32| ((a.min(b) as u64) << 32) | a.max(b) as u64;
-                let base = 3 * t as u32;
-                [(key(i0, i1), base), (key(i1, i2), base + 1), (key(i2, i0), base + 2)]
-            })
-            .collect();
-        records.par_sort_unstable();
-
-        let mut edges = Vec::new();
-        let mut opposite_start = Vec::new();
-        let mut opposites = Vec::with_capacity(records.len());
-        let mut i = 0;
-        while i < records.len() {
-            let key = records[i].0;
-            let lo = (key >> 32) as u32;
-            let hi = key as u32;
-            let in_order = greater(mesh.positions[lo as usize], mesh.positions[hi as usize]) < 0;
-            edges.push(if in_order { [lo, hi] } else { [hi, lo] });
-            opposite_start.push(opposites.len() as u32);
-            while i < records.len() && records[i].0 == key {
-                let slot = records[i].1;
-                let tri = mesh.triangles[(slot / 3) as usize];
-                // Edge k of a triangle is (v[k], v[k+1]); its opposite vertex is v[k+2].
-                opposites.push(tri[(slot as usize % 3 + 2) % 3]);
-                i += 1;
+        let vertices = mesh.positions.len();
+        // Counting sort by low vertex: bucket_start[v]..bucket_start[v + 1] are v's records.
+        let mut bucket_start = vec![0u32; vertices + 1];
+        for &[i0, i1, i2] in &mesh.triangles {
+            for (a, b) in [(i0, i1), (i1, i2), (i2, i0)] {
+                bucket_start[a.min(b) as usize + 1] += 1;
             }
         }
-        opposite_start.push(opposites.len() as u32);
+        for v in 0..vertices {
+            bucket_start[v + 1] += bucket_start[v];
+        }
+        // Record = (high vertex << 32) | opposite vertex, in record order within a bucket.
+        let mut records = vec![0u64; 3 * mesh.triangles.len()];
+        let mut fill = bucket_start[..vertices].to_vec();
+        for &[i0, i1, i2] in &mesh.triangles {
+            // Edge k of a triangle is (v[k], v[k+1]); its opposite vertex is v[k+2].
+            for (a, b, o) in [(i0, i1, i2), (i1, i2, i0), (i2, i0, i1)] {
+                let slot = &mut fill[a.min(b) as usize];
+                records[*slot as usize] = (u64::from(a.max(b)) << 32) | u64::from(o);
+                *slot += 1;
+            }
+        }
+        drop(fill);
+
+        // Per block of vertices, in parallel: sort the buckets, count the edges.
+        let blocks = vertices.div_ceil(VERTICES_PER_BLOCK);
+        let block_records = |block: usize| {
+            let first = bucket_start[block * VERTICES_PER_BLOCK] as usize;
+            let last = bucket_start[((block + 1) * VERTICES_PER_BLOCK).min(vertices)] as usize;
+            first..last
+        };
+        let mut edges_per_block: Vec<usize> = split_by_ranges(&mut records, (0..blocks).map(block_records))
+            .into_par_iter()
+            .enumerate()
+            .map(|(block, recs)| {
+                let base = bucket_start[block * VERTICES_PER_BLOCK];
+                let mut edges = 0;
+                for v in block * VERTICES_PER_BLOCK..((block + 1) * VERTICES_PER_BLOCK).min(vertices) {
+                    let bucket = &mut recs[(bucket_start[v] - base) as usize..(bucket_start[v + 1] - base) as usize];
+                    // Stable: records of one edge stay in triangle order.
+                    bucket.sort_by_key(|record| record >> 32);
+                    edges += bucket.chunk_by(|x, y| x >> 32 == y >> 32).count();
+                }
+                edges
+            })
+            .collect();
+        // Exclusive prefix sums: the first edge of each block.
+        let mut total_edges = 0;
+        for count in &mut edges_per_block {
+            let c = *count;
+            *count = total_edges;
+            total_edges += c;
+        }
+        edges_per_block.push(total_edges);
+
+        // Per block, in parallel: write the edges (oriented by the vertex order) and where
+        // their opposites start.
+        let mut edges = vec![[0u32; 2]; total_edges];
+        let mut opposite_start = vec![0u32; total_edges + 1];
+        let edge_ranges = || (0..blocks).map(|b| edges_per_block[b]..edges_per_block[b + 1]);
+        split_by_ranges(&mut edges, edge_ranges())
+            .into_par_iter()
+            .zip(split_by_ranges(&mut opposite_start[..total_edges], edge_ranges()))
+            .enumerate()
+            .for_each(|(block, (edges, starts))| {
+                let mut e = 0;
+                for lo in block * VERTICES_PER_BLOCK..((block + 1) * VERTICES_PER_BLOCK).min(vertices) {
+                    let mut r = bucket_start[lo] as usize;
+                    let bucket_end = bucket_start[lo + 1] as usize;
+                    while r < bucket_end {
+                        let hi = (records[r] >> 32) as u32;
+                        let lo = lo as u32;
+                        let in_order = greater(mesh.positions[lo as usize], mesh.positions[hi as usize]) < 0;
+                        edges[e] = if in_order { [lo, hi] } else { [hi, lo] };
+                        starts[e] = r as u32;
+                        e += 1;
+                        while r < bucket_end && (records[r] >> 32) as u32 == hi {
+                            r += 1;
+                        }
+                    }
+                }
+            });
+        opposite_start[total_edges] = records.len() as u32;
+
+        let opposites = records.par_iter().map(|&record| record as u32).collect();
         EdgeAdjacency { edges, opposite_start, opposites }
     }
 

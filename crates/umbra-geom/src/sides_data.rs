@@ -9,7 +9,7 @@
 //! | vec4 | x y z | w |
 //! | --- | --- | --- |
 //! | 0 | edge vertex `A` | number of opposite vertices in this record (as f32, exact) |
-//! | 1 | edge vertex `B` (`A < B` in the vertex order of [`crate::order`]) | 0 |
+//! | 1 | edge vertex `B` (`A < B` in the vertex order of [`crate::order`]) | 1 if the edge is split into several records, else 0 |
 //! | 2 + j, j < count | opposite vertex `O_j` | 1 |
 //! | 2 + j, j ≥ count | 0 | 0 (unused slot) |
 //!
@@ -173,9 +173,10 @@ pub fn build_sides_data(mesh: &WeldedMesh, adj: &EdgeAdjacency, max_mult: usize)
         // An edge without opposites (not produced by EdgeAdjacency::build) still gets one
         // empty record, multiplicity 0.
         let chunks: Vec<&[u32]> = if opposites.is_empty() { vec![&[]] } else { opposites.chunks(max_mult).collect() };
+        let split = if chunks.len() > 1 { 1.0 } else { 0.0 };
         for chunk in chunks {
             data.push([a[0], a[1], a[2], chunk.len() as f32]);
-            data.push([b[0], b[1], b[2], 0.0]);
+            data.push([b[0], b[1], b[2], split]);
             for &o in chunk {
                 let o = vertex(e, o)?;
                 data.push([o[0], o[1], o[2], 1.0]);
@@ -286,6 +287,10 @@ mod tests {
         assert_eq!(spine_records.len(), 3);
         let counts: Vec<f32> = spine_records.iter().map(|&r| s.record(r)[0][3]).collect();
         assert_eq!(counts, vec![14.0, 14.0, 12.0]);
+        // B.w flags the split edge's records, and only those.
+        for r in 0..s.records() {
+            assert_eq!(s.record(r)[1][3], if s.source_edge[r] as usize == spine { 1.0 } else { 0.0 });
+        }
         // Unused slots of the last record are zero.
         assert_eq!(s.record(spine_records[2])[2 + 12..], [[0.0; 4]; 2]);
     }

@@ -88,13 +88,6 @@ fn above(a: [f32; 3], b: [f32; 3]) -> bool {
     (a[0] > b[0]) | (!(a[0] < b[0]) & ((a[1] > b[1]) | (!(a[1] < b[1]) & (a[2] > b[2]))))
 }
 
-/// `if c { x } else { y }` without a branch (the bit patterns are kept exactly).
-#[inline(always)]
-fn select(c: bool, x: [f32; 3], y: [f32; 3]) -> [f32; 3] {
-    let mask = 0u32.wrapping_sub(c as u32);
-    [0, 1, 2].map(|k| f32::from_bits((x[k].to_bits() & mask) | (y[k].to_bits() & !mask)))
-}
-
 /// [`edge_multiplicity`] for the per-frame loop, with the same result bit for bit: for each
 /// opposite vertex the branch of Alg. 3 is *selected* (which sorted triple, which sign)
 /// rather than branched on, and [`comp_multiplicity`] is called on exactly the arguments
@@ -104,44 +97,166 @@ fn select(c: bool, x: [f32; 3], y: [f32; 3]) -> [f32; 3] {
 fn edge_multiplicity_select(positions: &[[f32; 3]], edge: [u32; 2], opposites: &[u32], light: Light) -> i32 {
     let a = positions[edge[0] as usize];
     let b = positions[edge[1] as usize];
+    // The branches of Alg. 3 as a table, indexed by (O < A, O < B): which of [A, B, O] go
+    // to `comp_multiplicity` in which order, and the parity of that permutation.
+    const CASES: [([usize; 3], i32); 4] = [
+        ([0, 1, 2], 1),  // A < B < O: (A, B, O), even
+        ([0, 2, 1], -1), // A < O < B: (A, O, B), odd
+        ([2, 0, 1], 1),  // O < A (< B): (O, A, B), even
+        ([2, 0, 1], 1),
+    ];
     let mut m = 0;
     for &o in opposites {
         let o = positions[o as usize];
-        let o_below_a = above(a, o); // O < A < B: (O, A, B), even
-        let o_below_b = above(b, o); // A < O < B: (A, O, B), odd; else (A, B, O), even
-        let first = select(o_below_a, o, a);
-        let second = select(o_below_a, a, select(o_below_b, o, b));
-        let third = select(o_below_a | o_below_b, b, o);
-        let odd = !o_below_a & o_below_b;
-        let c = comp_multiplicity(first, second, third, light);
-        m += c * (1 - 2 * odd as i32);
+        let p = [a, b, o, o]; // padded to 4: `& 3` below needs no bounds check
+        let ([i, j, k], sign) = CASES[(above(a, o) as usize) << 1 | above(b, o) as usize];
+        m += sign * comp_multiplicity(p[i & 3], p[j & 3], p[k & 3], light);
     }
     m
 }
 
-/// [`triangle_orientation`] for the per-frame loop, with the same result bit for bit: the
-/// three vertices are ranked by three comparisons (no data-dependent swaps) and
-/// [`comp_multiplicity`] gets them in sorted order, the parity of the permutation the sign.
-/// Ties (only possible with NaN coordinates) take the sorting network of
-/// [`triangle_orientation`] itself.
-#[inline(always)]
-fn triangle_orientation_select(positions: &[[f32; 3]], tri: [u32; 3], light: Light) -> i32 {
-    let [p0, p1, p2] = tri.map(|i| positions[i as usize]);
-    let (g01, g12, g02) = (greater(p0, p1), greater(p1, p2), greater(p0, p2));
-    if g01 == 0 || g12 == 0 || g02 == 0 {
-        return triangle_orientation(positions, tri, light);
+/// (edge, opposite vertex) pairs evaluated together by [`contributions`].
+const BATCH: usize = 256;
+
+/// One batch of (A, B, O) triples in structure-of-arrays form: `[ax, ay, az, bx, by, bz, ox,
+/// oy, oz]`, so that [`contributions`] runs over the lanes of SIMD registers.
+type Triples = [[f32; BATCH]; 9];
+
+/// `out[i]` = the contribution of opposite `O` to edge `A → B` for the `i`-th triple, as
+/// [`edge_multiplicity_select`] computes it (same selected arguments to the same
+/// [`comp_multiplicity`], hence the same result bit for bit), for `n` triples. Written as a
+/// loop with no data-dependent control flow so the compiler vectorises it.
+#[inline(never)]
+fn contributions(t: &Triples, n: usize, light: Light, out: &mut [i32; BATCH]) {
+    let [ax, ay, az, bx, by, bz, ox, oy, oz] = t;
+    for i in 0..n.min(BATCH) {
+        let (a, b, o) = ([ax[i], ay[i], az[i]], [bx[i], by[i], bz[i]], [ox[i], oy[i], oz[i]]);
+        let o_below_a = above(a, o); // O < A < B: (O, A, B), even
+        let o_below_b = above(b, o); // A < O < B: (A, O, B), odd; else (A, B, O), even
+        let either = o_below_a | o_below_b;
+        let first = [pick(o_below_a, o[0], a[0]), pick(o_below_a, o[1], a[1]), pick(o_below_a, o[2], a[2])];
+        let second = [
+            pick(o_below_a, a[0], pick(o_below_b, o[0], b[0])),
+            pick(o_below_a, a[1], pick(o_below_b, o[1], b[1])),
+            pick(o_below_a, a[2], pick(o_below_b, o[2], b[2])),
+        ];
+        let third = [pick(either, b[0], o[0]), pick(either, b[1], o[1]), pick(either, b[2], o[2])];
+        let odd = !o_below_a & o_below_b;
+        out[i] = comp_multiplicity(first, second, third, light) * (1 - 2 * odd as i32);
     }
-    let (g01, g12, g02) = (g01 > 0, g12 > 0, g02 > 0);
-    // Rank 0 is the smallest vertex.
-    let smallest = select(!g01 & !g02, p0, select(g01 & !g12, p1, p2));
-    let largest = select(g01 & g02, p0, select(!g01 & g12, p1, p2));
-    let rank0 = g01 as u8 + g02 as u8;
-    let rank1 = !g01 as u8 + g12 as u8;
-    let middle = select(rank0 == 1, p0, select(rank1 == 1, p1, p2));
-    let c = comp_multiplicity(smallest, middle, largest, light);
-    // Each inverted pair is one transposition of the permutation to sorted order.
-    let odd = (g01 ^ g12 ^ g02) as i32;
-    c * (1 - 2 * odd)
+}
+
+#[inline(always)]
+fn pick(c: bool, x: f32, y: f32) -> f32 {
+    if c {
+        x
+    } else {
+        y
+    }
+}
+
+/// The multiplicities of edges `first..first + ms.len()` into `ms`: the edges' (A, B, O)
+/// triples are gathered a batch at a time (the opposites of consecutive edges are
+/// consecutive in the CSR layout), evaluated by [`contributions`] and summed per edge. An
+/// edge with more than [`BATCH`] opposites is evaluated on its own.
+fn multiplicities_batched(positions: &[[f32; 3]], adj: &EdgeAdjacency, first: usize, ms: &mut [i32], light: Light) {
+    let mut triples: Triples = [[0.0; BATCH]; 9];
+    let mut contribution = [0i32; BATCH];
+    let end = first + ms.len();
+    let start = &adj.opposite_start;
+    let mut e = first;
+    while e < end {
+        let base = start[e] as usize;
+        let mut batch_end = e;
+        while batch_end < end && start[batch_end + 1] as usize - base <= BATCH {
+            batch_end += 1;
+        }
+        if batch_end == e {
+            ms[e - first] = edge_multiplicity_select(positions, adj.edges[e], adj.opposites(e), light);
+            e += 1;
+            continue;
+        }
+        let mut slot = 0;
+        for f in e..batch_end {
+            let [ia, ib] = adj.edges[f];
+            let (a, b) = (positions[ia as usize], positions[ib as usize]);
+            for &o in adj.opposites(f) {
+                let o = positions[o as usize];
+                let slot_values = [a[0], a[1], a[2], b[0], b[1], b[2], o[0], o[1], o[2]];
+                for k in 0..9 {
+                    triples[k][slot] = slot_values[k];
+                }
+                slot += 1;
+            }
+        }
+        contributions(&triples, slot, light, &mut contribution);
+        for f in e..batch_end {
+            let slots = start[f] as usize - base..start[f + 1] as usize - base;
+            ms[f - first] = contribution[slots].iter().sum();
+        }
+        e = batch_end;
+    }
+}
+
+/// `out[i]` = [`triangle_orientation`] of the `i`-th triangle, whose vertices are the `(A, B,
+/// O)` of the `i`-th triple (`A → B → O` its winding), for `n` triangles: the vertices are
+/// ranked by the three comparisons of Alg. 2 (no data-dependent swaps), [`comp_multiplicity`]
+/// gets them in sorted order — exactly the arguments the sorting network of
+/// [`triangle_orientation`] gives it — and the sign is the parity of the permutation.
+/// Vectorised like [`contributions`]. Returns `false` when two vertices of a triangle tie
+/// in the order (possible only with NaN coordinates): then `out` is not valid.
+#[inline(never)]
+fn orientations(t: &Triples, n: usize, light: Light, out: &mut [i32; BATCH]) -> bool {
+    let [ax, ay, az, bx, by, bz, cx, cy, cz] = t;
+    let mut tie = false;
+    for i in 0..n.min(BATCH) {
+        let (p0, p1, p2) = ([ax[i], ay[i], az[i]], [bx[i], by[i], bz[i]], [cx[i], cy[i], cz[i]]);
+        let (g01, g12, g02) = (greater(p0, p1), greater(p1, p2), greater(p0, p2));
+        tie |= (g01 == 0) | (g12 == 0) | (g02 == 0);
+        let (g01, g12, g02) = (g01 > 0, g12 > 0, g02 > 0);
+        let s0 = !g01 & !g02; // p0 is the smallest
+        let s1 = g01 & !g12; // p1 is the smallest (else p2)
+        let l0 = g01 & g02; // p0 is the largest
+        let l1 = !g01 & g12; // p1 is the largest (else p2)
+        let m0 = g01 ^ g02; // p0 is in the middle
+        let m1 = !g01 ^ g12; // p1 is in the middle (else p2)
+        let rank = |first: bool, second: bool, k: usize| pick(first, p0[k], pick(second, p1[k], p2[k]));
+        let smallest = [rank(s0, s1, 0), rank(s0, s1, 1), rank(s0, s1, 2)];
+        let middle = [rank(m0, m1, 0), rank(m0, m1, 1), rank(m0, m1, 2)];
+        let largest = [rank(l0, l1, 0), rank(l0, l1, 1), rank(l0, l1, 2)];
+        // Each inverted pair is one transposition of the permutation to sorted order.
+        let odd = g01 ^ g12 ^ g02;
+        out[i] = comp_multiplicity(smallest, middle, largest, light) * (1 - 2 * odd as i32);
+    }
+    !tie
+}
+
+/// [`triangle_orientation`] of every triangle of `tris` into `ss`, a batch at a time through
+/// [`orientations`]; returns how many are not edge-on.
+fn orientations_batched(positions: &[[f32; 3]], tris: &[[u32; 3]], ss: &mut [i8], light: Light) -> usize {
+    let mut triples: Triples = [[0.0; BATCH]; 9];
+    let mut orientation = [0i32; BATCH];
+    let mut not_edge_on = 0;
+    for (tris, ss) in tris.chunks(BATCH).zip(ss.chunks_mut(BATCH)) {
+        for (slot, tri) in tris.iter().enumerate() {
+            let [p0, p1, p2] = tri.map(|v| positions[v as usize]);
+            let slot_values = [p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], p2[0], p2[1], p2[2]];
+            for k in 0..9 {
+                triples[k][slot] = slot_values[k];
+            }
+        }
+        if orientations(&triples, tris.len(), light, &mut orientation) {
+            for (s, &o) in ss.iter_mut().zip(&orientation) {
+                *s = o as i8;
+            }
+        } else {
+            for (s, &tri) in ss.iter_mut().zip(tris) {
+                *s = triangle_orientation(positions, tri, light) as i8;
+            }
+        }
+        not_edge_on += ss.iter().filter(|&&s| s != 0).count();
+    }
+    not_edge_on
 }
 
 /// Writes the side quads of edge `[a, b]` (`a < b`) with multiplicity `m != 0` at the start
@@ -264,13 +379,8 @@ fn extract_with(
         .zip(side_offsets[1..].par_iter_mut())
         .enumerate()
         .for_each(|(chunk, (ms, sum))| {
-            let first = chunk * ITEMS_PER_CHUNK;
-            let mut total = 0usize;
-            for (e, m) in (first..).zip(ms.iter_mut()) {
-                *m = edge_multiplicity_select(positions, adj.edges[e], adj.opposites(e), light);
-                total += m.unsigned_abs() as usize;
-            }
-            *sum = total;
+            multiplicities_batched(positions, adj, chunk * ITEMS_PER_CHUNK, ms, light);
+            *sum = ms.iter().map(|m| m.unsigned_abs() as usize).sum();
         });
     prefix_sums(side_offsets, 6);
 
@@ -306,13 +416,7 @@ fn extract_with(
         .zip(mesh.triangles.par_chunks(ITEMS_PER_CHUNK))
         .zip(cap_offsets[1..].par_iter_mut())
         .for_each(|((ss, tris), count)| {
-            let mut n = 0;
-            for (s, &tri) in ss.iter_mut().zip(tris) {
-                let o = triangle_orientation_select(positions, tri, light);
-                *s = o as i8;
-                n += (o != 0) as usize;
-            }
-            *count = n;
+            *count = orientations_batched(positions, tris, ss, light);
         });
     prefix_sums(cap_offsets, 3);
     let cap_vertices = cap_offsets[tri_chunks];
@@ -441,13 +545,25 @@ mod tests {
         let lights = [[0.5, 0.5, 0.5, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.5, 0.0]];
         let n = points.len() as u32;
         let (mut nonzero, mut negative) = (0, 0);
+        // Triangles of three distinct vertices (the batches without ties) and, separately,
+        // all triples (batches with ties, NaN: the fallback).
+        let triples: Vec<[u32; 3]> = (0..n * n * n).map(|t| [t / (n * n), t / n % n, t % n]).collect();
+        let strict = |t: &[u32; 3]| (0..3).all(|k| greater(points[t[k] as usize], points[t[(k + 1) % 3] as usize]) != 0);
+        let distinct: Vec<[u32; 3]> = triples.iter().copied().filter(strict).collect();
+        assert!(distinct.len() > 10 * BATCH);
         for light in lights {
+            for tris in [&distinct, &triples] {
+                let mut got = vec![0i8; tris.len()];
+                let count = orientations_batched(&points, tris, &mut got, light);
+                let want: Vec<i8> = tris.iter().map(|&t| triangle_orientation(&points, t, light) as i8).collect();
+                assert_eq!(got, want, "{light:?}");
+                assert_eq!(count, want.iter().filter(|&&s| s != 0).count());
+            }
             for i in 0..n {
                 for j in 0..n {
                     for k in 0..n {
                         let tri = [i, j, k];
                         let want = triangle_orientation(&points, tri, light);
-                        assert_eq!(triangle_orientation_select(&points, tri, light), want, "{tri:?} {light:?}");
                         nonzero += (want != 0) as usize;
                         let opposites = [k, j, i, k];
                         let want = edge_multiplicity(&points, [i, j], &opposites, light);

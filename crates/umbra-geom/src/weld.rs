@@ -11,7 +11,7 @@
 //! Zero-area triangles with three distinct vertices (collinear) are real input and kept.
 //!
 //! Deterministic: welded vertices are numbered in order of first use by the triangles, and
-//! triangles keep their input order. Sort-based and parallel (rayon).
+//! triangles keep their input order. Equal positions are found with a hash table.
 
 use rayon::prelude::*;
 
@@ -40,22 +40,9 @@ fn weld_key(p: [f32; 3]) -> [u32; 3] {
 /// Welds `mesh` by exact position and drops degenerate triangles.
 pub fn weld(mesh: &Mesh) -> WeldedMesh {
     let n = mesh.positions.len();
-    // Every input vertex, sorted by its position bits (ties by index: deterministic).
-    let mut order: Vec<u32> = (0..n as u32).collect();
-    let keys: Vec<[u32; 3]> = mesh.positions.par_iter().map(|&p| weld_key(p)).collect();
-    order.par_sort_unstable_by_key(|&i| (keys[i as usize], i));
-    // Representative of each input vertex: the first input vertex with the same key.
-    let mut representative = vec![0u32; n];
-    let mut i = 0;
-    while i < n {
-        let first = order[i];
-        let mut j = i;
-        while j < n && keys[order[j] as usize] == keys[first as usize] {
-            representative[order[j] as usize] = first;
-            j += 1;
-        }
-        i = j;
-    }
+    // Group of each input vertex: the first input vertex with the same key (any canonical
+    // choice gives the same output, since a group's vertices share one welded position).
+    let group = position_groups(&mesh.positions);
     // Number welded vertices by first use in triangle order.
     const UNUSED: u32 = u32::MAX;
     let mut welded_index = vec![UNUSED; n];
@@ -68,7 +55,7 @@ pub fn weld(mesh: &Mesh) -> WeldedMesh {
             degenerate_triangles += 1;
             continue;
         }
-        let r = tri.map(|v| representative[v as usize]);
+        let r = tri.map(|v| group[v as usize]);
         if r[0] == r[1] || r[1] == r[2] || r[0] == r[2] {
             degenerate_triangles += 1;
             continue;
@@ -86,6 +73,46 @@ pub fn weld(mesh: &Mesh) -> WeldedMesh {
         source_triangle.push(t as u32);
     }
     WeldedMesh { positions, triangles, source_triangle, degenerate_triangles }
+}
+
+/// For every position, the index of the first position with the same [`weld_key`]: an
+/// open-addressing hash table (linear probing, at most half full) of vertex indices,
+/// filled in index order, so the first vertex of a key is the one found.
+fn position_groups(positions: &[[f32; 3]]) -> Vec<u32> {
+    const EMPTY: u32 = u32::MAX;
+    let bits = (2 * positions.len()).max(16).next_power_of_two().trailing_zeros();
+    let mask = (1usize << bits) - 1;
+    let mut table = vec![EMPTY; mask + 1];
+    let keys: Vec<[u32; 3]> = positions.par_iter().map(|&p| weld_key(p)).collect();
+    keys.iter()
+        .enumerate()
+        .map(|(v, key)| {
+            let mut slot = (key_hash(*key) >> (64 - bits)) as usize;
+            loop {
+                let first = table[slot];
+                if first == EMPTY {
+                    table[slot] = v as u32;
+                    return v as u32;
+                }
+                if keys[first as usize] == *key {
+                    return first;
+                }
+                slot = (slot + 1) & mask;
+            }
+        })
+        .collect()
+}
+
+/// A multiplicative hash of a key (FxHash-style: rotate, xor, multiply by an odd constant);
+/// the table index is taken from its high bits, which mix all three words.
+#[inline]
+fn key_hash(key: [u32; 3]) -> u64 {
+    const K: u64 = 0x517c_c1b7_2722_0a95;
+    let mut h = 0u64;
+    for word in key {
+        h = (h.rotate_left(5) ^ u64::from(word)).wrapping_mul(K);
+    }
+    h
 }
 
 impl WeldedMesh {

@@ -77,10 +77,32 @@ enum Occlusion {
     Occluder { triangle: usize, t: f64 },
 }
 
+/// Triangles in f64 with their bounding boxes, for the brute-force ray casts.
+struct Triangles {
+    corners: Vec<[V; 3]>,
+    boxes: Vec<[V; 2]>,
+    /// Scene diagonal: no occluder is farther than this from a scene point.
+    diagonal: f64,
+}
+
+impl Triangles {
+    fn new(mesh: &WeldedMesh) -> Self {
+        let corners: Vec<[V; 3]> = mesh.triangles.iter().map(|t| t.map(|v| mesh.positions[v as usize].map(f64::from))).collect();
+        let boxes: Vec<[V; 2]> = corners
+            .iter()
+            .map(|c| [[0, 1, 2].map(|k| c[0][k].min(c[1][k]).min(c[2][k])), [0, 1, 2].map(|k| c[0][k].max(c[1][k]).max(c[2][k]))])
+            .collect();
+        let lo = [0, 1, 2].map(|k| boxes.iter().map(|b| b[0][k]).fold(f64::INFINITY, f64::min));
+        let hi = [0, 1, 2].map(|k| boxes.iter().map(|b| b[1][k]).fold(f64::NEG_INFINITY, f64::max));
+        let diagonal = dot(sub(hi, lo), sub(hi, lo)).sqrt();
+        Self { corners, boxes, diagonal }
+    }
+}
+
 /// `epsilon`: occluders closer than this distance along the segment are ignored (the world
 /// position is an f32 interpolation, so a point next to a shared edge may sit a hair behind
 /// the neighbour's plane: "shadow acne" of this reference, not of the renderer).
-fn expected_shadowed(mesh: &WeldedMesh, own: usize, world: V, eye: V, light: [f32; 4], epsilon: f64) -> Occlusion {
+fn expected_shadowed(mesh: &WeldedMesh, tris: &Triangles, own: usize, world: V, eye: V, light: [f32; 4], epsilon: f64) -> Occlusion {
     let l = light.map(f64::from);
     let to_light = sub([l[0], l[1], l[2]], world.map(|x| x * l[3]));
     let n = umbra_gl::scene::flat_normal(&mesh.positions, mesh.triangles[own]).map(f64::from);
@@ -93,14 +115,17 @@ fn expected_shadowed(mesh: &WeldedMesh, own: usize, world: V, eye: V, light: [f3
     let t_max = if l[3] == 1.0 { 1.0 } else { f64::INFINITY };
     let scale = dot(to_light, to_light).sqrt();
     let t_min = epsilon / scale.max(1e-30);
-    mesh.triangles
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != own)
-        .find_map(|(i, t)| {
-            hit(world, to_light, t_min, t_max, t.map(|v| mesh.positions[v as usize].map(f64::from)))
-                .map(|t| Occlusion::Occluder { triangle: i, t })
+    // Box of the part of the segment that can meet scene geometry.
+    let t_box = t_max.min(2.0 * tris.diagonal / scale.max(1e-30));
+    let end = [0, 1, 2].map(|k| world[k] + t_box * to_light[k]);
+    let (lo, hi) = ([0, 1, 2].map(|k| world[k].min(end[k])), [0, 1, 2].map(|k| world[k].max(end[k])));
+    (0..tris.corners.len())
+        .filter(|&i| i != own)
+        .filter(|&i| {
+            let b = &tris.boxes[i];
+            (0..3).all(|k| b[0][k] <= hi[k] && b[1][k] >= lo[k])
         })
+        .find_map(|i| hit(world, to_light, t_min, t_max, tris.corners[i]).map(|t| Occlusion::Occluder { triangle: i, t }))
         .unwrap_or(Occlusion::Lit)
 }
 
@@ -138,6 +163,7 @@ fn compare(
     let (wp, ids) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("ids"));
     let st = &img.stencil[0].image;
     let light = p.lights[0];
+    let tris = &Triangles::new(mesh);
     let classify = |x: u32, y: u32| -> Option<(u32, Occlusion)> {
         let id = ids.get(x, y)?;
         if id == NO_TRIANGLE {
@@ -145,7 +171,7 @@ fn compare(
         }
         let w = wp.get(x, y)?;
         let world = [w[0], w[1], w[2]].map(f64::from);
-        Some((id, expected_shadowed(mesh, id as usize, world, p.camera.eye, light, epsilon)))
+        Some((id, expected_shadowed(mesh, tris, id as usize, world, p.camera.eye, light, epsilon)))
     };
     let samples: Vec<(u32, u32)> =
         (1..p.height - 1).step_by(step as usize).flat_map(|y| (1..p.width - 1).step_by(step as usize).map(move |x| (x, y))).collect();
@@ -322,5 +348,5 @@ fn debug_pixel() {
         .map(|(i, _)| i)
         .collect();
     println!("triangles on the same three vertices: {same:?}");
-    println!("{:?}", expected_shadowed(&mesh, id as usize, [w[0], w[1], w[2]].map(f64::from), camera.eye, light, 1e-5 * d));
+    println!("{:?}", expected_shadowed(&mesh, &Triangles::new(&mesh), id as usize, [w[0], w[1], w[2]].map(f64::from), camera.eye, light, 1e-5 * d));
 }

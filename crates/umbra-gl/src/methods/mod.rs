@@ -25,7 +25,12 @@ use crate::error::GlError;
 use crate::scene::{SceneGpu, SceneId};
 
 pub mod cpu_silhouette;
+pub mod cs_silhouette;
 pub mod none;
+pub mod vs_silhouette;
+pub mod gs_silhouette;
+pub mod silhouette_caps;
+pub mod ts_silhouette;
 
 /// How the lighting pass decides that a pixel is lit for the current light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -159,7 +164,7 @@ pub struct UnknownMethod {
 
 /// Every registered method, in a stable order.
 pub fn method_names() -> &'static [&'static str] {
-    &[none::NAME, cpu_silhouette::NAME]
+    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME, ts_silhouette::NAME, ts_silhouette::NAME_3EDGE, gs_silhouette::NAME, gs_silhouette::NAME_3EDGE]
 }
 
 /// Builds a method by registry name (no GL calls; see [`ShadowMethod::prepare`]).
@@ -167,6 +172,12 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
     match name {
         none::NAME => Ok(Box::new(none::NoShadows::new())),
         cpu_silhouette::NAME => Ok(Box::new(cpu_silhouette::CpuSilhouette::new())),
+        vs_silhouette::NAME => Ok(Box::new(vs_silhouette::VsSilhouette::new())),
+        cs_silhouette::NAME => Ok(Box::new(cs_silhouette::CsSilhouette::new())),
+        ts_silhouette::NAME => Ok(Box::new(ts_silhouette::TsSilhouette::new())),
+        ts_silhouette::NAME_3EDGE => Ok(Box::new(ts_silhouette::TsSilhouette::new_three_edge())),
+        gs_silhouette::NAME => Ok(Box::new(gs_silhouette::GsSilhouette::new())),
+        gs_silhouette::NAME_3EDGE => Ok(Box::new(gs_silhouette::GsSilhouette::new_three_edge())),
         _ => Err(UnknownMethod { name: name.to_string() }),
     }
 }

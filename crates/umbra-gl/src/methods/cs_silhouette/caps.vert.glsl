@@ -1,0 +1,32 @@
+// cs-silhouette: draws the caps the compute pass (caps.comp.glsl) compacted, with
+// glDrawArraysIndirect. Light cap pushed to the far plane (paper 003 Eq. 6 through the shared
+// depth.glsl umbra_push_to_far), dark cap extruded to infinity and reversed (paper 003 Alg. 2,
+// line 11; 001 Eq. 2). Prepended: "#version 450 core", multiplicity.glsl, depth.glsl.
+//
+// No vertex attributes: cap c = gl_VertexID / u_vertices_per_cap, v = the remainder: 0-2 the
+// light cap P0 P1 P2, 3-5 (point lights only) the dark cap P2 P1 P0 at infinity.
+
+layout(std430, binding = 1) readonly buffer Positions { float positions[]; };
+layout(std430, binding = 4) readonly buffer Caps { uint caps[]; };
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+uniform uint u_vertices_per_cap;
+
+invariant gl_Position;
+
+vec3 umbra_position(uint i) {
+    return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
+}
+
+void main() {
+    uint c = uint(gl_VertexID) / u_vertices_per_cap;
+    uint v = uint(gl_VertexID) % u_vertices_per_cap;
+    uint k = v < 3u ? v : 5u - v;
+    vec3 p = umbra_position(caps[3u * c + k]);
+    if (v < 3u) {
+        gl_Position = umbra_push_to_far(u_clip_from_world * vec4(p, 1.0));
+    } else {
+        gl_Position = u_clip_from_world * umbra_extrude(p, u_light);
+    }
+}

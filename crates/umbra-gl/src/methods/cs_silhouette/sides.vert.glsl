@@ -1,0 +1,37 @@
+// cs-silhouette: draws the side quads the compute pass (sides.comp.glsl) compacted, with
+// glDrawArraysIndirect (vertex count written by the compute shader: no CPU round trip).
+// Paper 001, Section 2.2: a quad per unit of multiplicity, extruded to infinity with Eq. 2
+// (umbra_extrude from the shared multiplicity.glsl). Prepended: "#version 450 core",
+// multiplicity.glsl.
+//
+// No vertex attributes: quad q = gl_VertexID / 6 reads its record (X, Y) and the positions
+// from shader storage. Triangles (Y, X, X_inf) and (Y, X_inf, Y_inf): exactly the vertices and
+// the order cpu-silhouette uploads (umbra_geom::silhouette).
+
+layout(std430, binding = 1) readonly buffer Positions { float positions[]; };
+layout(std430, binding = 5) readonly buffer Quads { uvec2 quads[]; };
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+
+// w = 1 vertices land exactly where the scene's vertex shader puts them.
+invariant gl_Position;
+
+vec3 umbra_position(uint i) {
+    return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
+}
+
+void main() {
+    uint q = uint(gl_VertexID) / 6u;
+    uint v = uint(gl_VertexID) % 6u;
+    uvec2 xy = quads[q];
+    // v: 0 Y, 1 X, 2 X_inf, 3 Y, 4 X_inf, 5 Y_inf.
+    bool is_x = v == 1u || v == 2u || v == 4u;
+    bool at_infinity = v == 2u || v == 4u || v == 5u;
+    vec3 p = umbra_position(is_x ? xy.x : xy.y);
+    if (at_infinity) {
+        gl_Position = u_clip_from_world * umbra_extrude(p, u_light);
+    } else {
+        gl_Position = u_clip_from_world * vec4(p, 1.0);
+    }
+}

@@ -1,0 +1,74 @@
+// gs-silhouette sides, geometry stage: paper 001, Section 2.2 (multiplicity with the reference
+// edge, Alg. 3-4; extrusion Eq. 2) in a geometry shader, the implementation the paper's
+// Tables 1-5 and 8-9 compare the tessellation method against ("GS").
+//
+// One input point per edge patch (gl_PrimitiveIDIn = patch index). The patch is read from the
+// SAME layout as ts-silhouette's (Fig. 4-5, ts_silhouette/patches.rs), bound as storage
+// buffers: u_elements[patch * UMBRA_PATCH_STRIDE + (0: A, 1: B, 2: count vertex,
+// 3.. : opposite vertices)] index the vertex buffer u_vertices (vec3 as 3 floats; the count
+// vertex holds the number n of opposite vertices of this patch in x).
+//
+// m = sum of umbra_side_contribution over the patch's opposites (Alg. 3; with UMBRA_THREE_EDGE
+// Peciva 2013's 3-edge test). |m| copies of the side quad are emitted, each as a 4-vertex
+// strip Q1 Q2 Q0 Q3 of the quad Q0 Q1 Q2 Q3 = B A A_inf B_inf (m > 0) or A B B_inf A_inf
+// (m < 0), umbra_geom::silhouette's winding: the strip's triangles are Q0 Q1 Q2 and Q0 Q2 Q3,
+// exactly the triangles cpu-silhouette draws. An edge with more opposites than
+// UMBRA_PATCH_CAPACITY is split over several patches whose m add up (patches.rs), so
+// |m| <= UMBRA_PATCH_CAPACITY and max_vertices = 4 * UMBRA_PATCH_CAPACITY respects
+// GL_MAX_GEOMETRY_OUTPUT_VERTICES and GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (checked at
+// prepare).
+//
+// Defines (inserted at link time): UMBRA_PATCH_CAPACITY (K), UMBRA_PATCH_STRIDE (3 + K),
+// UMBRA_ELEMENTS_BINDING, UMBRA_VERTICES_BINDING.
+// Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
+// silhouette_caps/determinism.glsl.
+
+layout(points) in;
+layout(triangle_strip, max_vertices = 4 * UMBRA_PATCH_CAPACITY) out;
+
+layout(std430, binding = UMBRA_ELEMENTS_BINDING) readonly buffer Elements {
+    uint u_elements[];
+};
+layout(std430, binding = UMBRA_VERTICES_BINDING) readonly buffer Vertices {
+    float u_vertices[];
+};
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+
+vec3 patch_vertex(uint slot) {
+    uint i = 3u * u_elements[uint(gl_PrimitiveIDIn) * uint(UMBRA_PATCH_STRIDE) + slot];
+    return vec3(u_vertices[i], u_vertices[i + 1u], u_vertices[i + 2u]);
+}
+
+void main() {
+    vec3 a = patch_vertex(0u);
+    vec3 b = patch_vertex(1u);
+    // Never read beyond the patch, whatever the count vertex says.
+    int count = min(int(patch_vertex(2u).x), UMBRA_PATCH_CAPACITY);
+    int m = 0;
+    for (int i = 0; i < count; ++i) {
+        m += umbra_side_contribution(a, b, patch_vertex(uint(3 + i)), u_light);
+    }
+    if (m == 0) {
+        return;
+    }
+    vec3 first = m > 0 ? b : a;
+    vec3 second = m > 0 ? a : b;
+    vec4 q0 = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
+    vec4 q1 = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
+    vec4 q2 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
+    vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
+    int copies = abs(m);
+    for (int c = 0; c < copies; ++c) {
+        gl_Position = q1;
+        EmitVertex();
+        gl_Position = q2;
+        EmitVertex();
+        gl_Position = q0;
+        EmitVertex();
+        gl_Position = q3;
+        EmitVertex();
+        EndPrimitive();
+    }
+}

@@ -1,0 +1,75 @@
+//! GL unit tests of the geometry stage, observed through transform feedback.
+
+use glow::HasContext;
+use umbra_geom::weld::weld;
+use umbra_geom::EdgeAdjacency;
+
+use super::*;
+use crate::methods::ts_silhouette::tests::{assert_side_quads, capture_triangles, context, fan, ABOVE, IDENTITY};
+
+/// Captures the side triangles the geometry shader emits for `fan(up, down)` with patch
+/// capacity `capacity` (all patches drawn: the spine's and the open edges').
+fn capture(gl: &glow::Context, up: usize, down: usize, capacity: usize, three_edge: bool) -> Vec<[[f32; 4]; 3]> {
+    let w = weld(&fan(up, down));
+    let adj = EdgeAdjacency::build(&w);
+    let patches = EdgePatches::build(&w, &adj, capacity).unwrap();
+    let b = upload(gl, &patches).unwrap();
+    let defines = [
+        format!("UMBRA_PATCH_CAPACITY {capacity}"),
+        format!("UMBRA_PATCH_STRIDE {}", capacity + 3),
+        format!("UMBRA_ELEMENTS_BINDING {ELEMENTS_BINDING}"),
+        format!("UMBRA_VERTICES_BINDING {VERTICES_BINDING}"),
+    ];
+    let mut defines: Vec<&str> = defines.iter().map(String::as_str).collect();
+    if three_edge {
+        defines.push(THREE_EDGE_DEFINE);
+    }
+    let stages = [(glow::VERTEX_SHADER, with_prelude(SIDES_VERT)), (glow::GEOMETRY_SHADER, with_prelude(SIDES_GEOM))];
+    // Only the spine's patches: they come first (edge (0, 1) is first in adjacency order).
+    let spine_patches = up.saturating_add(down).div_ceil(capacity) as i32;
+    let tris = capture_triangles(gl, &stages, &defines, |program| unsafe {
+        gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+        gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &ABOVE);
+        gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, ELEMENTS_BINDING, Some(b.elements));
+        gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, VERTICES_BINDING, Some(b.vertices));
+        gl.bind_vertex_array(Some(b.vao));
+        gl.draw_arrays(glow::POINTS, 0, spine_patches);
+    });
+    // SAFETY: test objects.
+    unsafe {
+        gl.delete_vertex_array(b.vao);
+        gl.delete_buffer(b.vertices);
+        gl.delete_buffer(b.elements);
+    }
+    tris
+}
+
+/// One invocation: exactly |m| quads with the winding of umbra_geom::silhouette, for every
+/// multiplicity a 64-capacity patch holds, either sign.
+#[test]
+fn one_patch_emits_m_quads() {
+    let ctx = context();
+    let gl = ctx.gl();
+    for (up, down) in [(1, 0), (0, 1), (2, 0), (0, 2), (5, 2), (1, 6), (64, 0), (0, 64), (33, 31), (3, 3)] {
+        let m = up as i32 - down as i32;
+        let tris = capture(gl, up, down, 64, false);
+        assert_side_quads(&tris, m, ABOVE, true, &format!("up {up} down {down}"));
+    }
+    assert!(ctx.take_gl_errors().is_empty());
+}
+
+/// Split edges: 40 pages in patches of 3 or 8 opposites (sub-multiplicities of both signs
+/// when the pages face both ways) add up to the edge's multiplicity, for both tests.
+#[test]
+fn split_patches_add_up() {
+    let ctx = context();
+    let gl = ctx.gl();
+    for three_edge in [false, true] {
+        for (up, down, capacity) in [(40, 0, 3), (0, 40, 8), (25, 15, 8), (13, 27, 3), (20, 20, 7)] {
+            let m = up as i32 - down as i32;
+            let tris = capture(gl, up, down, capacity, three_edge);
+            assert_side_quads(&tris, m, ABOVE, false, &format!("up {up} down {down} K {capacity} 3-edge {three_edge}"));
+        }
+    }
+    assert!(ctx.take_gl_errors().is_empty());
+}

@@ -1,0 +1,267 @@
+//! Edge patches: the input of the tessellation-shader silhouette (and, read as storage
+//! buffers, of the geometry-shader silhouette).
+//!
+//! Paper 001, Section 2.2, Fig. 4-5: an input patch holds the edge's two vertices, the number
+//! of its opposite vertices and the opposite vertices; the patch size is constant, so some
+//! slots are unused; an element buffer indexes the model's vertex buffer, which only has to be
+//! *extended* by vertices that carry the counts, so no vertex data is duplicated.
+//!
+//! Layout here, for `V` vertices, capacity `K` (opposite vertices per patch) and `P` patches:
+//! * vertex buffer: `V + K` tightly packed `vec3` (12 bytes each): the welded positions
+//!   `0..V`, then the count vertices `(k, 0, 0)` for `k = 1..=K` at index `V + k - 1`.
+//!   (The paper extends the buffer by one vec4 per edge; a count vertex only carries a number,
+//!   so patches with the same count share one through the element buffer, and the positions
+//!   need no fourth component.)
+//! * element buffer: `P` patches of `3 + K` u32 indices: `A, B, count vertex, O_1 .. O_n`,
+//!   unused slots repeating `A` (never read by the shaders; `A` is already in the vertex cache).
+//!
+//! Total: `patch_bytes = 12 · (V + K) + 4 · (3 + K) · P`, with `V` = 1 + the largest vertex
+//! index in the adjacency and `P = Σ_edges ceil(n_e / K)` (`n_e` = opposite vertices of edge e).
+//!
+//! Splitting: an edge with `n_e > K` opposite vertices becomes `ceil(n_e / K)` consecutive
+//! patches, each holding the edge and up to `K` of its opposites. The multiplicity of an edge is
+//! a sum of independent per-opposite terms (Alg. 3), so the patches' sub-multiplicities add up
+//! to the edge's; each patch draws `|m_sub|` quads of sign `sgn(m_sub)`, and quads of opposite
+//! sign over one edge are the same quad reversed, which cancel in the stencil count. Any
+//! multiplicity works, whatever the tessellation level or output-vertex limits.
+//!
+//! Choice of `K`: the `k` in `1..=limit` that minimises `patch_bytes` (the smallest such `k`),
+//! from the histogram of `n_e` — on typical models (almost every edge has 1 or 2 opposites)
+//! that is 2. `limit` comes from the GL limits (see [`ts_capacity_limit`],
+//! [`gs_capacity_limit`]); [`crate::methods::ts_silhouette::patch_bytes`] uses the limit implied
+//! by the GL 4.0 minimums, which every GL 4.x implementation meets.
+
+use umbra_geom::{EdgeAdjacency, WeldedMesh};
+
+use crate::error::GlError;
+
+/// Bytes of one vertex of the vertex buffer (`vec3` of f32).
+pub const VERTEX_BYTES: usize = 12;
+/// Bytes of one element (u32 index).
+pub const INDEX_BYTES: usize = 4;
+/// Slots of a patch before the opposite vertices: A, B, count vertex.
+pub const HEADER_SLOTS: usize = 3;
+
+/// GL 4.0 minimum of GL_MAX_PATCH_VERTICES.
+pub const MIN_MAX_PATCH_VERTICES: i32 = 32;
+/// GL 4.0 minimum of GL_MAX_TESS_GEN_LEVEL.
+pub const MIN_MAX_TESS_GEN_LEVEL: i32 = 64;
+/// GL 3.2 minimum of GL_MAX_GEOMETRY_OUTPUT_VERTICES.
+pub const MIN_MAX_GEOMETRY_OUTPUT_VERTICES: i32 = 256;
+/// GL 3.2 minimum of GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS.
+pub const MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS: i32 = 1024;
+
+/// Most opposite vertices a tessellation patch may hold: the patch has `3 + K` vertices
+/// (`<= GL_MAX_PATCH_VERTICES`) and draws at most `K` quads with inner level `2K - 1`
+/// (`<= GL_MAX_TESS_GEN_LEVEL`, paper 001 Section 2.3). 0 if no patch fits.
+pub fn ts_capacity_limit(max_patch_vertices: i32, max_tess_gen_level: i32) -> usize {
+    let by_vertices = max_patch_vertices.saturating_sub(HEADER_SLOTS as i32);
+    let by_level = max_tess_gen_level.saturating_add(1) / 2;
+    by_vertices.min(by_level).max(0) as usize
+}
+
+/// Most opposite vertices one geometry-shader invocation may handle: it emits up to `K`
+/// quads as 4-vertex strips of `gl_Position` only (4 components per vertex).
+pub fn gs_capacity_limit(max_output_vertices: i32, max_total_output_components: i32) -> usize {
+    let by_vertices = max_output_vertices / 4;
+    let by_components = max_total_output_components / 16;
+    by_vertices.min(by_components).max(0) as usize
+}
+
+/// `V`: one more than the largest vertex index the adjacency uses (0 without edges): the
+/// positions the patches index. (Every vertex of a triangle is an endpoint of its edges.)
+pub fn vertex_count(adj: &EdgeAdjacency) -> usize {
+    adj.edges.iter().flatten().chain(&adj.opposites).map(|&i| i as usize + 1).max().unwrap_or(0)
+}
+
+/// Number of patches with capacity `k` (`k >= 1`).
+pub fn patch_count(adj: &EdgeAdjacency, k: usize) -> usize {
+    adj.opposite_start.windows(2).map(|w| (w[1] - w[0]) as usize).map(|n| n.div_ceil(k)).sum()
+}
+
+/// `12 · (V + k) + 4 · (3 + k) · P(k)` (see the module documentation).
+pub fn layout_bytes(vertices: usize, patches: usize, k: usize) -> usize {
+    VERTEX_BYTES * (vertices + k) + INDEX_BYTES * (HEADER_SLOTS + k) * patches
+}
+
+/// The capacity in `1..=limit` with the fewest bytes (the smallest on ties); 1 if `limit` is 0
+/// (the caller rejects that limit).
+pub fn choose_capacity(adj: &EdgeAdjacency, limit: usize) -> usize {
+    // Histogram of opposite counts: the cost of every k from it, not from every edge again.
+    let mut histogram: Vec<(usize, usize)> = Vec::new();
+    {
+        let mut counts: Vec<usize> = adj.opposite_start.windows(2).map(|w| (w[1] - w[0]) as usize).collect();
+        counts.sort_unstable();
+        for n in counts {
+            match histogram.last_mut() {
+                Some((m, c)) if *m == n => *c += 1,
+                _ => histogram.push((n, 1)),
+            }
+        }
+    }
+    let v = vertex_count(adj);
+    let mut best = (usize::MAX, 1);
+    for k in 1..=limit.max(1) {
+        let patches: usize = histogram.iter().map(|&(n, c)| c * n.div_ceil(k)).sum();
+        let bytes = layout_bytes(v, patches, k);
+        if bytes < best.0 {
+            best = (bytes, k);
+        }
+    }
+    best.1
+}
+
+/// Vertex and element buffers of the edge patches, built once per mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgePatches {
+    /// `K`, opposite vertices per patch.
+    pub capacity: usize,
+    /// `V` welded positions, then the `K` count vertices.
+    pub vertices: Vec<[f32; 3]>,
+    /// `P · (3 + K)` indices.
+    pub elements: Vec<u32>,
+}
+
+impl EdgePatches {
+    /// Lays out the patches of `adj` (built from `mesh`) with capacity `capacity >= 1`.
+    /// Errors (typed, no panic) when an index is outside `mesh.positions` or the layout does
+    /// not fit u32 indices.
+    pub fn build(mesh: &WeldedMesh, adj: &EdgeAdjacency, capacity: usize) -> Result<Self, GlError> {
+        if capacity == 0 {
+            return Err(GlError::InvalidParams("edge patches: capacity 0 (no opposite vertex fits a patch)".into()));
+        }
+        let v = vertex_count(adj);
+        if v > mesh.positions.len() {
+            return Err(GlError::InvalidParams(format!(
+                "edge patches: the adjacency indexes vertex {} but the mesh has {} positions",
+                v - 1,
+                mesh.positions.len()
+            )));
+        }
+        let stride = HEADER_SLOTS + capacity;
+        let patches = patch_count(adj, capacity);
+        let total_vertices = v + capacity;
+        if u32::try_from(total_vertices).is_err() || patches.checked_mul(stride).is_none_or(|n| i32::try_from(n).is_err()) {
+            return Err(GlError::InvalidParams(format!(
+                "edge patches: {patches} patches of {stride} indices over {total_vertices} vertices exceed one draw call"
+            )));
+        }
+        let mut vertices = Vec::with_capacity(total_vertices);
+        vertices.extend_from_slice(&mesh.positions[..v]);
+        vertices.extend((1..=capacity).map(|k| [k as f32, 0.0, 0.0]));
+        let mut elements = Vec::with_capacity(patches * stride);
+        for (e, &[a, b]) in adj.edges.iter().enumerate() {
+            for chunk in adj.opposites(e).chunks(capacity) {
+                elements.extend_from_slice(&[a, b, (v + chunk.len() - 1) as u32]);
+                elements.extend_from_slice(chunk);
+                elements.extend(std::iter::repeat_n(a, capacity - chunk.len()));
+            }
+        }
+        debug_assert_eq!(elements.len(), patches * stride);
+        Ok(Self { capacity, vertices, elements })
+    }
+
+    /// `3 + K`: indices per patch (GL_PATCH_VERTICES).
+    pub fn stride(&self) -> usize {
+        HEADER_SLOTS + self.capacity
+    }
+
+    /// `P`.
+    pub fn patch_count(&self) -> usize {
+        self.elements.len() / self.stride()
+    }
+
+    /// Bytes of the vertex buffer plus the element buffer.
+    pub fn bytes(&self) -> usize {
+        VERTEX_BYTES * self.vertices.len() + INDEX_BYTES * self.elements.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use umbra_geom::weld::weld;
+    use umbra_geom::Mesh;
+
+    /// `pages` triangles on the spine (0,0,0)-(1,0,0).
+    fn book(pages: usize) -> WeldedMesh {
+        let mut m = Mesh { positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], ..Default::default() };
+        for k in 0..pages {
+            let a = k as f32 * 0.1;
+            m.positions.push([0.5, a.cos(), a.sin()]);
+            m.triangles.push([0, 1, 2 + k as u32]);
+        }
+        weld(&m)
+    }
+
+    #[test]
+    fn split_edge_keeps_every_opposite_once() {
+        let w = book(40);
+        let adj = EdgeAdjacency::build(&w);
+        let p = EdgePatches::build(&w, &adj, 3).unwrap();
+        let v = vertex_count(&adj);
+        assert_eq!(v, 42);
+        // Spine: ceil(40 / 3) = 14 patches; the 80 page edges one each.
+        assert_eq!(p.patch_count(), 14 + 80);
+        assert_eq!(p.bytes(), layout_bytes(v, 14 + 80, 3));
+        let mut spine_opposites = Vec::new();
+        for patch in p.elements.chunks_exact(p.stride()) {
+            let count = p.vertices[patch[2] as usize][0] as usize;
+            assert!((1..=3).contains(&count));
+            assert_eq!(patch[2] as usize, v + count - 1, "count vertex k sits at V + k - 1");
+            if patch[..2] == [0, 1] {
+                spine_opposites.extend_from_slice(&patch[3..3 + count]);
+            }
+            assert!(patch[3 + count..].iter().all(|&i| i == patch[0]), "padding repeats A");
+        }
+        assert_eq!(spine_opposites, (2..42).collect::<Vec<u32>>());
+    }
+
+    #[test]
+    fn capacity_minimises_bytes() {
+        // Manifold-ish: every edge of a closed box has 2 opposites -> k = 2.
+        let cube = umbra_geom::scene::build(&umbra_geom::scene::parse("box").unwrap()).unwrap();
+        let w = weld(&cube);
+        let adj = EdgeAdjacency::build(&w);
+        let k = choose_capacity(&adj, ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL));
+        let cost = |k| layout_bytes(vertex_count(&adj), patch_count(&adj, k), k);
+        for other in 1..=29 {
+            assert!(cost(k) <= cost(other), "k = {k} costs {} > k = {other} {}", cost(k), cost(other));
+        }
+        // A lone triangle: three open edges -> k = 1.
+        let tri = book(1);
+        assert_eq!(choose_capacity(&EdgeAdjacency::build(&tri), 29), 1);
+        // 40 pages on one spine: the spine alone is cheapest with large k, the 80 open page
+        // edges with k = 1; the byte count decides.
+        let b = book(40);
+        let adj = EdgeAdjacency::build(&b);
+        let k = choose_capacity(&adj, 29);
+        assert!((1..=29).all(|o| layout_bytes(42, patch_count(&adj, k), k) <= layout_bytes(42, patch_count(&adj, o), o)));
+    }
+
+    #[test]
+    fn limits_from_gl_minimums() {
+        assert_eq!(ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL), 29);
+        assert_eq!(ts_capacity_limit(32, 16), 8);
+        assert_eq!(ts_capacity_limit(3, 64), 0);
+        assert_eq!(gs_capacity_limit(MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS), 64);
+        assert_eq!(gs_capacity_limit(1024, 1024), 64);
+        assert_eq!(gs_capacity_limit(1024, 16384), 256);
+    }
+
+    #[test]
+    fn capacity_zero_is_an_error() {
+        let w = book(2);
+        let adj = EdgeAdjacency::build(&w);
+        assert!(EdgePatches::build(&w, &adj, 0).is_err());
+    }
+
+    #[test]
+    fn empty_mesh_has_only_count_vertices() {
+        let w = weld(&Mesh::default());
+        let adj = EdgeAdjacency::build(&w);
+        let p = EdgePatches::build(&w, &adj, choose_capacity(&adj, 29)).unwrap();
+        assert_eq!(p.patch_count(), 0);
+        assert_eq!(p.bytes(), 12);
+    }
+}

@@ -1,0 +1,70 @@
+// ts-silhouette sides, tessellation control stage: paper 001, Section 2.2.
+// One invocation per edge patch (Fig. 4): patch vertex 0 = A, 1 = B (A < B in the vertex order
+// of Eq. 1 / Alg. 2, as umbra_geom::EdgeAdjacency stores them), 2 = the count vertex
+// (x = number n of opposite vertices in this patch), 3 .. 3 + n - 1 = the opposite vertices.
+//
+// Multiplicity (Alg. 3 with CompMultiplicity, Alg. 4, through umbra_side_contribution: the
+// reference edge, or Peciva 2013's 3-edge test with UMBRA_THREE_EDGE): m = sum over the
+// patch's opposites. An edge with more opposites than a patch holds is split over several
+// patches whose m add up to the edge's (see ts_silhouette/patches.rs): |m| <= n <= K here.
+//
+// Tessellation levels (Section 2.2, Fig. 6): the quad domain with inner levels
+// (2|m| - 1, 1), outer levels (1, 2|m| - 1, 1, 2|m| - 1), i.e. a strip of 2|m| - 1 cells along
+// u: the evaluation stage bends it into |m| overlapping side quads (Alg. 5). m = 0 (not a
+// silhouette for this patch): outer level 0 discards the patch.
+//
+// The four corners of the side quad (Eq. 2, extrusion C = (A * l_w - L.xyz, 0)) are computed
+// here ONCE per patch, already in clip space, so every generated vertex that maps to a corner
+// is bit-identical (watertight volumes):
+//   m > 0: P0 = B, P1 = A, P2 = B_inf, P3 = A_inf  -> quad B A A_inf B_inf
+//   m < 0: P0 = A, P1 = B, P2 = A_inf, P3 = B_inf  -> quad A B B_inf A_inf
+// (umbra_geom::silhouette's convention: CCW seen from outside the volume; the evaluation stage
+// emits P0 P1 P3 P2 order, see sides.tese.glsl).
+// Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
+// silhouette_caps/determinism.glsl.
+
+// One output vertex: the patch's work is done once, not per output control point.
+layout(vertices = 1) out;
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+
+in vec3 v_patch_vertex[];
+
+patch out vec4 p_corner[4];
+
+void main() {
+    vec3 a = v_patch_vertex[0];
+    vec3 b = v_patch_vertex[1];
+    // Never read beyond the patch, whatever the count vertex says.
+    int count = min(int(v_patch_vertex[2].x), gl_PatchVerticesIn - 3);
+    int m = 0;
+    for (int i = 0; i < count; ++i) {
+        m += umbra_side_contribution(a, b, v_patch_vertex[3 + i], u_light);
+    }
+    int copies = abs(m);
+    if (copies == 0) {
+        // An outer level of 0 discards the patch: no quads.
+        gl_TessLevelOuter[0] = 0.0;
+        gl_TessLevelOuter[1] = 0.0;
+        gl_TessLevelOuter[2] = 0.0;
+        gl_TessLevelOuter[3] = 0.0;
+        gl_TessLevelInner[0] = 0.0;
+        gl_TessLevelInner[1] = 0.0;
+        return;
+    }
+    float level = float(2 * copies - 1);
+    gl_TessLevelOuter[0] = 1.0;    // u = 0 edge: the first quad's edge side
+    gl_TessLevelOuter[1] = level;  // v = 0 edge: the strip's bottom row
+    gl_TessLevelOuter[2] = 1.0;    // u = 1 edge
+    gl_TessLevelOuter[3] = level;  // v = 1 edge: the strip's top row
+    gl_TessLevelInner[0] = level;
+    gl_TessLevelInner[1] = 1.0;
+
+    vec3 first = m > 0 ? b : a;
+    vec3 second = m > 0 ? a : b;
+    p_corner[0] = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
+    p_corner[1] = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
+    p_corner[2] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
+    p_corner[3] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
+}
