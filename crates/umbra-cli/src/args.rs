@@ -19,6 +19,8 @@ pub enum Command {
     Info(InfoArgs),
     /// Compare shadow methods against the CPU ray-traced reference, sample by sample.
     Verify(VerifyArgs),
+    /// Time shadow methods along a camera path (frame and per-stage times), or run a paper's benchmark suite.
+    Bench(BenchArgs),
 }
 
 /// Scene, camera and light flags shared by `render` and `verify`.
@@ -101,4 +103,75 @@ pub struct VerifyArgs {
     /// With several methods, the method name is inserted before the extension.
     #[arg(long)]
     pub diff: Option<String>,
+}
+
+/// Flags of `umbra bench` (frame benchmarks; see docs/benchmarks.md "Frame benchmarks").
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene: `default`, `box`, `spheres:N`, `spheres:N:T`, or a mesh file.
+    #[arg(long, default_value = "default")]
+    pub scene: String,
+    /// Methods: NAME[,NAME...] or `all` (default `all`; with --suite: replaces the suite's methods).
+    /// Shadow maps: `shadow-map-cube:RES`, any RES.
+    #[arg(long)]
+    pub methods: Option<String>,
+    /// Camera path: `orbit` (around exteriors, inside interiors) or a fly-through file
+    /// (one keyframe per line: eye x y z, target x y z; `#` comments).
+    #[arg(long, default_value = "orbit")]
+    pub flythrough: String,
+    /// Measured frames per method (default 24; suites have their own defaults).
+    #[arg(long)]
+    pub frames: Option<usize>,
+    /// Warm-up frames per method, not measured (default 2; suites: 1).
+    #[arg(long)]
+    pub warmup: Option<usize>,
+    /// Image size WxH (default 1280x720; with --suite: overrides the runs' sizes).
+    #[arg(long)]
+    pub size: Option<String>,
+    /// Stage-time every N-th measured frame with an extra synchronous frame (0 = never;
+    /// default 1, suites: 0 except 003-stages).
+    #[arg(long)]
+    pub stage_every: Option<usize>,
+    /// Print a JSON array, one object per method (and run).
+    #[arg(long)]
+    pub json: bool,
+    /// Write every frame and stage time to this CSV file.
+    #[arg(long)]
+    pub csv: Option<String>,
+    /// Write SVG plots: FILE.svg (frame time along the path, or the suite's sweep) and FILE-stages.svg.
+    #[arg(long)]
+    pub plot: Option<String>,
+    /// Run a benchmark suite (`list` lists them): 001-spheres, 001-objects, 001-vs-sm, 001-overall, 003-scenes, 003-stages.
+    #[arg(long)]
+    pub suite: Option<String>,
+    /// With --suite: only these runs, 1-based, comma-separated.
+    #[arg(long)]
+    pub runs: Option<String>,
+    /// Light as X,Y,Z or X,Y,Z,W (repeatable). Default: derived from the scene's bounds.
+    #[arg(long, allow_hyphen_values = true)]
+    pub light: Vec<String>,
+    /// Add the receiving ground plane, as `render --ground`.
+    #[arg(long)]
+    pub ground: bool,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 60.0)]
+    pub fov: f64,
+    /// z-pass stencil counting instead of z-fail.
+    #[arg(long)]
+    pub zpass: bool,
+    /// Largest accepted input file in bytes, after decompression.
+    #[arg(long)]
+    pub max_input_bytes: Option<u64>,
+    /// Shadow-map bias: constant C [, slope-scaled S] (glPolygonOffset units, factor).
+    #[arg(long)]
+    pub sm_bias: Option<String>,
+    /// Shadow maps: 3x3 percentage-closer filtering (majority vote).
+    #[arg(long)]
+    pub sm_pcf: bool,
+    /// Shadow maps: cube faces rendered in one layered pass (`layered`) or six passes (`six`).
+    #[arg(long, default_value = "layered")]
+    pub sm_faces: String,
+    /// Test hook: print the interleaving order to stderr (`bench-order warmup|frame ROUND METHOD`).
+    #[arg(long, hide = true)]
+    pub trace_order: bool,
 }

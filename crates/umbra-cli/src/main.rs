@@ -2,6 +2,7 @@
 //! checked in [`config`], and each subcommand lives in its own module.
 
 mod args;
+mod bench;
 mod config;
 mod info;
 mod render;
@@ -15,6 +16,7 @@ fn main() {
     let result = match &cli.command {
         args::Command::Info(a) => info::run(a),
         args::Command::Render(a) => render::run(a),
+        args::Command::Bench(a) => bench::run(a),
         args::Command::Verify(a) => match verify::run(a) {
             // A method that must be exact was not: exit status 1 (errors are 2).
             Ok(false) => std::process::exit(1),

@@ -18,6 +18,8 @@ use crate::weld::WeldedMesh;
 
 /// Vertices per parallel work item of [`EdgeAdjacency::build`].
 const VERTICES_PER_BLOCK: usize = 4096;
+/// Triangles or records per parallel work item of the simple passes.
+const ITEMS_PER_JOB: usize = 1 << 14;
 
 /// `slice` cut into consecutive, non-overlapping mutable parts covering `ranges` (which must
 /// be ascending and adjacent, starting at 0).
@@ -58,28 +60,55 @@ impl EdgeAdjacency {
     /// result).
     pub fn build(mesh: &WeldedMesh) -> Self {
         let vertices = mesh.positions.len();
+        let largest_index =
+            mesh.triangles.par_chunks(ITEMS_PER_JOB).map(|c| c.iter().flatten().copied().max()).max().flatten();
+        assert!(
+            largest_index.is_none_or(|v| (v as usize) < vertices),
+            "EdgeAdjacency::build: a triangle indexes past the {vertices} positions"
+        );
         // Counting sort by low vertex: bucket_start[v]..bucket_start[v + 1] are v's records.
+        // In parallel over `parts` ranges of low vertices; each part scans every triangle
+        // and keeps the edges whose low vertex is its own.
+        let parts = rayon::current_num_threads().clamp(1, 8);
+        let part = |j: usize| vertices * j / parts..vertices * (j + 1) / parts;
+        let own = |range: &std::ops::Range<usize>, v: u32| (v as usize).wrapping_sub(range.start) < range.len();
         let mut bucket_start = vec![0u32; vertices + 1];
-        for &[i0, i1, i2] in &mesh.triangles {
-            for (a, b) in [(i0, i1), (i1, i2), (i2, i0)] {
-                bucket_start[a.min(b) as usize + 1] += 1;
-            }
-        }
+        split_by_ranges(&mut bucket_start[1..], (0..parts).map(part)).into_par_iter().enumerate().for_each(
+            |(j, counts)| {
+                let range = part(j);
+                for &[i0, i1, i2] in &mesh.triangles {
+                    for lo in [i0.min(i1), i1.min(i2), i2.min(i0)] {
+                        if own(&range, lo) {
+                            counts[lo as usize - range.start] += 1;
+                        }
+                    }
+                }
+            },
+        );
         for v in 0..vertices {
             bucket_start[v + 1] += bucket_start[v];
         }
-        // Record = (high vertex << 32) | opposite vertex, in record order within a bucket.
+        // Record = (high vertex << 32) | opposite vertex, in triangle order within a bucket.
         let mut records = vec![0u64; 3 * mesh.triangles.len()];
-        let mut fill = bucket_start[..vertices].to_vec();
-        for &[i0, i1, i2] in &mesh.triangles {
-            // Edge k of a triangle is (v[k], v[k+1]); its opposite vertex is v[k+2].
-            for (a, b, o) in [(i0, i1, i2), (i1, i2, i0), (i2, i0, i1)] {
-                let slot = &mut fill[a.min(b) as usize];
-                records[*slot as usize] = (u64::from(a.max(b)) << 32) | u64::from(o);
-                *slot += 1;
-            }
-        }
-        drop(fill);
+        let part_records = |j: usize| bucket_start[part(j).start] as usize..bucket_start[part(j).end] as usize;
+        split_by_ranges(&mut records, (0..parts).map(part_records)).into_par_iter().enumerate().for_each(
+            |(j, records)| {
+                let range = part(j);
+                let base = bucket_start[range.start];
+                let mut fill: Vec<u32> = bucket_start[range.clone()].iter().map(|&s| s - base).collect();
+                for &[i0, i1, i2] in &mesh.triangles {
+                    // Edge k of a triangle is (v[k], v[k+1]); its opposite vertex is v[k+2].
+                    for (a, b, o) in [(i0, i1, i2), (i1, i2, i0), (i2, i0, i1)] {
+                        let lo = a.min(b);
+                        if own(&range, lo) {
+                            let slot = &mut fill[lo as usize - range.start];
+                            records[*slot as usize] = (u64::from(a.max(b)) << 32) | u64::from(o);
+                            *slot += 1;
+                        }
+                    }
+                }
+            },
+        );
 
         // Per block of vertices, in parallel: sort the buckets, count the edges.
         let blocks = vertices.div_ceil(VERTICES_PER_BLOCK);
@@ -141,7 +170,12 @@ impl EdgeAdjacency {
             });
         opposite_start[total_edges] = records.len() as u32;
 
-        let opposites = records.par_iter().map(|&record| record as u32).collect();
+        let mut opposites = vec![0u32; records.len()];
+        opposites.par_chunks_mut(ITEMS_PER_JOB).zip(records.par_chunks(ITEMS_PER_JOB)).for_each(|(o, r)| {
+            for (o, &r) in o.iter_mut().zip(r) {
+                *o = r as u32;
+            }
+        });
         EdgeAdjacency { edges, opposite_start, opposites }
     }
 

@@ -129,6 +129,13 @@ fn expected_shadowed(mesh: &WeldedMesh, tris: &Triangles, own: usize, world: V, 
         .unwrap_or(Occlusion::Lit)
 }
 
+/// Ray-cast classifications of the sampled pixels of the last view, shared by all methods.
+struct RayCache {
+    tris: Triangles,
+    key: Option<(umbra_gl::TriangleIdImage, umbra_gl::WorldPosImage, [f32; 4])>,
+    results: Vec<(u32, u32, u32, Occlusion)>,
+}
+
 /// Result of comparing one scene view.
 #[derive(Debug, Default)]
 struct Tally {
@@ -159,11 +166,12 @@ fn compare(
     p: &FrameParams,
     step: u32,
     epsilon: f64,
+    cache: &mut RayCache,
 ) -> Tally {
     let (wp, ids) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("ids"));
     let st = &img.stencil[0].image;
     let light = p.lights[0];
-    let tris = &Triangles::new(mesh);
+    let tris = &cache.tris;
     let classify = |x: u32, y: u32| -> Option<(u32, Occlusion)> {
         let id = ids.get(x, y)?;
         if id == NO_TRIANGLE {
@@ -175,13 +183,20 @@ fn compare(
     };
     let samples: Vec<(u32, u32)> =
         (1..p.height - 1).step_by(step as usize).flat_map(|y| (1..p.width - 1).step_by(step as usize).map(move |x| (x, y))).collect();
-    let results: Vec<(u32, u32, u32, Occlusion)> = std::thread::scope(|s| {
-        let handles: Vec<_> = samples
-            .chunks(samples.len().div_ceil(2).max(1))
-            .map(|chunk| s.spawn(move || chunk.iter().filter_map(|&(x, y)| classify(x, y).map(|(id, o)| (x, y, id, o))).collect::<Vec<_>>()))
-            .collect();
-        handles.into_iter().flat_map(|h| h.join().expect("ray thread")).collect()
-    });
+    // The ray casts depend only on the depth pass (ids, world positions) and the light, which
+    // every method shares: computed once per view.
+    let key = (ids.clone(), wp.clone(), light);
+    if cache.key.as_ref() != Some(&key) {
+        cache.results = std::thread::scope(|s| {
+            let handles: Vec<_> = samples
+                .chunks(samples.len().div_ceil(2).max(1))
+                .map(|chunk| s.spawn(move || chunk.iter().filter_map(|&(x, y)| classify(x, y).map(|(id, o)| (x, y, id, o))).collect::<Vec<_>>()))
+                .collect();
+            handles.into_iter().flat_map(|h| h.join().expect("ray thread")).collect()
+        });
+        cache.key = Some(key);
+    }
+    let results = cache.results.clone();
     let ambient = expected_ambient_u8(p);
     let mut checks = PixelChecks::new(ctx, test, &img.rgba);
     let mut tally = Tally::default();
@@ -261,6 +276,7 @@ fn check_scene(file: &str, test: &'static str, inside: bool, open_roof: bool) {
     } else {
         vec![[(c[0] - 0.2 * d) as f32, (c[1] + 0.6 * d) as f32, (c[2] + 0.1 * d) as f32, 1.0], [0.3, 1.0, -0.4, 0.0]]
     };
+    let mut cache = RayCache { tris: Triangles::new(&mesh), key: None, results: Vec::new() };
     for (li, light) in lights.into_iter().enumerate() {
         let p = params(camera, vec![light], 200, 112);
         for method in shadow_methods() {
@@ -271,7 +287,7 @@ fn check_scene(file: &str, test: &'static str, inside: bool, open_roof: bool) {
             }
             // Brute-force rays are slow unoptimised: debug builds sample 16x fewer pixels.
             let (step, min) = if cfg!(debug_assertions) { (8, 4) } else { (2, 50) };
-            let t = compare(&ctx, test, &mesh, &img, &p, step, 1e-5 * d);
+            let t = compare(&ctx, test, &mesh, &img, &p, step, 1e-5 * d, &mut cache);
             println!("{file} {method} light {light:?}: {t:?}");
             let lit = t.checked - t.occluded - t.facing_away;
             assert!(t.checked > 10 * min && t.occluded > min && lit > min, "{t:?}: the view must show light and shadow");

@@ -31,6 +31,7 @@ pub mod vs_silhouette;
 pub mod gs_silhouette;
 pub mod silhouette_caps;
 pub mod ts_silhouette;
+pub mod shadow_map;
 
 /// How the lighting pass decides that a pixel is lit for the current light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -164,7 +165,7 @@ pub struct UnknownMethod {
 
 /// Every registered method, in a stable order.
 pub fn method_names() -> &'static [&'static str] {
-    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME, ts_silhouette::NAME, ts_silhouette::NAME_3EDGE, gs_silhouette::NAME, gs_silhouette::NAME_3EDGE]
+    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME, ts_silhouette::NAME, ts_silhouette::NAME_3EDGE, gs_silhouette::NAME, gs_silhouette::NAME_3EDGE, shadow_map::NAME_1024, shadow_map::NAME_2048]
 }
 
 /// Builds a method by registry name (no GL calls; see [`ShadowMethod::prepare`]).
@@ -178,6 +179,9 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
         ts_silhouette::NAME_3EDGE => Ok(Box::new(ts_silhouette::TsSilhouette::new_three_edge())),
         gs_silhouette::NAME => Ok(Box::new(gs_silhouette::GsSilhouette::new())),
         gs_silhouette::NAME_3EDGE => Ok(Box::new(gs_silhouette::GsSilhouette::new_three_edge())),
+        n if n.starts_with(shadow_map::PREFIX) => shadow_map::ShadowMapCube::from_name(n)
+            .map(|m| Box::new(m) as Box<dyn ShadowMethod>)
+            .ok_or_else(|| UnknownMethod { name: n.to_string() }),
         _ => Err(UnknownMethod { name: name.to_string() }),
     }
 }

@@ -2,15 +2,22 @@
 
 use glow::HasContext;
 use umbra_geom::weld::weld;
-use umbra_geom::EdgeAdjacency;
+use umbra_geom::{EdgeAdjacency, Light, Mesh};
 
 use super::*;
-use crate::methods::ts_silhouette::tests::{assert_side_quads, capture_triangles, context, fan, ABOVE, IDENTITY};
+use crate::methods::ts_silhouette::tests::{
+    assert_side_quads, capture_triangles, context, fan, inconsistent_triangle, ABOVE, IDENTITY,
+};
 
-/// Captures the side triangles the geometry shader emits for `fan(up, down)` with patch
-/// capacity `capacity` (all patches drawn: the spine's and the open edges').
+/// Captures the side triangles the geometry shader emits for the spine (0,0,0)-(1,0,0) of
+/// `fan(up, down)` with patch capacity `capacity`.
 fn capture(gl: &glow::Context, up: usize, down: usize, capacity: usize, three_edge: bool) -> Vec<[[f32; 4]; 3]> {
-    let w = weld(&fan(up, down));
+    capture_spine(gl, &fan(up, down), ABOVE, up + down, capacity, three_edge)
+}
+
+/// The side triangles of the first edge of `mesh` (with `opposites` opposite vertices).
+fn capture_spine(gl: &glow::Context, mesh: &Mesh, light: Light, opposites: usize, capacity: usize, three_edge: bool) -> Vec<[[f32; 4]; 3]> {
+    let w = weld(mesh);
     let adj = EdgeAdjacency::build(&w);
     let patches = EdgePatches::build(&w, &adj, capacity).unwrap();
     let b = upload(gl, &patches).unwrap();
@@ -26,10 +33,10 @@ fn capture(gl: &glow::Context, up: usize, down: usize, capacity: usize, three_ed
     }
     let stages = [(glow::VERTEX_SHADER, with_prelude(SIDES_VERT)), (glow::GEOMETRY_SHADER, with_prelude(SIDES_GEOM))];
     // Only the spine's patches: they come first (edge (0, 1) is first in adjacency order).
-    let spine_patches = up.saturating_add(down).div_ceil(capacity) as i32;
+    let spine_patches = opposites.div_ceil(capacity) as i32;
     let tris = capture_triangles(gl, &stages, &defines, |program| unsafe {
         gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
-        gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &ABOVE);
+        gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &light);
         gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, ELEMENTS_BINDING, Some(b.elements));
         gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, VERTICES_BINDING, Some(b.vertices));
         gl.bind_vertex_array(Some(b.vao));
@@ -71,5 +78,17 @@ fn split_patches_add_up() {
             assert_side_quads(&tris, m, ABOVE, false, &format!("up {up} down {down} K {capacity} 3-edge {three_edge}"));
         }
     }
+    assert!(ctx.take_gl_errors().is_empty());
+}
+
+/// A triangle whose three edge planes disagree: a side quad with the reference edge, none with
+/// Pečiva 2013's 3-edge test.
+#[test]
+fn three_edge_discards_inconsistent_triangle() {
+    let ctx = context();
+    let gl = ctx.gl();
+    let (mesh, light, reference) = inconsistent_triangle();
+    assert_side_quads(&capture_spine(gl, &mesh, light, 1, 2, false), reference, light, true, "reference edge");
+    assert!(capture_spine(gl, &mesh, light, 1, 2, true).is_empty(), "3-edge: discarded");
     assert!(ctx.take_gl_errors().is_empty());
 }

@@ -144,3 +144,71 @@ impl SilhouetteCaps {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glow::HasContext;
+    use umbra_geom::silhouette::{extract, VolumeGeometry};
+    use umbra_geom::weld::weld;
+    use umbra_geom::{EdgeAdjacency, Light, Mesh};
+
+    use super::*;
+    use crate::methods::ts_silhouette::tests::{capture_triangles, context, inconsistent_triangle, IDENTITY};
+
+    /// Caps of `mesh` from the geometry shader (identity clip transform, far plane z = w).
+    fn capture_caps(gl: &glow::Context, mesh: &Mesh, light: Light, three_edge: bool) -> Vec<[[f32; 4]; 3]> {
+        let w = std::sync::Arc::new(weld(mesh));
+        let scene = SceneGpu::upload(gl, w).unwrap();
+        let stages = [(glow::VERTEX_SHADER, with_prelude(CAPS_VERT)), (glow::GEOMETRY_SHADER, with_prelude(CAPS_GEOM))];
+        let tris = capture_triangles(gl, &stages, variant_defines(three_edge), |program| unsafe {
+            gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+            gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &light);
+            gl.uniform_1_f32(gl.get_uniform_location(program, "u_far_clip_z").as_ref(), 1.0);
+            gl.bind_vertex_array(Some(scene.vertex_array()));
+            scene.draw_triangles(gl);
+        });
+        scene.destroy(gl);
+        tris
+    }
+
+    /// The caps equal cpu-silhouette's (umbra_geom::silhouette::extract), triangle for triangle
+    /// and vertex for vertex: light caps with z pushed to w, dark caps for point lights only.
+    #[test]
+    fn caps_equal_cpu_extract() {
+        let ctx = context();
+        let gl = ctx.gl();
+        let mut mesh = umbra_geom::scene::uv_sphere([0.0, 2.0, 0.0], 1.0, 12, 6);
+        mesh.append(&Mesh {
+            positions: vec![[0.0, 0.5, 0.0], [1.0, 0.5, 0.0], [0.0, 0.5, 1.0]],
+            triangles: vec![[0, 1, 2], [0, 2, 1]],
+            normals: None,
+        });
+        for light in [[0.3, 6.0, 0.2, 1.0], [-0.5, 1.0, 0.2, 0.0], [0.0, 2.0, 0.0, 1.0]] {
+            let tris = capture_caps(gl, &mesh, light, false);
+            let w = weld(&mesh);
+            let mut cpu = VolumeGeometry::default();
+            extract(&w, &EdgeAdjacency::build(&w), light, true, &mut cpu);
+            let light_caps: Vec<[f32; 4]> = cpu.light_caps.iter().map(|v| [v[0], v[1], v[3], v[3]]).collect();
+            let per_triangle = if light[3] == 0.0 { 1 } else { 2 };
+            assert_eq!(tris.len(), per_triangle * light_caps.len() / 3, "light {light:?}");
+            for (t, tri) in tris.chunks(per_triangle).enumerate() {
+                assert_eq!(tri[0].to_vec(), light_caps[3 * t..3 * t + 3].to_vec(), "light cap {t}, light {light:?}");
+                if per_triangle == 2 {
+                    assert_eq!(tri[1].to_vec(), cpu.dark_caps[3 * t..3 * t + 3].to_vec(), "dark cap {t}, light {light:?}");
+                }
+            }
+        }
+        assert!(ctx.take_gl_errors().is_empty());
+    }
+
+    /// A triangle whose edge planes disagree keeps its caps with the reference edge and loses
+    /// them with the 3-edge test, as its sides do.
+    #[test]
+    fn three_edge_caps_discard_inconsistent_triangle() {
+        let ctx = context();
+        let gl = ctx.gl();
+        let (mesh, light, _) = inconsistent_triangle();
+        assert_eq!(capture_caps(gl, &mesh, light, false).len(), 2, "reference edge: light + dark cap");
+        assert!(capture_caps(gl, &mesh, light, true).is_empty(), "3-edge: discarded");
+    }
+}

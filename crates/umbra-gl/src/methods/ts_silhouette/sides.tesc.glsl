@@ -15,11 +15,13 @@
 //
 // The four corners of the side quad (Eq. 2, extrusion C = (A * l_w - L.xyz, 0)) are computed
 // here ONCE per patch, already in clip space, so every generated vertex that maps to a corner
-// is bit-identical (watertight volumes):
-//   m > 0: P0 = B, P1 = A, P2 = B_inf, P3 = A_inf  -> quad B A A_inf B_inf
-//   m < 0: P0 = A, P1 = B, P2 = A_inf, P3 = B_inf  -> quad A B B_inf A_inf
-// (umbra_geom::silhouette's convention: CCW seen from outside the volume; the evaluation stage
-// emits P0 P1 P3 P2 order, see sides.tese.glsl).
+// is bit-identical (watertight volumes). The quad Q0 Q1 Q2 Q3 in umbra_geom::silhouette's
+// winding (counter-clockwise seen from outside the volume):
+//   m > 0: B A A_inf B_inf        m < 0: A B B_inf A_inf
+// is stored as Alg. 5's corners P0 = Q1, P1 = Q2, P2 = Q0, P3 = Q3: the evaluation stage's
+// cell (P0 P1 / P2 P3) is then wound Q1 Q2 Q3 Q0 (see sides.tese.glsl), and the diagonal the
+// tessellator cuts it along (P1-P2 on llvmpipe; implementation-dependent) is Q2-Q0, the
+// diagonal of cpu-silhouette's triangles Q0 Q1 Q2 / Q0 Q2 Q3.
 // Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
 // silhouette_caps/determinism.glsl.
 
@@ -61,10 +63,12 @@ void main() {
     gl_TessLevelInner[0] = level;
     gl_TessLevelInner[1] = 1.0;
 
-    vec3 first = m > 0 ? b : a;
-    vec3 second = m > 0 ? a : b;
-    p_corner[0] = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
-    p_corner[1] = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
-    p_corner[2] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
-    p_corner[3] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
+    // The quad Q0 Q1 Q2 Q3 in umbra_geom::silhouette's winding (see the header), stored as
+    // Alg. 5's corners P0 = Q1, P1 = Q2, P2 = Q0, P3 = Q3.
+    vec3 first = m > 0 ? b : a;   // Q0
+    vec3 second = m > 0 ? a : b;  // Q1
+    p_corner[0] = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
+    p_corner[1] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
+    p_corner[2] = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
+    p_corner[3] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
 }

@@ -119,6 +119,9 @@ pub(crate) fn assert_side_quads(triangles: &[[[f32; 4]; 3]], m: i32, light: Ligh
         quad.iter().position(|q| *q == v).unwrap_or_else(|| panic!("{what}: vertex {v:?} is no corner of {quad:?}"))
     };
     let mut net = std::collections::HashMap::<[usize; 3], i32>::new();
+    if std::env::var_os("UMBRA_DEBUG_QUADS").is_some() {
+        eprintln!("{what}: {:?}", triangles.iter().map(|t| t.map(corner)).collect::<Vec<_>>());
+    }
     let (mut positive, mut negative) = (0, 0);
     for t in triangles {
         let c = t.map(corner);
@@ -221,4 +224,88 @@ fn alg5_three_edge_variant_same_quads() {
             gl.delete_buffer(upload.elements);
         }
     }
+}
+
+/// CPU twin of determinism.glsl's UMBRA_THREE_EDGE side contribution of opposite `o` to edge
+/// `a -> b` (a < b): Alg. 3's branches with Pečiva 2013's 3-edge test on the sorted triangle.
+pub(crate) fn three_edge_contribution(p: &[[f32; 3]], a: u32, b: u32, o: u32, light: Light) -> i32 {
+    use umbra_geom::multiplicity::triangle_orientation_3edge;
+    use umbra_geom::order::greater;
+    let (pa, pb, po) = (p[a as usize], p[b as usize], p[o as usize]);
+    if greater(pa, po) > 0 {
+        triangle_orientation_3edge(p, [o, a, b], light)
+    } else if greater(pb, po) > 0 {
+        -triangle_orientation_3edge(p, [a, o, b], light)
+    } else {
+        triangle_orientation_3edge(p, [a, b, o], light)
+    }
+}
+
+/// A triangle A = (0,0,0), B = (1,0,0), O and a point light almost in its plane, such that the
+/// reference edge (Alg. 3-4) orients it (`!= 0`) while the three edge planes disagree (3-edge
+/// test: discarded). Found by a deterministic search.
+pub(crate) fn inconsistent_triangle() -> (Mesh, Light, i32) {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    for _ in 0..200_000 {
+        let o = [0.2 + 0.6 * next(), 0.5 * (next() - 0.5), -1.0 - next()];
+        // A light in the triangle's plane (through A with normal n), nudged by a few ulps.
+        let n = [0.0, -o[2], o[1]]; // (B - A) x (O - A) for B - A = (1, 0, 0)
+        let (s, t) = (3.0 * next() - 1.0, 3.0 * next() - 1.0);
+        let mut l = [s + 0.5 * t, t * o[1], t * o[2]];
+        l[1] += (next() - 0.5) * 1e-6 * n[1].signum();
+        let light = [l[0], l[1], l[2], 1.0];
+        let m = Mesh { positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], o], triangles: vec![[0, 1, 2]], normals: None };
+        let reference = umbra_geom::multiplicity::triangle_orientation(&m.positions, [0, 1, 2], light);
+        if reference != 0 && three_edge_contribution(&m.positions, 0, 1, 2, light) == 0 {
+            return (m, light, reference);
+        }
+    }
+    panic!("no triangle with inconsistent edge planes found");
+}
+
+/// The sides of a triangle whose three edge planes disagree: the reference-edge program
+/// draws its side quad (Alg. 3-4), the 3-edge program discards it (Pečiva 2013).
+#[test]
+fn three_edge_discards_inconsistent_triangle() {
+    let ctx = context();
+    let gl = ctx.gl();
+    let (mesh, light, reference) = inconsistent_triangle();
+    let w = weld(&mesh);
+    let adj = EdgeAdjacency::build(&w);
+    assert_eq!(adj.edges[0], [0, 1]);
+    let patches = EdgePatches::build(&w, &adj, 2).unwrap();
+    let b = upload(gl, &patches).unwrap();
+    let stages = [
+        (glow::VERTEX_SHADER, with_prelude(SIDES_VERT)),
+        (glow::TESS_CONTROL_SHADER, with_prelude(SIDES_TESC)),
+        (glow::TESS_EVALUATION_SHADER, with_prelude(SIDES_TESE)),
+    ];
+    for three_edge in [false, true] {
+        let defines: &[&str] = if three_edge { &["UMBRA_THREE_EDGE"] } else { &[] };
+        let tris = capture_triangles(gl, &stages, defines, |program| unsafe {
+            gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+            gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &light);
+            gl.bind_vertex_array(Some(b.vao));
+            gl.patch_parameter_i32(glow::PATCH_VERTICES, b.patch_vertices);
+            gl.draw_elements(glow::PATCHES, b.patch_vertices, glow::UNSIGNED_INT, 0);
+        });
+        if three_edge {
+            assert!(tris.is_empty(), "3-edge: the inconsistent triangle casts no side ({} triangles)", tris.len());
+        } else {
+            assert_side_quads(&tris, reference, light, true, "reference edge");
+        }
+    }
+    // SAFETY: test objects.
+    unsafe {
+        gl.delete_vertex_array(b.vao);
+        gl.delete_buffer(b.vertices);
+        gl.delete_buffer(b.elements);
+    }
+    assert!(ctx.take_gl_errors().is_empty());
 }

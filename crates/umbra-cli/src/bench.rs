@@ -1,0 +1,631 @@
+//! `umbra bench`: frame times of shadow methods along a camera path, the way the papers
+//! measure them (paper 001 Sec. 3, Tables 1-9: FPS over fly-throughs; paper 003 Sec. 3,
+//! Tables 1-4: average frame time over fly-throughs and per-stage times).
+//!
+//! Protocol:
+//! * warm-up rounds first (llvmpipe compiles a shader at its first draw), not recorded;
+//! * methods interleaved frame by frame (A B C A B C ...), so drift of a shared machine hits
+//!   all of them alike ([`schedule`]);
+//! * whole frame: glFinish before and after (through a synchronous
+//!   [`umbra_gl::TimestampHook`] that sees only the frame's first and last stage marks), CPU
+//!   clock in between; drawn with [`umbra_gl::Renderer::draw_frame`] into an offscreen target,
+//!   no readback;
+//! * stages: on every `stage_every`-th round, the same frame drawn once more with a
+//!   synchronous timestamp hook (glFinish + glQueryCounter(GL_TIMESTAMP) at every stage
+//!   boundary: GL_TIME_ELAPSED is wrong on llvmpipe), so each stage's work completes inside its
+//!   own interval. Those frames are not part of the frame-time statistics (the per-stage
+//!   glFinish costs the pipelining between stages).
+//!
+//! Submodules: [`flythrough`] (camera paths), [`plot`] (SVG), [`suites`] (the papers' tables).
+
+mod flythrough;
+mod plot;
+mod suites;
+
+use std::collections::BTreeMap;
+use std::io::{IsTerminal, Write};
+use std::path::Path;
+
+use serde::Serialize;
+use umbra_geom::scene;
+use umbra_geom::{Aabb, Light};
+use umbra_gl::methods::shadow_map::{FacePasses, ShadowMapConfig, ShadowMapCube};
+use umbra_gl::{
+    create_method, method_names, Attachments, FrameTarget, RenderTarget, ShadowMethod, StageHook, StageMark,
+    StageTiming, TimestampHook,
+};
+
+use crate::args::BenchArgs;
+use crate::config::{default_light, load_scene, parse_light, parse_size, CameraConfig, CliError, Framing, ViewConfig};
+use crate::session::Session;
+
+pub use flythrough::Keyframe;
+
+fn bad(flag: &'static str, message: impl Into<String>) -> CliError {
+    CliError::BadFlag { flag, message: message.into() }
+}
+
+fn gl_err(e: impl std::fmt::Display) -> CliError {
+    CliError::Gl(e.to_string())
+}
+
+/// Options of the shadow-map methods (`--sm-bias`, `--sm-pcf`, `--sm-faces`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmOptions {
+    pub bias_constant: Option<f32>,
+    pub bias_slope: Option<f32>,
+    pub pcf: bool,
+    pub faces: FacePasses,
+}
+
+impl SmOptions {
+    pub fn from_args(a: &BenchArgs) -> Result<Self, CliError> {
+        let (mut bias_constant, mut bias_slope) = (None, None);
+        if let Some(text) = &a.sm_bias {
+            let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+            if parts.is_empty() || parts.len() > 2 {
+                return Err(bad("--sm-bias", format!("expected C or C,S, got {text:?}")));
+            }
+            let num = |s: &str| -> Result<f32, CliError> {
+                s.parse::<f32>()
+                    .ok()
+                    .filter(|v| v.is_finite() && *v >= 0.0)
+                    .ok_or_else(|| bad("--sm-bias", format!("{s:?} in {text:?} is not a finite number >= 0")))
+            };
+            bias_constant = Some(num(parts[0])?);
+            if let Some(s) = parts.get(1) {
+                bias_slope = Some(num(s)?);
+            }
+        }
+        let faces = match a.sm_faces.as_str() {
+            "layered" => FacePasses::Layered,
+            "six" => FacePasses::SixPasses,
+            other => return Err(bad("--sm-faces", format!("expected layered or six, got {other:?}"))),
+        };
+        Ok(Self { bias_constant, bias_slope, pcf: a.sm_pcf, faces })
+    }
+}
+
+/// Builds a method by name; shadow-map names get the `--sm-*` options.
+pub fn make_method(name: &str, sm: &SmOptions) -> Result<Box<dyn ShadowMethod>, CliError> {
+    if let Some(mut c) = ShadowMapConfig::from_name(name) {
+        if let Some(b) = sm.bias_constant {
+            c.bias_constant = b;
+        }
+        if let Some(s) = sm.bias_slope {
+            c.bias_slope = s;
+        }
+        c.pcf = sm.pcf;
+        c.faces = sm.faces;
+        return Ok(Box::new(ShadowMapCube::new(c)));
+    }
+    create_method(name).map_err(|e| bad("--methods", e.to_string()))
+}
+
+/// True if the registry can build `name` (listed or parameterised).
+pub fn method_exists(name: &str) -> bool {
+    create_method(name).is_ok()
+}
+
+/// `all` (every registered method), or a comma-separated list of names.
+pub fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
+    if text.trim() == "all" {
+        return Ok(method_names().iter().map(|s| s.to_string()).collect());
+    }
+    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
+    if names.is_empty() {
+        return Err(bad("--methods", "no method named"));
+    }
+    for n in &names {
+        create_method(n).map_err(|e| bad("--methods", e.to_string()))?;
+    }
+    Ok(names)
+}
+
+/// One step of the interleaved schedule: round `round` (warm-up or measured) of method
+/// `method` (index into the method list).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Slot {
+    pub round: usize,
+    pub method: usize,
+    pub warmup: bool,
+}
+
+/// Warm-up rounds, then measured rounds; in every round each method once, in list order.
+pub fn schedule(methods: usize, warmup: usize, frames: usize) -> Vec<Slot> {
+    let rounds = (0..warmup).map(|r| (r, true)).chain((0..frames).map(|r| (r, false)));
+    rounds.flat_map(|(round, warmup)| (0..methods).map(move |method| Slot { round, method, warmup })).collect()
+}
+
+/// A loaded scene ready to bench: mesh (with ground if asked), the bounds of the scene itself,
+/// framing, lights.
+pub struct BenchScene {
+    pub spec: String,
+    pub mesh: umbra_geom::Mesh,
+    pub bounds: Aabb,
+    pub framing: Framing,
+    pub lights: Vec<Light>,
+}
+
+impl BenchScene {
+    pub fn load(spec: &str, ground: bool, max_input_bytes: Option<u64>, lights: &[String]) -> Result<Self, CliError> {
+        let framing = Framing::of(&scene::parse(spec)?);
+        let mut mesh = load_scene(spec, false, max_input_bytes)?;
+        let bounds = mesh.bounds().unwrap_or(Aabb { min: [-1.0; 3], max: [1.0; 3] });
+        if ground {
+            scene::add_ground(&mut mesh);
+        }
+        let explicit = lights.iter().map(|l| parse_light(l)).collect::<Result<Vec<_>, _>>()?;
+        let lights = if explicit.is_empty() { vec![default_light(&bounds, framing)] } else { explicit };
+        Ok(Self { spec: spec.to_string(), mesh, bounds, framing, lights })
+    }
+}
+
+/// `orbit`, or a fly-through file, as `frames` cameras.
+pub fn camera_path(which: &str, scene: &BenchScene, frames: usize) -> Result<Vec<Keyframe>, CliError> {
+    let n = frames.max(1);
+    if which == "orbit" {
+        return Ok(flythrough::orbit(&scene.bounds, scene.framing, n));
+    }
+    let keys = flythrough::load(Path::new(which))?;
+    Ok(flythrough::interpolate(&keys, n))
+}
+
+/// Everything one measurement needs besides the scene.
+#[derive(Clone, Debug)]
+pub struct MeasureOptions {
+    pub width: u32,
+    pub height: u32,
+    pub warmup: usize,
+    /// Draw a stage-timed copy of every `stage_every`-th measured round; 0 = never.
+    pub stage_every: usize,
+    pub fov: f64,
+    pub zpass: bool,
+    pub sm: SmOptions,
+    pub trace_order: bool,
+    pub progress_label: String,
+}
+
+/// Per-method results of one measurement.
+#[derive(Clone, Debug, Default)]
+pub struct MethodStats {
+    pub method: String,
+    /// Whole-frame times of the measured rounds, in round order (ms).
+    pub frame_ms: Vec<f64>,
+    /// Per stage (first-seen order): the stage's time in each stage-timed round (ms).
+    pub stage_ms: Vec<(String, Vec<f64>)>,
+    pub gpu_bytes: usize,
+    pub error: Option<String>,
+}
+
+impl MethodStats {
+    pub fn mean(&self) -> Option<f64> {
+        (!self.frame_ms.is_empty()).then(|| self.frame_ms.iter().sum::<f64>() / self.frame_ms.len() as f64)
+    }
+    pub fn median(&self) -> Option<f64> {
+        percentile_sorted(&sorted(&self.frame_ms), 0.5)
+    }
+    pub fn p95(&self) -> Option<f64> {
+        percentile_sorted(&sorted(&self.frame_ms), 0.95)
+    }
+    /// Mean of each stage over the stage-timed rounds.
+    pub fn stage_means(&self) -> Vec<(String, f64)> {
+        self.stage_ms
+            .iter()
+            .filter(|(_, v)| !v.is_empty())
+            .map(|(n, v)| (n.clone(), v.iter().sum::<f64>() / v.len() as f64))
+            .collect()
+    }
+}
+
+fn sorted(v: &[f64]) -> Vec<f64> {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s
+}
+
+/// Median (q = 0.5: mean of the middle two for even counts) or nearest-rank percentile.
+fn percentile_sorted(s: &[f64], q: f64) -> Option<f64> {
+    if s.is_empty() {
+        return None;
+    }
+    if q == 0.5 {
+        let n = s.len();
+        return Some(if n % 2 == 1 { s[n / 2] } else { 0.5 * (s[n / 2 - 1] + s[n / 2]) });
+    }
+    let rank = ((q * s.len() as f64).ceil() as usize).clamp(1, s.len());
+    Some(s[rank - 1])
+}
+
+/// Stage name of a timing: the renderer's passes by their role, the method's by its label.
+fn stage_name(t: &StageTiming) -> String {
+    match (t.mark.source, t.mark.label) {
+        ("renderer", "depth") => "depth+ambient".into(),
+        ("renderer", "volumes") => "stencil-clear".into(),
+        ("renderer", "lighting") => "lighting".into(),
+        (_, label) => label.to_string(),
+    }
+}
+
+/// Forwards only the frame's first mark and its "end" mark to a synchronous timestamp hook:
+/// glFinish right before the frame's first pass and right after its last, CPU clock between.
+struct FrameClock {
+    inner: TimestampHook,
+    seen_first: bool,
+}
+
+impl StageHook for FrameClock {
+    fn mark(&mut self, gl: &umbra_gl::glow::Context, mark: StageMark) {
+        if !self.seen_first || mark.label == "end" {
+            self.seen_first = true;
+            self.inner.mark(gl, mark);
+        }
+    }
+}
+
+/// Progress on stderr when it is a terminal.
+struct Progress {
+    on: bool,
+    total: usize,
+    label: String,
+}
+
+impl Progress {
+    fn new(total: usize, label: &str) -> Self {
+        Self { on: std::io::stderr().is_terminal(), total, label: label.to_string() }
+    }
+    fn show(&self, done: usize, what: &str) {
+        if !self.on {
+            return;
+        }
+        let width = 30;
+        let filled = if self.total == 0 { width } else { done * width / self.total };
+        let bar: String = "#".repeat(filled) + &" ".repeat(width - filled);
+        eprint!("\r{} [{bar}] {done}/{} {what:<28}", self.label, self.total);
+        let _ = std::io::stderr().flush();
+    }
+    fn done(&self) {
+        if self.on {
+            eprint!("\r{}\r", " ".repeat(self.label.len() + 80));
+            let _ = std::io::stderr().flush();
+        }
+    }
+}
+
+/// What the measurement saw besides the per-method stats.
+pub struct Measurement {
+    pub stats: Vec<MethodStats>,
+    pub renderer: String,
+    pub triangles: usize,
+}
+
+/// Runs the interleaved schedule of `methods` over `cameras` (one camera per measured round;
+/// warm-up round r uses camera r) on a fresh context.
+pub fn measure(scene: &BenchScene, methods: &[String], cameras: &[Keyframe], o: &MeasureOptions) -> Result<Measurement, CliError> {
+    if cameras.is_empty() {
+        return Err(CliError::Other("no frames to measure".into()));
+    }
+    let view = ViewConfig {
+        scene_spec: scene.spec.clone(),
+        mesh: scene.mesh.clone(),
+        camera: CameraConfig { eye: cameras[0].eye, target: cameras[0].target, up: [0.0, 1.0, 0.0], fov_y_degrees: o.fov },
+        lights: scene.lights.clone(),
+        width: o.width,
+        height: o.height,
+        zpass: o.zpass,
+    };
+    let mut s = Session::new(&view)?;
+    let mut params = s.frame_params(&view);
+    let gl = s.context.gl();
+    let target = RenderTarget::new(gl, o.width, o.height, Attachments::default()).map_err(gl_err)?;
+    let fb = FrameTarget { framebuffer: Some(target.framebuffer()) };
+    let mut instances = Vec::new();
+    for m in methods {
+        instances.push(make_method(m, &o.sm)?);
+    }
+    let mut stats: Vec<MethodStats> = methods.iter().map(|m| MethodStats { method: m.clone(), ..Default::default() }).collect();
+    let slots = schedule(methods.len(), o.warmup, cameras.len());
+    let progress = Progress::new(slots.len(), &o.progress_label);
+    let mut clock = FrameClock { inner: TimestampHook::synchronous(), seen_first: false };
+    let mut stage_hook = TimestampHook::synchronous();
+    for (i, slot) in slots.iter().enumerate() {
+        let st = &mut stats[slot.method];
+        if st.error.is_some() {
+            continue;
+        }
+        let method = instances[slot.method].as_mut();
+        progress.show(i, &st.method);
+        if o.trace_order {
+            eprintln!("bench-order {} {} {}", if slot.warmup { "warmup" } else { "frame" }, slot.round, st.method);
+        }
+        let cam = cameras[slot.round % cameras.len()];
+        params.camera.eye = cam.eye;
+        params.camera.target = cam.target;
+        clock.seen_first = false;
+        let drawn = s.renderer.draw_frame(gl, &s.scene, method, &params, fb, Some(&mut clock));
+        let timings = clock.inner.finish(gl);
+        if let Err(e) = drawn {
+            st.error = Some(e.to_string());
+            eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
+            continue;
+        }
+        let frame_ms = timings.iter().map(|t| t.cpu_ns).sum::<u64>() as f64 / 1e6;
+        let stage_round = o.stage_every > 0 && (slot.warmup || slot.round % o.stage_every == 0);
+        if stage_round {
+            let drawn = s.renderer.draw_frame(gl, &s.scene, method, &params, fb, Some(&mut stage_hook));
+            let timings = stage_hook.finish(gl);
+            if let Err(e) = drawn {
+                st.error = Some(e.to_string());
+                eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
+                continue;
+            }
+            if !slot.warmup {
+                let mut per: Vec<(String, f64)> = Vec::new();
+                for t in &timings {
+                    let name = stage_name(t);
+                    let ms = t.gpu_ns as f64 / 1e6;
+                    match per.iter_mut().find(|(n, _)| *n == name) {
+                        Some((_, v)) => *v += ms,
+                        None => per.push((name, ms)),
+                    }
+                }
+                for (name, ms) in per {
+                    match st.stage_ms.iter_mut().find(|(n, _)| *n == name) {
+                        Some((_, v)) => v.push(ms),
+                        None => st.stage_ms.push((name, vec![ms])),
+                    }
+                }
+            }
+        }
+        if !slot.warmup {
+            st.frame_ms.push(frame_ms);
+        }
+    }
+    progress.done();
+    for (st, m) in stats.iter_mut().zip(instances.iter_mut()) {
+        st.gpu_bytes = m.gpu_bytes();
+        m.destroy(gl);
+    }
+    clock.inner.destroy(gl);
+    stage_hook.destroy(gl);
+    target.destroy(gl);
+    Ok(Measurement { stats, renderer: s.context.renderer_string(), triangles: s.welded.triangles.len() })
+}
+
+/// One object of `bench --json`; the first seven keys are the contract.
+#[derive(Serialize, Debug, Clone)]
+pub struct JsonRow {
+    pub method: String,
+    pub frames: usize,
+    pub mean_ms: Option<f64>,
+    pub median_ms: Option<f64>,
+    pub p95_ms: Option<f64>,
+    /// Stage name -> mean ms over the stage-timed frames.
+    pub stages: BTreeMap<String, f64>,
+    pub gpu_bytes: usize,
+    pub scene: String,
+    pub triangles: usize,
+    pub width: u32,
+    pub height: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub x: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+pub fn json_rows(m: &Measurement, scene: &str, width: u32, height: u32, run: Option<&str>, x: Option<f64>) -> Vec<JsonRow> {
+    m.stats
+        .iter()
+        .map(|s| JsonRow {
+            method: s.method.clone(),
+            frames: s.frame_ms.len(),
+            mean_ms: s.mean(),
+            median_ms: s.median(),
+            p95_ms: s.p95(),
+            stages: s.stage_means().into_iter().collect(),
+            gpu_bytes: s.gpu_bytes,
+            scene: scene.to_string(),
+            triangles: m.triangles,
+            width,
+            height,
+            run: run.map(str::to_string),
+            x,
+            error: s.error.clone(),
+        })
+        .collect()
+}
+
+/// Per-frame samples in long form: `scene,width,height,method,frame,kind,name,ms` with kind
+/// `frame` (whole frame) or `stage`.
+pub fn csv_lines(m: &Measurement, scene: &str, width: u32, height: u32, stage_every: usize) -> Vec<String> {
+    let mut out = Vec::new();
+    let q = |s: &str| if s.contains([',', '"']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() };
+    for s in &m.stats {
+        for (f, ms) in s.frame_ms.iter().enumerate() {
+            out.push(format!("{},{width},{height},{},{f},frame,total,{ms:.4}", q(scene), q(&s.method)));
+        }
+        for (name, v) in &s.stage_ms {
+            for (k, ms) in v.iter().enumerate() {
+                let f = k * stage_every.max(1);
+                out.push(format!("{},{width},{height},{},{f},stage,{},{ms:.4}", q(scene), q(&s.method), q(name)));
+            }
+        }
+    }
+    out
+}
+
+pub const CSV_HEADER: &str = "scene,width,height,method,frame,kind,name,ms";
+
+/// The 1-, 5- and 15-minute load averages (Linux), for the record.
+pub fn load_average() -> Option<String> {
+    let s = std::fs::read_to_string("/proc/loadavg").ok()?;
+    Some(s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+}
+
+fn fmt_ms(v: Option<f64>) -> String {
+    v.map_or_else(|| "-".into(), |x| format!("{x:.2}"))
+}
+
+/// Markdown table of one measurement.
+pub fn print_table(m: &Measurement) {
+    let mut stage_names: Vec<String> = Vec::new();
+    for s in &m.stats {
+        for (n, _) in &s.stage_ms {
+            if !stage_names.contains(n) {
+                stage_names.push(n.clone());
+            }
+        }
+    }
+    let mut header = "| method | frames | mean ms | median ms | p95 ms | GPU MiB |".to_string();
+    for n in &stage_names {
+        header.push_str(&format!(" {n} |"));
+    }
+    println!("{header}");
+    println!("|{}", " --- |".repeat(6 + stage_names.len()));
+    for s in &m.stats {
+        let means = s.stage_means();
+        let mut row = format!(
+            "| {} | {} | {} | {} | {} | {:.1} |",
+            s.method,
+            s.frame_ms.len(),
+            fmt_ms(s.mean()),
+            fmt_ms(s.median()),
+            fmt_ms(s.p95()),
+            s.gpu_bytes as f64 / (1024.0 * 1024.0)
+        );
+        for n in &stage_names {
+            row.push_str(&format!(" {} |", fmt_ms(means.iter().find(|(k, _)| k == n).map(|(_, v)| *v))));
+        }
+        if let Some(e) = &s.error {
+            row.push_str(&format!(" error: {e}"));
+        }
+        println!("{row}");
+    }
+}
+
+/// Frame-time plot (`path`) and stage plot (`path`-stages.svg).
+pub fn write_plots(path: &Path, title: &str, m: &Measurement) -> Result<(), CliError> {
+    let series: Vec<(String, Vec<(f64, f64)>)> = m
+        .stats
+        .iter()
+        .filter(|s| !s.frame_ms.is_empty())
+        .map(|s| (s.method.clone(), s.frame_ms.iter().enumerate().map(|(f, &ms)| (f as f64, ms)).collect()))
+        .collect();
+    plot::lines(path, &format!("{title}: frame time along the path"), "frame", "ms", &series, false)?;
+    let mut stage_names: Vec<String> = Vec::new();
+    for s in &m.stats {
+        for (n, _) in &s.stage_ms {
+            if !stage_names.contains(n) {
+                stage_names.push(n.clone());
+            }
+        }
+    }
+    let rows: Vec<(String, Vec<f64>)> = m
+        .stats
+        .iter()
+        .filter(|s| !s.stage_ms.is_empty())
+        .map(|s| {
+            let means = s.stage_means();
+            (s.method.clone(), stage_names.iter().map(|n| means.iter().find(|(k, _)| k == n).map_or(0.0, |(_, v)| *v)).collect())
+        })
+        .collect();
+    plot::stacked_bars(&plot::stages_path(path), &format!("{title}: stages"), &stage_names, &rows)
+}
+
+/// Frames, warm-up and stage settings from the flags (shared by plain runs and suites).
+pub fn measure_options(a: &BenchArgs, width: u32, height: u32, stage_every_default: usize, label: &str) -> Result<MeasureOptions, CliError> {
+    if !(a.fov > 0.0 && a.fov < 180.0) {
+        return Err(bad("--fov", format!("must be in (0, 180) degrees, got {}", a.fov)));
+    }
+    Ok(MeasureOptions {
+        width,
+        height,
+        warmup: a.warmup.unwrap_or(2),
+        stage_every: a.stage_every.unwrap_or(stage_every_default),
+        fov: a.fov,
+        zpass: a.zpass,
+        sm: SmOptions::from_args(a)?,
+        trace_order: a.trace_order,
+        progress_label: label.to_string(),
+    })
+}
+
+pub fn run(a: &BenchArgs) -> Result<(), CliError> {
+    if let Some(name) = &a.suite {
+        return suites::run(name, a);
+    }
+    let (width, height) = parse_size(a.size.as_deref().unwrap_or("1280x720"))?;
+    let frames = a.frames.unwrap_or(24);
+    if frames == 0 {
+        return Err(bad("--frames", "must be at least 1"));
+    }
+    let methods = parse_methods(a.methods.as_deref().unwrap_or("all"))?;
+    let o = measure_options(a, width, height, 1, "bench")?;
+    let scene = BenchScene::load(&a.scene, a.ground, a.max_input_bytes, &a.light)?;
+    let cameras = camera_path(&a.flythrough, &scene, frames)?;
+    let load_before = load_average();
+    let m = measure(&scene, &methods, &cameras, &o)?;
+    let load_after = load_average();
+    if let Some(path) = &a.csv {
+        let mut text = String::from(CSV_HEADER);
+        text.push('\n');
+        for l in csv_lines(&m, &scene.spec, width, height, o.stage_every) {
+            text.push_str(&l);
+            text.push('\n');
+        }
+        std::fs::write(path, text).map_err(|source| CliError::Io { path: path.clone(), source })?;
+    }
+    if let Some(path) = &a.plot {
+        write_plots(Path::new(path), &format!("{} {width}x{height}", scene.spec), &m)?;
+    }
+    if a.json {
+        let rows = json_rows(&m, &scene.spec, width, height, None, None);
+        println!("{}", serde_json::to_string_pretty(&rows).map_err(|e| CliError::Other(e.to_string()))?);
+    } else {
+        println!(
+            "{} ({} triangles) at {width}x{height}, {} frame(s) + {} warm-up along {}, {} light(s), {}; load average {} -> {}",
+            scene.spec,
+            m.triangles,
+            frames,
+            o.warmup,
+            a.flythrough,
+            scene.lights.len(),
+            m.renderer,
+            load_before.as_deref().unwrap_or("?"),
+            load_after.as_deref().unwrap_or("?"),
+        );
+        print_table(&m);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schedule_interleaves_methods_after_warmup() {
+        let s = schedule(3, 1, 2);
+        let order: Vec<(usize, usize, bool)> = s.iter().map(|x| (x.round, x.method, x.warmup)).collect();
+        assert_eq!(
+            order,
+            vec![(0, 0, true), (0, 1, true), (0, 2, true), (0, 0, false), (0, 1, false), (0, 2, false), (1, 0, false), (1, 1, false), (1, 2, false)]
+        );
+        assert!(schedule(0, 2, 5).is_empty());
+    }
+
+    #[test]
+    fn percentiles() {
+        let st = MethodStats { frame_ms: vec![5.0, 1.0, 3.0, 2.0, 4.0], ..Default::default() };
+        assert_eq!(st.mean(), Some(3.0));
+        assert_eq!(st.median(), Some(3.0));
+        assert_eq!(st.p95(), Some(5.0));
+        let even = MethodStats { frame_ms: vec![4.0, 1.0, 3.0, 2.0], ..Default::default() };
+        assert_eq!(even.median(), Some(2.5));
+        let twenty = MethodStats { frame_ms: (1..=20).map(f64::from).collect(), ..Default::default() };
+        assert_eq!(twenty.p95(), Some(19.0), "nearest rank: ceil(0.95 * 20) = 19th");
+        assert_eq!(MethodStats::default().mean(), None);
+    }
+}

@@ -1,0 +1,106 @@
+// vs-triangle: the naive per-triangle shadow volume of EVERY triangle, extruded in the vertex
+// shader, without any silhouette: the baseline every silhouette method is measured against.
+//
+// Paper 001 (Milet, Kobrtek, Zemcik), Section 2.1: a per-triangle volume needs no
+// preprocessing and works on any triangle soup; Section 2.2-2.3: the triangle is oriented
+// towards the light through its reference edge (Alg. 2 order, Alg. 4 CompMultiplicity, via
+// umbra_triangle_orientation), so its caps and sides agree with every other method bit for
+// bit; Eq. 2 extrusion (umbra_extrude). Vertex-shader extrusion as in McGuire 2004 (GPU Gems)
+// and paper 002, here with no extra vertex data: the triangle is fetched by gl_VertexID.
+// Light caps pushed to the far plane: paper 003, Eq. 6 (umbra_push_to_far).
+//
+// Draw: glDrawArrays(GL_TRIANGLES, 0, N * u_vertices_per_triangle), non-indexed. Vertex
+// k = gl_VertexID mod u_vertices_per_triangle of triangle t = gl_VertexID / ...:
+//   k  0..17  three side quads, one per edge P -> Q of the light-facing winding, 2 triangles each
+//   k 18..20  light cap (the triangle wound to face the light), pushed to the far plane
+//   k 21..23  dark cap (the extruded triangle, reversed winding) - point lights only
+// u_vertices_per_triangle = 24 (z-fail, point light), 21 (z-fail, directional light: the dark
+// cap has zero area, every vertex extrudes to -L), 18 (z-pass: no caps).
+//
+// Side quads are emitted in a canonical form per edge, independent of which triangle emits
+// them: with A < B the edge's endpoints in umbra_greater order, a triangle traversing A -> B
+// (multiplicity +1) emits (B, A, A_inf) (B, A_inf, B_inf) = the quad B A A_inf B_inf, and one
+// traversing B -> A (multiplicity -1) emits the SAME two triangles with their first two vertices
+// swapped, (A, B, A_inf) (A_inf, B, B_inf) = the quad A B B_inf A_inf. Two triangles sharing an
+// edge (both facing the light) thus draw the same two screen triangles with opposite windings,
+// and their +1 and -1 cancel at every sample (same coverage; the rasterizer sees the same
+// vertex set, and a rasterizer that normalises winding by swapping two vertices sees the same
+// vertex order, hence the same interpolated depth).
+//
+// An edge-on triangle (orientation 0) casts nothing: all its vertices collapse to one point,
+// so its primitives have zero area and produce no fragments.
+//
+// Inputs: the scene's own buffers as shader storage (no copy): positions (vec3, tightly
+// packed, read as floats) and triangles (3 uints each).
+
+layout(std430, binding = UMBRA_POSITIONS_BINDING) readonly buffer Positions {
+    float positions[];
+};
+layout(std430, binding = UMBRA_TRIANGLES_BINDING) readonly buffer Triangles {
+    uint triangles[];
+};
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+uniform int u_vertices_per_triangle;
+
+// Same expression as the scene vertex shader for w = 1 vertices.
+invariant gl_Position;
+
+vec3 umbra_fetch(uint v) {
+    return vec3(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u]);
+}
+
+void main() {
+    int t = gl_VertexID / u_vertices_per_triangle;
+    int k = gl_VertexID - t * u_vertices_per_triangle;
+    uint first = 3u * uint(t);
+    vec3 p0 = umbra_fetch(triangles[first]);
+    vec3 p1 = umbra_fetch(triangles[first + 1u]);
+    vec3 p2 = umbra_fetch(triangles[first + 2u]);
+
+    int o = umbra_triangle_orientation(p0, p1, p2, u_light);
+    if (o == 0) {
+        // Edge-on or degenerate: no volume (all 24 vertices at one point).
+        gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    if (o < 0) {
+        // Wind the triangle to face the light: it is the light cap of its own volume.
+        vec3 s = p1;
+        p1 = p2;
+        p2 = s;
+    }
+
+    vec4 world;
+    bool push_to_far = false;
+    if (k < 18) {
+        int e = k / 6;
+        int j = k - 6 * e;
+        vec3 p = e == 0 ? p0 : (e == 1 ? p1 : p2);
+        vec3 q = e == 0 ? p1 : (e == 1 ? p2 : p0);
+        bool forward = umbra_greater(p, q) < 0; // p < q: the triangle traverses A -> B
+        vec3 a = forward ? p : q;
+        vec3 b = forward ? q : p;
+        vec4 A = vec4(a, 1.0);
+        vec4 B = vec4(b, 1.0);
+        vec4 A_inf = umbra_extrude(a, u_light);
+        vec4 B_inf = umbra_extrude(b, u_light);
+        if (forward) {
+            // (B, A, A_inf) (B, A_inf, B_inf)
+            world = j == 0 ? B : j == 1 ? A : j == 2 ? A_inf : j == 3 ? B : j == 4 ? A_inf : B_inf;
+        } else {
+            // (A, B, A_inf) (A_inf, B, B_inf)
+            world = j == 0 ? A : j == 1 ? B : j == 2 ? A_inf : j == 3 ? A_inf : j == 4 ? B : B_inf;
+        }
+    } else if (k < 21) {
+        vec3 p = k == 18 ? p0 : (k == 19 ? p1 : p2);
+        world = vec4(p, 1.0);
+        push_to_far = true;
+    } else {
+        vec3 p = k == 21 ? p0 : (k == 22 ? p2 : p1);
+        world = umbra_extrude(p, u_light);
+    }
+    vec4 clip = u_clip_from_world * world;
+    gl_Position = push_to_far ? umbra_push_to_far(clip) : clip;
+}
