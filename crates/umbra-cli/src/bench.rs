@@ -263,6 +263,46 @@ impl StageHook for FrameClock {
     }
 }
 
+/// Stage timing with timestamp pairs that are right on llvmpipe. A timestamp query there is
+/// recorded when the rasterizer runs the command batch holding it, i.e. at the NEXT flush: a
+/// query issued after the glFinish of a synchronous mark would carry the time the following
+/// stage ends. So every mark is followed by a second synchronous mark ("flush") whose glFinish
+/// executes the first query at once; a stage's time is the sum of its two intervals (mark to
+/// flush, flush to the next mark) = the difference of the two marks' timestamps.
+struct StageClock {
+    inner: TimestampHook,
+}
+
+impl StageHook for StageClock {
+    fn mark(&mut self, gl: &umbra_gl::glow::Context, mark: StageMark) {
+        self.inner.mark(gl, mark);
+        self.inner.mark(gl, StageMark { source: "bench", label: "flush", light: mark.light });
+    }
+}
+
+/// Per stage (name, GPU ms from timestamps, CPU ms between the glFinish-ed marks), from the
+/// timings of a [`StageClock`] frame, summed over lights, in first-seen order.
+fn stage_times(timings: &[StageTiming]) -> Vec<(String, f64, f64)> {
+    let mut per: Vec<(String, f64, f64)> = Vec::new();
+    for pair in timings.chunks(2) {
+        // "end" only closes the last stage; its own interval is the hook's epilogue.
+        if pair[0].mark.label == "end" {
+            continue;
+        }
+        let name = stage_name(&pair[0]);
+        let gpu = pair.iter().map(|t| t.gpu_ns).sum::<u64>() as f64 / 1e6;
+        let cpu = pair.iter().map(|t| t.cpu_ns).sum::<u64>() as f64 / 1e6;
+        match per.iter_mut().find(|(n, _, _)| *n == name) {
+            Some((_, g, c)) => {
+                *g += gpu;
+                *c += cpu;
+            }
+            None => per.push((name, gpu, cpu)),
+        }
+    }
+    per
+}
+
 /// Progress on stderr when it is a terminal.
 struct Progress {
     on: bool,
@@ -327,7 +367,7 @@ pub fn measure(scene: &BenchScene, methods: &[String], cameras: &[Keyframe], o: 
     let slots = schedule(methods.len(), o.warmup, cameras.len());
     let progress = Progress::new(slots.len(), &o.progress_label);
     let mut clock = FrameClock { inner: TimestampHook::synchronous(), seen_first: false };
-    let mut stage_hook = TimestampHook::synchronous();
+    let mut stage_hook = StageClock { inner: TimestampHook::synchronous() };
     for (i, slot) in slots.iter().enumerate() {
         let st = &mut stats[slot.method];
         if st.error.is_some() {
@@ -353,26 +393,17 @@ pub fn measure(scene: &BenchScene, methods: &[String], cameras: &[Keyframe], o: 
         let stage_round = o.stage_every > 0 && (slot.warmup || slot.round % o.stage_every == 0);
         if stage_round {
             let drawn = s.renderer.draw_frame(gl, &s.scene, method, &params, fb, Some(&mut stage_hook));
-            let timings = stage_hook.finish(gl);
+            let timings = stage_hook.inner.finish(gl);
             if let Err(e) = drawn {
                 st.error = Some(e.to_string());
                 eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
                 continue;
             }
             if !slot.warmup {
-                let mut per: Vec<(String, f64)> = Vec::new();
-                for t in &timings {
-                    let name = stage_name(t);
-                    let ms = t.gpu_ns as f64 / 1e6;
-                    match per.iter_mut().find(|(n, _)| *n == name) {
-                        Some((_, v)) => *v += ms,
-                        None => per.push((name, ms)),
-                    }
-                }
-                for (name, ms) in per {
+                for (name, gpu_ms, _cpu_ms) in stage_times(&timings) {
                     match st.stage_ms.iter_mut().find(|(n, _)| *n == name) {
-                        Some((_, v)) => v.push(ms),
-                        None => st.stage_ms.push((name, vec![ms])),
+                        Some((_, v)) => v.push(gpu_ms),
+                        None => st.stage_ms.push((name, vec![gpu_ms])),
                     }
                 }
             }
@@ -387,7 +418,7 @@ pub fn measure(scene: &BenchScene, methods: &[String], cameras: &[Keyframe], o: 
         m.destroy(gl);
     }
     clock.inner.destroy(gl);
-    stage_hook.destroy(gl);
+    stage_hook.inner.destroy(gl);
     target.destroy(gl);
     Ok(Measurement { stats, renderer: s.context.renderer_string(), triangles: s.welded.triangles.len() })
 }

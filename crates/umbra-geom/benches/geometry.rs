@@ -10,11 +10,13 @@
 //!   a directional light, with the output buffers reused across frames as a renderer would.
 //!
 //! Scenes come from `UMBRA_SCENES` (default `<workspace>/../shared/scenes`); Sponza is
-//! skipped with a message when absent. Before measuring, each scene's counts, the volume
-//! sizes and the heap allocations of warmed-up frames are printed; with
+//! skipped with a message when absent. Before criterion measures, each scene's counts and
+//! the rows of the tables in `docs/benchmarks.md` are printed: the best of several runs of
+//! every stage, ours and meshopt's in the same process (on a shared machine the best run is
+//! the least disturbed one; criterion's mean includes every disturbance), the load average,
+//! the volume sizes and the heap allocations of warmed-up frames. With
 //! `UMBRA_BENCH_FINGERPRINTS=1` also a hash of every result, to check that an optimisation
 //! left the output unchanged.
-//! Figures are recorded in `docs/benchmarks.md`.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;

@@ -159,9 +159,7 @@ pub fn build_sides_data(mesh: &WeldedMesh, adj: &EdgeAdjacency, max_mult: usize)
     }
     let p = &mesh.positions;
     let vertex = |edge: usize, i: u32| {
-        p.get(i as usize)
-            .copied()
-            .ok_or(SidesDataError::EdgeVertex { edge, vertex: i, vertices: p.len() })
+        p.get(i as usize).copied().ok_or(SidesDataError::EdgeVertex { edge, vertex: i, vertices: p.len() })
     };
     let stride = 2 + max_mult;
     let records = record_count(adj, max_mult);
@@ -194,9 +192,11 @@ pub fn build_caps_data(mesh: &WeldedMesh) -> Result<Vec<[f32; 4]>, SidesDataErro
     let mut out = Vec::with_capacity(mesh.triangles.len() * 3);
     for (t, tri) in mesh.triangles.iter().enumerate() {
         for &i in tri {
-            let v = p
-                .get(i as usize)
-                .ok_or(SidesDataError::TriangleVertex { triangle: t, vertex: i, vertices: p.len() })?;
+            let v = p.get(i as usize).ok_or(SidesDataError::TriangleVertex {
+                triangle: t,
+                vertex: i,
+                vertices: p.len(),
+            })?;
             out.push([v[0], v[1], v[2], 1.0]);
         }
     }

@@ -20,6 +20,10 @@ pub type WorldPosImage = Image<[f32; 4]>;
 pub type TriangleIdImage = Image<u32>;
 /// Stencil value per pixel.
 pub type StencilImage = Image<u8>;
+/// The renderer's lit decision per pixel for one light: 1 = the lighting pass shaded it
+/// (classification passed and the seen side faces the light), 0 = not (shadowed, facing away,
+/// or background).
+pub type LitMaskImage = Image<u8>;
 
 impl<T: Copy> Image<T> {
     pub fn new(width: u32, height: u32, fill: T) -> Self {

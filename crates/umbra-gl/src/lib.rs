@@ -4,10 +4,12 @@
 //!   (Mesa surfaceless platform, EGL device platform fallback), KHR_debug error capture.
 //! * [`extra`]: entry points glow 0.18 lacks (glClipControl, multi-draw indirect).
 //! * [`state`]: [`GlState`], the full fixed-function state of one draw, applied explicitly.
-//! * [`camera`]: look-at + infinite-far perspective (Everitt & Kilgard 2002).
+//! * [`camera`]: look-at + infinite-far perspective (Everitt & Kilgard 2002), standard or
+//!   reversed-Z ([`DepthConvention`], reversed-Z with float depth by default).
 //! * [`scene`]: [`SceneGpu`], a welded mesh uploaded once.
 //! * [`target`]: [`RenderTarget`] and readback helpers (top row first).
-//! * [`renderer`]: the frame: depth + ambient, per light stencil volumes + additive lighting.
+//! * [`renderer`]: the frame: depth + ambient, per light stencil volumes + additive lighting,
+//!   optional per-light lit masks (the final lit/shadow decision the image shows).
 //! * [`methods`]: [`ShadowMethod`] trait, registry ([`method_names`], [`create_method`]),
 //!   `none` and `cpu-silhouette`.
 //! * [`timing`]: glQueryCounter(GL_TIMESTAMP) stage timing.
@@ -29,18 +31,21 @@ pub mod state;
 pub mod target;
 pub mod timing;
 
-pub use camera::Camera;
+pub use camera::{Camera, DepthConvention};
 pub use context::{ContextError, ContextOptions, GlApi, HeadlessContext};
 pub use error::{GlError, GlErrorLog};
 pub use extra::GlExtra;
-pub use image::{Image, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+pub use image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 pub use methods::{
     create_method, method_names, Classification, ShadowMethod, StageHook, StageMark, UnknownMethod, VolumeFrame,
 };
-pub use renderer::{CaptureFlags, FrameImages, FrameParams, FrameTarget, Renderer, StencilCapture, StencilMask};
+pub use renderer::{
+    CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Renderer, StencilCapture,
+    StencilMask,
+};
 pub use scene::{SceneGpu, SceneId};
 pub use state::{BlendState, GlState, StencilFace};
-pub use target::{read_rgba8, read_stencil, Attachments, RenderTarget, NO_TRIANGLE};
+pub use target::{read_rgba8, read_stencil, Attachments, RenderTarget, TargetPass, NO_TRIANGLE};
 pub use timing::{StageTiming, TimestampHook};
 
 pub use glam;

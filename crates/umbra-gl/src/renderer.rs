@@ -4,46 +4,74 @@
 //!    captured) with normal clipping;
 //! 2. per light: clear the stencil to 0, let the [`ShadowMethod`] mark it (z-fail volumes by
 //!    default, z-pass on request);
-//! 3. per light: add diffuse + specular where the method's classification says "lit", depth
-//!    func EQUAL, no depth writes, additive blending.
+//! 3. per light: add diffuse + specular where the method's classification says "lit" AND the
+//!    side of the triangle the camera sees faces the light, depth func EQUAL, no depth writes,
+//!    additive blending; when asked, the same shader writes that decision into the lit mask.
+//!
+//! Depth convention ([`DepthConvention`], [`FrameParams::depth_convention`]): reversed-Z by
+//! default — glClipControl(LOWER_LEFT, ZERO_TO_ONE) for the frame, infinite reversed
+//! projection (depth = near / distance, exactly 0 at infinity), depth cleared to 0, nearer =
+//! GREATER, and a DEPTH32F_STENCIL8 buffer in the renderer's own target. The numbers behind it
+//! are in [`crate::camera`]: a volume side meeting a surface at a shallow angle compares
+//! against that surface's depth correctly only as far as depth resolves distance, ~d * 2^-24
+//! with float reversed-Z against d^2 / (n * 2^24) with 24-bit standard depth. The standard
+//! convention stays available (and needs no glClipControl).
 //!
 //! Runs on a caller's `glow::Context` ([`Renderer::draw_frame`] into any framebuffer with a
-//! depth24-stencil8 attachment) or into the renderer's own [`RenderTarget`] with readback
-//! ([`Renderer::render`]). In both cases the state listed in [`crate::saved`] (every
-//! [`GlState`] field, program, vertex array, framebuffer bindings, viewport, scissor and
-//! rasterizer-discard enables, SSBO binding 0) is restored after the frame. Not restored:
-//! what a shadow method binds besides program/vertex array (its own buffer or texture
-//! bindings; cpu-silhouette uses direct state access and binds none); the draw/read buffer
-//! selection of the framebuffer drawn into.
+//! depth-stencil attachment with 8 stencil bits) or into the renderer's own [`RenderTarget`]
+//! with readback ([`Renderer::render`]). In both cases the state listed in [`crate::saved`]
+//! (every [`GlState`] field, program, vertex array, framebuffer bindings, viewport, scissor and
+//! rasterizer-discard enables, SSBO binding 0, clip control, depth range) is restored after the
+//! frame. Not restored: what a shadow method binds besides program/vertex array (its own
+//! buffer or texture bindings; cpu-silhouette uses direct state access and binds none); the
+//! draw/read buffer selection of the framebuffer drawn into.
 
 use std::collections::HashMap;
+use std::sync::OnceLock;
 
 use glow::HasContext;
 use umbra_geom::Light;
 
-use crate::camera::{to_f32_cols, Camera};
+use crate::camera::{to_f32_cols, Camera, DepthConvention};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
-use crate::image::{RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+use crate::extra::GlExtra;
+use crate::image::{LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::saved::SavedState;
 use crate::scene::{SceneGpu, NORMALS_BINDING};
 use crate::state::{BlendState, GlState, StencilFace};
-use crate::target::{read_stencil, Attachments, RenderTarget};
+use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
 
 const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
 const LIGHTING_FRAG: &str = include_str!("shaders/lighting.frag.glsl");
 
-/// Which per-light stencil masks to read back (after the method's volume pass, before
-/// lighting).
+/// For which lights a per-light image is read back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum StencilCapture {
+pub enum LightCapture {
     #[default]
     None,
     Light(usize),
     AllLights,
 }
+
+impl LightCapture {
+    /// Whether light `light` is captured.
+    pub fn includes(self, light: usize) -> bool {
+        match self {
+            LightCapture::None => false,
+            LightCapture::Light(i) => i == light,
+            LightCapture::AllLights => true,
+        }
+    }
+}
+
+/// Which per-light stencil masks to read back (after the method's volume pass, before
+/// lighting).
+pub type StencilCapture = LightCapture;
+/// Which per-light lit masks to read back (after that light's lighting pass).
+pub type LitMaskCapture = LightCapture;
 
 /// Extra images [`Renderer::render`] reads back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -51,6 +79,9 @@ pub struct CaptureFlags {
     pub world_pos: bool,
     pub triangle_id: bool,
     pub stencil: StencilCapture,
+    /// The renderer's final per-pixel decision "lit by this light" ([`LitMask`]): what the
+    /// image shows, for every [`Classification`]. Own target only ([`Renderer::render`]).
+    pub lit_mask: LitMaskCapture,
 }
 
 /// Everything that defines one frame.
@@ -75,11 +106,16 @@ pub struct FrameParams {
     /// Clear colour (RGBA, 0..1).
     pub background: [f32; 4],
     pub capture: CaptureFlags,
+    /// Depth convention of the frame (default [`DepthConvention::ReversedZ`]). It also picks
+    /// the depth format of the renderer's own target; with [`Renderer::draw_frame`] the
+    /// caller's framebuffer is drawn in it (reversed-Z is correct with any depth format but
+    /// gains its precision only with a float one).
+    pub depth_convention: DepthConvention,
 }
 
 impl Default for FrameParams {
     /// 1280x720, default camera, no lights, z-fail, light grey surfaces, ambient 0.15, white
-    /// light, dark blue-grey background.
+    /// light, dark blue-grey background, reversed-Z.
     fn default() -> Self {
         Self {
             camera: Camera::default(),
@@ -94,6 +130,7 @@ impl Default for FrameParams {
             shininess: 32.0,
             background: [0.10, 0.12, 0.16, 1.0],
             capture: CaptureFlags::default(),
+            depth_convention: DepthConvention::default(),
         }
     }
 }
@@ -105,13 +142,32 @@ pub struct StencilMask {
     pub image: StencilImage,
 }
 
+/// Per-light lit mask after that light's lighting pass: 1 where the pixel received the
+/// light's diffuse and specular term (the classification passed AND the seen side of the
+/// triangle faces the light), 0 elsewhere (shadowed, facing away, background).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LitMask {
+    pub light: usize,
+    pub image: LitMaskImage,
+}
+
 /// What [`Renderer::render`] reads back; all images top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameImages {
     pub rgba: RgbaImage,
     pub world_pos: Option<WorldPosImage>,
     pub triangle_id: Option<TriangleIdImage>,
+    /// In light order, one per captured light.
     pub stencil: Vec<StencilMask>,
+    /// In light order, one per captured light.
+    pub lit_masks: Vec<LitMask>,
+}
+
+/// Per-light images read during a frame.
+#[derive(Default)]
+struct Captured {
+    stencil: Vec<StencilMask>,
+    lit_masks: Vec<LitMask>,
 }
 
 struct DepthProgram {
@@ -158,7 +214,8 @@ impl LightingProgram {
 }
 
 /// Where [`Renderer::draw_frame`] draws: a caller's framebuffer (None = default framebuffer)
-/// of `FrameParams::width x height` with a depth24-stencil8 attachment.
+/// of `FrameParams::width x height` with a depth-stencil attachment (8 stencil bits). Its
+/// depth convention is [`FrameParams::depth_convention`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameTarget {
     pub framebuffer: Option<glow::Framebuffer>,
@@ -172,6 +229,24 @@ pub struct Renderer {
     lighting: HashMap<&'static str, LightingProgram>,
     target: Option<RenderTarget>,
     error_log: Option<GlErrorLog>,
+    /// glClipControl (for [`DepthConvention::ReversedZ`]).
+    extra: GlExtra,
+}
+
+/// Entry points through EGL when the current context is an EGL context (then
+/// eglGetProcAddress is valid for it); empty otherwise (no EGL, or another window system).
+fn extra_from_current_egl() -> GlExtra {
+    use khronos_egl as egl;
+    static EGL: OnceLock<Option<egl::DynamicInstance<egl::EGL1_4>>> = OnceLock::new();
+    // SAFETY: loads the system's libEGL (the library the headless context uses too); its
+    // initialisation has no preconditions.
+    let instance = EGL.get_or_init(|| unsafe { egl::DynamicInstance::<egl::EGL1_4>::load_required() }.ok());
+    match instance {
+        Some(e) if e.get_current_context().is_some() => {
+            GlExtra::load(|name| e.get_proc_address(name).map_or(std::ptr::null(), |f| f as *const std::ffi::c_void))
+        }
+        _ => GlExtra::default(),
+    }
 }
 
 /// Checks parameters before any GL call.
@@ -188,9 +263,11 @@ fn validate(params: &FrameParams) -> Result<(), GlError> {
             return Err(GlError::InvalidParams(format!("light {i} is directional with a zero direction")));
         }
     }
-    if let StencilCapture::Light(i) = params.capture.stencil {
-        if i >= params.lights.len() {
-            return Err(GlError::InvalidParams(format!("stencil capture of light {i}, but {} light(s)", params.lights.len())));
+    for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
+        if let LightCapture::Light(i) = capture {
+            if i >= params.lights.len() {
+                return Err(GlError::InvalidParams(format!("{what} capture of light {i}, but {} light(s)", params.lights.len())));
+            }
         }
     }
     let scalars = [params.ambient, params.specular, params.shininess];
@@ -208,6 +285,11 @@ fn mark(hook: &mut Option<&mut dyn StageHook>, gl: &glow::Context, label: &'stat
 
 impl Renderer {
     /// Compiles the depth/ambient and lighting programs (GL 4.5 core context current).
+    ///
+    /// glClipControl (needed for [`DepthConvention::ReversedZ`], the default) is loaded
+    /// through EGL when the current context is an EGL context, as with
+    /// [`crate::HeadlessContext`]; on other hosts pass it with [`Renderer::with_extra`] (or
+    /// draw with [`DepthConvention::Standard`]).
     pub fn new(gl: &glow::Context) -> Result<Self, GlError> {
         let program = link_program(
             gl,
@@ -225,7 +307,21 @@ impl Renderer {
         };
         let mut lighting = HashMap::new();
         lighting.insert("", LightingProgram::new(gl, None)?);
-        Ok(Self { depth, lighting, target: None, error_log: None })
+        Ok(Self { depth, lighting, target: None, error_log: None, extra: extra_from_current_egl() })
+    }
+
+    /// Uses these entry points (glClipControl) instead of the ones found at [`Renderer::new`],
+    /// e.g. `GlExtra::load(loader)` with your window system's loader, or
+    /// [`crate::HeadlessContext::extra`].
+    pub fn with_extra(mut self, extra: GlExtra) -> Self {
+        self.extra = extra;
+        self
+    }
+
+    /// Whether frames in `convention` can be drawn: Standard always, ReversedZ when
+    /// glClipControl is loaded.
+    pub fn supports(&self, convention: DepthConvention) -> bool {
+        convention == DepthConvention::Standard || self.extra.has_clip_control()
     }
 
     /// Also fail frames on messages recorded by a KHR_debug callback
@@ -252,14 +348,16 @@ impl Renderer {
         hook: Option<&mut dyn StageHook>,
     ) -> Result<FrameImages, GlError> {
         validate(params)?;
-        let wanted = Attachments { world_pos: params.capture.world_pos, triangle_id: params.capture.triangle_id };
-        let reuse = self.target.as_ref().is_some_and(|t| {
-            let a = t.attachments();
-            t.width() == params.width
-                && t.height() == params.height
-                && (a.world_pos || !wanted.world_pos)
-                && (a.triangle_id || !wanted.triangle_id)
-        });
+        let wanted = Attachments {
+            world_pos: params.capture.world_pos,
+            triangle_id: params.capture.triangle_id,
+            lit_mask: params.capture.lit_mask != LightCapture::None,
+            float_depth: params.depth_convention.depth_format() == glow::DEPTH32F_STENCIL8,
+        };
+        let reuse = self
+            .target
+            .as_ref()
+            .is_some_and(|t| t.width() == params.width && t.height() == params.height && t.attachments().covers(&wanted));
         if !reuse {
             if let Some(old) = self.target.take() {
                 old.destroy(gl);
@@ -269,13 +367,14 @@ impl Renderer {
         let Some(target) = self.target.take() else {
             return Err(GlError::InvalidParams("render target missing".into()));
         };
-        let mut stencil = Vec::new();
-        let result = self.frame_on(gl, scene, method, params, Some(target.framebuffer()), Some(&target), hook, &mut stencil);
+        let mut captured = Captured::default();
+        let result = self.frame_on(gl, scene, method, params, Some(target.framebuffer()), Some(&target), hook, &mut captured);
         let images = result.map(|()| FrameImages {
             rgba: target.read_rgba(gl),
             world_pos: if params.capture.world_pos { target.read_world_pos(gl) } else { None },
             triangle_id: if params.capture.triangle_id { target.read_triangle_ids(gl) } else { None },
-            stencil,
+            stencil: captured.stencil,
+            lit_masks: captured.lit_masks,
         });
         self.target = Some(target);
         // Readback errors (if any) count too.
@@ -304,12 +403,15 @@ impl Renderer {
     }
 
     /// Draws one frame into a caller's framebuffer (None = the default framebuffer). It must
-    /// be `params.width x params.height` with a depth24-stencil8 (any 8-bit stencil)
-    /// attachment and should have a single draw buffer: draw buffer 0 receives the colour;
+    /// be `params.width x params.height` with a depth-stencil attachment with 8 stencil bits
+    /// (DEPTH32F_STENCIL8 for reversed-Z precision; DEPTH24_STENCIL8 works in either
+    /// convention) and should have a single draw buffer: draw buffer 0 receives the colour;
     /// further draw buffers would receive pass-1 outputs 1 (world position) and 2 (triangle
-    /// id) and are undefined after the lighting passes. Clears draw buffer 0, depth and
-    /// stencil. `params.capture` is ignored except the stencil capture, which reads the
-    /// caller's stencil (returned per captured light).
+    /// id) and the lit-mask output 3, and are undefined after the lighting passes. Clears draw
+    /// buffer 0, depth (to the convention's far value) and stencil, and leaves the depth
+    /// buffer in `params.depth_convention`. glClipControl and glDepthRange are set for the
+    /// frame and restored afterwards. `params.capture` is ignored except the stencil capture,
+    /// which reads the caller's stencil (returned per captured light).
     pub fn draw_frame(
         &mut self,
         gl: &glow::Context,
@@ -320,9 +422,9 @@ impl Renderer {
         hook: Option<&mut dyn StageHook>,
     ) -> Result<Vec<StencilMask>, GlError> {
         validate(params)?;
-        let mut stencil = Vec::new();
-        self.frame_on(gl, scene, method, params, target.framebuffer, None, hook, &mut stencil)?;
-        Ok(stencil)
+        let mut captured = Captured::default();
+        self.frame_on(gl, scene, method, params, target.framebuffer, None, hook, &mut captured)?;
+        Ok(captured.stencil)
     }
 
     /// Saves the caller's state, draws, restores, then fails on recorded GL errors.
@@ -336,11 +438,18 @@ impl Renderer {
         fb: Option<glow::Framebuffer>,
         own: Option<&RenderTarget>,
         hook: Option<&mut dyn StageHook>,
-        stencil: &mut Vec<StencilMask>,
+        captured: &mut Captured,
     ) -> Result<(), GlError> {
+        if !self.supports(params.depth_convention) {
+            return Err(GlError::InvalidParams(format!(
+                "depth convention {:?} needs glClipControl (GL 4.5 / ARB_clip_control), which this renderer has not \
+                 loaded: give it one with Renderer::with_extra(GlExtra::load(..)) or use DepthConvention::Standard",
+                params.depth_convention
+            )));
+        }
         let saved = SavedState::capture(gl);
-        let result = self.passes(gl, scene, method, params, fb, own, hook, stencil);
-        saved.restore(gl);
+        let result = self.passes(gl, scene, method, params, fb, own, hook, captured);
+        saved.restore(gl, &self.extra);
         // A GL error is a failure even if the passes returned Ok.
         let checked = self.check_errors(gl, "frame");
         result.and(checked)
@@ -375,6 +484,34 @@ impl Renderer {
             .ok_or_else(|| GlError::InvalidParams("lighting program missing".into()))
     }
 
+    /// glClipControl and glDepthRange for `convention` (restored by SavedState).
+    fn set_depth_convention(&self, gl: &glow::Context, convention: DepthConvention) -> Result<(), GlError> {
+        // Reason: LOWER_LEFT is GL's default origin (keeps glReadPixels rows and
+        // gl_FrontFacing as everywhere else); the depth mode maps clip z to depth: ZERO_TO_ONE
+        // makes depth = z_ndc exactly, so reversed-Z's n / d reaches the float depth buffer
+        // without the z / 2 + 1 / 2 rounding that would cost it every bit below 2^-24 (it is
+        // what makes reversed-Z precise); NEGATIVE_ONE_TO_ONE for Standard.
+        // SAFETY: the context the entry point was loaded for is current (the renderer's
+        // contract); the arguments are valid enums.
+        let set = unsafe { self.extra.clip_control(glow::LOWER_LEFT, convention.clip_depth_mode()) };
+        // SAFETY: plain queries and glDepthRange on the current context.
+        unsafe {
+            if !set {
+                // No glClipControl: only fine if the context is already in the wanted mode.
+                let origin = gl.get_parameter_i32(glow::CLIP_ORIGIN) as u32;
+                let mode = gl.get_parameter_i32(glow::CLIP_DEPTH_MODE) as u32;
+                if origin != glow::LOWER_LEFT || mode != convention.clip_depth_mode() {
+                    return Err(GlError::InvalidParams(format!(
+                        "clip control is (0x{origin:04X}, 0x{mode:04X}) and glClipControl is not loaded to set it for {convention:?}"
+                    )));
+                }
+            }
+            // Reason: the full [0, 1] depth range, so window depth = the convention's depth.
+            gl.depth_range_f64(0.0, 1.0);
+        }
+        Ok(())
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn passes(
         &mut self,
@@ -385,13 +522,15 @@ impl Renderer {
         fb: Option<glow::Framebuffer>,
         own: Option<&RenderTarget>,
         mut hook: Option<&mut dyn StageHook>,
-        stencil: &mut Vec<StencilMask>,
+        captured: &mut Captured,
     ) -> Result<(), GlError> {
         if method.prepared_scene() != Some(scene.id()) {
             method.prepare(gl, scene)?;
         }
+        let convention = params.depth_convention;
+        self.set_depth_convention(gl, convention)?;
         let aspect = params.width as f64 / params.height as f64;
-        let clip_from_world = params.camera.clip_from_world(aspect);
+        let clip_from_world = params.camera.clip_from_world_in(aspect, convention);
         let clip_f32 = to_f32_cols(&clip_from_world);
         let eye = params.camera.eye;
         let (w, h) = (params.width as i32, params.height as i32);
@@ -413,24 +552,28 @@ impl Renderer {
         unsafe {
             gl.disable(glow::SCISSOR_TEST);
             gl.disable(glow::RASTERIZER_DISCARD);
+            // Reason: depth cleared to the far plane's depth (1 Standard, 0 reversed-Z), which is
+            // also where light caps are pushed (so they fail the strict test there too).
+            let far = convention.far_depth();
             match own {
-                Some(t) => t.clear(gl, params.background),
+                Some(t) => t.clear(gl, params.background, far),
                 None => {
                     gl.clear_buffer_f32_slice(glow::COLOR, 0, &params.background);
-                    gl.clear_buffer_depth_stencil(glow::DEPTH_STENCIL, 0, 1.0, 0);
+                    gl.clear_buffer_depth_stencil(glow::DEPTH_STENCIL, 0, far, 0);
                 }
             }
         }
 
         // ---- Pass 1: depth + ambient (+ world position, triangle id).
         if let Some(t) = own {
-            t.set_draw_buffers(gl, true);
+            t.set_draw_buffers(gl, TargetPass::Depth);
         }
         GlState {
-            // Reason: nearest surface wins; ties keep the first triangle drawn (LESS, not
-            // LEQUAL), the same one the lighting pass selects.
+            // Reason: nearest surface wins: strictly nearer (LESS Standard, GREATER reversed-Z,
+            // where depth = near / distance grows towards the eye); ties keep the first triangle
+            // drawn (strict, not LEQUAL / GEQUAL), the same one the lighting pass selects.
             depth_test: true,
-            depth_func: glow::LESS,
+            depth_func: convention.nearer(),
             depth_write: true,
             // Reason: the scene uses normal near clipping; only volumes need clamping.
             depth_clamp: false,
@@ -476,6 +619,7 @@ impl Renderer {
                     width: params.width,
                     height: params.height,
                     target_framebuffer: fb,
+                    depth_convention: convention,
                     source: method.name(),
                     // Re-borrow with a shorter trait-object lifetime (an Option blocks the
                     // automatic coercion).
@@ -486,15 +630,22 @@ impl Renderer {
                 };
                 method.draw_volumes(gl, scene, &mut frame)?;
             }
-            // The method may have bound other framebuffers (shadow maps): re-bind ours.
+            // The method may have bound other framebuffers (shadow maps) or changed the clip
+            // control for its own depth pass: re-bind ours, re-set the convention.
             bind_target(gl);
-            let capture = match params.capture.stencil {
-                StencilCapture::None => false,
-                StencilCapture::Light(i) => i == light_index,
-                StencilCapture::AllLights => true,
-            };
-            if capture {
-                stencil.push(StencilMask { light: light_index, image: read_stencil(gl, fb, params.width, params.height) });
+            self.set_depth_convention(gl, convention)?;
+            if params.capture.stencil.includes(light_index) {
+                captured
+                    .stencil
+                    .push(StencilMask { light: light_index, image: read_stencil(gl, fb, params.width, params.height) });
+            }
+            // Lit mask of this light: own target only, cleared right before its lighting pass.
+            let lit_mask = own.filter(|t| t.attachments().lit_mask && params.capture.lit_mask.includes(light_index));
+            if let Some(t) = lit_mask {
+                // Reason: the clear obeys the colour write mask, which the method may have
+                // turned off; GL's default state has it on.
+                GlState::default().apply(gl);
+                t.clear_lit_mask(gl);
             }
 
             // ---- Pass 3: lighting where lit.
@@ -529,12 +680,14 @@ impl Renderer {
                 },
             };
             if let Some(t) = own {
-                // Only colour: pass 3 must not touch world position / triangle id.
-                t.set_draw_buffers(gl, false);
+                // Colour (and the lit mask when captured): pass 3 must not touch world
+                // position / triangle id.
+                t.set_draw_buffers(gl, TargetPass::Lighting { lit_mask: lit_mask.is_some() });
             }
             GlState {
                 // Reason: shade exactly the surface pass 1 left visible: the same invariant
-                // vertex shader gives bit-identical depths, EQUAL selects them.
+                // vertex shader gives bit-identical depths, EQUAL selects them (in either depth
+                // convention).
                 depth_test: true,
                 depth_func: glow::EQUAL,
                 // Reason: depth is final after pass 1.
@@ -550,6 +703,8 @@ impl Renderer {
                 cull_face: None,
                 front_face: glow::CCW,
                 // Reason: each light adds its diffuse + specular onto ambient + earlier lights.
+                // On the R8 lit mask (draw buffer 3) the same blend is min(1, dst + src) with
+                // src in {0, 1}: an OR, so a second fragment of a pixel cannot clear the bit.
                 blend: Some(BlendState::ADDITIVE),
                 polygon_offset: None,
             }
@@ -579,15 +734,21 @@ impl Renderer {
                     width: params.width,
                     height: params.height,
                     target_framebuffer: fb,
+                    depth_convention: convention,
                     source: method.name(),
                     hook: None,
                 };
                 method.bind_lighting(gl, program, &frame)?;
             }
             scene.draw_triangles(gl);
+            if let Some(t) = lit_mask {
+                if let Some(image) = t.read_lit_mask(gl) {
+                    captured.lit_masks.push(LitMask { light: light_index, image });
+                }
+            }
         }
         if let Some(t) = own {
-            t.set_draw_buffers(gl, true);
+            t.set_draw_buffers(gl, TargetPass::Depth);
         }
         mark(&mut hook, gl, "end", None);
         Ok(())

@@ -3,12 +3,15 @@
 //!
 //! Restored exactly: every [`GlState`] field, the current program, vertex array, draw and
 //! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, the generic and indexed
-//! (binding 0) SHADER_STORAGE_BUFFER bindings.
+//! (binding 0) SHADER_STORAGE_BUFFER bindings, glDepthRange, and glClipControl's origin and
+//! depth mode (when the renderer has glClipControl; without it the renderer never changes
+//! them).
 
 use std::num::NonZeroU32;
 
 use glow::HasContext;
 
+use crate::extra::GlExtra;
 use crate::scene::NORMALS_BINDING;
 use crate::state::GlState;
 
@@ -40,6 +43,9 @@ pub(crate) struct SavedState {
     ssbo_indexed: u32,
     ssbo_offset: i64,
     ssbo_size: i64,
+    clip_origin: u32,
+    clip_depth_mode: u32,
+    depth_range: [f32; 2],
 }
 
 impl SavedState {
@@ -48,6 +54,8 @@ impl SavedState {
         unsafe {
             let mut viewport = [0; 4];
             gl.get_parameter_i32_slice(glow::VIEWPORT, &mut viewport);
+            let mut depth_range = [0.0; 2];
+            gl.get_parameter_f32_slice(glow::DEPTH_RANGE, &mut depth_range);
             Self {
                 state: GlState::capture(gl),
                 program: gl.get_parameter_i32(glow::CURRENT_PROGRAM) as u32,
@@ -61,12 +69,19 @@ impl SavedState {
                 ssbo_indexed: gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, NORMALS_BINDING) as u32,
                 ssbo_offset: gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, NORMALS_BINDING),
                 ssbo_size: gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, NORMALS_BINDING),
+                clip_origin: gl.get_parameter_i32(glow::CLIP_ORIGIN) as u32,
+                clip_depth_mode: gl.get_parameter_i32(glow::CLIP_DEPTH_MODE) as u32,
+                depth_range,
             }
         }
     }
 
-    pub(crate) fn restore(&self, gl: &glow::Context) {
+    pub(crate) fn restore(&self, gl: &glow::Context, extra: &GlExtra) {
         self.state.apply(gl);
+        // SAFETY: the context `extra` was loaded for is current (the renderer's contract); the
+        // values are the ones GL reported. Returns false without glClipControl, in which case
+        // the renderer did not change it either.
+        unsafe { extra.clip_control(self.clip_origin, self.clip_depth_mode) };
         // SAFETY: re-binding names that were bound before (still alive: the renderer deletes
         // none of the caller's objects).
         unsafe {
@@ -76,6 +91,7 @@ impl SavedState {
             gl.bind_framebuffer(glow::READ_FRAMEBUFFER, framebuffer(self.read_framebuffer));
             let [x, y, w, h] = self.viewport;
             gl.viewport(x, y, w, h);
+            gl.depth_range_f32(self.depth_range[0], self.depth_range[1]);
             for (cap, on) in [(glow::SCISSOR_TEST, self.scissor_test), (glow::RASTERIZER_DISCARD, self.rasterizer_discard)] {
                 if on {
                     gl.enable(cap)

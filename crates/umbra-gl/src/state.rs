@@ -10,6 +10,8 @@
 
 use glow::HasContext;
 
+use crate::camera::DepthConvention;
+
 /// One face's stencil function and operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StencilFace {
@@ -208,9 +210,17 @@ impl GlState {
     }
 
     /// The standard counting stencil state for shadow volumes (Heidmann 1991 z-pass,
-    /// Everitt & Kilgard 2002 z-fail), two-sided in one pass with glStencilOpSeparate.
-    /// Per-field reasons are written next to each choice.
+    /// Everitt & Kilgard 2002 z-fail), two-sided in one pass with glStencilOpSeparate, in the
+    /// [`DepthConvention::Standard`] depth convention. Same as
+    /// `shadow_volume_for(zpass, DepthConvention::Standard)`.
     pub fn shadow_volume(zpass: bool) -> GlState {
+        Self::shadow_volume_for(zpass, DepthConvention::Standard)
+    }
+
+    /// The counting stencil state for shadow volumes in `convention`; the only
+    /// convention-dependent field is `depth_func` ("strictly nearer than the stored depth").
+    /// Per-field reasons are written next to each choice.
+    pub fn shadow_volume_for(zpass: bool, convention: DepthConvention) -> GlState {
         let counting = |depth_fail: u32, depth_pass: u32| StencilFace {
             // Reason: every volume fragment must reach the stencil op; the count is all we want.
             func: glow::ALWAYS,
@@ -237,17 +247,22 @@ impl GlState {
         GlState {
             // Reason: "behind / in front of the visible sample" is exactly the depth test result.
             depth_test: true,
-            // Reason: LESS, not LEQUAL: a cap pushed to depth 1 must FAIL on background (depth
-            // 1.0) and on every sample, so it is counted consistently (see cpu-silhouette caps).
-            depth_func: glow::LESS,
+            // Reason: STRICTLY nearer passes (LESS for Standard, GREATER for ReversedZ), not
+            // LEQUAL / GEQUAL: a light cap pushed to the far plane (clip z = far_clip_z * w,
+            // depth 1 resp. exactly 0) must FAIL at every sample, background included (depth
+            // cleared to that same far value: 1 < 1 and 0 > 0 are both false), so z-fail counts
+            // it consistently everywhere (see cpu-silhouette's caps). With GEQUAL a reversed-Z
+            // cap would pass on the background and fail on geometry.
+            depth_func: convention.nearer(),
             // Reason: the volumes are invisible; the scene's depth must stay intact for the
             // lighting pass (depth func EQUAL).
             depth_write: false,
             // Reason: nothing of a volume may be clipped by the near or far plane, or the
-            // count misses faces. Far: sides and dark caps have w = 0 vertices that land at
-            // depth exactly 1 with the infinite projection; rounding could put them a hair
-            // beyond it. Near: parts in front of the near plane are clamped to depth 0 and
-            // still counted (they pass the depth test, as they should).
+            // count misses faces. Far: sides and dark caps have w = 0 vertices that land
+            // exactly on the far plane with the infinite projection (depth 1, resp. 0 under
+            // ReversedZ); rounding could put them a hair beyond it. Near: parts in front of the
+            // near plane are clamped to the near depth and still counted (they pass the depth
+            // test, as they should).
             depth_clamp: true,
             stencil_test: true,
             stencil_front: front,
@@ -263,8 +278,27 @@ impl GlState {
             // Reason: no colour is written, blending is irrelevant; off for clarity.
             blend: None,
             // Reason: an offset would move volume faces relative to the scene depth and break
-            // exactness; the self-shadowing fight is solved by pushing light caps to depth 1.
+            // exactness; the self-shadowing fight is solved by pushing light caps to the far
+            // plane.
             polygon_offset: None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadow_volume_depth_func_follows_the_convention() {
+        for zpass in [false, true] {
+            let standard = GlState::shadow_volume(zpass);
+            assert_eq!(standard, GlState::shadow_volume_for(zpass, DepthConvention::Standard));
+            assert_eq!(standard.depth_func, glow::LESS);
+            let reversed = GlState::shadow_volume_for(zpass, DepthConvention::ReversedZ);
+            assert_eq!(reversed.depth_func, glow::GREATER);
+            // Nothing else differs.
+            assert_eq!(GlState { depth_func: glow::LESS, ..reversed }, standard);
         }
     }
 }

@@ -4,23 +4,53 @@
 //! * COLOR_ATTACHMENT0: RGBA8 colour;
 //! * COLOR_ATTACHMENT1 (optional): RGBA32F world position, `w = 1` on geometry, 0 on background;
 //! * COLOR_ATTACHMENT2 (optional): R32UI triangle id, [`NO_TRIANGLE`] on background;
-//! * DEPTH_STENCIL_ATTACHMENT: DEPTH24_STENCIL8.
+//! * COLOR_ATTACHMENT3 (optional): R8 lit mask, 1.0 where the lighting pass shaded the pixel for
+//!   the captured light (the renderer's final lit decision), 0 elsewhere;
+//! * DEPTH_STENCIL_ATTACHMENT: DEPTH24_STENCIL8, or DEPTH32F_STENCIL8 with
+//!   [`Attachments::float_depth`] (reversed-Z, see [`crate::DepthConvention`]).
 //!
-//! Readbacks return TOP-row-first images (glReadPixels delivers the bottom row first).
+//! Fragment output location i goes to draw buffer i; [`TargetPass`] selects which attachments
+//! a pass writes. Readbacks return TOP-row-first images (glReadPixels delivers the bottom row
+//! first).
 
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::image::{Image, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+use crate::image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 
 /// Triangle id of a pixel where no triangle was drawn.
 pub const NO_TRIANGLE: u32 = u32::MAX;
 
-/// Which optional attachments a [`RenderTarget`] has.
+/// Which optional attachments a [`RenderTarget`] has, and its depth format.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Attachments {
     pub world_pos: bool,
     pub triangle_id: bool,
+    /// R8 lit mask at COLOR_ATTACHMENT3 (fragment output location 3).
+    pub lit_mask: bool,
+    /// DEPTH32F_STENCIL8 instead of DEPTH24_STENCIL8.
+    pub float_depth: bool,
+}
+
+impl Attachments {
+    /// Whether a target with `self` serves a frame that needs `wanted` (every wanted optional
+    /// attachment present, same depth format).
+    pub fn covers(&self, wanted: &Attachments) -> bool {
+        (self.world_pos || !wanted.world_pos)
+            && (self.triangle_id || !wanted.triangle_id)
+            && (self.lit_mask || !wanted.lit_mask)
+            && self.float_depth == wanted.float_depth
+    }
+}
+
+/// Which attachments a pass writes (the framebuffer's draw-buffer list).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TargetPass {
+    /// Pass 1: colour, and world position / triangle id when present (locations 0, 1, 2).
+    Depth,
+    /// Pass 3: colour only (location 0), plus the lit mask (location 3) when `lit_mask` and
+    /// present. Locations 1 and 2 keep pass 1's values.
+    Lighting { lit_mask: bool },
 }
 
 /// An offscreen framebuffer of fixed size.
@@ -33,6 +63,7 @@ pub struct RenderTarget {
     depth_stencil: glow::Texture,
     world_pos: Option<glow::Texture>,
     triangle_id: Option<glow::Texture>,
+    lit_mask: Option<glow::Texture>,
 }
 
 impl RenderTarget {
@@ -57,9 +88,17 @@ impl RenderTarget {
                 .create_named_framebuffer()
                 .map_err(|detail| GlError::Create { what: "framebuffer", detail })?;
             let color = tex(glow::RGBA8)?;
-            let depth_stencil = tex(glow::DEPTH24_STENCIL8)?;
+            // Reason for float depth: see crate::camera (reversed-Z keeps ~24 significant bits
+            // of near / distance only in floating point).
+            let depth_format = if attachments.float_depth { glow::DEPTH32F_STENCIL8 } else { glow::DEPTH24_STENCIL8 };
+            let depth_stencil = tex(depth_format)?;
             let world_pos = if attachments.world_pos { Some(tex(glow::RGBA32F)?) } else { None };
             let triangle_id = if attachments.triangle_id { Some(tex(glow::R32UI)?) } else { None };
+            // R8 (normalized), not R8UI: the lighting pass blends additively into every draw
+            // buffer, and on a normalized buffer min(1, dst + src) with src in {0, 1} is a
+            // logical OR — so two fragments of one pixel (coplanar duplicates under
+            // Classification::StencilTest) can only set the bit, never clear it.
+            let lit_mask = if attachments.lit_mask { Some(tex(glow::R8)?) } else { None };
             gl.named_framebuffer_texture(Some(fbo), glow::COLOR_ATTACHMENT0, Some(color), 0);
             gl.named_framebuffer_texture(Some(fbo), glow::DEPTH_STENCIL_ATTACHMENT, Some(depth_stencil), 0);
             if let Some(t) = world_pos {
@@ -68,12 +107,18 @@ impl RenderTarget {
             if let Some(t) = triangle_id {
                 gl.named_framebuffer_texture(Some(fbo), glow::COLOR_ATTACHMENT2, Some(t), 0);
             }
-            let target = Self { width, height, attachments, fbo, color, depth_stencil, world_pos, triangle_id };
-            target.set_draw_buffers(gl, true);
+            if let Some(t) = lit_mask {
+                gl.named_framebuffer_texture(Some(fbo), glow::COLOR_ATTACHMENT3, Some(t), 0);
+            }
+            let target = Self { width, height, attachments, fbo, color, depth_stencil, world_pos, triangle_id, lit_mask };
+            target.set_draw_buffers(gl, TargetPass::Depth);
             let status = gl.check_named_framebuffer_status(Some(fbo), glow::DRAW_FRAMEBUFFER);
             if status != glow::FRAMEBUFFER_COMPLETE {
                 target.destroy(gl);
-                return Err(GlError::Framebuffer { status, what: "RenderTarget (RGBA8 + D24S8 + optional RGBA32F/R32UI)" });
+                return Err(GlError::Framebuffer {
+                    status,
+                    what: "RenderTarget (RGBA8 + D24S8/D32FS8 + optional RGBA32F/R32UI/R8)",
+                });
             }
             Ok(target)
         }
@@ -92,25 +137,34 @@ impl RenderTarget {
         self.fbo
     }
 
-    /// Draw buffers of this framebuffer (framebuffer-object state, not context state):
-    /// `all` = colour plus the present optional attachments at locations 1 and 2;
-    /// otherwise colour only, so a pass writing only location 0 leaves the others intact.
-    pub fn set_draw_buffers(&self, gl: &glow::Context, all: bool) {
-        let one = |present: bool, att: u32| if all && present { att } else { glow::NONE };
-        let bufs = [
-            glow::COLOR_ATTACHMENT0,
-            one(self.attachments.world_pos, glow::COLOR_ATTACHMENT1),
-            one(self.attachments.triangle_id, glow::COLOR_ATTACHMENT2),
-        ];
+    /// Draw buffers of this framebuffer for `pass` (framebuffer-object state, not context
+    /// state); a location without a draw buffer is discarded by GL, so a pass leaves the
+    /// attachments it does not list intact.
+    pub fn set_draw_buffers(&self, gl: &glow::Context, pass: TargetPass) {
+        let a = self.attachments;
+        let on = |yes: bool, att: u32| if yes { att } else { glow::NONE };
+        let bufs = match pass {
+            TargetPass::Depth => [
+                glow::COLOR_ATTACHMENT0,
+                on(a.world_pos, glow::COLOR_ATTACHMENT1),
+                on(a.triangle_id, glow::COLOR_ATTACHMENT2),
+                glow::NONE,
+            ],
+            TargetPass::Lighting { lit_mask } => {
+                [glow::COLOR_ATTACHMENT0, glow::NONE, glow::NONE, on(lit_mask && a.lit_mask, glow::COLOR_ATTACHMENT3)]
+            }
+        };
         // SAFETY: valid attachment enums for our own framebuffer.
         unsafe { gl.named_framebuffer_draw_buffers(Some(self.fbo), &bufs) };
     }
 
     /// Clears colour to `background`, world position to 0, triangle id to [`NO_TRIANGLE`],
-    /// depth to 1 and stencil to 0. The caller must have write masks on (see
-    /// [`crate::GlState::default`]); clears obey them.
-    pub fn clear(&self, gl: &glow::Context, background: [f32; 4]) {
-        self.set_draw_buffers(gl, true);
+    /// the lit mask to 0, depth to `far_depth` ([`crate::DepthConvention::far_depth`]) and
+    /// stencil to 0. The caller must have write masks on (see [`crate::GlState::default`]);
+    /// clears obey them. Leaves the draw buffers at [`TargetPass::Depth`].
+    pub fn clear(&self, gl: &glow::Context, background: [f32; 4], far_depth: f32) {
+        self.clear_lit_mask(gl);
+        self.set_draw_buffers(gl, TargetPass::Depth);
         // SAFETY: clears of our own framebuffer's draw buffers (indices match set_draw_buffers).
         unsafe {
             gl.clear_named_framebuffer_f32_slice(Some(self.fbo), glow::COLOR, 0, &background);
@@ -120,7 +174,17 @@ impl RenderTarget {
             if self.attachments.triangle_id {
                 gl.clear_named_framebuffer_u32_slice(Some(self.fbo), glow::COLOR, 2, &[NO_TRIANGLE, 0, 0, 0]);
             }
-            gl.clear_named_framebuffer_depth_stencil(Some(self.fbo), glow::DEPTH_STENCIL, 0, 1.0, 0);
+            gl.clear_named_framebuffer_depth_stencil(Some(self.fbo), glow::DEPTH_STENCIL, 0, far_depth, 0);
+        }
+    }
+
+    /// Clears the lit mask (if present) to 0; leaves the draw buffers at
+    /// `TargetPass::Lighting { lit_mask: true }`. Obeys the colour write mask of draw buffer 3.
+    pub fn clear_lit_mask(&self, gl: &glow::Context) {
+        if self.attachments.lit_mask {
+            self.set_draw_buffers(gl, TargetPass::Lighting { lit_mask: true });
+            // SAFETY: draw buffer 3 of our own framebuffer is the R8 lit mask (set just above).
+            unsafe { gl.clear_named_framebuffer_f32_slice(Some(self.fbo), glow::COLOR, 3, &[0.0; 4]) };
         }
     }
 
@@ -148,6 +212,15 @@ impl RenderTarget {
         })
     }
 
+    /// The lit mask as 0 / 1 per pixel (the R8 value 1.0 reads back as 255).
+    pub fn read_lit_mask(&self, gl: &glow::Context) -> Option<LitMaskImage> {
+        self.attachments.lit_mask.then(|| {
+            let bytes =
+                read_bytes(gl, Some(self.fbo), glow::COLOR_ATTACHMENT3, self.width, self.height, glow::RED, glow::UNSIGNED_BYTE, 1);
+            Image::from_bottom_up(self.width, self.height, bytes.into_iter().map(|v| u8::from(v != 0)).collect())
+        })
+    }
+
     pub fn read_stencil(&self, gl: &glow::Context) -> StencilImage {
         read_stencil(gl, Some(self.fbo), self.width, self.height)
     }
@@ -157,7 +230,7 @@ impl RenderTarget {
         // SAFETY: objects owned by this target, not used afterwards.
         unsafe {
             gl.delete_framebuffer(self.fbo);
-            for t in [Some(self.color), Some(self.depth_stencil), self.world_pos, self.triangle_id].into_iter().flatten() {
+            for t in [Some(self.color), Some(self.depth_stencil), self.world_pos, self.triangle_id, self.lit_mask].into_iter().flatten() {
                 gl.delete_texture(t);
             }
         }

@@ -14,7 +14,9 @@ use common::*;
 use umbra_geom::silhouette::{extract, VolumeGeometry};
 use umbra_geom::{weld::weld, EdgeAdjacency, Mesh, WeldedMesh};
 use umbra_gl::methods::cs_silhouette::CsSilhouette;
-use umbra_gl::{Camera, FrameParams, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilCapture, StencilImage};
+use umbra_gl::{
+    Camera, FrameParams, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilCapture, StencilImage,
+};
 
 /// `pages` quads hinged on the spine (0,1,0)-(0,1,1): one edge with `pages` opposites.
 fn book(pages: usize) -> Mesh {
@@ -68,13 +70,19 @@ struct Rendered {
     gpu_bytes: usize,
 }
 
-fn render_with(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, method: &mut dyn ShadowMethod, p: &FrameParams) -> Rendered {
+fn render_with(
+    ctx: &HeadlessContext,
+    mesh: &Arc<WeldedMesh>,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+) -> Rendered {
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let mut p = p.clone();
     p.capture.stencil = StencilCapture::AllLights;
-    let images = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));
+    let images =
+        r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));
     let gpu_bytes = method.gpu_bytes();
     let out = Rendered { stencil: images.stencil.into_iter().map(|s| s.image).collect(), counts: None, gpu_bytes };
     r.destroy(gl);
@@ -172,7 +180,8 @@ fn book_spine_multiplicity_beyond_three_bits() {
     // A light low on the side: all pages face it the same way, the spine's |m| is 40.
     let light = [-6.0, 1.0, 0.5, 1.0];
     let spine = (0..adj.len()).find(|&e| adj.opposites(e).len() == 40).expect("spine");
-    let m_spine = umbra_geom::multiplicity::edge_multiplicity(&mesh.positions, adj.edges[spine], adj.opposites(spine), light);
+    let m_spine =
+        umbra_geom::multiplicity::edge_multiplicity(&mesh.positions, adj.edges[spine], adj.opposites(spine), light);
     assert!(m_spine.abs() > 7, "spine multiplicity {m_spine} needs more than 3 bits");
     let p = params(Camera { eye: [3.0, 4.0, 5.0], target: [0.0, 1.0, 0.0], ..default_camera() }, vec![light], 256, 192);
     let cpu = render_cpu(&ctx, &mesh, &p);
@@ -186,7 +195,12 @@ fn worst_case_output_fills_the_buffer_exactly() {
     let ctx = context();
     let mesh = scattered_triangles();
     let adj = EdgeAdjacency::build(&mesh);
-    let p = params(Camera { eye: [0.0, 6.0, 6.0], target: [0.0, 0.0, 0.0], ..default_camera() }, vec![[0.2, 8.0, 0.1, 1.0]], 256, 192);
+    let p = params(
+        Camera { eye: [0.0, 6.0, 6.0], target: [0.0, 0.0, 0.0], ..default_camera() },
+        vec![[0.2, 8.0, 0.1, 1.0]],
+        256,
+        192,
+    );
     let cpu = render_cpu(&ctx, &mesh, &p);
     let cs = render_cs(&ctx, &mesh, &p);
     assert_same_stencil(&ctx, "cs_worst_case", &cpu.stencil[0], &cs.stencil[0]);

@@ -265,30 +265,44 @@ fn sponza_frame_time() {
         patch_bytes(&adj)
     );
     let mut r = Renderer::new(gl).expect("renderer");
-    for name in ["cpu-silhouette", "ts-silhouette", "ts-silhouette-3edge", "gs-silhouette", "gs-silhouette-3edge"] {
-        let mut m = umbra_gl::create_method(name).expect("registered");
-        let t = std::time::Instant::now();
-        r.render(gl, &scene, m.as_mut(), &p, None).expect("render");
-        let first = t.elapsed().as_secs_f64() * 1e3;
+    let names = ["cpu-silhouette", "ts-silhouette", "ts-silhouette-3edge", "gs-silhouette", "gs-silhouette-3edge"];
+    let mut methods: Vec<Box<dyn ShadowMethod>> = names.iter().map(|n| umbra_gl::create_method(n).expect("registered")).collect();
+    // Warm-up: prepare, shader compilation on first draw.
+    for m in &mut methods {
         for _ in 0..2 {
             r.render(gl, &scene, m.as_mut(), &p, None).expect("render");
         }
-        const FRAMES: usize = 5;
-        let t = std::time::Instant::now();
-        for _ in 0..FRAMES {
+    }
+    // Round robin, so that a machine whose load changes affects every method alike; the
+    // median frame per method.
+    const ROUNDS: usize = 5;
+    let mut frames = vec![Vec::new(); names.len()];
+    for _ in 0..ROUNDS {
+        for (m, f) in methods.iter_mut().zip(&mut frames) {
+            let t = std::time::Instant::now();
             r.render(gl, &scene, m.as_mut(), &p, None).expect("render");
+            f.push(t.elapsed().as_secs_f64() * 1e3);
         }
-        let ms = t.elapsed().as_secs_f64() * 1e3 / FRAMES as f64;
+    }
+    for ((name, m), f) in names.iter().zip(&mut methods).zip(&mut frames) {
+        f.sort_by(f64::total_cmp);
         let mut hook = umbra_gl::TimestampHook::synchronous();
         r.render(gl, &scene, m.as_mut(), &p, Some(&mut hook)).expect("render");
         let stages: Vec<String> = hook
             .finish(gl)
             .iter()
-            .filter(|s| s.mark.source == name)
-            .map(|s| format!("{} {:.1} ms", s.mark.label, s.gpu_ns as f64 / 1e6))
+            .filter(|s| s.mark.source == *name)
+            .map(|s| format!("{} {:.0}", s.mark.label, s.gpu_ns as f64 / 1e6))
             .collect();
         hook.destroy(gl);
-        eprintln!("{name:<22} {ms:8.1} ms/frame (first frame incl. prepare {first:.0} ms; gpu_bytes {}) stages: {}", m.gpu_bytes(), stages.join(", "));
+        eprintln!(
+            "{name:<20} median {:7.1} ms/frame (min {:7.1}, max {:7.1}); gpu_bytes {:>9}; stages (ms, synchronous): {}",
+            f[ROUNDS / 2],
+            f[0],
+            f[ROUNDS - 1],
+            m.gpu_bytes(),
+            stages.join(", ")
+        );
         m.destroy(gl);
     }
     r.destroy(gl);

@@ -17,7 +17,9 @@ use umbra_gl::methods::vs_silhouette::{
     caps_vertex_source, fragment_source, plan_layout, sides_vertex_source, ShaderDialect, VolumeDraw, VsSilhouette,
 };
 use umbra_gl::program::{link_program, ShaderSource};
-use umbra_gl::{Camera, FrameParams, GlState, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilImage};
+use umbra_gl::{
+    Camera, FrameParams, GlState, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilImage,
+};
 
 /// `pages` quads hinged on the spine (0,1,0)-(0,1,1): one edge with `pages` opposites.
 fn book(pages: usize) -> Mesh {
@@ -46,13 +48,28 @@ fn torture_mesh() -> Arc<WeldedMesh> {
     m.append(&b);
     // Three fins on one edge.
     let base = m.positions.len() as u32;
-    m.positions.extend_from_slice(&[[-3.0, 0.5, 0.0], [-3.0, 0.5, 1.0], [-2.0, 1.5, 0.5], [-4.0, 1.5, 0.5], [-3.0, 2.0, 0.5]]);
-    m.triangles.extend_from_slice(&[[base, base + 1, base + 2], [base + 1, base, base + 3], [base, base + 1, base + 4]]);
+    m.positions.extend_from_slice(&[
+        [-3.0, 0.5, 0.0],
+        [-3.0, 0.5, 1.0],
+        [-2.0, 1.5, 0.5],
+        [-4.0, 1.5, 0.5],
+        [-3.0, 2.0, 0.5],
+    ]);
+    m.triangles.extend_from_slice(&[
+        [base, base + 1, base + 2],
+        [base + 1, base, base + 3],
+        [base, base + 1, base + 4],
+    ]);
     m.append(&umbra_geom::scene::ground_plane([0.0, 0.0, 0.0], 10.0));
     Arc::new(weld(&m))
 }
 
-fn stencil_with(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, method: &mut dyn ShadowMethod, p: &FrameParams) -> StencilImage {
+fn stencil_with(
+    ctx: &HeadlessContext,
+    mesh: &Arc<WeldedMesh>,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+) -> StencilImage {
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
@@ -101,7 +118,9 @@ fn views() -> Vec<(Camera, [f32; 4])> {
 fn uploaded_buffers_have_exactly_the_eq8_and_eq9_sizes() {
     let ctx = context();
     let gl = ctx.gl();
-    for (mesh, cap) in [(sphere_over_ground(), None), (torture_mesh(), None), (torture_mesh(), Some(3)), (torture_mesh(), Some(1))] {
+    for (mesh, cap) in
+        [(sphere_over_ground(), None), (torture_mesh(), None), (torture_mesh(), Some(3)), (torture_mesh(), Some(1))]
+    {
         let adj = EdgeAdjacency::build(&mesh);
         let mut m = cap.map_or_else(VsSilhouette::new, VsSilhouette::with_max_mult_cap);
         m.prepare_mesh(gl, ShaderDialect::Glsl450, &mesh, &adj).expect("prepare");
@@ -169,12 +188,14 @@ fn split_records_give_the_cpu_silhouette_stencil() {
         for zpass in [false, true] {
             let mut p = params(camera, vec![light], 256, 192);
             p.zpass = zpass;
-            let expected = stencil_with(&ctx, &mesh, umbra_gl::create_method("cpu-silhouette").expect("registered").as_mut(), &p);
+            let expected =
+                stencil_with(&ctx, &mesh, umbra_gl::create_method("cpu-silhouette").expect("registered").as_mut(), &p);
             assert!(expected.pixels.iter().any(|&v| v != 0), "the view shows shadow");
             for cap in [None, Some(1), Some(2), Some(3), Some(14)] {
                 let mut m = cap.map_or_else(VsSilhouette::new, VsSilhouette::with_max_mult_cap);
                 let actual = stencil_with(&ctx, &mesh, &mut m, &p);
-                let test = format!("vs_split_view{v}_cap{}_{}", cap.unwrap_or(0), if zpass { "zpass" } else { "zfail" });
+                let test =
+                    format!("vs_split_view{v}_cap{}_{}", cap.unwrap_or(0), if zpass { "zpass" } else { "zfail" });
                 let (all, off_boundary) = differences(&expected, &actual);
                 report.push(format!("{test}: {all} differ, {off_boundary} off the boundary"));
                 if cap.is_none() || off_boundary > 0 {
@@ -233,7 +254,12 @@ fn es_target(gl: &glow::Context, w: i32, h: i32) -> EsTarget {
         gl.renderbuffer_storage(glow::RENDERBUFFER, glow::DEPTH24_STENCIL8, w, h);
         gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
         gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, glow::COLOR_ATTACHMENT0, glow::RENDERBUFFER, Some(color));
-        gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, glow::DEPTH_STENCIL_ATTACHMENT, glow::RENDERBUFFER, Some(depth_stencil));
+        gl.framebuffer_renderbuffer(
+            glow::FRAMEBUFFER,
+            glow::DEPTH_STENCIL_ATTACHMENT,
+            glow::RENDERBUFFER,
+            Some(depth_stencil),
+        );
         assert_eq!(gl.check_framebuffer_status(glow::FRAMEBUFFER), glow::FRAMEBUFFER_COMPLETE);
         gl.viewport(0, 0, w, h);
         EsTarget { fbo, color, depth_stencil }
@@ -254,7 +280,12 @@ fn es_stencil(ctx: &HeadlessContext, mesh: &WeldedMesh, p: &FrameParams) -> Sten
     let depth_clamp = gl.supported_extensions().contains("GL_EXT_depth_clamp");
 
     // Pass 1: depth (and a stencil of 0).
-    let scene_prog = es_program(gl, "es scene", ES_SCENE_VERT, &format!("#version 300 es\nprecision highp float;\nout vec4 o;\nvoid main() {{ o = vec4(0.0); }}\n"));
+    let scene_prog = es_program(
+        gl,
+        "es scene",
+        ES_SCENE_VERT,
+        &format!("#version 300 es\nprecision highp float;\nout vec4 o;\nvoid main() {{ o = vec4(0.0); }}\n"),
+    );
     // SAFETY: as above; buffers sized from the mesh.
     unsafe {
         let vao = gl.create_vertex_array().expect("vao");
@@ -361,11 +392,21 @@ fn shaders_compile_as_glsl_es_300_for_every_max_mult() {
     assert!(ctx.version_string().contains("OpenGL ES"), "{}", ctx.version_string());
     let gl = ctx.gl();
     for max_mult in 1..=MAX_MULT_LIMIT {
-        let p = es_program(gl, "vs-silhouette sides (ES)", &sides_vertex_source(ShaderDialect::Essl300, max_mult), &fragment_source(ShaderDialect::Essl300));
+        let p = es_program(
+            gl,
+            "vs-silhouette sides (ES)",
+            &sides_vertex_source(ShaderDialect::Essl300, max_mult),
+            &fragment_source(ShaderDialect::Essl300),
+        );
         // SAFETY: our program on the current ES context.
         unsafe { gl.delete_program(p) };
     }
-    let p = es_program(gl, "vs-silhouette caps (ES)", &caps_vertex_source(ShaderDialect::Essl300), &fragment_source(ShaderDialect::Essl300));
+    let p = es_program(
+        gl,
+        "vs-silhouette caps (ES)",
+        &caps_vertex_source(ShaderDialect::Essl300),
+        &fragment_source(ShaderDialect::Essl300),
+    );
     // SAFETY: as above.
     unsafe { gl.delete_program(p) };
 }
@@ -381,7 +422,8 @@ fn es3_stencil_equals_the_gl45_stencil() {
         let (gl45, cpu) = {
             let ctx = context();
             let gl45 = stencil_with(&ctx, &mesh, &mut VsSilhouette::new(), &p);
-            let cpu = stencil_with(&ctx, &mesh, umbra_gl::create_method("cpu-silhouette").expect("registered").as_mut(), &p);
+            let cpu =
+                stencil_with(&ctx, &mesh, umbra_gl::create_method("cpu-silhouette").expect("registered").as_mut(), &p);
             assert_same_stencil(&ctx, "vs_gl45_vs_cpu", &cpu, &gl45);
             (gl45, cpu)
         };
@@ -433,56 +475,104 @@ fn sponza_frame_ms() {
         .unwrap_or_else(|e| panic!("{e}"));
     let gl = ctx.gl();
     let light = at([0.61, 0.7, 0.57]);
-    let camera = Camera { eye: at([0.3, 0.45, 0.5]), target: at([0.7, 0.3, 0.5]), near: 1e-3 * b.diagonal() as f64, ..default_camera() };
-    let p = FrameParams { camera, lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]], ..FrameParams::default() };
+    let camera = Camera {
+        eye: at([0.3, 0.45, 0.5]),
+        target: at([0.7, 0.3, 0.5]),
+        near: 1e-3 * b.diagonal() as f64,
+        ..default_camera()
+    };
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
-    let target = umbra_gl::RenderTarget::new(gl, p.width, p.height, umbra_gl::Attachments { world_pos: false, triangle_id: false })
+    // 1280x720 as asked; 128x72 shows the per-method work without the shared fill cost.
+    for (width, height) in [(1280, 720), (128, 72)] {
+        let p = FrameParams {
+            camera,
+            width,
+            height,
+            lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]],
+            ..FrameParams::default()
+        };
+        let target = umbra_gl::RenderTarget::new(
+            gl,
+            p.width,
+            p.height,
+            umbra_gl::Attachments::default(),
+        )
         .expect("target");
-    let mut r = Renderer::new(gl).expect("renderer");
-    println!("Crytek Sponza {} triangles, {}x{}, {}", mesh.triangles.len(), p.width, p.height, ctx.renderer_string());
-    for name in ["none", "cpu-silhouette", "vs-silhouette", "cs-silhouette"] {
-        let mut m = umbra_gl::create_method(name).expect("registered");
-        let fb = umbra_gl::FrameTarget { framebuffer: Some(target.framebuffer()) };
-        let t0 = std::time::Instant::now();
-        r.draw_frame(gl, &scene, m.as_mut(), &p, fb, None).expect("frame");
-        // SAFETY: glFinish on the current context.
-        unsafe { gl.finish() };
-        let first = t0.elapsed().as_secs_f64() * 1e3;
-        let mut times = Vec::new();
-        let mut cpu_ms = 0.0;
-        for i in 0..9 {
-            let (t, c) = (std::time::Instant::now(), process_cpu_ms());
-            r.draw_frame(gl, &scene, m.as_mut(), &p, umbra_gl::FrameTarget { framebuffer: Some(target.framebuffer()) }, None).expect("frame");
-            // SAFETY: as above.
-            unsafe { gl.finish() };
-            if i >= 2 {
-                times.push(t.elapsed().as_secs_f64() * 1e3);
-                cpu_ms += process_cpu_ms() - c;
-            }
-        }
-        let cpu_ms = cpu_ms / 7.0;
-        times.sort_by(f64::total_cmp);
-        let mut hook = umbra_gl::TimestampHook::synchronous();
-        r.draw_frame(gl, &scene, m.as_mut(), &p, umbra_gl::FrameTarget { framebuffer: Some(target.framebuffer()) }, Some(&mut hook))
-            .expect("frame");
-        let stages: Vec<String> = hook
-            .finish(gl)
-            .iter()
-            .map(|s| format!("{}:{} {:.1}", s.mark.source, s.mark.label, s.gpu_ns as f64 / 1e6))
-            .collect();
-        hook.destroy(gl);
+        let mut r = Renderer::new(gl).expect("renderer");
         println!(
-            "{name:16} first {first:8.1} ms, warm median {:7.1} ms (min {:.1}), process CPU {cpu_ms:.1} ms/frame, gpu_bytes {}; stages (ms): {}",
+            "Crytek Sponza {} triangles, {}x{}, {}",
+            mesh.triangles.len(),
+            p.width,
+            p.height,
+            ctx.renderer_string()
+        );
+        for name in ["none", "cpu-silhouette", "vs-silhouette", "cs-silhouette"] {
+            let mut m = umbra_gl::create_method(name).expect("registered");
+            let fb = umbra_gl::FrameTarget { framebuffer: Some(target.framebuffer()) };
+            let t0 = std::time::Instant::now();
+            r.draw_frame(gl, &scene, m.as_mut(), &p, fb, None).expect("frame");
+            // SAFETY: glFinish on the current context.
+            unsafe { gl.finish() };
+            let first = t0.elapsed().as_secs_f64() * 1e3;
+            let mut times = Vec::new();
+            let mut cpu_ms = 0.0;
+            for i in 0..9 {
+                let (t, c) = (std::time::Instant::now(), process_cpu_ms());
+                r.draw_frame(
+                    gl,
+                    &scene,
+                    m.as_mut(),
+                    &p,
+                    umbra_gl::FrameTarget { framebuffer: Some(target.framebuffer()) },
+                    None,
+                )
+                .expect("frame");
+                // SAFETY: as above.
+                unsafe { gl.finish() };
+                if i >= 2 {
+                    times.push(t.elapsed().as_secs_f64() * 1e3);
+                    cpu_ms += process_cpu_ms() - c;
+                }
+            }
+            let cpu_ms = cpu_ms / 7.0;
+            times.sort_by(f64::total_cmp);
+            let mut hook = umbra_gl::TimestampHook::synchronous();
+            r.draw_frame(
+                gl,
+                &scene,
+                m.as_mut(),
+                &p,
+                umbra_gl::FrameTarget { framebuffer: Some(target.framebuffer()) },
+                Some(&mut hook),
+            )
+            .expect("frame");
+            let stages: Vec<String> = hook
+                .finish(gl)
+                .iter()
+                .map(|s| {
+                    format!(
+                        "{}:{} {:.1}/{:.1}",
+                        s.mark.source,
+                        s.mark.label,
+                        s.gpu_ns as f64 / 1e6,
+                        s.cpu_ns as f64 / 1e6
+                    )
+                })
+                .collect();
+            hook.destroy(gl);
+            println!(
+            "{name:16} first {first:8.1} ms, warm median {:7.1} ms (min {:.1}), process CPU {cpu_ms:.1} ms/frame, gpu_bytes {}; stages (gpu/wall ms): {}",
             times[times.len() / 2],
             times[0],
             m.gpu_bytes(),
             stages.join(", ")
         );
-        m.destroy(gl);
+            m.destroy(gl);
+        }
+        r.destroy(gl);
+        target.destroy(gl);
     }
     let l = plan_layout(&EdgeAdjacency::build(&mesh), mesh.triangles.len(), MAX_MULT_LIMIT);
     println!("vs-silhouette layout: {l:?}; max opposites {}", EdgeAdjacency::build(&mesh).max_opposites());
-    r.destroy(gl);
-    target.destroy(gl);
     scene.destroy(gl);
 }

@@ -10,10 +10,11 @@
 //! Frame protocol, per light, as run by [`crate::Renderer`]:
 //! 1. the stencil is cleared to 0 (write mask 0xFF);
 //! 2. [`ShadowMethod::draw_volumes`] — the method applies its own [`crate::GlState`] for every
-//!    draw (for counting methods [`crate::GlState::shadow_volume`]), may bind its own
+//!    draw (for counting methods [`VolumeFrame::shadow_volume_state`]), may bind its own
 //!    programs, vertex arrays, buffers, and even other framebuffers/viewports (shadow maps);
 //!    the renderer re-binds its target, program and vertex array afterwards;
-//! 3. the lighting pass, restricted by [`ShadowMethod::classification`].
+//! 3. the lighting pass, restricted by [`ShadowMethod::classification`] and by the facing of
+//!    the seen side towards the light (see [`Classification`]).
 //!
 //! Stage boundaries are reported through [`VolumeFrame::mark`] so a benchmark can time them
 //! ([`crate::TimestampHook`]).
@@ -21,6 +22,7 @@
 use glam::DMat4;
 use umbra_geom::Light;
 
+use crate::camera::DepthConvention;
 use crate::error::GlError;
 use crate::scene::{SceneGpu, SceneId};
 
@@ -34,6 +36,14 @@ pub mod ts_silhouette;
 pub mod shadow_map;
 
 /// How the lighting pass decides that a pixel is lit for the current light.
+///
+/// Whatever the classification, the renderer's final decision for a pixel and light ("lit":
+/// it receives that light's diffuse and specular) is: the classification passes AND the side
+/// of the triangle the camera sees faces the light (two-sided lighting, `gl_FrontFacing` and
+/// the flat triangle normal). That decision is what the image shows and what
+/// [`crate::CaptureFlags::lit_mask`] reads back; the verifier compares it with the
+/// ray-traced reference. The stencil alone is not that decision: where the seen side faces
+/// away from the light, the stencil value does not matter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Classification {
     /// Lit where the stencil is 0 (counting methods; glStencilFunc(EQUAL, 0, 0xFF)).
@@ -61,8 +71,15 @@ pub trait StageHook {
 }
 
 /// What a method gets for one light of one frame.
+///
+/// The frame's depth convention ([`VolumeFrame::depth_convention`]) is already applied: the
+/// renderer has set glClipControl for it, `clip_from_world` is built in it, and
+/// [`VolumeFrame::far_clip_z`] / [`VolumeFrame::shadow_volume_state`] follow it. A method that
+/// uses those two (never literals for the far plane or the depth function) works under every
+/// convention without knowing which one is active.
 pub struct VolumeFrame<'a> {
-    /// Camera clip space from world space, infinite far plane (f64; upload as f32).
+    /// Camera clip space from world space, infinite far plane, in the frame's depth
+    /// convention (f64; upload as f32).
     pub clip_from_world: DMat4,
     /// Eye position in world space.
     pub eye: [f64; 3],
@@ -77,6 +94,7 @@ pub struct VolumeFrame<'a> {
     /// The framebuffer the frame renders into (None = default framebuffer): a method that
     /// renders elsewhere (shadow maps) must bind this one back before drawing to the stencil.
     pub target_framebuffer: Option<glow::Framebuffer>,
+    pub(crate) depth_convention: DepthConvention,
     pub(crate) source: &'static str,
     pub(crate) hook: Option<&'a mut dyn StageHook>,
 }
@@ -90,18 +108,27 @@ impl VolumeFrame<'_> {
         }
     }
 
+    /// The frame's depth convention (Standard or reversed-Z). Methods rarely need it: use
+    /// [`VolumeFrame::far_clip_z`] and [`VolumeFrame::shadow_volume_state`]. A method that
+    /// renders its own depth (shadow maps) into its own target may change glClipControl for
+    /// that pass but must set it back for this convention before drawing to the frame's target.
+    pub fn depth_convention(&self) -> DepthConvention {
+        self.depth_convention
+    }
+
     /// The clip-space z, as a multiple of clip w, of the far plane: light caps are pushed there
     /// (paper 003, Eq. 6: `z = far_clip_z * w`). Shaders get it as the uniform `u_far_clip_z`
-    /// (see methods/shared/depth.glsl); it is 1 with the standard depth range and would be 0
-    /// with a reversed depth range. Always use this, never a literal.
+    /// (see methods/shared/depth.glsl): 1 under [`DepthConvention::Standard`] (depth 1), 0
+    /// under [`DepthConvention::ReversedZ`] (depth exactly 0). Always use this, never a literal.
     pub fn far_clip_z(&self) -> f32 {
-        1.0
+        self.depth_convention.far_clip_z()
     }
 
     /// The GL state of a counting stencil pass (z-fail or z-pass per [`VolumeFrame::zpass`])
-    /// for this frame's depth convention. Counting methods apply exactly this.
+    /// for this frame's depth convention ([`crate::GlState::shadow_volume_for`]: depth func
+    /// LESS under Standard, GREATER under ReversedZ). Counting methods apply exactly this.
     pub fn shadow_volume_state(&self) -> crate::GlState {
-        crate::GlState::shadow_volume(self.zpass)
+        crate::GlState::shadow_volume_for(self.zpass, self.depth_convention)
     }
 
     /// `clip_from_world` as column-major f32 for glUniformMatrix4fv.

@@ -1,11 +1,18 @@
 // Pass 3 of the stencil shadow-volume frame (Heidmann 1991; Everitt & Kilgard 2002 §2), run
-// once per light where the stencil test says "lit" (stencil == 0 for the counting methods),
-// added onto the colour buffer (blend ONE, ONE) with depth func EQUAL.
+// once per light where the method's classification says "lit" (stencil == 0 for the counting
+// methods, the method's stencil test, or umbra_lit), added onto the colour buffer (blend ONE,
+// ONE) with depth func EQUAL.
 // Shading: Lambert diffuse + Blinn-Phong specular, TWO-SIDED: the flat triangle normal is
-// flipped to face the camera, so a surface whose visible side faces away from the light gets
-// neither diffuse nor specular (matches the shadow volumes, which treat that side as shadowed).
+// flipped to the side the camera sees, so a surface whose seen side faces away from the light
+// gets neither diffuse nor specular (matches the shadow volumes and the reference, which treat
+// that side as shadowed).
 // Light in homogeneous coordinates: L = normalize(light.xyz - p * light.w) covers point
 // (w = 1) and directional (w = 0, light comes FROM light.xyz) lights alike.
+//
+// Lit mask (location 3, an R8 attachment cleared to 0 before this light's pass, present only
+// when captured): 1 where this fragment receives the light, i.e. the classification passed
+// (else the fragment never gets here) AND the seen side faces the light — the SAME facing
+// test that gates the diffuse term below, so the mask and the image agree by construction.
 #version 450 core
 
 in vec3 v_world_pos;
@@ -23,6 +30,7 @@ uniform float u_specular;
 uniform float u_shininess;
 
 layout(location = 0) out vec4 o_color;
+layout(location = 3) out vec4 o_lit;
 
 #ifdef UMBRA_CUSTOM_LIT
 // Provided by the shadow method (Classification::Shader), appended after this file.
@@ -35,20 +43,26 @@ void main() {
         discard;
     }
 #endif
+    // Two-sided: the normal of the side the camera sees. The stored normal is that of the
+    // counter-clockwise winding (glFrontFace(CCW)), so gl_FrontFacing says exactly which side
+    // the rasterizer saw — decided from the same clip-space vertices that decided coverage,
+    // not from an interpolated view vector that can disagree on near-edge-on triangles.
     vec3 n = triangle_normals[gl_PrimitiveID].xyz;
-    vec3 v = normalize(u_eye - v_world_pos);
-    // Two-sided: the normal of the side the camera sees.
-    if (dot(n, v) < 0.0) {
+    if (!gl_FrontFacing) {
         n = -n;
     }
+    vec3 v = normalize(u_eye - v_world_pos);
     vec3 l = normalize(u_light.xyz - v_world_pos * u_light.w);
     float n_dot_l = dot(n, l);
+    // The seen side faces the light (a zero-area triangle has n = 0 and never does).
+    bool faces_light = n_dot_l > 0.0;
     vec3 color = vec3(0.0);
-    if (n_dot_l > 0.0) {
+    if (faces_light) {
         vec3 h = normalize(l + v);
         float spec = pow(max(dot(n, h), 0.0), u_shininess);
         color = u_light_color * (u_albedo * n_dot_l + vec3(u_specular * spec));
     }
     // Alpha 0: pass 1 wrote coverage alpha 1, the additive blend keeps it.
     o_color = vec4(color, 0.0);
+    o_lit = vec4(faces_light ? 1.0 : 0.0);
 }

@@ -11,7 +11,8 @@
 //! Per light per frame: extract into a reused [`VolumeGeometry`] (its Vecs keep their
 //! capacity), orphan the vertex buffer with glNamedBufferData (grown geometrically, never
 //! shrunk) and upload sides | dark caps | light caps with glNamedBufferSubData, then three
-//! draws with [`GlState::shadow_volume`].
+//! draws with [`VolumeFrame::shadow_volume_state`] (the frame's depth convention; light caps
+//! pushed to [`VolumeFrame::far_clip_z`]).
 //!
 //! Stages reported: "silhouette" (CPU extraction), "upload", "sides", "caps".
 
@@ -22,17 +23,19 @@ use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{checked_size, SceneGpu, SceneId};
-use crate::state::GlState;
 
 pub const NAME: &str = "cpu-silhouette";
 
 const VERT: &str = include_str!("volume.vert.glsl");
 const FRAG: &str = include_str!("volume.frag.glsl");
+/// `umbra_push_to_far` and `u_far_clip_z` (paper 003 Eq. 6 in either depth convention).
+const DEPTH_GLSL: &str = include_str!("../shared/depth.glsl");
 
 struct Gpu {
     program: glow::Program,
     u_clip_from_world: Option<glow::UniformLocation>,
     u_push_to_far: Option<glow::UniformLocation>,
+    u_far_clip_z: Option<glow::UniformLocation>,
     vao: glow::VertexArray,
     buffer: glow::Buffer,
     capacity: usize,
@@ -75,10 +78,11 @@ impl ShadowMethod for CpuSilhouette {
         // Preprocessing once per mesh: the adjacency (cached on the scene).
         scene.adjacency();
         if self.gpu.is_none() {
+            let vert = format!("#version 450 core\n{DEPTH_GLSL}\n{VERT}");
             let program = link_program(
                 gl,
                 "cpu-silhouette volume",
-                &[ShaderSource::vertex("cpu_silhouette/volume.vert.glsl", VERT), ShaderSource::fragment("cpu_silhouette/volume.frag.glsl", FRAG)],
+                &[ShaderSource::vertex("cpu_silhouette/volume.vert.glsl", &vert), ShaderSource::fragment("cpu_silhouette/volume.frag.glsl", FRAG)],
                 &[],
             )?;
             // SAFETY: DSA creation on the current context; the program is deleted if a later
@@ -106,6 +110,7 @@ impl ShadowMethod for CpuSilhouette {
                 self.gpu = Some(Gpu {
                     u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
                     u_push_to_far: uniform(gl, program, "u_push_to_far"),
+                    u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
                     program,
                     vao,
                     buffer,
@@ -158,8 +163,9 @@ impl ShadowMethod for CpuSilhouette {
         }
 
         // Counting state: z-fail or z-pass two-sided stencil, depth clamp, no colour/depth
-        // writes; the reason for every field is in GlState::shadow_volume.
-        GlState::shadow_volume(frame.zpass).apply(gl);
+        // writes, depth func of the frame's convention; the reason for every field is in
+        // GlState::shadow_volume_for.
+        frame.shadow_volume_state().apply(gl);
         let (sides, dark, light) = (g.sides.len() as i32, g.dark_caps.len() as i32, g.light_caps.len() as i32);
         // SAFETY: our program and VAO; draw ranges lie within the uploaded vertices.
         unsafe {
@@ -167,6 +173,7 @@ impl ShadowMethod for CpuSilhouette {
             gl.bind_vertex_array(Some(gpu.vao));
             gl.uniform_matrix_4_f32_slice(gpu.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_1_i32(gpu.u_push_to_far.as_ref(), 0);
+            gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
             frame.mark(gl, "sides");
             if sides > 0 {
                 gl.draw_arrays(glow::TRIANGLES, 0, sides);

@@ -5,8 +5,8 @@
 //
 // One invocation per triangle: an edge-on triangle (orientation 0) gets no cap (its edges'
 // sides cancel as well); every other triangle writes its three vertex indices wound to face
-// the light. Compaction as in sides.comp.glsl: shared-memory sum per workgroup, one atomicAdd
-// on the caps draw command's vertex count (u_vertices_per_cap per cap).
+// the light. Compaction as in sides.comp.glsl: one atomicAdd per cap on the caps draw
+// command's vertex count (u_vertices_per_cap per cap).
 
 layout(local_size_x = 256) in;
 
@@ -28,44 +28,24 @@ uniform uint u_triangle_count;
 // 6 (light cap + dark cap) for a point light, 3 (light cap only) for a directional light.
 uniform uint u_vertices_per_cap;
 
-shared uint s_caps;
-shared uint s_base;
-
 vec3 umbra_position(uint i) {
     return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
 }
 
 void main() {
     uint t = u_first_triangle + gl_GlobalInvocationID.x;
-    if (gl_LocalInvocationIndex == 0u) {
-        s_caps = 0u;
+    if (t >= u_triangle_count) {
+        return;
     }
-    memoryBarrierShared();
-    barrier();
-
-    int orientation = 0;
-    uvec3 tri = uvec3(0u);
-    if (t < u_triangle_count) {
-        tri = uvec3(indices[3u * t], indices[3u * t + 1u], indices[3u * t + 2u]);
-        orientation = umbra_triangle_orientation(umbra_position(tri.x), umbra_position(tri.y), umbra_position(tri.z), u_light);
+    uvec3 tri = uvec3(indices[3u * t], indices[3u * t + 1u], indices[3u * t + 2u]);
+    int orientation = umbra_triangle_orientation(umbra_position(tri.x), umbra_position(tri.y), umbra_position(tri.z), u_light);
+    if (orientation == 0) {
+        return;
     }
-    uint local_offset = 0u;
-    if (orientation != 0) {
-        local_offset = atomicAdd(s_caps, 1u);
-    }
-    memoryBarrierShared();
-    barrier();
-    if (gl_LocalInvocationIndex == 0u && s_caps > 0u) {
-        s_base = atomicAdd(cmd.count, u_vertices_per_cap * s_caps) / u_vertices_per_cap;
-    }
-    memoryBarrierShared();
-    barrier();
-    if (orientation != 0) {
-        // Facing away: swap two vertices (paper 003 Alg. 2, lines 5-6; cpu-silhouette's order).
-        uvec3 wound = orientation > 0 ? tri : tri.xzy;
-        uint slot = 3u * (s_base + local_offset);
-        caps[slot] = wound.x;
-        caps[slot + 1u] = wound.y;
-        caps[slot + 2u] = wound.z;
-    }
+    // Facing away: swap two vertices (paper 003 Alg. 2, lines 5-6; cpu-silhouette's order).
+    uvec3 wound = orientation > 0 ? tri : tri.xzy;
+    uint slot = 3u * (atomicAdd(cmd.count, u_vertices_per_cap) / u_vertices_per_cap);
+    caps[slot] = wound.x;
+    caps[slot + 1u] = wound.y;
+    caps[slot + 2u] = wound.z;
 }

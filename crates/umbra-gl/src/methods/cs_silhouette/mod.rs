@@ -177,11 +177,19 @@ impl CsSilhouette {
         let specs: [(&str, Vec<ShaderSource<'_>>); 4] = [
             (
                 "cs-silhouette sides compute",
-                vec![ShaderSource { stage: glow::COMPUTE_SHADER, name: "cs_silhouette/sides.comp.glsl", source: &sides_comp_src }],
+                vec![ShaderSource {
+                    stage: glow::COMPUTE_SHADER,
+                    name: "cs_silhouette/sides.comp.glsl",
+                    source: &sides_comp_src,
+                }],
             ),
             (
                 "cs-silhouette caps compute",
-                vec![ShaderSource { stage: glow::COMPUTE_SHADER, name: "cs_silhouette/caps.comp.glsl", source: &caps_comp_src }],
+                vec![ShaderSource {
+                    stage: glow::COMPUTE_SHADER,
+                    name: "cs_silhouette/caps.comp.glsl",
+                    source: &caps_comp_src,
+                }],
             ),
             (
                 "cs-silhouette sides",
@@ -248,7 +256,10 @@ impl ShadowMethod for CsSilhouette {
         let adj = scene.adjacency();
         // SAFETY: plain limit queries on the current context.
         let (vertex_blocks, max_groups) = unsafe {
-            (gl.get_parameter_i32(glow::MAX_VERTEX_SHADER_STORAGE_BLOCKS), gl.get_parameter_indexed_i32(glow::MAX_COMPUTE_WORK_GROUP_COUNT, 0))
+            (
+                gl.get_parameter_i32(glow::MAX_VERTEX_SHADER_STORAGE_BLOCKS),
+                gl.get_parameter_indexed_i32(glow::MAX_COMPUTE_WORK_GROUP_COUNT, 0),
+            )
         };
         if vertex_blocks < 2 {
             return Err(GlError::InvalidParams(format!(
@@ -281,7 +292,13 @@ impl ShadowMethod for CsSilhouette {
         unsafe {
             let mut buffers = Vec::new();
             let mut failure = None;
-            for what in ["cs-silhouette edges", "cs-silhouette opposites", "cs-silhouette quads", "cs-silhouette caps", "cs-silhouette commands"] {
+            for what in [
+                "cs-silhouette edges",
+                "cs-silhouette opposites",
+                "cs-silhouette quads",
+                "cs-silhouette caps",
+                "cs-silhouette commands",
+            ] {
                 match gl.create_named_buffer() {
                     Ok(b) => buffers.push(b),
                     Err(detail) => {
@@ -309,7 +326,8 @@ impl ShadowMethod for CsSilhouette {
                     return Err(e);
                 }
             };
-            let [edges, opposites, quads, caps, commands] = [buffers[0], buffers[1], buffers[2], buffers[3], buffers[4]];
+            let [edges, opposites, quads, caps, commands] =
+                [buffers[0], buffers[1], buffers[2], buffers[3], buffers[4]];
             // Read-only inputs: STATIC_DRAW (uploaded once, read by every frame).
             gl.named_buffer_data_u8_slice(edges, u32_bytes(&edge_words), glow::STATIC_DRAW);
             gl.named_buffer_data_u8_slice(opposites, u32_bytes(&adj.opposites), glow::STATIC_DRAW);
@@ -317,17 +335,7 @@ impl ShadowMethod for CsSilhouette {
             gl.named_buffer_data_size(quads, quad_bytes, glow::DYNAMIC_COPY);
             gl.named_buffer_data_size(caps, cap_bytes, glow::DYNAMIC_COPY);
             gl.named_buffer_data_size(commands, (2 * COMMAND_BYTES) as i32, glow::DYNAMIC_COPY);
-            self.gpu = Some(Gpu {
-                programs,
-                empty_vao,
-                edges,
-                opposites,
-                quads,
-                caps,
-                commands,
-                layout,
-                max_groups,
-            });
+            self.gpu = Some(Gpu { programs, empty_vao, edges, opposites, quads, caps, commands, layout, max_groups });
         }
         self.prepared = Some(scene.id());
         Ok(())
@@ -337,7 +345,12 @@ impl ShadowMethod for CsSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         let g = self
             .gpu
             .as_ref()
@@ -375,7 +388,13 @@ impl ShadowMethod for CsSilhouette {
                 gl.uniform_1_u32(uniform(gl, p.sides_comp, "u_edge_count").as_ref(), l.edges as u32);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, EDGES, Some(g.edges));
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, OPPOSITES, Some(g.opposites));
-                gl.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, SIDES_COMMAND, Some(g.commands), 0, COMMAND_BYTES as i32);
+                gl.bind_buffer_range(
+                    glow::SHADER_STORAGE_BUFFER,
+                    SIDES_COMMAND,
+                    Some(g.commands),
+                    0,
+                    COMMAND_BYTES as i32,
+                );
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUADS, Some(g.quads));
                 Self::dispatch(gl, p.sides_comp, "u_first_edge", l.edges, g.max_groups);
             }
@@ -390,7 +409,13 @@ impl ShadowMethod for CsSilhouette {
                 gl.uniform_1_u32(uniform(gl, p.caps_comp, "u_triangle_count").as_ref(), l.triangles as u32);
                 gl.uniform_1_u32(uniform(gl, p.caps_comp, "u_vertices_per_cap").as_ref(), vertices_per_cap);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, INDICES, Some(scene.index_buffer()));
-                gl.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, CAPS_COMMAND, Some(g.commands), COMMAND_BYTES as i32, COMMAND_BYTES as i32);
+                gl.bind_buffer_range(
+                    glow::SHADER_STORAGE_BUFFER,
+                    CAPS_COMMAND,
+                    Some(g.commands),
+                    COMMAND_BYTES as i32,
+                    COMMAND_BYTES as i32,
+                );
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, CAPS, Some(g.caps));
                 Self::dispatch(gl, p.caps_comp, "u_first_triangle", l.triangles, g.max_groups);
             }

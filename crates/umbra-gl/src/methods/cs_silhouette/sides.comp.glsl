@@ -5,10 +5,11 @@
 // vertex shader that draws the result (sides.vert.glsl). Any multiplicity: an edge with
 // multiplicity m writes |m| quad records (no 3-bit packing as in the authors' version).
 //
-// One invocation per edge. Compaction: the workgroup sums its quads in shared memory, one
-// invocation reserves that many slots with ONE atomicAdd on the indirect draw command's vertex
-// count (6 vertices per quad), and every invocation writes its quads at its offset. The
-// output order across workgroups is whatever the atomics give; the stencil counts
+// One invocation per edge. Compaction: an edge with m != 0 (a small fraction of all edges)
+// reserves its |m| slots with one atomicAdd on the indirect draw command's vertex count (the
+// atomic counter, 6 vertices per quad) and writes its quads there. No shared memory and no
+// barrier() (a workgroup-level reservation was slower on llvmpipe, which runs barrier() by
+// switching coroutines). The output order is whatever the atomics give; the stencil counts
 // (INCR_WRAP / DECR_WRAP) are order-independent, so the image is deterministic anyway.
 // Prepended by the Rust side: "#version 450 core", multiplicity.glsl.
 
@@ -34,47 +35,29 @@ uniform vec4 u_light;
 uniform uint u_first_edge;  // several dispatches when the edges exceed one dispatch's groups
 uniform uint u_edge_count;
 
-shared uint s_quads;  // quads of this workgroup
-shared uint s_base;   // first quad slot of this workgroup
-
 vec3 umbra_position(uint i) {
     return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
 }
 
 void main() {
     uint e = u_first_edge + gl_GlobalInvocationID.x;
-    if (gl_LocalInvocationIndex == 0u) {
-        s_quads = 0u;
+    if (e >= u_edge_count) {
+        return;
     }
-    memoryBarrierShared();
-    barrier();
-
+    uvec4 edge = edges[e];
+    vec3 a = umbra_position(edge.x);
+    vec3 b = umbra_position(edge.y);
     int m = 0;
-    uvec4 edge = uvec4(0u);
-    if (e < u_edge_count) {
-        edge = edges[e];
-        vec3 a = umbra_position(edge.x);
-        vec3 b = umbra_position(edge.y);
-        for (uint k = 0u; k < edge.w; ++k) {
-            m += umbra_opposite_contribution(a, b, umbra_position(opposites[edge.z + k]), u_light);
-        }
+    for (uint k = 0u; k < edge.w; ++k) {
+        m += umbra_opposite_contribution(a, b, umbra_position(opposites[edge.z + k]), u_light);
+    }
+    if (m == 0) {
+        return;
     }
     uint n = uint(abs(m));
-    uint local_offset = 0u;
-    if (n > 0u) {
-        local_offset = atomicAdd(s_quads, n);
-    }
-    memoryBarrierShared();
-    barrier();
-    if (gl_LocalInvocationIndex == 0u && s_quads > 0u) {
-        s_base = atomicAdd(cmd.count, 6u * s_quads) / 6u;
-    }
-    memoryBarrierShared();
-    barrier();
-    if (n > 0u) {
-        uvec2 q = m > 0 ? edge.xy : edge.yx;
-        for (uint k = 0u; k < n; ++k) {
-            quads[s_base + local_offset + k] = q;
-        }
+    uint first = atomicAdd(cmd.count, 6u * n) / 6u;
+    uvec2 q = m > 0 ? edge.xy : edge.yx;
+    for (uint k = 0u; k < n; ++k) {
+        quads[first + k] = q;
     }
 }

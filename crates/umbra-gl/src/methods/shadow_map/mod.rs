@@ -16,9 +16,11 @@
 //! relative precision everywhere: cube faces store `n / d` (`d` = distance along the face's
 //! axis, infinite far plane, near `n` = 1e-3 of the scene diagonal); the directional map stores
 //! `(h - h_min) / (h_max - h_min)`, `h` = position along the direction towards the light. The
-//! projection matrices produce exactly these window depths whatever the context's
-//! GL_CLIP_DEPTH_MODE (queried per draw; the renderer may use glClipControl), and the pass sets
-//! glDepthRange(0, 1) and restores the caller's range.
+//! projection matrices produce exactly these window depths under the frame's glClipControl
+//! depth mode ([`VolumeFrame::depth_convention`]: ZERO_TO_ONE under reversed-Z, where `n / d`
+//! keeps full float precision; NEGATIVE_ONE_TO_ONE under the standard convention, where GL's
+//! `(z / w + 1) / 2` rounds it to ~2^-24 absolute), and the pass sets glDepthRange(0, 1) and
+//! restores the caller's range.
 //!
 //! Bias: constant + slope-scaled, applied while rendering the map with glPolygonOffset
 //! (`-bias_slope`, `-bias_constant`: negative because reversed depth moves away from the light
@@ -428,12 +430,6 @@ impl ShadowMapCube {
     }
 }
 
-/// glClipControl's depth mode of the current context (GL_CLIP_DEPTH_MODE, GL 4.5).
-fn clip_zero_to_one(gl: &glow::Context) -> bool {
-    // SAFETY: plain integer query on the current context.
-    unsafe { gl.get_parameter_i32(glow::CLIP_DEPTH_MODE) as u32 == glow::ZERO_TO_ONE }
-}
-
 impl ShadowMethod for ShadowMapCube {
     fn name(&self) -> &'static str {
         self.name
@@ -507,7 +503,9 @@ impl ShadowMethod for ShadowMapCube {
         let programs = self.programs.as_ref().ok_or_else(|| GlError::InvalidParams(format!("{}: draw before prepare", self.name)))?;
         let map = if point { self.cube.as_ref() } else { self.map2d.as_ref() }
             .ok_or_else(|| GlError::InvalidParams("shadow map missing".into()))?;
-        let zero_to_one = clip_zero_to_one(gl);
+        // The frame's glClipControl depth mode is in force for this pass too (we leave it as
+        // it is); the matrices produce the same window depths under either mode.
+        let zero_to_one = frame.depth_convention().clip_depth_mode() == glow::ZERO_TO_ONE;
         let res = self.config.resolution as i32;
         let mut saved_range = [0.0f32; 2];
         // SAFETY: query of the depth range on the current context.

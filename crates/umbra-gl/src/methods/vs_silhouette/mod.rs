@@ -204,7 +204,8 @@ fn instanced_vec4_buffer(
 ) -> Result<(glow::Buffer, glow::VertexArray), GlError> {
     let bytes = as_bytes(data);
     crate::scene::checked_size(bytes.len(), what)?;
-    let stride = i32::try_from(16 * stride_vec4s).map_err(|_| GlError::InvalidParams(format!("{what}: stride too large")))?;
+    let stride =
+        i32::try_from(16 * stride_vec4s).map_err(|_| GlError::InvalidParams(format!("{what}: stride too large")))?;
     // SAFETY: object creation and uploads on the current context; `bytes` outlives the call;
     // every attribute offset lies inside the stride.
     unsafe {
@@ -296,15 +297,20 @@ impl VsSilhouette {
             &sides_vertex_source(dialect, layout.max_mult),
             &fragment_source(dialect),
         )?;
-        let caps_prog =
-            match Program::link(gl, "vs-silhouette caps", "vs_silhouette/caps.vert.glsl", &caps_vertex_source(dialect), &fragment_source(dialect)) {
-                Ok(p) => p,
-                Err(e) => {
-                    // SAFETY: our own program, not used afterwards.
-                    unsafe { gl.delete_program(sides_prog.program) };
-                    return Err(e);
-                }
-            };
+        let caps_prog = match Program::link(
+            gl,
+            "vs-silhouette caps",
+            "vs_silhouette/caps.vert.glsl",
+            &caps_vertex_source(dialect),
+            &fragment_source(dialect),
+        ) {
+            Ok(p) => p,
+            Err(e) => {
+                // SAFETY: our own program, not used afterwards.
+                unsafe { gl.delete_program(sides_prog.program) };
+                return Err(e);
+            }
+        };
         let delete_programs = || {
             // SAFETY: our own programs, not used afterwards.
             unsafe {
@@ -312,13 +318,14 @@ impl VsSilhouette {
                 gl.delete_program(caps_prog.program);
             }
         };
-        let (sides_buffer, sides_vao) = match instanced_vec4_buffer(gl, "vs-silhouette sides-data", &sides.data, sides.stride()) {
-            Ok(x) => x,
-            Err(e) => {
-                delete_programs();
-                return Err(e);
-            }
-        };
+        let (sides_buffer, sides_vao) =
+            match instanced_vec4_buffer(gl, "vs-silhouette sides-data", &sides.data, sides.stride()) {
+                Ok(x) => x,
+                Err(e) => {
+                    delete_programs();
+                    return Err(e);
+                }
+            };
         let (caps_buffer, caps_vao) = match instanced_vec4_buffer(gl, "vs-silhouette caps-data", &caps, 3) {
             Ok(x) => x,
             Err(e) => {
@@ -331,7 +338,8 @@ impl VsSilhouette {
                 return Err(e);
             }
         };
-        self.gpu = Some(Gpu { sides: sides_prog, caps: caps_prog, sides_vao, caps_vao, sides_buffer, caps_buffer, layout });
+        self.gpu =
+            Some(Gpu { sides: sides_prog, caps: caps_prog, sides_vao, caps_vao, sides_buffer, caps_buffer, layout });
         Ok(())
     }
 
@@ -343,10 +351,7 @@ impl VsSilhouette {
         d: &VolumeDraw,
         mark: &mut dyn FnMut(&glow::Context, &'static str),
     ) -> Result<(), GlError> {
-        let g = self
-            .gpu
-            .as_ref()
-            .ok_or_else(|| GlError::InvalidParams("vs-silhouette: draw before prepare".into()))?;
+        let g = self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("vs-silhouette: draw before prepare".into()))?;
         let l = g.layout;
         // Counting state (z-fail or z-pass), reasons per field in GlState::shadow_volume.
         d.state.apply(gl);
@@ -402,7 +407,12 @@ impl ShadowMethod for VsSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, _scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        _scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         let d = VolumeDraw {
             clip_from_world: frame.clip_from_world_f32(),
             light: frame.light,

@@ -1,0 +1,89 @@
+// gs-triangle: the shadow volume of every triangle, built in a geometry shader.
+//
+// Paper 001 (Milet, Kobrtek, Zemcik): Section 2.1 (per-triangle volumes; Section 3 compares
+// the two-pass tessellation method against "a similar geometry shader implementation" - this
+// one), Section 2.2-2.3 (orientation through the reference edge, Alg. 2-4, shared with caps:
+// umbra_triangle_orientation), Eq. 2 (extrusion, umbra_extrude). Light caps pushed to the far
+// plane: paper 003, Eq. 6 (umbra_push_to_far).
+//
+// Stage reason: one invocation per scene triangle sees the whole triangle and can emit its
+// complete closed volume: 3 side quads + light cap + dark cap (at most 8 triangles, 24
+// vertices, far below MAX_GEOMETRY_OUTPUT_VERTICES and its component limit).
+//
+// Every primitive is emitted as its own 3-vertex strip, so the rasterizer receives exactly the
+// vertex order written here. Side quads use the canonical per-edge form of vs-triangle (see
+// vs_triangle/volume.vert.glsl): with A < B in umbra_greater order, traversing A -> B emits
+// (B, A, A_inf) (B, A_inf, B_inf), traversing B -> A emits the same two triangles with their
+// first two vertices swapped; the sides two light-facing neighbours put on their shared edge
+// then cancel exactly.
+
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 24) out;
+
+in vec3 v_world[];
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+// z-fail needs the caps; z-pass does not (they could only ever fail the depth test).
+uniform bool u_caps;
+
+// Same expression as the scene vertex shader for w = 1 vertices.
+invariant gl_Position;
+
+void umbra_emit(vec4 world, bool push_to_far) {
+    vec4 clip = u_clip_from_world * world;
+    gl_Position = push_to_far ? umbra_push_to_far(clip) : clip;
+    EmitVertex();
+}
+
+void umbra_triangle(vec4 a, vec4 b, vec4 c, bool push_to_far) {
+    umbra_emit(a, push_to_far);
+    umbra_emit(b, push_to_far);
+    umbra_emit(c, push_to_far);
+    EndPrimitive();
+}
+
+// The side quad of edge p -> q of the light-facing winding, in canonical form.
+void umbra_side(vec3 p, vec3 q) {
+    bool forward = umbra_greater(p, q) < 0;
+    vec3 a = forward ? p : q;
+    vec3 b = forward ? q : p;
+    vec4 A = vec4(a, 1.0);
+    vec4 B = vec4(b, 1.0);
+    vec4 A_inf = umbra_extrude(a, u_light);
+    vec4 B_inf = umbra_extrude(b, u_light);
+    if (forward) {
+        umbra_triangle(B, A, A_inf, false);
+        umbra_triangle(B, A_inf, B_inf, false);
+    } else {
+        umbra_triangle(A, B, A_inf, false);
+        umbra_triangle(A_inf, B, B_inf, false);
+    }
+}
+
+void main() {
+    vec3 p0 = v_world[0];
+    vec3 p1 = v_world[1];
+    vec3 p2 = v_world[2];
+    int o = umbra_triangle_orientation(p0, p1, p2, u_light);
+    if (o == 0) {
+        return; // edge-on or degenerate: casts nothing
+    }
+    if (o < 0) {
+        vec3 s = p1;
+        p1 = p2;
+        p2 = s;
+    }
+    umbra_side(p0, p1);
+    umbra_side(p1, p2);
+    umbra_side(p2, p0);
+    if (u_caps) {
+        // Light cap: the triangle itself, facing the light, at the far plane.
+        umbra_triangle(vec4(p0, 1.0), vec4(p1, 1.0), vec4(p2, 1.0), true);
+        if (u_light.w != 0.0) {
+            // Dark cap at infinity, reversed (faces away from the light); zero area for a
+            // directional light, so skipped there.
+            umbra_triangle(umbra_extrude(p0, u_light), umbra_extrude(p2, u_light), umbra_extrude(p1, u_light), false);
+        }
+    }
+}
