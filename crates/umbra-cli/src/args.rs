@@ -163,7 +163,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub max_input_bytes: Option<u64>,
     /// Shadow-map bias: constant C [, slope-scaled S] (glPolygonOffset units, factor).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub sm_bias: Option<String>,
     /// Shadow maps: 3x3 percentage-closer filtering (majority vote).
     #[arg(long)]

@@ -648,6 +648,28 @@ mod tests {
     }
 
     #[test]
+    fn stage_times_pair_each_mark_with_its_flush_and_sum_lights() {
+        let t = |source: &'static str, label: &'static str, light, gpu_ns| StageTiming {
+            mark: StageMark { source, label, light },
+            gpu_ns,
+            cpu_ns: gpu_ns + 1,
+        };
+        let timings = [
+            t("renderer", "depth", None, 1_000_000),
+            t("bench", "flush", None, 500_000),
+            t("renderer", "lighting", Some(0), 2_000_000),
+            t("bench", "flush", Some(0), 0),
+            t("renderer", "lighting", Some(1), 3_000_000),
+            t("bench", "flush", Some(1), 1_000_000),
+            t("renderer", "end", None, 7),
+        ];
+        let s = stage_times(&timings);
+        let names: Vec<&str> = s.iter().map(|(n, _, _)| n.as_str()).collect();
+        assert_eq!(names, ["depth+ambient", "lighting"], "end dropped, lights summed");
+        assert!((s[0].1 - 1.5).abs() < 1e-12 && (s[1].1 - 6.0).abs() < 1e-12, "{s:?}");
+    }
+
+    #[test]
     fn percentiles() {
         let st = MethodStats { frame_ms: vec![5.0, 1.0, 3.0, 2.0, 4.0], ..Default::default() };
         assert_eq!(st.mean(), Some(3.0));

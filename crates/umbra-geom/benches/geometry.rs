@@ -102,7 +102,7 @@ fn configure(group: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>) {
         .sample_size(10)
         .sampling_mode(SamplingMode::Flat)
         .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(2));
+        .measurement_time(Duration::from_millis(1500));
 }
 
 fn bench_geometry(c: &mut Criterion) {
@@ -200,16 +200,33 @@ fn fingerprint<T: std::fmt::Debug>(value: &T) -> u64 {
     w.0.finish()
 }
 
-/// Best (minimum) wall time of `runs` calls, in milliseconds. On a shared machine the
-/// minimum is the run least disturbed by other processes; criterion's mean is not.
-fn best_ms<R>(runs: usize, mut f: impl FnMut() -> R) -> f64 {
-    (0..runs)
-        .map(|_| {
-            let start = Instant::now();
-            black_box(f());
-            start.elapsed().as_secs_f64() * 1e3
-        })
-        .fold(f64::INFINITY, f64::min)
+/// CPU time used so far by all threads of this process, in nanoseconds (Linux: the first
+/// field of `/proc/self/task/*/schedstat`); `None` elsewhere.
+fn process_cpu_ns() -> Option<u64> {
+    let mut total = 0;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let stat = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+        total += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(total)
+}
+
+/// Best (minimum) wall time and best CPU time (all threads) of `runs` calls, in
+/// milliseconds. On a shared machine the minimum is the run least disturbed by other
+/// processes (criterion's mean includes every disturbance), and the CPU time does not count
+/// the time a thread waited for a core.
+fn best_ms<R>(runs: usize, mut f: impl FnMut() -> R) -> (f64, f64) {
+    let (mut wall, mut cpu) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..runs {
+        let cpu_start = process_cpu_ns();
+        let start = Instant::now();
+        black_box(f());
+        wall = wall.min(start.elapsed().as_secs_f64() * 1e3);
+        if let (Some(a), Some(b)) = (cpu_start, process_cpu_ns()) {
+            cpu = cpu.min(b.saturating_sub(a) as f64 / 1e6);
+        }
+    }
+    (wall, cpu)
 }
 
 fn load_average() -> String {
@@ -219,9 +236,13 @@ fn load_average() -> String {
 /// Prints the rows of the tables of `docs/benchmarks.md` (best of several runs, all in this
 /// process, ours and meshopt alike).
 fn best_of_tables(name: &str, mesh: &Mesh, welded: &WeldedMesh, adj: &EdgeAdjacency) {
-    const PRE_RUNS: usize = 5;
-    const FRAME_RUNS: usize = 15;
-    println!("{name}: best of {PRE_RUNS} (preprocessing) / {FRAME_RUNS} (frames) runs; load average before: {}", load_average());
+    const PRE_RUNS: usize = 3;
+    const FRAME_RUNS: usize = 10;
+    println!(
+        "{name}: best of {PRE_RUNS} (preprocessing) / {FRAME_RUNS} (frames) runs, wall ms (CPU ms of all threads); \
+         load average before: {}",
+        load_average()
+    );
     let weld_ms = best_ms(PRE_RUNS, || weld(mesh));
     let adj_ms = best_ms(PRE_RUNS, || EdgeAdjacency::build(welded));
     let both_ms = best_ms(PRE_RUNS, || EdgeAdjacency::build(&weld(mesh)));
@@ -229,28 +250,36 @@ fn best_of_tables(name: &str, mesh: &Mesh, welded: &WeldedMesh, adj: &EdgeAdjace
     let meshopt_input_ms = best_ms(PRE_RUNS, || meshopt::generate_adjacency_indices(input.0, &input.1));
     let welded_input = (welded.triangles.as_flattened(), vertex_adapter(&welded.positions));
     let meshopt_welded_ms = best_ms(PRE_RUNS, || meshopt::generate_adjacency_indices(welded_input.0, &welded_input.1));
-    let mt = |tris: usize, ms: f64| tris as f64 / ms / 1e3;
+    let ms = |(wall, cpu): (f64, f64)| format!("{wall:.1} ({cpu:.1})");
+    let mt = |tris: usize, (wall, _): (f64, f64)| tris as f64 / wall / 1e3;
     println!(
-        "| {name} | {} | {} | {} | {weld_ms:.1} | {adj_ms:.1} | {:.1} | {both_ms:.1} | {:.1} | {meshopt_input_ms:.1} | {:.2} | {meshopt_welded_ms:.1} | {:.2} |",
+        "| {name} | {} | {} | {} | {} | {} | {:.1} | {} | {:.1} | {} | {:.2} | {} | {:.2} |",
         mesh.triangles.len(),
         welded.triangles.len(),
         adj.len(),
+        ms(weld_ms),
+        ms(adj_ms),
         mt(welded.triangles.len(), adj_ms),
+        ms(both_ms),
         mt(mesh.triangles.len(), both_ms),
-        both_ms / meshopt_input_ms,
-        adj_ms / meshopt_welded_ms,
+        ms(meshopt_input_ms),
+        both_ms.0 / meshopt_input_ms.0,
+        ms(meshopt_welded_ms),
+        adj_ms.0 / meshopt_welded_ms.0,
     );
     let mut out = VolumeGeometry::default();
     for (light_name, light) in lights(welded) {
         for caps in [true, false] {
-            let ms = best_ms(FRAME_RUNS, || extract(welded, adj, light, caps, &mut out));
+            let frame_ms = best_ms(FRAME_RUNS, || extract(welded, adj, light, caps, &mut out));
             println!(
-                "| {name} | {light_name} | {} | {} | {} | {} | {ms:.1} | {:.1} |",
+                "| {name} | {light_name} | {} | {} | {} | {} | {} | {:.1} | {:.1} |",
                 if caps { "sides + caps" } else { "sides" },
                 adj.len(),
                 out.sides.len() / 3,
                 (out.light_caps.len() + out.dark_caps.len()) / 3,
-                adj.len() as f64 / ms / 1e3
+                ms(frame_ms),
+                adj.len() as f64 / frame_ms.0 / 1e3,
+                adj.len() as f64 / (frame_ms.1 / 2.0) / 1e3,
             );
         }
     }

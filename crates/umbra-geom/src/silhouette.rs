@@ -427,21 +427,20 @@ fn extract_with(
     write_chunks(0..tri_chunks, cap_offsets, caps_out, &|chunk, (light_caps, dark_caps): (&mut [[f32; 4]], &mut [[f32; 4]])| {
         let first = chunk * ITEMS_PER_CHUNK;
         let last = (first + ITEMS_PER_CHUNK).min(triangles);
-        let mut at = 0;
-        for t in first..last {
-            let s = ss[t];
-            if s == 0 {
-                continue;
-            }
-            let tri = mesh.triangles[t];
+        let lit = mesh.triangles[first..last].iter().zip(&ss[first..last]).filter(|(_, &s)| s != 0).map(|(&tri, &s)| {
             // Wind the cap so that it faces the light.
             let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
-            let [p0, p1, p2] = [i0, i1, i2].map(|i| positions[i as usize]);
-            light_caps[at..at + 3].copy_from_slice(&[point(p0), point(p1), point(p2)]);
-            if !directional {
-                dark_caps[at..at + 3].copy_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
+            [i0, i1, i2].map(|i| positions[i as usize])
+        });
+        if directional {
+            for (cap, [p0, p1, p2]) in light_caps.chunks_exact_mut(3).zip(lit) {
+                cap.copy_from_slice(&[point(p0), point(p1), point(p2)]);
             }
-            at += 3;
+        } else {
+            for ((cap, dark), [p0, p1, p2]) in light_caps.chunks_exact_mut(3).zip(dark_caps.chunks_exact_mut(3)).zip(lit) {
+                cap.copy_from_slice(&[point(p0), point(p1), point(p2)]);
+                dark.copy_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
+            }
         }
     });
 }

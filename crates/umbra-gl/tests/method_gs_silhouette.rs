@@ -66,14 +66,20 @@ fn camera() -> Camera {
 
 const LIGHTS: [[f32; 4]; 3] = [[0.4, 7.0, 0.3, 1.0], [-0.5, 1.0, 0.2, 0.0], [4.5, 5.0, -1.0, 1.0]];
 
-fn render_stencils(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, method: &mut dyn ShadowMethod, zpass: bool) -> Vec<StencilImage> {
+fn render_stencils(
+    ctx: &HeadlessContext,
+    mesh: &Arc<WeldedMesh>,
+    method: &mut dyn ShadowMethod,
+    zpass: bool,
+) -> Vec<StencilImage> {
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let mut p = params(camera(), LIGHTS.to_vec(), 320, 240);
     p.zpass = zpass;
     p.capture.stencil = StencilCapture::AllLights;
-    let images = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));
+    let images =
+        r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));
     r.destroy(gl);
     scene.destroy(gl);
     images.stencil.into_iter().map(|s| s.image).collect()
@@ -98,10 +104,12 @@ fn assert_stencil_agrees(ctx: &HeadlessContext, test: &str, expected: &StencilIm
     let at = |x: i64, y: i64| expected.pixels[(y * w + x) as usize];
     let on_edge = |x: i64, y: i64| {
         let v = at(x, y);
-        (-1..=1).any(|dy| (-1..=1).any(|dx| {
-            let (nx, ny) = (x + dx, y + dy);
-            nx >= 0 && ny >= 0 && nx < w && ny < h && at(nx, ny) != v
-        }))
+        (-1..=1).any(|dy| {
+            (-1..=1).any(|dx| {
+                let (nx, ny) = (x + dx, y + dy);
+                nx >= 0 && ny >= 0 && nx < w && ny < h && at(nx, ny) != v
+            })
+        })
     };
     let mut differing = 0;
     let mut off_edge = 0;
@@ -201,7 +209,8 @@ fn reports_sides_and_caps_per_light_and_reprepares() {
         let mut m = umbra_gl::create_method(name).expect("registered");
         assert_eq!(m.name(), name);
         assert_eq!(m.stages(), ["sides", "caps"]);
-        let p = FrameParams { lights: LIGHTS.to_vec(), width: 64, height: 48, camera: camera(), ..FrameParams::default() };
+        let p =
+            FrameParams { lights: LIGHTS.to_vec(), width: 64, height: 48, camera: camera(), ..FrameParams::default() };
         let mut marks = Marks::default();
         r.render(gl, &a, m.as_mut(), &p, Some(&mut marks)).expect("render");
         let ours: Vec<(&str, Option<usize>)> =

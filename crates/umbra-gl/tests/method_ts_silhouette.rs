@@ -65,14 +65,20 @@ fn camera() -> Camera {
 
 const LIGHTS: [[f32; 4]; 3] = [[0.4, 7.0, 0.3, 1.0], [-0.5, 1.0, 0.2, 0.0], [4.5, 5.0, -1.0, 1.0]];
 
-fn render_stencils(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, method: &mut dyn ShadowMethod, zpass: bool) -> Vec<StencilImage> {
+fn render_stencils(
+    ctx: &HeadlessContext,
+    mesh: &Arc<WeldedMesh>,
+    method: &mut dyn ShadowMethod,
+    zpass: bool,
+) -> Vec<StencilImage> {
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let mut p = params(camera(), LIGHTS.to_vec(), 320, 240);
     p.zpass = zpass;
     p.capture.stencil = StencilCapture::AllLights;
-    let images = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));
+    let images =
+        r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));
     r.destroy(gl);
     scene.destroy(gl);
     images.stencil.into_iter().map(|s| s.image).collect()
@@ -97,10 +103,12 @@ fn assert_stencil_agrees(ctx: &HeadlessContext, test: &str, expected: &StencilIm
     let at = |x: i64, y: i64| expected.pixels[(y * w + x) as usize];
     let on_edge = |x: i64, y: i64| {
         let v = at(x, y);
-        (-1..=1).any(|dy| (-1..=1).any(|dx| {
-            let (nx, ny) = (x + dx, y + dy);
-            nx >= 0 && ny >= 0 && nx < w && ny < h && at(nx, ny) != v
-        }))
+        (-1..=1).any(|dy| {
+            (-1..=1).any(|dx| {
+                let (nx, ny) = (x + dx, y + dy);
+                nx >= 0 && ny >= 0 && nx < w && ny < h && at(nx, ny) != v
+            })
+        })
     };
     let mut differing = 0;
     let mut off_edge = 0;
@@ -203,7 +211,8 @@ fn reports_sides_and_caps_per_light_and_reprepares() {
         let mut m = umbra_gl::create_method(name).expect("registered");
         assert_eq!(m.name(), name);
         assert_eq!(m.stages(), ["sides", "caps"]);
-        let p = FrameParams { lights: LIGHTS.to_vec(), width: 64, height: 48, camera: camera(), ..FrameParams::default() };
+        let p =
+            FrameParams { lights: LIGHTS.to_vec(), width: 64, height: 48, camera: camera(), ..FrameParams::default() };
         let mut marks = Marks::default();
         r.render(gl, &a, m.as_mut(), &p, Some(&mut marks)).expect("render");
         let ours: Vec<(&str, Option<usize>)> =
@@ -250,8 +259,17 @@ fn sponza_frame_time() {
     let at = |f: [f64; 3]| [0, 1, 2].map(|k| b.min[k] as f64 + f[k] * (b.max[k] - b.min[k]) as f64);
     let welded = Arc::new(weld(&mesh));
     let light = at([0.61, 0.7, 0.57]);
-    let camera = Camera { eye: at([0.3, 0.45, 0.5]), target: at([0.7, 0.3, 0.5]), near: 1e-3 * b.diagonal() as f64, ..Camera::default() };
-    let p = FrameParams { camera, lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]], ..FrameParams::default() };
+    let camera = Camera {
+        eye: at([0.3, 0.45, 0.5]),
+        target: at([0.7, 0.3, 0.5]),
+        near: 1e-3 * b.diagonal() as f64,
+        ..Camera::default()
+    };
+    let p = FrameParams {
+        camera,
+        lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]],
+        ..FrameParams::default()
+    };
     let ctx = context();
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, welded.clone()).expect("upload");
@@ -266,7 +284,8 @@ fn sponza_frame_time() {
     );
     let mut r = Renderer::new(gl).expect("renderer");
     let names = ["cpu-silhouette", "ts-silhouette", "ts-silhouette-3edge", "gs-silhouette", "gs-silhouette-3edge"];
-    let mut methods: Vec<Box<dyn ShadowMethod>> = names.iter().map(|n| umbra_gl::create_method(n).expect("registered")).collect();
+    let mut methods: Vec<Box<dyn ShadowMethod>> =
+        names.iter().map(|n| umbra_gl::create_method(n).expect("registered")).collect();
     // Warm-up: prepare, shader compilation on first draw.
     for m in &mut methods {
         for _ in 0..2 {

@@ -135,7 +135,7 @@ fn uploaded_buffers_have_exactly_the_eq8_and_eq9_sizes() {
         assert_eq!(m.gpu_bytes(), sides + caps);
         if cap.is_none() {
             // Without a forced cap the layout is the one `umbra info` can plan without GL.
-            assert_eq!(plan_layout(&adj, mesh.triangles.len(), MAX_MULT_LIMIT), l);
+            assert_eq!(plan_layout(&adj, mesh.triangles.len(), attribs, MAX_MULT_LIMIT), l);
         }
         if adj.max_opposites() > l.max_mult {
             assert!(l.records > l.edges, "edges with more than maxMult opposites are split");
@@ -572,7 +572,7 @@ fn sponza_frame_ms() {
         r.destroy(gl);
         target.destroy(gl);
     }
-    let l = plan_layout(&EdgeAdjacency::build(&mesh), mesh.triangles.len(), MAX_MULT_LIMIT);
+    let l = plan_layout(&EdgeAdjacency::build(&mesh), mesh.triangles.len(), 16, MAX_MULT_LIMIT);
     println!("vs-silhouette layout: {l:?}; max opposites {}", EdgeAdjacency::build(&mesh).max_opposites());
     scene.destroy(gl);
 }

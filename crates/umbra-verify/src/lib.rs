@@ -6,9 +6,17 @@
 //!
 //! Samples are the renderer's own: the depth pass writes each pixel's rasterized world
 //! position and triangle id, and the reference classifies exactly those points (primary
-//! visibility is never ray-traced separately). The method's classification is read back from
-//! the stencil after its volume pass for that light and interpreted with the method's own
-//! [`Classification`].
+//! visibility is never ray-traced separately).
+//!
+//! The method's decision per sample is the renderer's FINAL one, read back as the lit mask
+//! ([`umbra_gl::LitMask`]): lit = the method's classification passes (stencil == 0, its own
+//! stencil test, or its shader's `umbra_lit`) AND the seen side of the triangle faces the
+//! light; shadowed = not lit. That is exactly what the image shows, for every
+//! [`Classification`] (shadow maps included), and it matches the reference's definition (the
+//! seen side facing away from the light is shadowed). The bare stencil is not that decision:
+//! where the seen side faces away from the light its value does not matter, and near-edge-on
+//! surfaces make it unreliable while the image is right. The stencil-based count is still
+//! reported for stencil-classified methods ([`MethodReport::stencil_metrics`]), for diagnosis.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -16,8 +24,7 @@ use std::time::Instant;
 use umbra_geom::weld::WeldedMesh;
 use umbra_gl::glow;
 use umbra_gl::{
-    create_method, Classification, FrameParams, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilCapture,
-    NO_TRIANGLE,
+    create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
 };
 use umbra_oracle::{compare, reference, Bvh, Metrics, Reference, Samples};
 
@@ -69,21 +76,30 @@ impl ViewReference {
 /// What one method decided for one light, and how that compares with the reference.
 pub struct LightResult {
     pub light: usize,
-    /// `true` = the method put the pixel in shadow; row-major, top row first.
+    /// `true` = the renderer did not light the pixel with this light (lit mask 0: the
+    /// method's classification failed or the seen side faces away from the light; also on
+    /// background); row-major, top row first.
     pub shadowed: Vec<bool>,
     pub metrics: Metrics,
+    /// The same comparison with "shadowed" read from the stencil after the volume pass,
+    /// interpreted with the method's classification (`None` for [`Classification::Shader`]).
+    /// Diagnostic only: it also counts samples whose seen side faces away from the light,
+    /// where the stencil does not matter.
+    pub stencil_metrics: Option<Metrics>,
 }
 
 /// A method's verification over every light of a view.
 pub struct MethodReport {
     pub method: String,
     pub must_be_exact: bool,
-    /// Summed over lights.
+    /// Summed over lights; from the lit masks (the renderer's final decision).
     pub metrics: Metrics,
+    /// Summed over lights; from the stencil (see [`LightResult::stencil_metrics`]).
+    pub stencil_metrics: Option<Metrics>,
     pub per_light: Vec<LightResult>,
     /// The rendered image (all lights).
     pub image: RgbaImage,
-    /// Wall time of the renders (frame + readback), summed over lights.
+    /// Wall time of the render (one frame with every light, plus the readbacks).
     pub render_ms: f64,
 }
 
@@ -113,7 +129,8 @@ pub fn view_reference(
     let mut p = params.clone();
     p.capture.world_pos = true;
     p.capture.triangle_id = true;
-    p.capture.stencil = StencilCapture::None;
+    p.capture.stencil = LightCapture::None;
+    p.capture.lit_mask = LightCapture::None;
     let mut none = create_method("none").map_err(gl_err)?;
     let images = renderer.render(gl, scene, none.as_mut(), &p, None).map_err(gl_err);
     none.destroy(gl);
@@ -150,8 +167,9 @@ fn stencil_test_passes(func: u32, reference: i32, mask: u32, stencil: u8) -> boo
     }
 }
 
-/// Renders `method` for every light of `params`, reads its per-sample decision and compares it
-/// with `view` (from [`view_reference`] for the same params).
+/// Renders `method` once with every light of `params`, reads its per-sample decision for each
+/// light (the lit mask) and compares it with `view` (from [`view_reference`] for the same
+/// params).
 pub fn verify_method(
     gl: &glow::Context,
     renderer: &mut Renderer,
@@ -162,43 +180,60 @@ pub fn verify_method(
 ) -> Result<MethodReport, VerifyError> {
     let name = method.name().to_string();
     let classification = method.classification();
+    let mut p = params.clone();
+    p.capture.lit_mask = LightCapture::AllLights;
+    // The stencil costs one more readback per light; only meaningful for stencil methods.
+    p.capture.stencil =
+        if classification == Classification::Shader { LightCapture::None } else { LightCapture::AllLights };
+    let start = Instant::now();
+    let images = renderer.render(gl, scene, method, &p, None).map_err(gl_err)?;
+    let render_ms = ms(start);
+
     let mut per_light = Vec::new();
     let mut metrics = Metrics::default();
-    let mut render_ms = 0.0;
-    let mut image = None;
+    let mut stencil_sum: Option<Metrics> = None;
     for lr in &view.lights {
-        let mut p = params.clone();
-        p.capture.stencil = StencilCapture::Light(lr.light);
-        let start = Instant::now();
-        let images = renderer.render(gl, scene, method, &p, None).map_err(gl_err)?;
-        render_ms += ms(start);
-        let stencil = images
-            .stencil
-            .into_iter()
+        let mask = images
+            .lit_masks
+            .iter()
             .find(|m| m.light == lr.light)
-            .ok_or_else(|| VerifyError::Gl(format!("no stencil captured for light {}", lr.light)))?;
-        let shadowed: Vec<bool> = match classification {
-            Classification::StencilZero => stencil.image.pixels.iter().map(|&s| s != 0).collect(),
-            Classification::StencilTest { func, reference, value_mask } => {
-                stencil.image.pixels.iter().map(|&s| !stencil_test_passes(func, reference, value_mask, s)).collect()
-            }
-            Classification::Shader => {
-                return Err(VerifyError::Method {
-                    method: name,
-                    message: "shader-classified methods cannot be verified from the stencil yet".into(),
-                })
-            }
-        };
+            .ok_or_else(|| VerifyError::Gl(format!("no lit mask captured for light {}", lr.light)))?;
+        let shadowed: Vec<bool> = mask.image.pixels.iter().map(|&lit| lit == 0).collect();
         let m = compare(&lr.reference, &shadowed)?;
         metrics = add(metrics, m);
-        per_light.push(LightResult { light: lr.light, shadowed, metrics: m });
-        image = Some(images.rgba);
+        let stencil_metrics = match images.stencil.iter().find(|s| s.light == lr.light) {
+            Some(st) => {
+                let from_stencil = stencil_shadowed(classification, &st.image.pixels);
+                from_stencil.map(|sh| compare(&lr.reference, &sh)).transpose()?
+            }
+            None => None,
+        };
+        if let Some(sm) = stencil_metrics {
+            stencil_sum = Some(add(stencil_sum.unwrap_or_default(), sm));
+        }
+        per_light.push(LightResult { light: lr.light, shadowed, metrics: m, stencil_metrics });
     }
-    let image = match image {
-        Some(i) => i,
-        None => renderer.render(gl, scene, method, params, None).map_err(gl_err)?.rgba,
-    };
-    Ok(MethodReport { must_be_exact: must_be_exact(&name), method: name, metrics, per_light, image, render_ms })
+    Ok(MethodReport {
+        must_be_exact: must_be_exact(&name),
+        method: name,
+        metrics,
+        stencil_metrics: stencil_sum,
+        per_light,
+        image: images.rgba,
+        render_ms,
+    })
+}
+
+/// "Shadowed" per pixel read from the stencil after the volume pass, for the stencil
+/// classifications; `None` for [`Classification::Shader`].
+fn stencil_shadowed(classification: Classification, stencil: &[u8]) -> Option<Vec<bool>> {
+    match classification {
+        Classification::StencilZero => Some(stencil.iter().map(|&s| s != 0).collect()),
+        Classification::StencilTest { func, reference, value_mask } => {
+            Some(stencil.iter().map(|&s| !stencil_test_passes(func, reference, value_mask, s)).collect())
+        }
+        Classification::Shader => None,
+    }
 }
 
 fn add(a: Metrics, b: Metrics) -> Metrics {
@@ -223,6 +258,15 @@ mod tests {
         assert!(!stencil_test_passes(glow::NOTEQUAL, 0b1100, 0b1101, 0b1110));
         assert!(stencil_test_passes(glow::EQUAL, 0, 0xFF, 0));
         assert!(!stencil_test_passes(glow::EQUAL, 0, 0xFF, 3));
+    }
+
+    #[test]
+    fn stencil_shadowed_follows_the_classification() {
+        let st = [0u8, 1, 0b1100, 0b1110];
+        assert_eq!(stencil_shadowed(Classification::StencilZero, &st), Some(vec![false, true, true, true]));
+        let paper002 = Classification::StencilTest { func: glow::NOTEQUAL, reference: 0b1100, value_mask: 0b1101 };
+        assert_eq!(stencil_shadowed(paper002, &st), Some(vec![false, false, true, true]));
+        assert_eq!(stencil_shadowed(Classification::Shader, &st), None);
     }
 
     #[test]

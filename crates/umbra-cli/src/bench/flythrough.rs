@@ -81,7 +81,7 @@ fn catmull_rom_point(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3], p3: [f64; 3], u: 
 
 /// `frames` cameras spread evenly in spline parameter over the keyframes: frame 0 is the first
 /// keyframe, the last frame the last one; with `frames - 1` a multiple of `keys - 1`, every
-/// keyframe is hit exactly. End segments repeat the end keyframes as their outer controls.
+/// keyframe is hit exactly. End segments use reflected outer controls (`2 P0 - P1`).
 pub fn interpolate(keys: &[Keyframe], frames: usize) -> Vec<Keyframe> {
     if keys.is_empty() || frames == 0 {
         return Vec::new();
@@ -101,9 +101,15 @@ pub fn interpolate(keys: &[Keyframe], frames: usize) -> Vec<Keyframe> {
             if u == 1.0 {
                 return keys[seg + 1];
             }
-            let at = |i: isize| keys[i.clamp(0, n as isize - 1) as usize];
-            let s = seg as isize;
-            let (k0, k1, k2, k3) = (at(s - 1), at(s), at(s + 1), at(s + 2));
+            // Outer controls beyond the ends are reflected (P(-1) = 2 P0 - P1), so the end
+            // segments keep the speed of their neighbours (and straight paths stay straight).
+            let reflect = |a: Keyframe, b: Keyframe| Keyframe {
+                eye: [0, 1, 2].map(|k| 2.0 * a.eye[k] - b.eye[k]),
+                target: [0, 1, 2].map(|k| 2.0 * a.target[k] - b.target[k]),
+            };
+            let k0 = if seg == 0 { reflect(keys[0], keys[1]) } else { keys[seg - 1] };
+            let (k1, k2) = (keys[seg], keys[seg + 1]);
+            let k3 = if seg + 2 < n { keys[seg + 2] } else { reflect(keys[n - 1], keys[n - 2]) };
             Keyframe {
                 eye: catmull_rom_point(k0.eye, k1.eye, k2.eye, k3.eye, u),
                 target: catmull_rom_point(k0.target, k1.target, k2.target, k3.target, u),

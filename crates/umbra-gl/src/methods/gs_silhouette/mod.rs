@@ -266,7 +266,12 @@ impl ShadowMethod for GsSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         let (Some(program), Some(buffers)) = (self.program.as_ref(), self.buffers.as_ref()) else {
             return Err(GlError::InvalidParams(format!("{}: draw_volumes before prepare", self.name())));
         };

@@ -16,7 +16,14 @@ fn capture(gl: &glow::Context, up: usize, down: usize, capacity: usize, three_ed
 }
 
 /// The side triangles of the first edge of `mesh` (with `opposites` opposite vertices).
-fn capture_spine(gl: &glow::Context, mesh: &Mesh, light: Light, opposites: usize, capacity: usize, three_edge: bool) -> Vec<[[f32; 4]; 3]> {
+fn capture_spine(
+    gl: &glow::Context,
+    mesh: &Mesh,
+    light: Light,
+    opposites: usize,
+    capacity: usize,
+    three_edge: bool,
+) -> Vec<[[f32; 4]; 3]> {
     let w = weld(mesh);
     let adj = EdgeAdjacency::build(&w);
     let patches = EdgePatches::build(&w, &adj, capacity).unwrap();

@@ -8,9 +8,12 @@
 //!
 //! Preprocessing: none beyond the program (it draws the scene's own vertex array and index
 //! buffer with `GL_TRIANGLES`); the method owns no buffers (`gpu_bytes() == 0`). Per light:
-//! uniforms and one indexed draw with [`VolumeFrame::shadow_volume_state`].
+//! uniforms and two indexed draws with [`VolumeFrame::shadow_volume_state`]: the +1 sides and
+//! the caps, then the -1 sides in the vertex order of +1 sides with `glFrontFace(GL_CW)`, so
+//! that the two copies of a side shared by light-facing neighbours rasterize identically and
+//! cancel exactly (as in vs-triangle).
 //!
-//! Stages reported: "volumes".
+//! Stages reported: "volumes" (+1 sides and caps), "negative sides".
 
 use glow::HasContext;
 
@@ -18,6 +21,7 @@ use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
+use crate::state::GlState;
 
 pub const NAME: &str = "gs-triangle";
 
@@ -36,6 +40,7 @@ struct Gpu {
     u_light: Option<glow::UniformLocation>,
     u_far_clip_z: Option<glow::UniformLocation>,
     u_caps: Option<glow::UniformLocation>,
+    u_pass: Option<glow::UniformLocation>,
 }
 
 /// See the module documentation.
@@ -57,7 +62,7 @@ impl ShadowMethod for GsTriangle {
     }
 
     fn stages(&self) -> &'static [&'static str] {
-        &["volumes"]
+        &["volumes", "negative sides"]
     }
 
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
@@ -95,6 +100,7 @@ impl ShadowMethod for GsTriangle {
                 u_light: uniform(gl, program, "u_light"),
                 u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
                 u_caps: uniform(gl, program, "u_caps"),
+                u_pass: uniform(gl, program, "u_pass"),
                 program,
             });
         }
@@ -111,7 +117,8 @@ impl ShadowMethod for GsTriangle {
         frame.mark(gl, "volumes");
         // Counting state (z-fail or z-pass, two-sided stencil, depth clamp, no colour or depth
         // writes); the reason for every field is in GlState::shadow_volume.
-        frame.shadow_volume_state().apply(gl);
+        let state = frame.shadow_volume_state();
+        state.apply(gl);
         // SAFETY: our program and the scene's vertex array (indices checked at upload).
         unsafe {
             gl.use_program(Some(gpu.program));
@@ -119,9 +126,22 @@ impl ShadowMethod for GsTriangle {
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
             gl.uniform_1_i32(gpu.u_caps.as_ref(), i32::from(!frame.zpass));
+            gl.uniform_1_i32(gpu.u_pass.as_ref(), 0);
             // The scene's triangles, in order, one geometry-shader invocation each.
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }
+        scene.draw_triangles(gl);
+        frame.mark(gl, "negative sides");
+        GlState {
+            // Reason: the -1 sides come in the vertex order of +1 sides (so that both copies of a
+            // shared side rasterize identically); calling clockwise the front face counts them
+            // with the opposite sign. Everything else is the counting state.
+            front_face: glow::CW,
+            ..state
+        }
+        .apply(gl);
+        // SAFETY: same program and vertex array as above.
+        unsafe { gl.uniform_1_i32(gpu.u_pass.as_ref(), 1) };
         scene.draw_triangles(gl);
         Ok(())
     }

@@ -11,11 +11,12 @@
 // vertices, far below MAX_GEOMETRY_OUTPUT_VERTICES and its component limit).
 //
 // Every primitive is emitted as its own 3-vertex strip, so the rasterizer receives exactly the
-// vertex order written here. Side quads use the canonical per-edge form of vs-triangle (see
-// vs_triangle/volume.vert.glsl): with A < B in umbra_greater order, traversing A -> B emits
-// (B, A, A_inf) (B, A_inf, B_inf), traversing B -> A emits the same two triangles with their
-// first two vertices swapped; the sides two light-facing neighbours put on their shared edge
-// then cancel exactly.
+// vertex order written here. Sides are emitted in one canonical order whichever triangle casts
+// them, and the -1 sides in a second draw with glFrontFace(GL_CW) (u_pass = 1), exactly as in
+// vs-triangle (see vs_triangle/volume.vert.glsl for why): with A < B in umbra_greater order,
+// the side of an edge traversed A -> B (+1) and of one traversed B -> A (-1) are both the
+// triangles (B, A, A_inf) (B, A_inf, B_inf), so the two copies two light-facing neighbours
+// cast on their shared edge rasterize identically and cancel at every sample.
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 24) out;
@@ -26,6 +27,8 @@ uniform mat4 u_clip_from_world;
 uniform vec4 u_light;
 // z-fail needs the caps; z-pass does not (they could only ever fail the depth test).
 uniform bool u_caps;
+// 0: +1 sides and caps (glFrontFace CCW); 1: -1 sides only (glFrontFace CW).
+uniform int u_pass;
 
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
@@ -43,22 +46,21 @@ void umbra_triangle(vec4 a, vec4 b, vec4 c, bool push_to_far) {
     EndPrimitive();
 }
 
-// The side quad of edge p -> q of the light-facing winding, in canonical form.
+// The side quad of edge p -> q of the light-facing winding, in canonical order, if its sign
+// belongs to this draw.
 void umbra_side(vec3 p, vec3 q) {
-    bool forward = umbra_greater(p, q) < 0;
+    bool forward = umbra_greater(p, q) < 0; // traversed A -> B: +1
+    if (forward != (u_pass == 0)) {
+        return;
+    }
     vec3 a = forward ? p : q;
     vec3 b = forward ? q : p;
     vec4 A = vec4(a, 1.0);
     vec4 B = vec4(b, 1.0);
     vec4 A_inf = umbra_extrude(a, u_light);
     vec4 B_inf = umbra_extrude(b, u_light);
-    if (forward) {
-        umbra_triangle(B, A, A_inf, false);
-        umbra_triangle(B, A_inf, B_inf, false);
-    } else {
-        umbra_triangle(A, B, A_inf, false);
-        umbra_triangle(A_inf, B, B_inf, false);
-    }
+    umbra_triangle(B, A, A_inf, false);
+    umbra_triangle(B, A_inf, B_inf, false);
 }
 
 void main() {
@@ -77,7 +79,7 @@ void main() {
     umbra_side(p0, p1);
     umbra_side(p1, p2);
     umbra_side(p2, p0);
-    if (u_caps) {
+    if (u_caps && u_pass == 0) {
         // Light cap: the triangle itself, facing the light, at the far plane.
         umbra_triangle(vec4(p0, 1.0), vec4(p1, 1.0), vec4(p2, 1.0), true);
         if (u_light.w != 0.0) {

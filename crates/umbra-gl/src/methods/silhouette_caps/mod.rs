@@ -106,10 +106,8 @@ impl SilhouetteCaps {
     /// Draws the light and dark caps of every triangle into the stencil, with the frame's
     /// counting state. Draws nothing in z-pass mode.
     pub fn draw(&self, gl: &glow::Context, scene: &SceneGpu, frame: &VolumeFrame<'_>) -> Result<(), GlError> {
-        let gpu = self
-            .gpu
-            .as_ref()
-            .ok_or_else(|| GlError::InvalidParams("silhouette caps: draw before prepare".into()))?;
+        let gpu =
+            self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("silhouette caps: draw before prepare".into()))?;
         if frame.zpass || scene.triangle_count() == 0 {
             // z-pass counts only volume faces in front of the sample: caps are not needed.
             return Ok(());
@@ -161,7 +159,11 @@ mod tests {
         let scene = SceneGpu::upload(gl, w).unwrap();
         let stages = [(glow::VERTEX_SHADER, with_prelude(CAPS_VERT)), (glow::GEOMETRY_SHADER, with_prelude(CAPS_GEOM))];
         let tris = capture_triangles(gl, &stages, variant_defines(three_edge), |program| unsafe {
-            gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+            gl.uniform_matrix_4_f32_slice(
+                gl.get_uniform_location(program, "u_clip_from_world").as_ref(),
+                false,
+                &IDENTITY,
+            );
             gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &light);
             gl.uniform_1_f32(gl.get_uniform_location(program, "u_far_clip_z").as_ref(), 1.0);
             gl.bind_vertex_array(Some(scene.vertex_array()));
@@ -194,7 +196,11 @@ mod tests {
             for (t, tri) in tris.chunks(per_triangle).enumerate() {
                 assert_eq!(tri[0].to_vec(), light_caps[3 * t..3 * t + 3].to_vec(), "light cap {t}, light {light:?}");
                 if per_triangle == 2 {
-                    assert_eq!(tri[1].to_vec(), cpu.dark_caps[3 * t..3 * t + 3].to_vec(), "dark cap {t}, light {light:?}");
+                    assert_eq!(
+                        tri[1].to_vec(),
+                        cpu.dark_caps[3 * t..3 * t + 3].to_vec(),
+                        "dark cap {t}, light {light:?}"
+                    );
                 }
             }
         }

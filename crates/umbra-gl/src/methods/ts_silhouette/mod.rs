@@ -66,7 +66,8 @@ fn capacity_limit(gl: &glow::Context) -> Result<usize, GlError> {
     // SAFETY: plain integer queries on the current context.
     let (max_patch_vertices, max_level) =
         unsafe { (gl.get_parameter_i32(glow::MAX_PATCH_VERTICES), gl.get_parameter_i32(glow::MAX_TESS_GEN_LEVEL)) };
-    let limit = ts_capacity_limit(max_patch_vertices, max_level).min(ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL));
+    let limit = ts_capacity_limit(max_patch_vertices, max_level)
+        .min(ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL));
     if limit == 0 {
         return Err(GlError::InvalidParams(format!(
             "ts-silhouette: GL_MAX_PATCH_VERTICES {max_patch_vertices} / GL_MAX_TESS_GEN_LEVEL {max_level} leave no room for an opposite vertex"
@@ -121,14 +122,19 @@ impl TsSilhouette {
     }
 
     fn link(&self, gl: &glow::Context) -> Result<Program, GlError> {
-        let (vert, tesc, tese, frag) = (with_prelude(SIDES_VERT), with_prelude(SIDES_TESC), with_prelude(SIDES_TESE), fragment_source());
+        let (vert, tesc, tese, frag) =
+            (with_prelude(SIDES_VERT), with_prelude(SIDES_TESC), with_prelude(SIDES_TESE), fragment_source());
         let program = link_program(
             gl,
             if self.three_edge { "ts-silhouette-3edge sides" } else { "ts-silhouette sides" },
             &[
                 ShaderSource::vertex("ts_silhouette/sides.vert.glsl", &vert),
                 ShaderSource { stage: glow::TESS_CONTROL_SHADER, name: "ts_silhouette/sides.tesc.glsl", source: &tesc },
-                ShaderSource { stage: glow::TESS_EVALUATION_SHADER, name: "ts_silhouette/sides.tese.glsl", source: &tese },
+                ShaderSource {
+                    stage: glow::TESS_EVALUATION_SHADER,
+                    name: "ts_silhouette/sides.tese.glsl",
+                    source: &tese,
+                },
                 ShaderSource::fragment("silhouette_caps/volume.frag.glsl", &frag),
             ],
             variant_defines(self.three_edge),
@@ -238,7 +244,12 @@ impl ShadowMethod for TsSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         let (Some(program), Some(buffers)) = (self.program.as_ref(), self.buffers.as_ref()) else {
             return Err(GlError::InvalidParams(format!("{}: draw_volumes before prepare", self.name())));
         };

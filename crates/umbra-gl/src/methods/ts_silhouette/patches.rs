@@ -141,7 +141,9 @@ impl EdgePatches {
         let stride = HEADER_SLOTS + capacity;
         let patches = patch_count(adj, capacity);
         let total_vertices = v + capacity;
-        if u32::try_from(total_vertices).is_err() || patches.checked_mul(stride).is_none_or(|n| i32::try_from(n).is_err()) {
+        if u32::try_from(total_vertices).is_err()
+            || patches.checked_mul(stride).is_none_or(|n| i32::try_from(n).is_err())
+        {
             return Err(GlError::InvalidParams(format!(
                 "edge patches: {patches} patches of {stride} indices over {total_vertices} vertices exceed one draw call"
             )));
@@ -236,7 +238,9 @@ mod tests {
         let b = book(40);
         let adj = EdgeAdjacency::build(&b);
         let k = choose_capacity(&adj, 29);
-        assert!((1..=29).all(|o| layout_bytes(42, patch_count(&adj, k), k) <= layout_bytes(42, patch_count(&adj, o), o)));
+        assert!(
+            (1..=29).all(|o| layout_bytes(42, patch_count(&adj, k), k) <= layout_bytes(42, patch_count(&adj, o), o))
+        );
     }
 
     #[test]

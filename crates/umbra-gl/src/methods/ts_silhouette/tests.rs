@@ -119,9 +119,6 @@ pub(crate) fn assert_side_quads(triangles: &[[[f32; 4]; 3]], m: i32, light: Ligh
         quad.iter().position(|q| *q == v).unwrap_or_else(|| panic!("{what}: vertex {v:?} is no corner of {quad:?}"))
     };
     let mut net = std::collections::HashMap::<[usize; 3], i32>::new();
-    if std::env::var_os("UMBRA_DEBUG_QUADS").is_some() {
-        eprintln!("{what}: {:?}", triangles.iter().map(|t| t.map(corner)).collect::<Vec<_>>());
-    }
     let (mut positive, mut negative) = (0, 0);
     for t in triangles {
         let c = t.map(corner);
@@ -173,7 +170,11 @@ fn alg5_tessellation_gives_m_side_quads() {
         // Only the spine patch: the first edge in adjacency order is (0, 1).
         assert_eq!(patches.elements[..2], [0, 1]);
         let tris = capture_triangles(gl, &stages, &[], |program| unsafe {
-            gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+            gl.uniform_matrix_4_f32_slice(
+                gl.get_uniform_location(program, "u_clip_from_world").as_ref(),
+                false,
+                &IDENTITY,
+            );
             gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &ABOVE);
             gl.bind_vertex_array(Some(upload.vao));
             gl.patch_parameter_i32(glow::PATCH_VERTICES, upload.patch_vertices);
@@ -210,7 +211,11 @@ fn alg5_three_edge_variant_same_quads() {
         let m = up as i32 - down as i32;
         let upload = upload(gl, &patches).unwrap();
         let tris = capture_triangles(gl, &stages, &["UMBRA_THREE_EDGE"], |program| unsafe {
-            gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+            gl.uniform_matrix_4_f32_slice(
+                gl.get_uniform_location(program, "u_clip_from_world").as_ref(),
+                false,
+                &IDENTITY,
+            );
             gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &ABOVE);
             gl.bind_vertex_array(Some(upload.vao));
             gl.patch_parameter_i32(glow::PATCH_VERTICES, upload.patch_vertices);
@@ -260,7 +265,8 @@ pub(crate) fn inconsistent_triangle() -> (Mesh, Light, i32) {
         let mut l = [s + 0.5 * t, t * o[1], t * o[2]];
         l[1] += (next() - 0.5) * 1e-6 * n[1].signum();
         let light = [l[0], l[1], l[2], 1.0];
-        let m = Mesh { positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], o], triangles: vec![[0, 1, 2]], normals: None };
+        let m =
+            Mesh { positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], o], triangles: vec![[0, 1, 2]], normals: None };
         let reference = umbra_geom::multiplicity::triangle_orientation(&m.positions, [0, 1, 2], light);
         if reference != 0 && three_edge_contribution(&m.positions, 0, 1, 2, light) == 0 {
             return (m, light, reference);
@@ -289,7 +295,11 @@ fn three_edge_discards_inconsistent_triangle() {
     for three_edge in [false, true] {
         let defines: &[&str] = if three_edge { &["UMBRA_THREE_EDGE"] } else { &[] };
         let tris = capture_triangles(gl, &stages, defines, |program| unsafe {
-            gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
+            gl.uniform_matrix_4_f32_slice(
+                gl.get_uniform_location(program, "u_clip_from_world").as_ref(),
+                false,
+                &IDENTITY,
+            );
             gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &light);
             gl.bind_vertex_array(Some(b.vao));
             gl.patch_parameter_i32(glow::PATCH_VERTICES, b.patch_vertices);

@@ -8,12 +8,14 @@
 // triangle faces the light, 0 discards the patch (outer levels 0). The fourth control point is
 // the added quad corner; the evaluation shader places every tessellated vertex by its
 // tessellation coordinate alone (one_pass.tese.glsl), so it carries a copy of the first point
-// and is never read.
+// and is never read. Invocations 0..2 also compute the canonical clip-space plane of the side
+// of edge (i, i + 1) of the wound triangle (side_plane.glsl) for the fragment shader.
 
 layout(vertices = 4) out;
 
 in vec3 v_world[];
 out vec3 c_world[];
+patch out vec4 tc_planes[3];
 
 uniform vec4 u_light;
 
@@ -21,7 +23,12 @@ void main() {
     int o = umbra_triangle_orientation(v_world[0], v_world[1], v_world[2], u_light);
     int id = gl_InvocationID;
     int source = id == 3 ? 0 : ((o < 0 && id != 0) ? 3 - id : id);
-    c_world[id] = v_world[source];
+    c_world[gl_InvocationID] = v_world[source];
+    if (id < 3) {
+        int next = id == 2 ? 0 : id + 1;
+        int source_next = (o < 0 && next != 0) ? 3 - next : next;
+        tc_planes[id] = umbra_side_plane_clip(v_world[source], v_world[source_next], u_light);
+    }
     if (id == 0) {
         float on = o == 0 ? 0.0 : 1.0;
         gl_TessLevelOuter[0] = on;       // edge u = 0: one segment

@@ -27,20 +27,24 @@
 // mirrors of this one, and in all of them the light cap shares its two columns with two
 // sides.)
 //
-// Light cap at the far plane: because the cap's vertices are shared with the sides of cells 2
-// and 4, they cannot be moved in this stage. Like the paper (Section 2.3: the single-pass
-// method z-fights with the caster otherwise), the fragment shader pushes the cap's fragments
-// to the far plane; it recognises them by two noperspective flags that are both non-zero only
-// inside cell 3 (u_cap_lo = 1 on columns <= 3, u_cap_hi = 1 on columns >= 4).
+// Depths (side_depth.frag.glsl): the light cap's vertices are shared with the sides of cells 2
+// and 4, so they cannot be moved to the far plane in this stage. Like the paper (Section 2.3:
+// the single-pass method z-fights with the caster otherwise), the fragment shader moves the
+// cap's fragments; it also gives every side fragment the depth of the side's canonical plane
+// (so the two copies of a side shared by neighbours cancel exactly). It tells the faces apart
+// by e_corner, the one-hot vector of the point (A, B or C) a vertex was placed at: sides have
+// one component exactly 0, caps none.
 
 layout(quads, fractional_odd_spacing, ccw) in;
 
 in vec3 c_world[];
+patch in vec4 tc_planes[3];
 
 uniform mat4 u_clip_from_world;
 uniform vec4 u_light;
 
-noperspective out vec2 e_cap_flags;
+out vec3 e_corner;
+flat out vec4 e_planes[3];
 
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
@@ -54,5 +58,6 @@ void main() {
     vec3 p = c_world[i];
     vec4 world = extruded ? umbra_extrude(p, u_light) : vec4(p, 1.0);
     gl_Position = u_clip_from_world * world;
-    e_cap_flags = vec2(k <= 3 ? 1.0 : 0.0, k >= 4 ? 1.0 : 0.0);
+    e_corner = vec3(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
+    e_planes = tc_planes;
 }

@@ -10,11 +10,18 @@
 // method's sides and caps: +1 keeps the vertex order, -1 swaps vertices 1 and 2 (the triangle
 // is then wound to face the light, as its own light cap), 0 (edge-on or degenerate) sets the
 // outer levels to 0, which discards the patch: it casts nothing.
+//
+// Volume pass only: invocation i also computes the canonical clip-space plane of the side of
+// edge (i, i + 1) of the wound patch (side_plane.glsl) for the fragment shader, which gives the
+// side's fragments that depth so the two copies of a shared side cancel exactly.
 
 layout(vertices = 3) out;
 
 in vec3 v_world[];
 out vec3 c_world[];
+#ifndef UMBRA_LIGHT_CAPS
+patch out vec4 tc_planes[3];
+#endif
 
 uniform vec4 u_light;
 
@@ -22,6 +29,11 @@ void main() {
     int o = umbra_triangle_orientation(v_world[0], v_world[1], v_world[2], u_light);
     int source = (o < 0 && gl_InvocationID != 0) ? 3 - gl_InvocationID : gl_InvocationID;
     c_world[gl_InvocationID] = v_world[source];
+#ifndef UMBRA_LIGHT_CAPS
+    int next = gl_InvocationID == 2 ? 0 : gl_InvocationID + 1;
+    int source_next = (o < 0 && next != 0) ? 3 - next : next;
+    tc_planes[gl_InvocationID] = umbra_side_plane_clip(v_world[source], v_world[source_next], u_light);
+#endif
     if (gl_InvocationID == 0) {
         float outer = o == 0 ? 0.0 : 1.0;
         gl_TessLevelOuter[0] = outer;

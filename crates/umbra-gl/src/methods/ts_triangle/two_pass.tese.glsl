@@ -15,10 +15,18 @@
 // its primitives are emitted clockwise ("reversed triangle winding") to face OUT of the volume.
 // For a directional light every inner vertex extrudes to the same point -L: the dark cap has
 // zero area and the sides become triangles, as they should.
+//
+// For the fragment shader (side_depth.frag.glsl): e_corner, the one-hot vector of the corner i
+// a vertex belongs to (a side's fragments have the third component exactly 0), and the
+// patch's three canonical side planes, flat.
 
 layout(triangles, equal_spacing, cw) in;
 
 in vec3 c_world[];
+patch in vec4 tc_planes[3];
+
+out vec3 e_corner;
+flat out vec4 e_planes[3];
 
 uniform mat4 u_clip_from_world;
 uniform vec4 u_light;
@@ -33,4 +41,6 @@ void main() {
     vec3 p = c_world[i];
     vec4 world = c == 0.0 ? vec4(p, 1.0) : umbra_extrude(p, u_light);
     gl_Position = u_clip_from_world * world;
+    e_corner = vec3(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
+    e_planes = tc_planes;
 }

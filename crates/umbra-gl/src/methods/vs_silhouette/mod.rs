@@ -70,19 +70,51 @@ impl ShaderDialect {
     }
 }
 
-/// Full source of the sides vertex shader for `max_mult` opposite slots per record.
-pub fn sides_vertex_source(dialect: ShaderDialect, max_mult: usize) -> String {
-    format!("{}#define UMBRA_MAX_MULT {max_mult}\n{MULTIPLICITY}\n{DEPTH}\n{SIDES_VERT}", dialect.prelude())
+/// Generated GLSL (both dialects): `records` sets of `fields.len()` vec4 attributes at
+/// locations `0..records * fields.len()` (`a_r<record>_<field>`), a struct with the named
+/// fields (`struct_body`) and `function(int r)` returning set `r`.
+fn record_access(struct_name: &str, struct_body: &str, function: &str, fields: &[String], records: usize) -> String {
+    let mut g = format!("#define UMBRA_RECORDS {records}\nstruct {struct_name} {{ {struct_body} }};\n");
+    for r in 0..records {
+        for f in 0..fields.len() {
+            g += &format!("layout(location = {}) in vec4 a_r{r}_{f};\n", r * fields.len() + f);
+        }
+    }
+    g += &format!("{struct_name} {function}(int r) {{\n    {struct_name} rec;\n");
+    for r in 0..records {
+        let assign: String = fields.iter().enumerate().map(|(f, name)| format!(" rec.{name} = a_r{r}_{f};")).collect();
+        let guard = if r + 1 == records { "    {".to_string() } else { format!("    if (r == {r}) {{") };
+        g += &format!("{guard}{assign} }}{}\n", if r + 1 == records { "" } else { " else" });
+    }
+    g += "    return rec;\n}\n";
+    g
 }
 
-/// Full source of the caps vertex shader.
-pub fn caps_vertex_source(dialect: ShaderDialect) -> String {
-    format!("{}{MULTIPLICITY}\n{DEPTH}\n{CAPS_VERT}", dialect.prelude())
+/// Full source of the sides vertex shader for `max_mult` opposite slots per record and
+/// `records` edge records per instance.
+pub fn sides_vertex_source(dialect: ShaderDialect, max_mult: usize, records: usize) -> String {
+    let mut fields = vec!["a".to_string(), "b".to_string()];
+    fields.extend((0..max_mult).map(|i| format!("o[{i}]")));
+    let access = record_access("UmbraEdgeRecord", "vec4 a; vec4 b; vec4 o[UMBRA_MAX_MULT];", "umbra_edge_record", &fields, records);
+    format!("{}#define UMBRA_MAX_MULT {max_mult}\n{MULTIPLICITY}\n{DEPTH}\n{access}\n{SIDES_VERT}", dialect.prelude())
+}
+
+/// Full source of the caps vertex shader for `records` triangles per instance.
+pub fn caps_vertex_source(dialect: ShaderDialect, records: usize) -> String {
+    let fields = ["p0", "p1", "p2"].map(String::from);
+    let access = record_access("UmbraTriangleRecord", "vec4 p0; vec4 p1; vec4 p2;", "umbra_triangle_record", &fields, records);
+    format!("{}{MULTIPLICITY}\n{DEPTH}\n{access}\n{CAPS_VERT}", dialect.prelude())
 }
 
 /// Full source of the (empty) fragment shader.
 pub fn fragment_source(dialect: ShaderDialect) -> String {
     format!("{}{FRAG}", dialect.prelude())
+}
+
+/// Records of `vec4s` vec4 each that fit one instance with `attribs` vertex attributes
+/// (at most 8: beyond that the selection in the shader costs more than the instances save).
+pub fn records_per_instance(vec4s: usize, attribs: usize) -> usize {
+    (attribs / vec4s.max(1)).clamp(1, 8)
 }
 
 /// Sizes of the uploaded shadow geometry.
@@ -100,13 +132,19 @@ pub struct Layout {
     pub sides_bytes: usize,
     /// Eq. 9, `48 · t`.
     pub caps_bytes: usize,
+    /// Edge records drawn per instance (the same buffer read by several attribute sets).
+    pub sides_records_per_instance: usize,
+    /// Triangles drawn per instance.
+    pub caps_records_per_instance: usize,
 }
 
-/// The layout `prepare` uses for a mesh with adjacency `adj` and `triangles` triangles when
-/// at most `max_mult_limit` opposite slots fit in a record (GL: `MAX_VERTEX_ATTRIBS - 2`; 14
-/// on every OpenGL 4.5 / ES 3.0 implementation): no GL needed (e.g. for `umbra info`).
-pub fn plan_layout(adj: &EdgeAdjacency, triangles: usize, max_mult_limit: usize) -> Layout {
-    let max_mult = choose_max_mult(adj, max_mult_limit.min(MAX_MULT_LIMIT)).max(1);
+/// The layout `prepare` uses for a mesh with adjacency `adj` and `triangles` triangles with
+/// `attribs` vertex attributes (GL_MAX_VERTEX_ATTRIBS, at least 16 on every OpenGL 4.5 /
+/// ES 3.0 implementation) and at most `max_mult_limit` opposite slots per record: no GL
+/// needed (e.g. for `umbra info`, with 16 and [`MAX_MULT_LIMIT`]).
+pub fn plan_layout(adj: &EdgeAdjacency, triangles: usize, attribs: usize, max_mult_limit: usize) -> Layout {
+    let limit = max_mult_limit.min(MAX_MULT_LIMIT).min(attribs.saturating_sub(2)).max(1);
+    let max_mult = choose_max_mult(adj, limit).max(1);
     let records = record_count(adj, max_mult);
     Layout {
         max_mult,
@@ -115,6 +153,8 @@ pub fn plan_layout(adj: &EdgeAdjacency, triangles: usize, max_mult_limit: usize)
         triangles,
         sides_bytes: sides_data_bytes(records, max_mult),
         caps_bytes: caps_data_bytes(triangles),
+        sides_records_per_instance: records_per_instance(2 + max_mult, attribs),
+        caps_records_per_instance: records_per_instance(3, attribs),
     }
 }
 
@@ -137,6 +177,7 @@ struct Program {
     clip_from_world: Option<glow::UniformLocation>,
     light: Option<glow::UniformLocation>,
     far_clip_z: Option<glow::UniformLocation>,
+    cap_vertices: Option<glow::UniformLocation>,
 }
 
 impl Program {
@@ -151,18 +192,147 @@ impl Program {
             clip_from_world: uniform(gl, program, "u_clip_from_world"),
             light: uniform(gl, program, "u_light"),
             far_clip_z: uniform(gl, program, "u_far_clip_z"),
+            cap_vertices: uniform(gl, program, "u_cap_vertices"),
             program,
         })
     }
 
     /// Binds the program and sets its uniforms for this pass.
-    fn bind(&self, gl: &glow::Context, d: &VolumeDraw) {
-        // SAFETY: our own linked program; uniform locations come from it.
+    fn bind(&self, gl: &glow::Context, d: &VolumeDraw, cap_vertices: i32) {
+        // SAFETY: our own linked program; uniform locations come from it (None: unused).
         unsafe {
             gl.use_program(Some(self.program));
             gl.uniform_matrix_4_f32_slice(self.clip_from_world.as_ref(), false, &d.clip_from_world);
             gl.uniform_4_f32_slice(self.light.as_ref(), &d.light);
             gl.uniform_1_f32(self.far_clip_z.as_ref(), d.far_clip_z);
+            gl.uniform_1_i32(self.cap_vertices.as_ref(), cap_vertices);
+        }
+    }
+}
+
+/// One static buffer of records (`vec4s` vec4 each, `records` of them: exactly the bytes of
+/// Eq. 8 or Eq. 9) and the vertex arrays that feed `per_instance` records to each instance.
+struct RecordArrays {
+    buffer: glow::Buffer,
+    /// All `per_instance` attribute sets, instance i reads records `per_instance * i + j`.
+    main_vao: glow::VertexArray,
+    main_instances: usize,
+    /// The last `records % per_instance` records: one instance whose missing sets are
+    /// disabled (they read the generic attribute value, set to 0 = an empty record).
+    remainder: Option<(glow::VertexArray, usize)>,
+    vec4s: usize,
+    per_instance: usize,
+}
+
+impl RecordArrays {
+    /// ES 3.0 entry points only (bind-to-edit): binds new vertex arrays and GL_ARRAY_BUFFER,
+    /// unbinds both before returning.
+    fn new(
+        gl: &glow::Context,
+        what: &'static str,
+        data: &[[f32; 4]],
+        vec4s: usize,
+        per_instance: usize,
+    ) -> Result<Self, GlError> {
+        let bytes = as_bytes(data);
+        crate::scene::checked_size(bytes.len(), what)?;
+        let records = data.len() / vec4s.max(1);
+        let record_bytes = 16 * vec4s;
+        let stride = i32::try_from(record_bytes * per_instance)
+            .map_err(|_| GlError::InvalidParams(format!("{what}: stride too large")))?;
+        let (main_instances, rest) = (records / per_instance, records % per_instance);
+        // SAFETY: object creation and uploads on the current context; `bytes` outlives the
+        // call; every attribute of instance i reads inside record per_instance * i + j <
+        // records (main) or inside the last `rest` records (remainder).
+        unsafe {
+            let buffer = gl.create_buffer().map_err(|detail| GlError::Create { what, detail })?;
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
+            // STATIC_DRAW: uploaded once per mesh, read by every frame.
+            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+            let vao_for = |sets: usize, base: usize| -> Result<glow::VertexArray, GlError> {
+                let vao = gl.create_vertex_array().map_err(|detail| GlError::Create { what, detail })?;
+                gl.bind_vertex_array(Some(vao));
+                for j in 0..sets {
+                    for f in 0..vec4s {
+                        let location = (j * vec4s + f) as u32;
+                        let offset = (base + (j * vec4s + f) * 16) as i32;
+                        gl.vertex_attrib_pointer_f32(location, 4, glow::FLOAT, false, stride, offset);
+                        gl.enable_vertex_attrib_array(location);
+                        // Divisor 1: the record is the same for all of the instance's vertices
+                        // (paper 003 Section 2.6 instancing).
+                        gl.vertex_attrib_divisor(location, 1);
+                    }
+                }
+                Ok(vao)
+            };
+            let main = vao_for(per_instance, 0);
+            let remainder = match (&main, rest) {
+                (Ok(_), 1..) => Some(vao_for(rest, main_instances * per_instance * record_bytes)),
+                _ => None,
+            };
+            gl.bind_vertex_array(None);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            match (main, remainder) {
+                (Ok(main_vao), None) => Ok(Self { buffer, main_vao, main_instances, remainder: None, vec4s, per_instance }),
+                (Ok(main_vao), Some(Ok(r))) => {
+                    Ok(Self { buffer, main_vao, main_instances, remainder: Some((r, rest)), vec4s, per_instance })
+                }
+                (Ok(main_vao), Some(Err(e))) => {
+                    gl.delete_vertex_array(main_vao);
+                    gl.delete_buffer(buffer);
+                    Err(e)
+                }
+                (Err(e), _) => {
+                    gl.delete_buffer(buffer);
+                    Err(e)
+                }
+            }
+        }
+    }
+
+    /// Draws every record: `vertices` vertices per record.
+    fn draw(&self, gl: &glow::Context, vertices: usize) {
+        let per_instance = (vertices * self.per_instance) as i32;
+        // SAFETY: our vertex arrays over our buffer (see `new`); the program is bound.
+        unsafe {
+            if self.main_instances > 0 {
+                gl.bind_vertex_array(Some(self.main_vao));
+                gl.draw_arrays_instanced(glow::TRIANGLES, 0, per_instance, self.main_instances as i32);
+            }
+            if let Some((vao, rest)) = self.remainder {
+                // The sets beyond `rest` are disabled: they read the generic attribute value,
+                // which must be an empty record (count 0 / a degenerate triangle): all zero.
+                for location in (rest * self.vec4s)..(self.per_instance * self.vec4s) {
+                    gl.vertex_attrib_4_f32(location as u32, 0.0, 0.0, 0.0, 0.0);
+                }
+                gl.bind_vertex_array(Some(vao));
+                gl.draw_arrays_instanced(glow::TRIANGLES, 0, per_instance, 1);
+                // Back to GL's initial generic value (0, 0, 0, 1).
+                for location in (rest * self.vec4s)..(self.per_instance * self.vec4s) {
+                    gl.vertex_attrib_4_f32(location as u32, 0.0, 0.0, 0.0, 1.0);
+                }
+            }
+        }
+    }
+
+    fn buffer_bytes(&self, gl: &glow::Context) -> usize {
+        // SAFETY: query on our own buffer; the ARRAY_BUFFER binding is restored to none.
+        unsafe {
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffer));
+            let s = gl.get_buffer_parameter_i32(glow::ARRAY_BUFFER, glow::BUFFER_SIZE);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            s.max(0) as usize
+        }
+    }
+
+    fn destroy(&self, gl: &glow::Context) {
+        // SAFETY: our own objects, not used afterwards.
+        unsafe {
+            gl.delete_buffer(self.buffer);
+            gl.delete_vertex_array(self.main_vao);
+            if let Some((vao, _)) = self.remainder {
+                gl.delete_vertex_array(vao);
+            }
         }
     }
 }
@@ -170,10 +340,8 @@ impl Program {
 struct Gpu {
     sides: Program,
     caps: Program,
-    sides_vao: glow::VertexArray,
-    caps_vao: glow::VertexArray,
-    sides_buffer: glow::Buffer,
-    caps_buffer: glow::Buffer,
+    sides_data: RecordArrays,
+    caps_data: RecordArrays,
     layout: Layout,
 }
 
@@ -184,54 +352,13 @@ pub struct VsSilhouette {
     gpu: Option<Gpu>,
     /// Upper bound on maxMult forced by the caller (tests of the splitting).
     max_mult_cap: Option<usize>,
+    /// Upper bound on the records per instance forced by the caller (tests).
+    records_per_instance_cap: Option<usize>,
 }
 
 fn as_bytes(v: &[[f32; 4]]) -> &[u8] {
     // SAFETY: [f32; 4] has no padding and every byte is initialised.
     unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
-}
-
-/// A static vertex buffer holding `data`, and a vertex array reading `stride_vec4s`
-/// consecutive vec4 attributes (locations 0..) from it once per instance.
-///
-/// ES 3.0 entry points only (bind-to-edit): binds the new vertex array and GL_ARRAY_BUFFER,
-/// and unbinds both before returning.
-fn instanced_vec4_buffer(
-    gl: &glow::Context,
-    what: &'static str,
-    data: &[[f32; 4]],
-    stride_vec4s: usize,
-) -> Result<(glow::Buffer, glow::VertexArray), GlError> {
-    let bytes = as_bytes(data);
-    crate::scene::checked_size(bytes.len(), what)?;
-    let stride =
-        i32::try_from(16 * stride_vec4s).map_err(|_| GlError::InvalidParams(format!("{what}: stride too large")))?;
-    // SAFETY: object creation and uploads on the current context; `bytes` outlives the call;
-    // every attribute offset lies inside the stride.
-    unsafe {
-        let buffer = gl.create_buffer().map_err(|detail| GlError::Create { what, detail })?;
-        let vao = match gl.create_vertex_array() {
-            Ok(v) => v,
-            Err(detail) => {
-                gl.delete_buffer(buffer);
-                return Err(GlError::Create { what, detail });
-            }
-        };
-        gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
-        // STATIC_DRAW: uploaded once per mesh, read by every frame.
-        gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
-        gl.bind_vertex_array(Some(vao));
-        for i in 0..stride_vec4s as u32 {
-            gl.vertex_attrib_pointer_f32(i, 4, glow::FLOAT, false, stride, 16 * i as i32);
-            gl.enable_vertex_attrib_array(i);
-            // Divisor 1: one record per instance (paper 003 Section 2.6 instancing), the same
-            // for all of the instance's vertices.
-            gl.vertex_attrib_divisor(i, 1);
-        }
-        gl.bind_vertex_array(None);
-        gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        Ok((buffer, vao))
-    }
 }
 
 impl VsSilhouette {
@@ -245,6 +372,12 @@ impl VsSilhouette {
         Self { max_mult_cap: Some(cap.max(1)), ..Self::default() }
     }
 
+    /// At most `n` (>= 1) records per instance (1 = the paper's one edge per instance).
+    pub fn with_records_per_instance_cap(mut self, n: usize) -> Self {
+        self.records_per_instance_cap = Some(n.max(1));
+        self
+    }
+
     /// Sizes of the prepared data (None before prepare).
     pub fn layout(&self) -> Option<Layout> {
         self.gpu.as_ref().map(|g| g.layout)
@@ -253,16 +386,7 @@ impl VsSilhouette {
     /// GL_BUFFER_SIZE of the sides-data and caps-data buffers as GL reports it.
     pub fn uploaded_buffer_bytes(&self, gl: &glow::Context) -> Option<(usize, usize)> {
         let g = self.gpu.as_ref()?;
-        // SAFETY: queries on our own buffers; the ARRAY_BUFFER binding is restored to none.
-        unsafe {
-            let size = |b| {
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(b));
-                let s = gl.get_buffer_parameter_i32(glow::ARRAY_BUFFER, glow::BUFFER_SIZE);
-                gl.bind_buffer(glow::ARRAY_BUFFER, None);
-                s.max(0) as usize
-            };
-            Some((size(g.sides_buffer), size(g.caps_buffer)))
-        }
+        Some((g.sides_data.buffer_bytes(gl), g.caps_data.buffer_bytes(gl)))
     }
 
     /// Preprocessing for `mesh` with its adjacency on the current context (GL 4.5 core or
@@ -278,32 +402,32 @@ impl VsSilhouette {
         self.destroy(gl);
         // SAFETY: plain query on the current context.
         let attribs = unsafe { gl.get_parameter_i32(glow::MAX_VERTEX_ATTRIBS) }.max(3) as usize;
-        let limit = (attribs - 2).min(self.max_mult_cap.unwrap_or(MAX_MULT_LIMIT));
-        let layout = plan_layout(adj, mesh.triangles.len(), limit);
+        let mut layout = plan_layout(adj, mesh.triangles.len(), attribs, self.max_mult_cap.unwrap_or(MAX_MULT_LIMIT));
+        if let Some(n) = self.records_per_instance_cap {
+            layout.sides_records_per_instance = layout.sides_records_per_instance.min(n);
+            layout.caps_records_per_instance = layout.caps_records_per_instance.min(n);
+        }
         let sides = build_sides_data(mesh, adj, layout.max_mult).map_err(|e| GlError::InvalidParams(e.to_string()))?;
         let caps = build_caps_data(mesh).map_err(|e| GlError::InvalidParams(e.to_string()))?;
         debug_assert_eq!(sides.records(), layout.records);
-        if i32::try_from(layout.records).is_err() || i32::try_from(layout.triangles).is_err() {
+        let vertices = [6 * layout.max_mult * layout.sides_records_per_instance, 6 * layout.caps_records_per_instance];
+        if i32::try_from(layout.records).is_err() || i32::try_from(layout.triangles).is_err() || vertices.iter().any(|&v| v > 1 << 20) {
             return Err(GlError::InvalidParams(format!(
                 "vs-silhouette: {} edge records / {} triangles exceed one instanced draw",
                 layout.records, layout.triangles
             )));
         }
 
+        let frag = fragment_source(dialect);
         let sides_prog = Program::link(
             gl,
             "vs-silhouette sides",
             "vs_silhouette/sides.vert.glsl",
-            &sides_vertex_source(dialect, layout.max_mult),
-            &fragment_source(dialect),
+            &sides_vertex_source(dialect, layout.max_mult, layout.sides_records_per_instance),
+            &frag,
         )?;
-        let caps_prog = match Program::link(
-            gl,
-            "vs-silhouette caps",
-            "vs_silhouette/caps.vert.glsl",
-            &caps_vertex_source(dialect),
-            &fragment_source(dialect),
-        ) {
+        let caps_src = caps_vertex_source(dialect, layout.caps_records_per_instance);
+        let caps_prog = match Program::link(gl, "vs-silhouette caps", "vs_silhouette/caps.vert.glsl", &caps_src, &frag) {
             Ok(p) => p,
             Err(e) => {
                 // SAFETY: our own program, not used afterwards.
@@ -318,28 +442,23 @@ impl VsSilhouette {
                 gl.delete_program(caps_prog.program);
             }
         };
-        let (sides_buffer, sides_vao) =
-            match instanced_vec4_buffer(gl, "vs-silhouette sides-data", &sides.data, sides.stride()) {
+        let sides_data =
+            match RecordArrays::new(gl, "vs-silhouette sides-data", &sides.data, sides.stride(), layout.sides_records_per_instance) {
                 Ok(x) => x,
                 Err(e) => {
                     delete_programs();
                     return Err(e);
                 }
             };
-        let (caps_buffer, caps_vao) = match instanced_vec4_buffer(gl, "vs-silhouette caps-data", &caps, 3) {
+        let caps_data = match RecordArrays::new(gl, "vs-silhouette caps-data", &caps, 3, layout.caps_records_per_instance) {
             Ok(x) => x,
             Err(e) => {
                 delete_programs();
-                // SAFETY: our own objects, not used afterwards.
-                unsafe {
-                    gl.delete_buffer(sides_buffer);
-                    gl.delete_vertex_array(sides_vao);
-                }
+                sides_data.destroy(gl);
                 return Err(e);
             }
         };
-        self.gpu =
-            Some(Gpu { sides: sides_prog, caps: caps_prog, sides_vao, caps_vao, sides_buffer, caps_buffer, layout });
+        self.gpu = Some(Gpu { sides: sides_prog, caps: caps_prog, sides_data, caps_data, layout });
         Ok(())
     }
 
@@ -358,31 +477,22 @@ impl VsSilhouette {
 
         mark(gl, "sides");
         if l.records > 0 {
-            g.sides.bind(gl, d);
-            // SAFETY: our program and vertex array; every instance reads one whole record of
-            // the sides-data buffer (records * stride vec4s were uploaded).
-            unsafe {
-                gl.bind_vertex_array(Some(g.sides_vao));
-                // Vertex shader stage (sides.vert.glsl): Alg. 1 per vertex; 6 vertices per
-                // potential side, maxMult potential sides per record.
-                gl.draw_arrays_instanced(glow::TRIANGLES, 0, (6 * l.max_mult) as i32, l.records as i32);
-            }
+            g.sides.bind(gl, d, 0);
+            // Vertex shader stage (sides.vert.glsl): Alg. 1 per vertex; 6 vertices per
+            // potential side, maxMult potential sides per record.
+            g.sides_data.draw(gl, 6 * l.max_mult);
         }
 
         mark(gl, "caps");
         // z-pass counts only faces in front of the sample and needs no caps.
         if !d.zpass && l.triangles > 0 {
-            g.caps.bind(gl, d);
             // A directional light's dark cap has zero area: draw only the light cap.
             let vertices = if d.light[3] == 0.0 { 3 } else { 6 };
-            // SAFETY: our program and vertex array; one caps-data record per instance.
-            unsafe {
-                gl.bind_vertex_array(Some(g.caps_vao));
-                // Vertex shader stage (caps.vert.glsl): Alg. 2 per vertex.
-                gl.draw_arrays_instanced(glow::TRIANGLES, 0, vertices, l.triangles as i32);
-            }
+            g.caps.bind(gl, d, vertices as i32);
+            // Vertex shader stage (caps.vert.glsl): Alg. 2 per vertex.
+            g.caps_data.draw(gl, vertices);
         }
-        // SAFETY: unbinding leaves no dangling reference to our vertex array.
+        // SAFETY: unbinding leaves no dangling reference to our vertex arrays.
         unsafe { gl.bind_vertex_array(None) };
         Ok(())
     }
@@ -407,12 +517,7 @@ impl ShadowMethod for VsSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(
-        &mut self,
-        gl: &glow::Context,
-        _scene: &SceneGpu,
-        frame: &mut VolumeFrame<'_>,
-    ) -> Result<(), GlError> {
+    fn draw_volumes(&mut self, gl: &glow::Context, _scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
         let d = VolumeDraw {
             clip_from_world: frame.clip_from_world_f32(),
             light: frame.light,
@@ -433,11 +538,9 @@ impl ShadowMethod for VsSilhouette {
             unsafe {
                 gl.delete_program(g.sides.program);
                 gl.delete_program(g.caps.program);
-                gl.delete_vertex_array(g.sides_vao);
-                gl.delete_vertex_array(g.caps_vao);
-                gl.delete_buffer(g.sides_buffer);
-                gl.delete_buffer(g.caps_buffer);
             }
+            g.sides_data.destroy(gl);
+            g.caps_data.destroy(gl);
         }
         self.prepared = None;
     }

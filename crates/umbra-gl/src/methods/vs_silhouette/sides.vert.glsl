@@ -4,62 +4,26 @@
 // the shared multiplicity.glsl (umbra_opposite_contribution), extrusion Eq. 1 (= 001 Eq. 2).
 //
 // Common subset of GLSL 4.50 core and GLSL ES 3.00 (the basis of a WebGL 2 build): no
-// #version here; the Rust side prepends "#version 450 core" or "#version 300 es" + precision
-// statements, then "#define UMBRA_MAX_MULT n", multiplicity.glsl and depth.glsl. ES 3.00 has
-// no vertex-input arrays, hence one named attribute per opposite slot.
+// #version here; the Rust side (vs_silhouette/mod.rs) prepends "#version 450 core" or
+// "#version 300 es" + precision statements, multiplicity.glsl, depth.glsl and the generated
+// record access:
+//   UMBRA_MAX_MULT        opposite slots per edge record (maxMult);
+//   UMBRA_RECORDS         edge records per instance;
+//   UmbraEdgeRecord umbra_edge_record(int r)
+//                         record r of this instance: a = (A, opposites in this record),
+//                         b = (B, 1 if the edge is split into several records), o[i] = (O_i, 1),
+//                         read from UMBRA_RECORDS * (2 + UMBRA_MAX_MULT) vec4 attributes that
+//                         advance once per instance (divisor 1). ES 3.00 has no vertex-input
+//                         arrays, hence generated names; several records per instance because
+//                         instances are expensive on some implementations (llvmpipe runs its
+//                         vertex pipeline once per instance).
 //
-// One instance = one edge record (attribute divisor 1): A, B and UMBRA_MAX_MULT opposite
-// slots, A.w = the number of opposites used by this record (umbra_geom::sides_data). The draw
-// has 6 * UMBRA_MAX_MULT vertices per instance: side s = gl_VertexID / 6 (the potential side
-// index of Alg. 1), v = gl_VertexID % 6 (the vertex of the side's two triangles).
-// Every vertex recomputes the record's multiplicity curMult (Alg. 1, line 2): a vertex of a
-// side s >= |curMult| is useless and goes to (0,0,0,0), so its whole side degenerates (all six
-// vertices of a side share s and curMult) and is not rasterized.
-
-layout(location = 0) in vec4 a_edge_a;   // A.xyz, w = opposites in this record
-layout(location = 1) in vec4 a_edge_b;   // B.xyz (A < B in umbra_greater order), w = 1: split edge
-#if UMBRA_MAX_MULT > 0
-layout(location = 2) in vec4 a_opposite_0;
-#endif
-#if UMBRA_MAX_MULT > 1
-layout(location = 3) in vec4 a_opposite_1;
-#endif
-#if UMBRA_MAX_MULT > 2
-layout(location = 4) in vec4 a_opposite_2;
-#endif
-#if UMBRA_MAX_MULT > 3
-layout(location = 5) in vec4 a_opposite_3;
-#endif
-#if UMBRA_MAX_MULT > 4
-layout(location = 6) in vec4 a_opposite_4;
-#endif
-#if UMBRA_MAX_MULT > 5
-layout(location = 7) in vec4 a_opposite_5;
-#endif
-#if UMBRA_MAX_MULT > 6
-layout(location = 8) in vec4 a_opposite_6;
-#endif
-#if UMBRA_MAX_MULT > 7
-layout(location = 9) in vec4 a_opposite_7;
-#endif
-#if UMBRA_MAX_MULT > 8
-layout(location = 10) in vec4 a_opposite_8;
-#endif
-#if UMBRA_MAX_MULT > 9
-layout(location = 11) in vec4 a_opposite_9;
-#endif
-#if UMBRA_MAX_MULT > 10
-layout(location = 12) in vec4 a_opposite_10;
-#endif
-#if UMBRA_MAX_MULT > 11
-layout(location = 13) in vec4 a_opposite_11;
-#endif
-#if UMBRA_MAX_MULT > 12
-layout(location = 14) in vec4 a_opposite_12;
-#endif
-#if UMBRA_MAX_MULT > 13
-layout(location = 15) in vec4 a_opposite_13;
-#endif
+// The draw has UMBRA_RECORDS * 6 * UMBRA_MAX_MULT vertices per instance: record
+// r = gl_VertexID / (6 * maxMult), potential side s (Alg. 1 "s") and vertex v of the side's
+// two triangles (Eq. 4-5 "v") from the rest. Every vertex recomputes its record's multiplicity
+// curMult (Alg. 1, line 2): a vertex of a side s >= |curMult| is useless and goes to (0,0,0,0),
+// so its whole side degenerates (all six vertices of a side share s and curMult) and is not
+// rasterized.
 
 uniform mat4 u_clip_from_world;
 uniform vec4 u_light;
@@ -73,61 +37,23 @@ const int UMBRA_ID_CCW[6] = int[6](1, 0, 2, 1, 2, 3);
 const int UMBRA_ID_CW[6] = int[6](0, 1, 3, 0, 3, 2);
 const int UMBRA_ID_CW_SPLIT[6] = int[6](1, 2, 0, 1, 3, 2);
 
-// Alg. 1, line 2: the record's (sub-)multiplicity, the sum of Alg. 3 over its opposites.
-// Unrolled: each slot is its own attribute; `count` guards the unused slots.
-int umbra_record_multiplicity(vec3 a, vec3 b, int count, vec4 l) {
-    int m = 0;
-#if UMBRA_MAX_MULT > 0
-    if (count > 0) m += umbra_opposite_contribution(a, b, a_opposite_0.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 1
-    if (count > 1) m += umbra_opposite_contribution(a, b, a_opposite_1.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 2
-    if (count > 2) m += umbra_opposite_contribution(a, b, a_opposite_2.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 3
-    if (count > 3) m += umbra_opposite_contribution(a, b, a_opposite_3.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 4
-    if (count > 4) m += umbra_opposite_contribution(a, b, a_opposite_4.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 5
-    if (count > 5) m += umbra_opposite_contribution(a, b, a_opposite_5.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 6
-    if (count > 6) m += umbra_opposite_contribution(a, b, a_opposite_6.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 7
-    if (count > 7) m += umbra_opposite_contribution(a, b, a_opposite_7.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 8
-    if (count > 8) m += umbra_opposite_contribution(a, b, a_opposite_8.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 9
-    if (count > 9) m += umbra_opposite_contribution(a, b, a_opposite_9.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 10
-    if (count > 10) m += umbra_opposite_contribution(a, b, a_opposite_10.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 11
-    if (count > 11) m += umbra_opposite_contribution(a, b, a_opposite_11.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 12
-    if (count > 12) m += umbra_opposite_contribution(a, b, a_opposite_12.xyz, l);
-#endif
-#if UMBRA_MAX_MULT > 13
-    if (count > 13) m += umbra_opposite_contribution(a, b, a_opposite_13.xyz, l);
-#endif
-    return m;
-}
-
 void main() {
-    int s = gl_VertexID / 6;        // potential side of this record (Alg. 1 "s")
-    int v = gl_VertexID - 6 * s;    // vertex of the side, 0..5 (Eq. 4-5 "v")
-    vec3 a = a_edge_a.xyz;
-    vec3 b = a_edge_b.xyz;
-    int cur_mult = umbra_record_multiplicity(a, b, int(a_edge_a.w), u_light);
+    int per_record = 6 * UMBRA_MAX_MULT;
+    int r = gl_VertexID / per_record;          // record of this instance
+    int within = gl_VertexID - per_record * r;
+    int s = within / 6;                         // potential side of the record (Alg. 1 "s")
+    int v = within - 6 * s;                     // vertex of the side, 0..5 (Eq. 4-5 "v")
+    UmbraEdgeRecord rec = umbra_edge_record(r);
+    vec3 a = rec.a.xyz;
+    vec3 b = rec.b.xyz;
+    int count = int(rec.a.w);
+    // Alg. 1, line 2: the record's (sub-)multiplicity, Alg. 3 summed over its opposites.
+    int cur_mult = 0;
+    for (int i = 0; i < UMBRA_MAX_MULT; ++i) {
+        if (i < count) {
+            cur_mult += umbra_opposite_contribution(a, b, rec.o[i].xyz, u_light);
+        }
+    }
     if (s >= abs(cur_mult)) {
         // Alg. 1, line 7: useless vertex, degenerate side.
         gl_Position = vec4(0.0);
@@ -138,15 +64,16 @@ void main() {
     // exactly cpu-silhouette's (umbra_geom::silhouette), vertex for vertex:
     //   curMult > 0 (id_CCW): (B, A, A_inf), (B, A_inf, B_inf) = quad B A A_inf B_inf;
     //   curMult < 0 (id_CW):  (A, B, B_inf), (A, B_inf, A_inf) = quad A B B_inf A_inf.
-    // Records of a SPLIT edge (B.w = 1) may have opposite signs that must cancel exactly at
-    // every sample, depth test included: their curMult < 0 sides are the curMult > 0 triangles
-    // with the last two vertices swapped, (B, A_inf, A), (B, B_inf, A_inf): the same first
-    // vertex and the same edges, so the rasterizer's coverage and depth plane are the same
-    // and only the facing differs.
+    // Records of a SPLIT edge (b.w = 1) may have opposite signs that must cancel in the
+    // stencil: their curMult < 0 sides are the curMult > 0 triangles with the last two
+    // vertices swapped, (B, A_inf, A), (B, B_inf, A_inf): the same first vertex and the same
+    // edges, so the rasterizer sets up the same coverage and depth plane, only the facing
+    // differs (measured: exact cancellation except rare samples on a grazing side, where
+    // clipping the triangle at w = 0 rounds differently for the reversed order).
     int id;
     if (cur_mult > 0) {
         id = UMBRA_ID_CCW[v];
-    } else if (a_edge_b.w != 0.0) {
+    } else if (rec.b.w != 0.0) {
         id = UMBRA_ID_CW_SPLIT[v];
     } else {
         id = UMBRA_ID_CW[v];

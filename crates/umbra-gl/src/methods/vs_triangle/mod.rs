@@ -10,14 +10,21 @@
 //! `glDrawArrays` of 24 vertices (8 triangles: 3 side quads, light cap, dark cap) per scene
 //! triangle, whose vertex shader fetches its triangle from the scene's own position and index
 //! buffers (bound as shader storage) by `gl_VertexID / 24`. See volume.vert.glsl for the vertex
-//! table and the canonical side form that makes the sides of two neighbours cancel exactly.
+//! table.
+//!
+//! Two draws per light, because the sides two light-facing neighbours cast on their shared
+//! edge (+1 and -1) must cancel at every sample, including samples at the side's own depth: all
+//! sides are emitted in one canonical vertex order (that of a +1 side), so both copies are
+//! clipped, triangulated and depth-interpolated identically, and the -1 sides are drawn in a
+//! second draw ("negative sides", 18 vertices per triangle) with `glFrontFace(GL_CW)`, which
+//! counts the same primitives as the opposite face.
 //!
 //! Preprocessing (once): the program and an empty vertex array; the method owns no buffers
 //! (`gpu_bytes() == 0`). Per light: uniforms and one draw, counted with
 //! [`VolumeFrame::shadow_volume_state`] (z-fail; z-pass draws only the 18 side vertices per
 //! triangle).
 //!
-//! Stages reported: "volumes".
+//! Stages reported: "volumes" (+1 sides and caps), "negative sides".
 
 use glow::HasContext;
 
@@ -25,6 +32,7 @@ use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
+use crate::state::GlState;
 
 pub const NAME: &str = "vs-triangle";
 
@@ -42,7 +50,10 @@ pub const TRIANGLES_BINDING: u32 = 3;
 /// Vertices per scene triangle: 3 side quads (18), light cap (3), dark cap (3).
 pub const VERTICES_PER_TRIANGLE: usize = 24;
 
-/// Vertices drawn per scene triangle for a light: sides only in z-pass; no dark cap for a
+/// Vertices per scene triangle of the second draw (the -1 sides).
+pub const NEGATIVE_SIDE_VERTICES: usize = 18;
+
+/// Vertices drawn per scene triangle for a light in the first draw: sides only in z-pass; no dark cap for a
 /// directional light (every vertex extrudes to the same point, the cap has zero area).
 pub fn vertices_per_triangle(zpass: bool, directional: bool) -> usize {
     match (zpass, directional) {
@@ -58,6 +69,7 @@ struct Gpu {
     u_light: Option<glow::UniformLocation>,
     u_far_clip_z: Option<glow::UniformLocation>,
     u_vertices_per_triangle: Option<glow::UniformLocation>,
+    u_pass: Option<glow::UniformLocation>,
     /// Core profile needs a bound vertex array even with no attributes.
     vao: glow::VertexArray,
 }
@@ -85,7 +97,7 @@ impl ShadowMethod for VsTriangle {
     }
 
     fn stages(&self) -> &'static [&'static str] {
-        &["volumes"]
+        &["volumes", "negative sides"]
     }
 
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
@@ -111,6 +123,7 @@ impl ShadowMethod for VsTriangle {
                 u_light: uniform(gl, program, "u_light"),
                 u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
                 u_vertices_per_triangle: uniform(gl, program, "u_vertices_per_triangle"),
+                u_pass: uniform(gl, program, "u_pass"),
                 program,
                 vao,
             });
@@ -125,19 +138,21 @@ impl ShadowMethod for VsTriangle {
 
     fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
         let gpu = self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("vs-triangle: draw_volumes before prepare".into()))?;
+        let draw_count = |per_triangle: usize| {
+            scene
+                .triangle_count()
+                .checked_mul(per_triangle)
+                .and_then(|n| i32::try_from(n).ok())
+                .ok_or_else(|| GlError::InvalidParams(format!("{} triangles x {per_triangle} vertices exceed one draw call", scene.triangle_count())))
+        };
         let per_triangle = vertices_per_triangle(frame.zpass, frame.light[3] == 0.0);
-        let count = scene
-            .triangle_count()
-            .checked_mul(per_triangle)
-            .and_then(|n| i32::try_from(n).ok())
-            .ok_or_else(|| GlError::InvalidParams(format!("{} triangles x {per_triangle} vertices exceed one draw call", scene.triangle_count())))?;
+        let count = draw_count(per_triangle)?;
+        let negative_count = draw_count(NEGATIVE_SIDE_VERTICES)?;
         frame.mark(gl, "volumes");
         // Counting state (z-fail or z-pass, two-sided stencil, depth clamp, no colour or depth
         // writes); the reason for every field is in GlState::shadow_volume.
-        frame.shadow_volume_state().apply(gl);
-        if count == 0 {
-            return Ok(());
-        }
+        let state = frame.shadow_volume_state();
+        state.apply(gl);
         // SAFETY: our program and VAO; the storage buffers are the scene's, sized for every
         // index the shader computes (3 per triangle, each < positions.len(), checked at upload).
         unsafe {
@@ -146,11 +161,31 @@ impl ShadowMethod for VsTriangle {
             gl.uniform_matrix_4_f32_slice(gpu.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
-            gl.uniform_1_i32(gpu.u_vertices_per_triangle.as_ref(), per_triangle as i32);
             // The triangles are read from the scene's buffers, not from vertex attributes.
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, POSITIONS_BINDING, Some(scene.position_buffer()));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, TRIANGLES_BINDING, Some(scene.index_buffer()));
-            gl.draw_arrays(glow::TRIANGLES, 0, count);
+            gl.uniform_1_i32(gpu.u_vertices_per_triangle.as_ref(), per_triangle as i32);
+            gl.uniform_1_i32(gpu.u_pass.as_ref(), 0);
+            if count > 0 {
+                gl.draw_arrays(glow::TRIANGLES, 0, count);
+            }
+        }
+        frame.mark(gl, "negative sides");
+        GlState {
+            // Reason: the -1 sides come in the vertex order of +1 sides (so that both copies of a
+            // shared side rasterize identically); calling clockwise the front face counts them
+            // with the opposite sign. Everything else is the counting state.
+            front_face: glow::CW,
+            ..state
+        }
+        .apply(gl);
+        // SAFETY: as above, same program, VAO and buffers.
+        unsafe {
+            gl.uniform_1_i32(gpu.u_vertices_per_triangle.as_ref(), NEGATIVE_SIDE_VERTICES as i32);
+            gl.uniform_1_i32(gpu.u_pass.as_ref(), 1);
+            if negative_count > 0 {
+                gl.draw_arrays(glow::TRIANGLES, 0, negative_count);
+            }
             // Leave no binding of ours behind for the caller.
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, POSITIONS_BINDING, None);
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, TRIANGLES_BINDING, None);

@@ -12,20 +12,24 @@
 // Draw: glDrawArrays(GL_TRIANGLES, 0, N * u_vertices_per_triangle), non-indexed. Vertex
 // k = gl_VertexID mod u_vertices_per_triangle of triangle t = gl_VertexID / ...:
 //   k  0..17  three side quads, one per edge P -> Q of the light-facing winding, 2 triangles each
+//             (u_pass 0: the +1 sides only; u_pass 1: the -1 sides only, and nothing else)
 //   k 18..20  light cap (the triangle wound to face the light), pushed to the far plane
 //   k 21..23  dark cap (the extruded triangle, reversed winding) - point lights only
 // u_vertices_per_triangle = 24 (z-fail, point light), 21 (z-fail, directional light: the dark
-// cap has zero area, every vertex extrudes to -L), 18 (z-pass: no caps).
+// cap has zero area, every vertex extrudes to -L), 18 (z-pass: no caps; and always for u_pass 1).
 //
-// Side quads are emitted in a canonical form per edge, independent of which triangle emits
-// them: with A < B the edge's endpoints in umbra_greater order, a triangle traversing A -> B
-// (multiplicity +1) emits (B, A, A_inf) (B, A_inf, B_inf) = the quad B A A_inf B_inf, and one
-// traversing B -> A (multiplicity -1) emits the SAME two triangles with their first two vertices
-// swapped, (A, B, A_inf) (A_inf, B, B_inf) = the quad A B B_inf A_inf. Two triangles sharing an
-// edge (both facing the light) thus draw the same two screen triangles with opposite windings,
-// and their +1 and -1 cancel at every sample (same coverage; the rasterizer sees the same
-// vertex set, and a rasterizer that normalises winding by swapping two vertices sees the same
-// vertex order, hence the same interpolated depth).
+// Side quads, and why there are two draws. A side quad lies on the edge it was cast from; the
+// two light-facing neighbours of an edge cast it with opposite windings, +1 and -1, which must
+// cancel at EVERY sample - also where a receiver (or the caster itself) is at the quad's depth
+// up to rounding. That needs the two copies to rasterize bit-identically: same clipped polygon,
+// same triangulation, same interpolated depth. A reversed vertex order does not give that (the
+// clipper walks the polygon from the first vertex and triangulates it as a fan from there), so
+// every side is emitted in ONE canonical vertex order, whichever triangle casts it: with A < B
+// the edge's endpoints in umbra_greater order, the quad B A A_inf B_inf as the triangles
+// (B, A, A_inf) (B, A_inf, B_inf). Its winding is right for a triangle traversing A -> B
+// (multiplicity +1). The sides of triangles traversing B -> A (multiplicity -1) are drawn in a
+// second draw (u_pass = 1) with glFrontFace(GL_CW): the same primitives, counted as the
+// opposite face. In each draw the sides of the other sign collapse to a point (zero area).
 //
 // An edge-on triangle (orientation 0) casts nothing: all its vertices collapse to one point,
 // so its primitives have zero area and produce no fragments.
@@ -43,6 +47,8 @@ layout(std430, binding = UMBRA_TRIANGLES_BINDING) readonly buffer Triangles {
 uniform mat4 u_clip_from_world;
 uniform vec4 u_light;
 uniform int u_vertices_per_triangle;
+// 0: +1 sides and caps (glFrontFace CCW); 1: -1 sides (glFrontFace CW).
+uniform int u_pass;
 
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
@@ -79,20 +85,18 @@ void main() {
         int j = k - 6 * e;
         vec3 p = e == 0 ? p0 : (e == 1 ? p1 : p2);
         vec3 q = e == 0 ? p1 : (e == 1 ? p2 : p0);
-        bool forward = umbra_greater(p, q) < 0; // p < q: the triangle traverses A -> B
+        bool forward = umbra_greater(p, q) < 0; // p < q: the triangle traverses A -> B, +1
+        if (forward != (u_pass == 0)) {
+            gl_Position = vec4(0.0, 0.0, 0.0, 1.0); // the other draw's side: zero area
+            return;
+        }
         vec3 a = forward ? p : q;
         vec3 b = forward ? q : p;
-        vec4 A = vec4(a, 1.0);
-        vec4 B = vec4(b, 1.0);
-        vec4 A_inf = umbra_extrude(a, u_light);
-        vec4 B_inf = umbra_extrude(b, u_light);
-        if (forward) {
-            // (B, A, A_inf) (B, A_inf, B_inf)
-            world = j == 0 ? B : j == 1 ? A : j == 2 ? A_inf : j == 3 ? B : j == 4 ? A_inf : B_inf;
-        } else {
-            // (A, B, A_inf) (A_inf, B, B_inf)
-            world = j == 0 ? A : j == 1 ? B : j == 2 ? A_inf : j == 3 ? A_inf : j == 4 ? B : B_inf;
-        }
+        // (B, A, A_inf) (B, A_inf, B_inf) in both draws.
+        world = j == 0 || j == 3 ? vec4(b, 1.0)
+              : j == 1 ? vec4(a, 1.0)
+              : j == 2 || j == 4 ? umbra_extrude(a, u_light)
+              : umbra_extrude(b, u_light);
     } else if (k < 21) {
         vec3 p = k == 18 ? p0 : (k == 19 ? p1 : p2);
         world = vec4(p, 1.0);

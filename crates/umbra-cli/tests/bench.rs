@@ -1,0 +1,195 @@
+//! `umbra bench` as users run it: JSON keys, interleaving order (the hidden `--trace-order`
+//! hook), fly-through errors naming file and line, CSV and SVG outputs, shadow-map options and
+//! errors, suites.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn umbra(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_umbra")).args(args).output().expect("run umbra")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench");
+    std::fs::create_dir_all(&dir).expect("tmp dir");
+    dir.join(name)
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_str(&stdout(o)).unwrap_or_else(|e| panic!("not JSON ({e}): {}\nstderr: {}", stdout(o), stderr(o)))
+}
+
+const SMALL: [&str; 6] = ["--scene", "default", "--size", "64x48", "--warmup", "1"];
+
+#[test]
+fn json_has_one_object_per_method_with_the_contract_keys() {
+    let mut args = vec!["bench", "--json", "--methods", "none,cpu-silhouette", "--frames", "3"];
+    args.extend(SMALL);
+    let o = umbra(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    let rows = v.as_array().expect("array");
+    assert_eq!(rows.len(), 2);
+    for (row, name) in rows.iter().zip(["none", "cpu-silhouette"]) {
+        assert_eq!(row["method"], name);
+        assert_eq!(row["frames"], 3);
+        for key in ["mean_ms", "median_ms", "p95_ms"] {
+            let x = row[key].as_f64().unwrap_or_else(|| panic!("{key} is a number: {row}"));
+            assert!(x > 0.0 && x.is_finite(), "{key} = {x}");
+        }
+        let (mean, p95) = (row["mean_ms"].as_f64().unwrap_or(0.0), row["p95_ms"].as_f64().unwrap_or(0.0));
+        assert!(p95 >= mean * 0.999 || row["frames"] == 1, "p95 {p95} below mean {mean}?");
+        let stages = row["stages"].as_object().expect("stages object");
+        for s in ["depth+ambient", "lighting"] {
+            assert!(stages.get(s).and_then(|x| x.as_f64()).is_some_and(|x| x >= 0.0), "{name}: stage {s} in {stages:?}");
+        }
+        assert!(row["gpu_bytes"].is_u64(), "{row}");
+        assert!(row.get("error").is_none(), "{row}");
+    }
+    // cpu-silhouette reports its own stages and holds a vertex buffer.
+    let cpu = &rows[1];
+    for s in ["silhouette", "sides", "caps"] {
+        assert!(cpu["stages"].get(s).is_some(), "{s} missing: {}", cpu["stages"]);
+    }
+    assert!(cpu["gpu_bytes"].as_u64().unwrap_or(0) > 0);
+    assert!(rows[0]["stages"].get("silhouette").is_none(), "none has no silhouette stage");
+}
+
+#[test]
+fn methods_are_interleaved_frame_by_frame_after_the_warmup() {
+    let o = umbra(&[
+        "bench", "--scene", "box", "--size", "32x24", "--methods", "none,cpu-silhouette,shadow-map-cube:64", "--frames", "2",
+        "--warmup", "1", "--stage-every", "0", "--json", "--trace-order",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let order: Vec<String> =
+        stderr(&o).lines().filter_map(|l| l.strip_prefix("bench-order ")).map(str::to_string).collect();
+    let expected: Vec<String> = [
+        "warmup 0 none",
+        "warmup 0 cpu-silhouette",
+        "warmup 0 shadow-map-cube:64",
+        "frame 0 none",
+        "frame 0 cpu-silhouette",
+        "frame 0 shadow-map-cube:64",
+        "frame 1 none",
+        "frame 1 cpu-silhouette",
+        "frame 1 shadow-map-cube:64",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    assert_eq!(order, expected);
+    // --stage-every 0: no stage timing at all.
+    let v = json(&o);
+    assert!(v.as_array().expect("array").iter().all(|r| r["stages"].as_object().is_some_and(|s| s.is_empty())), "{v}");
+}
+
+#[test]
+fn flythrough_errors_name_the_file_and_line() {
+    let bad = tmp("bad.flythrough");
+    std::fs::write(&bad, "# path\n0 5 10  0 0 0\n1 5 10  0 0\n").expect("write");
+    let o = umbra(&["bench", "--scene", "box", "--size", "32x24", "--frames", "2", "--flythrough", bad.to_str().expect("utf8")]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains(&format!("{}:3:", bad.display())) && e.contains("expected 6 numbers"), "{e}");
+
+    let nan = tmp("nan.flythrough");
+    std::fs::write(&nan, "0 5 10 0 0 0\n\n0 5 ten 0 0 0\n").expect("write");
+    let o = umbra(&["bench", "--scene", "box", "--size", "32x24", "--frames", "2", "--flythrough", nan.to_str().expect("utf8")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(&format!("{}:3:", nan.display())), "{}", stderr(&o));
+
+    let o = umbra(&["bench", "--scene", "box", "--flythrough", "/nonexistent/path.flythrough"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("/nonexistent/path.flythrough"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_flythrough_file_drives_the_camera_and_outputs_are_written() {
+    let fly = tmp("good.flythrough");
+    std::fs::write(&fly, "# eye target\n-4 3 6  0 0.5 0\n4, 3, 6, 0, 0.5, 0\n4 3 -6 0 0.5 0\n").expect("write");
+    let csv = tmp("out.csv");
+    let svg = tmp("out.svg");
+    let stages_svg = tmp("out-stages.svg");
+    for p in [&csv, &svg, &stages_svg] {
+        let _ = std::fs::remove_file(p);
+    }
+    let mut args = vec![
+        "bench", "--methods", "none,cpu-silhouette", "--frames", "4", "--flythrough", fly.to_str().expect("utf8"), "--csv",
+        csv.to_str().expect("utf8"), "--plot", svg.to_str().expect("utf8"),
+    ];
+    args.extend(SMALL);
+    let o = umbra(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("| none |") && text.contains("| cpu-silhouette |"), "{text}");
+    let csv_text = std::fs::read_to_string(&csv).expect("csv written");
+    let mut lines = csv_text.lines();
+    assert_eq!(lines.next(), Some("scene,width,height,method,frame,kind,name,ms"));
+    let frames = csv_text.lines().filter(|l| l.contains(",frame,total,")).count();
+    assert_eq!(frames, 8, "4 frames x 2 methods:\n{csv_text}");
+    assert!(csv_text.lines().any(|l| l.starts_with("default,64,48,cpu-silhouette,") && l.contains(",stage,sides,")));
+    for p in [&svg, &stages_svg] {
+        let s = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        assert!(s.starts_with("<svg") && s.contains("cpu-silhouette"), "{}", p.display());
+    }
+}
+
+#[test]
+fn shadow_map_options_and_errors() {
+    let mut args = vec!["bench", "--json", "--methods", "none,shadow-map-cube:128,shadow-map-cube:99999999", "--frames", "1", "--sm-bias", "2,1", "--sm-pcf"];
+    args.extend(SMALL);
+    let o = umbra(&args);
+    assert!(o.status.success(), "a failing method is reported, not fatal: {}", stderr(&o));
+    let v = json(&o);
+    let rows = v.as_array().expect("array");
+    assert_eq!(rows[1]["method"], "shadow-map-cube:128");
+    assert_eq!(rows[1]["gpu_bytes"], 6 * 128 * 128 * 4);
+    assert!(rows[1]["stages"].get("shadow-map").is_some(), "{}", rows[1]);
+    let err = rows[2]["error"].as_str().expect("error recorded");
+    assert!(err.contains("GL_MAX_CUBE_MAP_TEXTURE_SIZE"), "{err}");
+    assert_eq!(rows[2]["frames"], 0);
+    assert!(rows[2]["mean_ms"].is_null());
+    assert_eq!(rows[0]["frames"], 1, "the other methods still ran");
+
+    for bad in ["x", "1,2,3", "-1"] {
+        let o = umbra(&["bench", "--scene", "box", "--sm-bias", bad]);
+        assert_eq!(o.status.code(), Some(2), "--sm-bias {bad}");
+        assert!(stderr(&o).contains("--sm-bias"), "{}", stderr(&o));
+    }
+    let o = umbra(&["bench", "--scene", "box", "--methods", "shadow-map-cube:zero"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("shadow-map-cube:zero"), "{}", stderr(&o));
+}
+
+#[test]
+fn suites_are_listed_and_unknown_ones_rejected() {
+    let o = umbra(&["bench", "--suite", "list"]);
+    assert!(o.status.success());
+    for s in ["001-spheres", "001-objects", "001-vs-sm", "001-overall", "003-scenes", "003-stages"] {
+        assert!(stdout(&o).contains(s), "{s}");
+    }
+    let o = umbra(&["bench", "--suite", "999-nothing"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("001-spheres"), "{}", stderr(&o));
+}
+
+/// A reduced suite run end to end: the first sphere count of Table 3 with one method.
+#[test]
+fn a_reduced_suite_run_prints_its_table() {
+    let o = umbra(&[
+        "bench", "--suite", "001-spheres", "--runs", "1", "--methods", "cpu-silhouette", "--frames", "1", "--warmup", "0",
+        "--size", "64x48",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = stdout(&o);
+    assert!(s.contains("## 001-spheres") && s.contains("| 32400 |") && s.contains("cpu-silhouette"), "{s}");
+}
