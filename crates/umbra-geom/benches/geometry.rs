@@ -230,7 +230,8 @@ fn best_ms<R>(runs: usize, mut f: impl FnMut() -> R) -> (f64, f64) {
 }
 
 fn load_average() -> String {
-    std::fs::read_to_string("/proc/loadavg").map_or_else(|_| "unknown".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+    std::fs::read_to_string("/proc/loadavg")
+        .map_or_else(|_| "unknown".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
 }
 
 /// Prints the rows of the tables of `docs/benchmarks.md` (best of several runs, all in this

@@ -18,6 +18,13 @@
 //!
 //! Directional lights (`l_w = 0`): every vertex extrudes to the same point at infinity
 //! `-L.xyz`, so dark caps have zero area and are not emitted.
+//!
+//! Per frame, in parallel and (once warmed up) without allocating: the multiplicities are
+//! evaluated 256 (edge, opposite vertex) pairs at a time in a loop the compiler vectorises,
+//! calling the very [`comp_multiplicity`] of [`crate::multiplicity`] on the very arguments
+//! Alg. 3 gives it (so the result is the same bit for bit); per-chunk sums of `|m|` and their
+//! prefix sums place every chunk's quads, which it then writes straight into `out`. Caps the
+//! same way. Figures in `docs/benchmarks.md`.
 
 use rayon::prelude::*;
 
@@ -84,6 +91,8 @@ thread_local! {
 /// component whose comparison is not "equal" (neither `<` nor `>`, which includes NaN)
 /// decides. Five comparisons and no branch instead of six comparisons and the weighted sum.
 #[inline(always)]
+// `!(x < y)` is meant: it is true for "equal" *and* for NaN, exactly as Alg. 2's zero.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 fn above(a: [f32; 3], b: [f32; 3]) -> bool {
     (a[0] > b[0]) | (!(a[0] < b[0]) & ((a[1] > b[1]) | (!(a[1] < b[1]) & (a[2] > b[2]))))
 }
@@ -303,6 +312,9 @@ impl<T: Send> SplitOutput for &mut [T] {
     }
 }
 
+/// Light caps and dark caps of one chunk.
+type CapsOut<'a> = (&'a mut [[f32; 4]], &'a mut [[f32; 4]]);
+
 /// Light caps and dark caps, which have the same length or (directional light) no dark caps.
 impl<T: Send> SplitOutput for (&mut [T], &mut [T]) {
     fn split(self, at: usize) -> (Self, Self) {
@@ -374,14 +386,12 @@ fn extract_with(
     let edge_chunks = edges.div_ceil(ITEMS_PER_CHUNK);
     set_len(multiplicity, edges, 0);
     set_len(side_offsets, edge_chunks + 1, 0);
-    multiplicity
-        .par_chunks_mut(ITEMS_PER_CHUNK)
-        .zip(side_offsets[1..].par_iter_mut())
-        .enumerate()
-        .for_each(|(chunk, (ms, sum))| {
+    multiplicity.par_chunks_mut(ITEMS_PER_CHUNK).zip(side_offsets[1..].par_iter_mut()).enumerate().for_each(
+        |(chunk, (ms, sum))| {
             multiplicities_batched(positions, adj, chunk * ITEMS_PER_CHUNK, ms, light);
             *sum = ms.iter().map(|m| m.unsigned_abs() as usize).sum();
-        });
+        },
+    );
     prefix_sums(side_offsets, 6);
 
     // Pass 2: every chunk writes its quads into its own part of `out.sides`.
@@ -391,11 +401,18 @@ fn extract_with(
         let first = chunk * ITEMS_PER_CHUNK;
         let last = (first + ITEMS_PER_CHUNK).min(edges);
         let mut at = 0;
-        for e in first..last {
-            let m = ms[e];
-            if m != 0 {
-                let [a, b] = adj.edges[e];
-                at += write_sides(&mut piece[at..], positions[a as usize], positions[b as usize], m, light);
+        // Most edges are not silhouettes: skip runs of zeros a block at a time (a vectorised
+        // test), and read an edge's vertices only when it casts sides.
+        const RUN: usize = 16;
+        for (block, run) in ms[first..last].chunks(RUN).enumerate() {
+            if run.iter().all(|&m| m == 0) {
+                continue;
+            }
+            for (i, &m) in run.iter().enumerate() {
+                if m != 0 {
+                    let [a, b] = adj.edges[first + block * RUN + i];
+                    at += write_sides(&mut piece[at..], positions[a as usize], positions[b as usize], m, light);
+                }
             }
         }
     });
@@ -424,20 +441,23 @@ fn extract_with(
     set_len(&mut out.dark_caps, if directional { 0 } else { cap_vertices }, [0.0; 4]);
     let ss: &[i8] = orientation;
     let caps_out = (&mut out.light_caps[..], &mut out.dark_caps[..]);
-    write_chunks(0..tri_chunks, cap_offsets, caps_out, &|chunk, (light_caps, dark_caps): (&mut [[f32; 4]], &mut [[f32; 4]])| {
+    write_chunks(0..tri_chunks, cap_offsets, caps_out, &|chunk, (light_caps, dark_caps): CapsOut<'_>| {
         let first = chunk * ITEMS_PER_CHUNK;
         let last = (first + ITEMS_PER_CHUNK).min(triangles);
-        let lit = mesh.triangles[first..last].iter().zip(&ss[first..last]).filter(|(_, &s)| s != 0).map(|(&tri, &s)| {
-            // Wind the cap so that it faces the light.
-            let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
-            [i0, i1, i2].map(|i| positions[i as usize])
-        });
+        let lit =
+            mesh.triangles[first..last].iter().zip(&ss[first..last]).filter(|(_, &s)| s != 0).map(|(&tri, &s)| {
+                // Wind the cap so that it faces the light.
+                let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
+                [i0, i1, i2].map(|i| positions[i as usize])
+            });
         if directional {
             for (cap, [p0, p1, p2]) in light_caps.chunks_exact_mut(3).zip(lit) {
                 cap.copy_from_slice(&[point(p0), point(p1), point(p2)]);
             }
         } else {
-            for ((cap, dark), [p0, p1, p2]) in light_caps.chunks_exact_mut(3).zip(dark_caps.chunks_exact_mut(3)).zip(lit) {
+            for ((cap, dark), [p0, p1, p2]) in
+                light_caps.chunks_exact_mut(3).zip(dark_caps.chunks_exact_mut(3)).zip(lit)
+            {
                 cap.copy_from_slice(&[point(p0), point(p1), point(p2)]);
                 dark.copy_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
             }
@@ -547,7 +567,8 @@ mod tests {
         // Triangles of three distinct vertices (the batches without ties) and, separately,
         // all triples (batches with ties, NaN: the fallback).
         let triples: Vec<[u32; 3]> = (0..n * n * n).map(|t| [t / (n * n), t / n % n, t % n]).collect();
-        let strict = |t: &[u32; 3]| (0..3).all(|k| greater(points[t[k] as usize], points[t[(k + 1) % 3] as usize]) != 0);
+        let strict =
+            |t: &[u32; 3]| (0..3).all(|k| greater(points[t[k] as usize], points[t[(k + 1) % 3] as usize]) != 0);
         let distinct: Vec<[u32; 3]> = triples.iter().copied().filter(strict).collect();
         assert!(distinct.len() > 10 * BATCH);
         for light in lights {

@@ -198,7 +198,12 @@ pub(crate) mod tests {
     /// triangles: edge-on cases), directional lights along an axis and oblique.
     pub(crate) fn reference_lights(mesh: &WeldedMesh) -> [Light; 4] {
         let c = mesh.positions.first().copied().unwrap_or([0.0; 3]);
-        [[c[0] + 0.123, c[1] + 0.71, c[2] - 0.05, 1.0], [0.5, 1.0, -0.5, 1.0], [0.0, 1.0, 0.0, 0.0], [0.3, 0.8, 0.2, 0.0]]
+        [
+            [c[0] + 0.123, c[1] + 0.71, c[2] - 0.05, 1.0],
+            [0.5, 1.0, -0.5, 1.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.3, 0.8, 0.2, 0.0],
+        ]
     }
 
     /// The original sort-based weld the optimised one must reproduce exactly.

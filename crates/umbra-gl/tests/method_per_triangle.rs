@@ -20,7 +20,8 @@ use std::time::Instant;
 use umbra_geom::scene::{cuboid, ground_plane, uv_sphere};
 use umbra_geom::{weld::weld, Light, Mesh, WeldedMesh};
 use umbra_gl::glow::{self, HasContext};
-use umbra_gl::methods::ts_triangle::one_pass::{CapDepth, TsTriangle1Pass};
+use umbra_gl::methods::ts_triangle::one_pass::{FragmentDepth, TsTriangle1Pass};
+use umbra_gl::methods::ts_triangle::two_pass::{SideDepth, TsTriangle};
 use umbra_gl::{create_method, Camera, FrameParams, HeadlessContext, Renderer, SceneGpu, ShadowMethod, StencilImage};
 
 const METHODS: [&str; 4] = ["ts-triangle", "ts-triangle-1pass", "gs-triangle", "vs-triangle"];
@@ -135,6 +136,7 @@ fn stencil_counts_equal_cpu_silhouette() {
 
 const MULTIPLICITY: &str = include_str!("../src/methods/shared/multiplicity.glsl");
 const DEPTH: &str = include_str!("../src/methods/shared/depth.glsl");
+const SIDE_PLANE: &str = include_str!("../src/methods/ts_triangle/side_plane.glsl");
 const PATCH_VERT: &str = include_str!("../src/methods/ts_triangle/patch.vert.glsl");
 const TWO_PASS_TESC: &str = include_str!("../src/methods/ts_triangle/two_pass.tesc.glsl");
 const TWO_PASS_TESE: &str = include_str!("../src/methods/ts_triangle/two_pass.tese.glsl");
@@ -143,7 +145,7 @@ const ONE_PASS_TESC: &str = include_str!("../src/methods/ts_triangle/one_pass.te
 const ONE_PASS_TESE: &str = include_str!("../src/methods/ts_triangle/one_pass.tese.glsl");
 
 fn shared(body: &str, defines: &str) -> String {
-    format!("#version 450 core\n{defines}{MULTIPLICITY}\n{DEPTH}\n{body}")
+    format!("#version 450 core\n{defines}{MULTIPLICITY}\n{DEPTH}\n{SIDE_PLANE}\n{body}")
 }
 
 /// Runs one patch (the triangle `tri`) through VS + TCS + TES with `u_clip_from_world` = the
@@ -158,7 +160,7 @@ fn capture(ctx: &HeadlessContext, tesc: &str, tese: &str, tri: [[f32; 3]; 3], li
             let s = gl.create_shader(stage).expect("shader");
             gl.shader_source(s, &src);
             gl.compile_shader(s);
-            assert!(gl.get_shader_compile_status(s), "{}", gl.get_shader_info_log(s));
+            assert!(gl.get_shader_compile_status(s), "{}\n{src}", gl.get_shader_info_log(s));
             gl.attach_shader(program, s);
             shaders.push(s);
         }
@@ -405,15 +407,42 @@ fn sponza_frame_times() {
         rows.push((name.to_string(), ms, m.gpu_bytes()));
         m.destroy(gl);
     }
-    let mut unmoved = TsTriangle1Pass::with_cap_depth(CapDepth::Unmoved);
-    let ms = time_frames(&ctx, &scene, &mut unmoved, &p, frames);
-    rows.push(("ts-triangle-1pass (cap unmoved, no FragDepth; NOT exact)".into(), ms, unmoved.gpu_bytes()));
-    unmoved.destroy(gl);
+    let variants: Vec<(&str, Box<dyn ShadowMethod>)> = vec![
+        ("ts-triangle, rasterized side depth (paper; not exact)", Box::new(TsTriangle::with_side_depth(SideDepth::Rasterized))),
+        ("ts-triangle-1pass, caps-only FragDepth (paper; not exact)", Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::CapsOnly))),
+        ("ts-triangle-1pass, no FragDepth (z-fights; not exact)", Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::None))),
+    ];
+    for (label, mut m) in variants {
+        let ms = time_frames(&ctx, &scene, m.as_mut(), &p, frames);
+        rows.push((label.to_string(), ms, m.gpu_bytes()));
+        m.destroy(gl);
+    }
     for (name, ms, bytes) in &rows {
         println!("  {name:<58} {ms:9.1} ms/frame (median of {frames}, warm)   gpu bytes {bytes}");
     }
     scene.destroy(gl);
     assert!(rows.iter().all(|r| r.1 > 0.0));
+}
+
+#[test]
+fn debug_near() {
+    let ctx = common::context();
+    let gl = ctx.gl();
+    let mut m = uv_sphere([0.0, 2.0, 0.0], 1.0, 32, 16);
+    m.append(&ground_plane([0.0, 0.0, 0.0], 10.0));
+    let mesh = Arc::new(weld(&m));
+    let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
+    let mut p = params([1.07, 1.0, 0.0], [-2.0, 0.0, 0.5], [0.0, 6.0, 0.0, 1.0], false);
+    p.width = 240; p.height = 180;
+    p.camera.near = 0.2;
+    let mut cpu = create_method("vs-triangle").unwrap();
+    let a = stencil_of(&ctx, &scene, cpu.as_mut(), &p);
+    for variant in [SideDepth::Canonical, SideDepth::Rasterized] {
+        let mut m = TsTriangle::with_side_depth(variant);
+        let b = stencil_of(&ctx, &scene, &mut m, &p);
+        let diff: Vec<(usize, usize, u8, u8)> = (0..a.pixels.len()).filter(|&i| a.pixels[i] != b.pixels[i]).map(|i| (i % 240, i / 240, a.pixels[i], b.pixels[i])).collect();
+        println!("{variant:?}: {} differ {:?}", diff.len(), &diff[..diff.len().min(12)]);
+    }
 }
 
 #[test]
@@ -427,8 +456,8 @@ fn debug_one_pass() {
     let mut r = Renderer::new(gl).unwrap();
     let mut cpu = create_method("cpu-silhouette").unwrap();
     let a = r.render(gl, &scene, cpu.as_mut(), &p, None).unwrap();
-    for variant in [CapDepth::Fragment, CapDepth::Unmoved] {
-        let mut m = TsTriangle1Pass::with_cap_depth(variant);
+    for variant in [FragmentDepth::Exact, FragmentDepth::CapsOnly, FragmentDepth::None] {
+        let mut m = TsTriangle1Pass::with_fragment_depth(variant);
         let b = r.render(gl, &scene, &mut m, &p, None).unwrap();
         let ids = b.triangle_id.as_ref().unwrap();
         let mut hist = std::collections::BTreeMap::new();

@@ -14,14 +14,18 @@
 //! after another, so the stencil returns to 0 after every volume the sample is outside of and
 //! locks at 1100b after the first one it is inside of.
 //!
-//! Where it is not exact: the per-volume argument needs the eye outside every volume (with the
-//! eye inside one, a sample inside it sees only its exit face: 1101b, not shadow; samples in
-//! front of it see one PASS-free exit... ), so samples in shadow seen from inside a shadow are
-//! misclassified; the dark cap must close the volume (point lights: at infinity; directional:
-//! the sides meet at the point at infinity); and depth ties between a volume face and the
-//! receiver decide PASS against ZFAIL individually for each face, where counting methods see
-//! the difference of two such decisions. `umbra_verify::must_be_exact` lists it as measured
-//! only.
+//! Overlapping volumes of different triangles are therefore fine as long as each volume is
+//! drawn whole before the next (here: 24 consecutive vertices of one draw, and GL applies
+//! stencil updates in primitive order). Where it is not exact:
+//! * the eye inside a volume (camera in shadow): that volume shows every sample only its exit
+//!   face, one ZFAIL (1101b) for a sample inside it, one PASS (0001b) for a sample beyond it,
+//!   and any later volume the sample is outside of turns that into 1100b (PASS PASS after
+//!   1101b, ZFAIL ZFAIL after 0001b) or back — false shadow and false light;
+//! * each face decides PASS or ZFAIL on its own, so a sample exactly at a side's depth is
+//!   decided by that side's rasterized depth alone (at shadow boundaries, like every method);
+//!   copies of one side from two neighbours are emitted in the same canonical vertex order
+//!   (volume.vert.glsl) and so at least agree with each other.
+//! `umbra_verify::must_be_exact` lists the method as measured only.
 //!
 //! Once per mesh: the program and an empty vertex array; the triangles are read from the
 //! scene's own buffers (`gpu_bytes() == 0`). Per light: uniforms, one non-indexed draw of 24

@@ -10,12 +10,15 @@
 //
 // No orientation: paper 002's stencil operations treat front and back faces alike (face
 // culling off), so winding does not matter and nothing is computed per triangle but the
-// extrusion. Each triangle's 8 triangles are consecutive vertices of one non-indexed draw, so
+// extrusion. Winding being free, every side is emitted in one canonical vertex order (edge
+// endpoints A < B in umbra_greater order: (B, A, A_inf) (B, A_inf, B_inf)), so the copies
+// that neighbouring triangles put on their shared edge rasterize identically and agree on
+// which samples lie beyond the edge (no pinholes where a receiver meets the side's plane). Each triangle's 8 triangles are consecutive vertices of one non-indexed draw, so
 // the stencil sees one closed volume after another (in primitive order).
 //
 // Draw: glDrawArrays(GL_TRIANGLES, 0, N * u_vertices_per_triangle); vertex
 // k = gl_VertexID mod u_vertices_per_triangle of triangle t = gl_VertexID / ...:
-//   k  0..17  side quads of edges p0p1, p1p2, p2p0: (Q, P, P_inf) (Q, P_inf, Q_inf)
+//   k  0..17  side quads of edges p0p1, p1p2, p2p0: (B, A, A_inf) (B, A_inf, B_inf), A < B
 //   k 18..20  light cap (the triangle), pushed to the far plane
 //   k 21..23  dark cap at infinity (skipped for a directional light: zero area)
 // Inputs: the scene's own buffers as shader storage (positions as floats, 3 indices each).
@@ -52,11 +55,13 @@ void main() {
         int j = k - 6 * e;
         vec3 p = e == 0 ? p0 : (e == 1 ? p1 : p2);
         vec3 q = e == 0 ? p1 : (e == 1 ? p2 : p0);
-        vec4 P = vec4(p, 1.0);
-        vec4 Q = vec4(q, 1.0);
-        vec4 P_inf = umbra_extrude(p, u_light);
-        vec4 Q_inf = umbra_extrude(q, u_light);
-        world = j == 0 ? Q : j == 1 ? P : j == 2 ? P_inf : j == 3 ? Q : j == 4 ? P_inf : Q_inf;
+        bool forward = umbra_greater(p, q) < 0;
+        vec3 a = forward ? p : q;
+        vec3 b = forward ? q : p;
+        world = j == 0 || j == 3 ? vec4(b, 1.0)
+              : j == 1 ? vec4(a, 1.0)
+              : j == 2 || j == 4 ? umbra_extrude(a, u_light)
+              : umbra_extrude(b, u_light);
     } else if (k < 21) {
         world = vec4(k == 18 ? p0 : (k == 19 ? p1 : p2), 1.0);
         push_to_far = true;

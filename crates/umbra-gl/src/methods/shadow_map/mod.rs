@@ -4,13 +4,15 @@
 //! paper 001, Tables 6 and 8: "classic 8K shadow mapping".
 //!
 //! * Point light (w = 1): a `RES x RES x 6` GL_DEPTH_COMPONENT32F cube map centred on the light,
-//!   one 90° face per major axis (GL 4.5 §8.13 cube-face selection, so the lighting pass looks
-//!   it up with the direction `p - L`). Rendered either in ONE layered pass (an instanced
+//!   one 90° face per major axis, stored as a 6-layer 2D array texture in GL's face order with
+//!   GL's face selection (GL 4.5 §8.13, Table 8.19) done in the lookup shader (lit.glsl says
+//!   why: one sampler type for both light kinds, one texture lookup per pixel on llvmpipe).
+//!   Rendered either in ONE layered pass (an instanced
 //!   geometry shader sends each triangle to the faces whose frustum it touches, `gl_Layer`) or
 //!   in six passes, one per face ([`FacePasses`]; layered is the default, see `docs/benchmarks.md`
 //!   for the measurement).
-//! * Directional light (w = 0): one `RES x RES` 2D depth map, an orthographic projection along
-//!   the light direction fitted to the scene's bounds ("one face's worth").
+//! * Directional light (w = 0): one `RES x RES` depth map (a 1-layer 2D array), an orthographic
+//!   projection along the light direction fitted to the scene's bounds ("one face's worth").
 //!
 //! Depth convention: REVERSED (larger = closer to the light) so a float depth buffer keeps
 //! relative precision everywhere: cube faces store `n / d` (`d` = distance along the face's
@@ -25,13 +27,15 @@
 //! Bias: constant + slope-scaled, applied while rendering the map with glPolygonOffset
 //! (`-bias_slope`, `-bias_constant`: negative because reversed depth moves away from the light
 //! towards 0). Lookup: hardware depth comparison (GL_COMPARE_REF_TO_TEXTURE, GL_GEQUAL) with
-//! NEAREST filtering = a hard test; optional 3 x 3 PCF as a majority vote (lit.glsl).
+//! NEAREST filtering = a hard test; optional 3 x 3 PCF as a majority vote (lit.glsl), a
+//! compile-time variant named `shadow-map-cube:RES+pcf` (the renderer caches one lighting
+//! program per method name).
 //!
 //! Classification: [`Classification::Shader`]: `umbra_lit(world_pos)` in `lit.glsl`; the
 //! stencil is not used. Not exact (aliasing, bias): `umbra_verify::must_be_exact` is false for
 //! every name starting with "shadow-map".
 //!
-//! Names: `shadow-map-cube:RES` with RES texels per side (any positive integer; a RES above
+//! Names: `shadow-map-cube:RES[+pcf]` with RES texels per side (any positive integer; a RES above
 //! GL_MAX_CUBE_MAP_TEXTURE_SIZE / GL_MAX_TEXTURE_SIZE fails in `prepare` with a clear
 //! [`GlError::Unsupported`], and GL_OUT_OF_MEMORY while allocating is caught and reported the
 //! same way: the context stays usable). [`ShadowMapConfig`] carries bias and PCF options.
@@ -58,14 +62,13 @@ pub const PREFIX: &str = "shadow-map-cube";
 pub const NAME_1024: &str = "shadow-map-cube:1024";
 pub const NAME_2048: &str = "shadow-map-cube:2048";
 
-/// Texture unit of the cube map in the lighting pass (`layout(binding = 0)` in lit.glsl).
-pub const CUBE_UNIT: u32 = 0;
-/// Texture unit of the directional 2D map (`layout(binding = 1)` in lit.glsl).
-pub const MAP2D_UNIT: u32 = 1;
+/// Texture unit of the map in the lighting pass (`layout(binding = 0)` in lit.glsl).
+pub const MAP_UNIT: u32 = 0;
 
 const DEPTH_VERT: &str = include_str!("depth.vert.glsl");
 const DEPTH_GEOM: &str = include_str!("depth.geom.glsl");
 const LIT_GLSL: &str = include_str!("lit.glsl");
+const LIT_PCF_GLSL: &str = concat!("#define UMBRA_SM_PCF\n", include_str!("lit.glsl"));
 
 /// Near distance of the cube faces, as a fraction of the scene's bounding-box diagonal.
 pub const NEAR_FRACTION: f64 = 1e-3;
@@ -111,10 +114,14 @@ impl ShadowMapConfig {
         }
     }
 
-    /// Parses `shadow-map-cube:RES` (RES a positive decimal integer, optional `k` suffix =
+    /// Parses `shadow-map-cube:RES[+pcf]` (RES a positive decimal integer, optional `k` suffix =
     /// x1024, so `shadow-map-cube:8k` is 8192). `None` for any other name.
     pub fn from_name(name: &str) -> Option<Self> {
         let res = name.strip_prefix(PREFIX)?.strip_prefix(':')?;
+        let (res, pcf) = match res.strip_suffix("+pcf") {
+            Some(r) => (r, true),
+            None => (res, false),
+        };
         let (digits, scale) = match res.strip_suffix(['k', 'K']) {
             Some(d) => (d, 1024u32),
             None => (res, 1),
@@ -123,12 +130,14 @@ impl ShadowMapConfig {
             return None;
         }
         let resolution = digits.parse::<u32>().ok()?.checked_mul(scale)?;
-        (resolution > 0).then(|| Self::new(resolution))
+        (resolution > 0).then(|| Self { pcf, ..Self::new(resolution) })
     }
 
-    /// The registry name, `shadow-map-cube:RES`.
+    /// The registry name, `shadow-map-cube:RES`, or `shadow-map-cube:RES+pcf` with PCF (a
+    /// different lighting shader, so a different name: the renderer caches one lighting
+    /// program per name). Bias and face passes do not change the name.
     pub fn name(&self) -> &'static str {
-        intern(format!("{PREFIX}:{}", self.resolution))
+        intern(format!("{PREFIX}:{}{}", self.resolution, if self.pcf { "+pcf" } else { "" }))
     }
 
     /// Bytes of a cube map (6 faces of 4-byte texels).
@@ -274,7 +283,6 @@ struct LitUniforms {
     light_pos: Option<glow::UniformLocation>,
     near: Option<glow::UniformLocation>,
     map_from_world: Option<glow::UniformLocation>,
-    pcf: Option<glow::UniformLocation>,
     resolution: Option<glow::UniformLocation>,
 }
 
@@ -331,11 +339,12 @@ impl ShadowMapCube {
             if !earlier.is_empty() {
                 return Err(GlError::Gl { during: "before shadow-map allocation", messages: earlier });
             }
-            let target = if cube { glow::TEXTURE_CUBE_MAP } else { glow::TEXTURE_2D };
-            let texture =
-                gl.create_named_texture(target).map_err(|detail| GlError::Create { what: "shadow-map texture", detail })?;
+            // A 2D array for both kinds (6 layers = cube faces, 1 layer = directional map).
+            let texture = gl
+                .create_named_texture(glow::TEXTURE_2D_ARRAY)
+                .map_err(|detail| GlError::Create { what: "shadow-map texture", detail })?;
             // One level: the map is sampled with NEAREST at texel resolution, no mipmaps.
-            gl.texture_storage_2d(texture, 1, glow::DEPTH_COMPONENT32F, res, res);
+            gl.texture_storage_3d(texture, 1, glow::DEPTH_COMPONENT32F, res, res, if cube { 6 } else { 1 });
             let errors = drain_get_error(gl);
             if !errors.is_empty() {
                 gl.delete_texture(texture);
@@ -354,8 +363,8 @@ impl ShadowMapCube {
             // Reason: a hard test; NEAREST so exactly one texel decides (PCF is explicit).
             gl.texture_parameter_i32(texture, glow::TEXTURE_MIN_FILTER, glow::NEAREST as i32);
             gl.texture_parameter_i32(texture, glow::TEXTURE_MAG_FILTER, glow::NEAREST as i32);
-            // Reason: PCF taps just outside a face/the map reuse the edge texel.
-            for wrap in [glow::TEXTURE_WRAP_S, glow::TEXTURE_WRAP_T, glow::TEXTURE_WRAP_R] {
+            // Reason: lookups a rounding error outside a face/the map reuse the edge texel.
+            for wrap in [glow::TEXTURE_WRAP_S, glow::TEXTURE_WRAP_T] {
                 gl.texture_parameter_i32(texture, wrap, glow::CLAMP_TO_EDGE as i32);
             }
             // Reason: the shadow sampler compares in hardware: 1 (lit) when ref >= stored, the
@@ -364,7 +373,7 @@ impl ShadowMapCube {
             gl.texture_parameter_i32(texture, glow::TEXTURE_COMPARE_FUNC, glow::GEQUAL as i32);
 
             let mut framebuffers = Vec::new();
-            let attachments: Vec<Option<i32>> = if cube { vec![None, Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)] } else { vec![None] };
+            let attachments: Vec<Option<i32>> = if cube { vec![None, Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)] } else { vec![Some(0)] };
             let mut failure = None;
             for layer in attachments {
                 let fb = match gl.create_named_framebuffer() {
@@ -376,7 +385,7 @@ impl ShadowMapCube {
                 };
                 framebuffers.push(fb);
                 match layer {
-                    // Whole texture: layered for the cube (gl_Layer picks the face), the 2D map.
+                    // Whole texture: layered, gl_Layer picks the face.
                     None => gl.named_framebuffer_texture(Some(fb), glow::DEPTH_ATTACHMENT, Some(texture), 0),
                     Some(face) => gl.named_framebuffer_texture_layer(Some(fb), glow::DEPTH_ATTACHMENT, Some(texture), 0, face),
                 }
@@ -578,7 +587,7 @@ impl ShadowMethod for ShadowMapCube {
     }
 
     fn lighting_glsl(&self) -> Option<&'static str> {
-        Some(LIT_GLSL)
+        Some(if self.config.pcf { LIT_PCF_GLSL } else { LIT_GLSL })
     }
 
     fn bind_lighting(&mut self, gl: &glow::Context, program: glow::Program, _frame: &VolumeFrame<'_>) -> Result<(), GlError> {
@@ -591,26 +600,24 @@ impl ShadowMethod for ShadowMapCube {
                 light_pos: u("u_sm_light_pos"),
                 near: u("u_sm_near"),
                 map_from_world: u("u_sm_map_from_world"),
-                pcf: u("u_sm_pcf"),
                 resolution: u("u_sm_resolution"),
             });
         }
         let Some(u) = self.lit_uniforms.as_ref() else { return Ok(()) };
         // SAFETY: `program` is current (renderer contract); our textures; uniforms match lit.glsl.
         unsafe {
-            gl.uniform_1_i32(u.pcf.as_ref(), i32::from(self.config.pcf));
             gl.uniform_1_f32(u.resolution.as_ref(), self.config.resolution as f32);
             match lookup {
                 Lookup::Cube { light, near } => {
                     gl.uniform_1_i32(u.kind.as_ref(), 0);
                     gl.uniform_3_f32_slice(u.light_pos.as_ref(), &light);
                     gl.uniform_1_f32(u.near.as_ref(), near);
-                    gl.bind_texture_unit(CUBE_UNIT, self.cube.as_ref().map(|m| m.texture));
+                    gl.bind_texture_unit(MAP_UNIT, self.cube.as_ref().map(|m| m.texture));
                 }
                 Lookup::Directional { map_from_world } => {
                     gl.uniform_1_i32(u.kind.as_ref(), 1);
                     gl.uniform_matrix_4_f32_slice(u.map_from_world.as_ref(), false, &map_from_world);
-                    gl.bind_texture_unit(MAP2D_UNIT, self.map2d.as_ref().map(|m| m.texture));
+                    gl.bind_texture_unit(MAP_UNIT, self.map2d.as_ref().map(|m| m.texture));
                 }
             }
         }
@@ -650,6 +657,9 @@ mod tests {
             assert!(ShadowMapConfig::from_name(bad).is_none(), "{bad}");
         }
         assert_eq!(ShadowMapConfig::new(1024).name(), NAME_1024);
+        let pcf = ShadowMapConfig::from_name("shadow-map-cube:512+pcf").expect("pcf variant");
+        assert!(pcf.pcf && pcf.resolution == 512 && pcf.name() == "shadow-map-cube:512+pcf");
+        assert!(ShadowMapConfig::from_name("shadow-map-cube:+pcf").is_none());
         assert!(std::ptr::eq(ShadowMapConfig::new(77).name(), ShadowMapConfig::new(77).name()), "interned once");
         assert_eq!(ShadowMapConfig::new(8192).cube_bytes(), 6 * 8192 * 8192 * 4);
     }

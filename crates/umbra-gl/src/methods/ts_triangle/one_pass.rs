@@ -11,10 +11,12 @@
 //! tessellated vertices are shared with two of the sides in every column assignment that
 //! yields the volume (exhaustive search, see one_pass.tese.glsl), so it cannot be moved in the
 //! evaluation stage the way every other umbra method moves caps; the fragment shader moves its
-//! fragments instead ([`CapDepth::Fragment`], the default and the only exact choice), which
-//! disables early depth testing for the volume draw. [`CapDepth::Unmoved`] leaves the cap at
-//! the caster's depth — the z-fighting the paper describes — and exists to measure what the
-//! depth write costs; it is not registered and not exact.
+//! fragments instead, as the paper did, and gives the side fragments their canonical plane's
+//! depth (see the parent module): [`FragmentDepth::Exact`], the registered method. The depth
+//! write disables early depth testing for the volume draw. [`FragmentDepth::CapsOnly`] is the
+//! paper's variant as published (sides keep their rasterized depth), [`FragmentDepth::None`]
+//! writes no depth at all (cap z-fights with the caster); both exist to measure costs and are
+//! neither registered nor exact.
 //!
 //! Preprocessing: none; the method owns no buffers (`gpu_bytes() == 0`). Counted with
 //! [`VolumeFrame::shadow_volume_state`]; the same draw serves z-pass (the cap fragments at the
@@ -22,7 +24,7 @@
 
 use glow::HasContext;
 
-use super::{draw_triangle_patches, require_tess_level, with_shared, PATCH_VERT};
+use super::{draw_triangle_patches, require_tess_level, with_shared, DepthUniforms, PATCH_VERT, SIDE_DEPTH_FRAG};
 use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
@@ -32,17 +34,18 @@ pub const NAME: &str = "ts-triangle-1pass";
 
 const TESC: &str = include_str!("one_pass.tesc.glsl");
 const TESE: &str = include_str!("one_pass.tese.glsl");
-const FRAG: &str = include_str!("one_pass.frag.glsl");
-
-/// Where the light cap's fragments are tested.
+/// Which fragment depths the volume draw writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum CapDepth {
-    /// At the far plane, written as gl_FragDepth (paper 001 Section 2.3). Exact.
+pub enum FragmentDepth {
+    /// Light-cap fragments at the far plane, side fragments at their canonical plane. Exact.
     #[default]
-    Fragment,
-    /// At the caster's own depth (no depth write, early depth test kept): z-fights with the
-    /// caster. For measuring the cost of [`CapDepth::Fragment`] only.
-    Unmoved,
+    Exact,
+    /// Light-cap fragments at the far plane only: paper 001 Section 2.3 as published. Shared
+    /// sides may fail to cancel at samples at their depth. Measurements only.
+    CapsOnly,
+    /// No depth write, early depth test kept: the cap z-fights with the caster. Measurements
+    /// only.
+    None,
 }
 
 struct Gpu {
@@ -50,29 +53,30 @@ struct Gpu {
     u_clip_from_world: Option<glow::UniformLocation>,
     u_light: Option<glow::UniformLocation>,
     u_far_clip_z: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
 }
 
 /// See the module documentation.
 #[derive(Default)]
 pub struct TsTriangle1Pass {
-    cap_depth: CapDepth,
+    fragment_depth: FragmentDepth,
     prepared: Option<SceneId>,
     gpu: Option<Gpu>,
 }
 
 impl TsTriangle1Pass {
-    /// The registered, exact method ([`CapDepth::Fragment`]).
+    /// The registered, exact method ([`FragmentDepth::Exact`]).
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// A variant with the light cap's depth handled as `cap_depth` says.
-    pub fn with_cap_depth(cap_depth: CapDepth) -> Self {
-        Self { cap_depth, ..Self::default() }
+    /// A variant writing the fragment depths `fragment_depth` says.
+    pub fn with_fragment_depth(fragment_depth: FragmentDepth) -> Self {
+        Self { fragment_depth, ..Self::default() }
     }
 
-    pub fn cap_depth(&self) -> CapDepth {
-        self.cap_depth
+    pub fn fragment_depth(&self) -> FragmentDepth {
+        self.fragment_depth
     }
 }
 
@@ -90,9 +94,10 @@ impl ShadowMethod for TsTriangle1Pass {
             require_tess_level(gl, NAME, 5)?;
             let tesc = with_shared(TESC);
             let tese = with_shared(TESE);
-            let defines: &[&str] = match self.cap_depth {
-                CapDepth::Fragment => &[],
-                CapDepth::Unmoved => &["UMBRA_NO_FRAGMENT_DEPTH"],
+            let defines: &[&str] = match self.fragment_depth {
+                FragmentDepth::Exact => &["UMBRA_CAPS_TO_FAR", "UMBRA_CANONICAL_SIDES"],
+                FragmentDepth::CapsOnly => &["UMBRA_CAPS_TO_FAR"],
+                FragmentDepth::None => &[],
             };
             let program = link_program(
                 gl,
@@ -101,7 +106,7 @@ impl ShadowMethod for TsTriangle1Pass {
                     ShaderSource::vertex("ts_triangle/patch.vert.glsl", PATCH_VERT),
                     ShaderSource { stage: glow::TESS_CONTROL_SHADER, name: "ts_triangle/one_pass.tesc.glsl", source: &tesc },
                     ShaderSource { stage: glow::TESS_EVALUATION_SHADER, name: "ts_triangle/one_pass.tese.glsl", source: &tese },
-                    ShaderSource::fragment("ts_triangle/one_pass.frag.glsl", FRAG),
+                    ShaderSource::fragment("ts_triangle/side_depth.frag.glsl", SIDE_DEPTH_FRAG),
                 ],
                 defines,
             )?;
@@ -109,6 +114,7 @@ impl ShadowMethod for TsTriangle1Pass {
                 u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
                 u_light: uniform(gl, program, "u_light"),
                 u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
+                depth: DepthUniforms::locate(gl, program),
                 program,
             });
         }
@@ -134,6 +140,7 @@ impl ShadowMethod for TsTriangle1Pass {
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
         }
+        gpu.depth.set(gl, frame);
         draw_triangle_patches(gl, scene);
         Ok(())
     }

@@ -32,7 +32,7 @@ void main() {
     int cur_mult = umbra_triangle_orientation(p0, p1, p2, u_light);
     if (cur_mult == 0) {
         // Alg. 2, lines 2-4: edge-on triangle, no cap (its edges' sides cancel too).
-        gl_Position = vec4(0.0);
+        gl_Position = UMBRA_CULLED;
         return;
     }
     if (cur_mult < 0) {

@@ -50,6 +50,16 @@ const SIDES_VERT: &str = include_str!("sides.vert.glsl");
 const CAPS_VERT: &str = include_str!("caps.vert.glsl");
 const FRAG: &str = include_str!("volume.frag.glsl");
 
+/// Where the vertex shaders put a useless vertex (paper 003 Alg. 1 line 7 / Alg. 2 line 3 use
+/// (0,0,0,0)): beyond the right and top clip planes (x = y = 2w), so every triangle made of
+/// such vertices is rejected by the clip test before any setup (an all-zero vertex passes
+/// every clip test with equality and reaches triangle setup with 0/0 coordinates).
+macro_rules! culled {
+    () => {
+        "#define UMBRA_CULLED vec4(2.0, 2.0, 0.0, 1.0)\n"
+    };
+}
+
 /// Which GLSL the shader bodies are compiled as (they have no `#version` of their own).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShaderDialect {
@@ -62,10 +72,12 @@ pub enum ShaderDialect {
 impl ShaderDialect {
     fn prelude(self) -> &'static str {
         match self {
-            ShaderDialect::Glsl450 => "#version 450 core\n",
+            ShaderDialect::Glsl450 => concat!("#version 450 core\n", culled!()),
             // Reason: ES has no default float precision in fragment shaders, and the
             // multiplicity test needs full f32 in every stage (highp is f32 in ES 3.0).
-            ShaderDialect::Essl300 => "#version 300 es\nprecision highp float;\nprecision highp int;\n",
+            ShaderDialect::Essl300 => {
+                concat!("#version 300 es\nprecision highp float;\nprecision highp int;\n", culled!())
+            }
         }
     }
 }

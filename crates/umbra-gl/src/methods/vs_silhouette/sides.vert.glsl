@@ -56,7 +56,7 @@ void main() {
     }
     if (s >= abs(cur_mult)) {
         // Alg. 1, line 7: useless vertex, degenerate side.
-        gl_Position = vec4(0.0);
+        gl_Position = UMBRA_CULLED;
         return;
     }
     // Eq. 3-5: which of P0 = A, P1 = B, P2 = A_inf, P3 = B_inf vertex v of the side is. The
