@@ -18,39 +18,21 @@
 //! `UMBRA_BENCH_FINGERPRINTS=1` also a hash of every result, to check that an optimisation
 //! left the output unchanged.
 
-use std::alloc::{GlobalAlloc, Layout, System};
+use std::alloc::System;
 use std::hint::black_box;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, SamplingMode, Throughput};
+use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
 use umbra_geom::adjacency::EdgeAdjacency;
 use umbra_geom::silhouette::{extract, VolumeGeometry};
 use umbra_geom::weld::{weld, WeldedMesh};
 use umbra_geom::{load, scene, Light, Mesh};
 
 /// Counts heap allocations, to check that a warmed-up frame allocates nothing.
-struct CountingAllocator;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
+static GLOBAL: &StatsAlloc<System> = &INSTRUMENTED_SYSTEM;
 
 /// Frames over which the heap allocations of a warmed-up extraction are counted.
 const FRAMES_COUNTED: usize = 10;
@@ -150,11 +132,12 @@ fn bench_geometry(c: &mut Criterion) {
                 let mut out = VolumeGeometry::default();
                 extract(&welded, &adj, light, caps, &mut out);
                 extract(&welded, &adj, light, caps, &mut out);
-                let before = ALLOCATIONS.load(Ordering::Relaxed);
+                let region = Region::new(GLOBAL);
                 for _ in 0..FRAMES_COUNTED {
                     extract(&welded, &adj, light, caps, &mut out);
                 }
-                let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+                let change = region.change();
+                let allocations = change.allocations + change.reallocations;
                 let label = format!("{light_name}{}", if caps { "+caps" } else { "" });
                 println!(
                     "{name}/{label}: {} side, {} light-cap, {} dark-cap vertices; \

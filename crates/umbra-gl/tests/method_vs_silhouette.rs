@@ -200,7 +200,14 @@ fn split_records_give_the_cpu_silhouette_stencil() {
             // (maxMult cap, records-per-instance cap): the default, the paper's one record per
             // instance, 3 per instance (remainder instances with disabled attribute sets), and
             // forced splits.
-            let configs = [(None, None), (None, Some(1)), (None, Some(3)), (Some(1), None), (Some(2), Some(3)), (Some(3), Some(2))];
+            let configs = [
+                (None, None),
+                (None, Some(1)),
+                (None, Some(3)),
+                (Some(1), None),
+                (Some(2), Some(3)),
+                (Some(3), Some(2)),
+            ];
             for (cap, per_instance) in configs {
                 let mut m = cap.map_or_else(VsSilhouette::new, VsSilhouette::with_max_mult_cap);
                 if let Some(n) = per_instance {
@@ -211,7 +218,9 @@ fn split_records_give_the_cpu_silhouette_stencil() {
                 let test = format!("vs_split_view{v}_cap{}_per{}_{zmode}", cap.unwrap_or(0), per_instance.unwrap_or(0));
                 let (all, off_boundary) = classification_differences(&expected, &actual);
                 let values = expected.pixels.iter().zip(&actual.pixels).filter(|(a, b)| a != b).count();
-                report.push(format!("{test}: {values} values differ, {all} lit/shadowed ({off_boundary} off the boundary)"));
+                report.push(format!(
+                    "{test}: {values} values differ, {all} lit/shadowed ({off_boundary} off the boundary)"
+                ));
                 if (cap.is_none() && values > 0) || off_boundary > 0 {
                     assert_same_stencil(&ctx, &test, &expected, &actual);
                 }
@@ -514,13 +523,8 @@ fn sponza_frame_ms() {
             lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]],
             ..FrameParams::default()
         };
-        let target = umbra_gl::RenderTarget::new(
-            gl,
-            p.width,
-            p.height,
-            umbra_gl::Attachments::default(),
-        )
-        .expect("target");
+        let target =
+            umbra_gl::RenderTarget::new(gl, p.width, p.height, umbra_gl::Attachments::default()).expect("target");
         let mut r = Renderer::new(gl).expect("renderer");
         println!(
             "Crytek Sponza {} triangles, {}x{}, {}",

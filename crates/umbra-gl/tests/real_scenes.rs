@@ -1,12 +1,12 @@
 //! Real scenes (shared/scenes, found through $UMBRA_SCENES or ../shared/scenes; SKIPPED with
-//! a message when absent): every shadow method's stencil classification is compared with a
-//! brute-force ray cast from each sampled pixel's world position to the light.
+//! a message when absent): every shadow method's final lit decision (the lit mask: the
+//! classification passed AND the seen side faces the light) is compared with a brute-force
+//! ray cast from each sampled pixel's world position to the light.
 //!
 //! Expected "shadowed": the segment to the light hits another triangle, or the side of the
-//! pixel's own triangle that the camera sees faces away from the light (the pushed light cap
-//! counts a triangle seen from its dark side as its own occluder; lighting gives it no
-//! diffuse either way). Mismatches are allowed only in the one-pixel band where the
-//! rendered classification changes between neighbours.
+//! pixel's own triangle that the camera sees faces away from the light. Mismatches are
+//! allowed only in the one-pixel band where the rendered or the ray-cast classification
+//! changes between neighbours.
 
 mod common;
 
@@ -152,11 +152,11 @@ struct Tally {
 
 /// Compares sampled pixels (every `step`-th in x and y) of `img` against ray casting.
 ///
-/// * Seen side facing away from the light: no light can arrive; the colour must be ambient
-///   (the stencil there is not meaningful: for surfaces nearly edge-on to the light, the
+/// * Seen side facing away from the light: no light can arrive; the lit mask must be 0 and the
+///   colour ambient (whatever the stencil says: for surfaces nearly edge-on to the light the
 ///   volume sides run within a few depth quanta of the surface).
-/// * Otherwise: stencil != 0 exactly when the segment to the light is blocked, except in
-///   the one-pixel band where the rendered or the ray-cast classification changes.
+/// * Otherwise: lit mask 0 exactly when the segment to the light is blocked, except in the
+///   one-pixel band where the rendered or the ray-cast classification changes.
 #[allow(clippy::too_many_arguments)]
 fn compare(
     ctx: &umbra_gl::HeadlessContext,
@@ -170,6 +170,7 @@ fn compare(
 ) -> Tally {
     let (wp, ids) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("ids"));
     let st = &img.stencil[0].image;
+    let mask = &img.lit_masks[0].image;
     let light = p.lights[0];
     let tris = &cache.tris;
     let classify = |x: u32, y: u32| -> Option<(u32, Occlusion)> {
@@ -202,12 +203,14 @@ fn compare(
     let mut tally = Tally::default();
     for (x, y, id, why) in results {
         tally.checked += 1;
-        let got = st.get(x, y).is_some_and(|v| v != 0);
+        let got = mask.get(x, y).is_some_and(|v| v == 0);
         let expected = match why {
             Occlusion::SeenSideFacesAway(_) => {
                 tally.facing_away += 1;
                 let c = img.rgba.get(x, y).unwrap_or([0; 4]);
-                checks.check(x, y, c[0].abs_diff(ambient) <= 1, || format!("seen side faces away ({why:?}) but colour {c:?} != ambient {ambient}"));
+                checks.check(x, y, c[0].abs_diff(ambient) <= 1 && got, || {
+                    format!("seen side faces away ({why:?}) but colour {c:?} (ambient {ambient}), lit mask {}", u8::from(!got))
+                });
                 continue;
             }
             Occlusion::Lit => false,
@@ -218,9 +221,9 @@ fn compare(
         };
         if expected != got {
             let neighbours = || (-1i64..=1).flat_map(|dy| (-1i64..=1).map(move |dx| ((x as i64 + dx) as u32, (y as i64 + dy) as u32)));
-            let stencil_band = neighbours().any(|(nx, ny)| st.get(nx, ny).is_some_and(|v| (v != 0) != got));
+            let mask_band = neighbours().any(|(nx, ny)| mask.get(nx, ny).is_some_and(|v| (v == 0) != got));
             let ray_band = neighbours().any(|(nx, ny)| classify(nx, ny).is_some_and(|(_, o)| !matches!(o, Occlusion::Lit) != expected));
-            if stencil_band || ray_band {
+            if mask_band || ray_band {
                 tally.band_mismatches += 1;
                 continue;
             }
@@ -234,7 +237,7 @@ fn compare(
                 }
                 other => format!("{other:?}, own triangle {id}"),
             };
-            format!("ray cast shadowed {expected}, stencil {} ({detail})", st.get(x, y).unwrap_or(0))
+            format!("ray cast shadowed {expected}, lit mask {}, stencil {} ({detail})", u8::from(!got), st.get(x, y).unwrap_or(0))
         });
     }
     checks.finish();

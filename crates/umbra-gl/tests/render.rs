@@ -3,7 +3,10 @@
 mod common;
 
 use common::*;
-use umbra_gl::{Camera, FrameImages, FrameParams, HeadlessContext, NO_TRIANGLE};
+use umbra_gl::{
+    create_method, Camera, Classification, DepthConvention, FrameImages, FrameParams, HeadlessContext, LightCapture,
+    NO_TRIANGLE,
+};
 
 /// Distance from the sphere centre to the segment world -> light (light w = 1) or the ray
 /// world -> direction (w = 0).
@@ -262,4 +265,121 @@ fn several_lights_add_their_contributions() {
     checks.check(px, py, both.stencil[0].image.get(px, py) == Some(2), || "light 0 must be blocked".into());
     checks.check(px, py, both.stencil[1].image.get(px, py) == Some(0), || "light 1 must reach".into());
     checks.finish();
+}
+
+/// The lit mask is the renderer's final per-pixel decision: for counting methods
+/// (Classification::StencilZero) exactly "stencil == 0 AND the seen side faces the light", per
+/// light, 0 on background; and the colour agrees with it (ambient where 0, brighter where 1).
+/// `none` (stencil 0 everywhere) shows the facing part: the sphere's dark side, seen from the
+/// camera, has stencil 0 and mask 0; the shadow methods show the stencil part (their pushed
+/// light caps make every dark side count as shadowed in the stencil too).
+#[test]
+fn lit_mask_is_stencil_zero_and_facing_the_light() {
+    let ctx = context();
+    let mesh = sphere_over_ground();
+    let lights = vec![POINT_LIGHT, [0.3, 1.0, 0.2, 0.0]];
+    let p = params(default_camera(), lights.clone(), 320, 240);
+    let single = params(default_camera(), vec![POINT_LIGHT], 320, 240);
+    let ambient = expected_ambient_u8(&p);
+    let counting: Vec<&str> = std::iter::once("none")
+        .chain(shadow_methods())
+        .filter(|m| create_method(m).expect("registered").classification() == Classification::StencilZero)
+        .collect();
+    assert!(counting.contains(&"cpu-silhouette"), "{counting:?}");
+    for method in counting {
+        let img = render_once(&ctx, &mesh, method, &p);
+        let (wp, ids) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("ids"));
+        assert_eq!(img.lit_masks.iter().map(|m| m.light).collect::<Vec<_>>(), vec![0, 1], "{method}: one mask per light, in order");
+        let mut checks = PixelChecks::new(&ctx, "lit_mask_stencil_facing", &img.rgba);
+        for (li, &light) in lights.iter().enumerate() {
+            let (mask, st) = (&img.lit_masks[li].image, &img.stencil[li].image);
+            let (mut lit, mut shadowed, mut facing_away_stencil_zero, mut ambiguous, mut drawn) = (0, 0, 0, 0, 0);
+            for y in 0..p.height {
+                for x in 0..p.width {
+                    let (m, s, id) = (mask.get(x, y).expect("in"), st.get(x, y).expect("in"), ids.get(x, y).expect("in"));
+                    assert!(m <= 1, "{method}: mask values are 0 / 1, got {m}");
+                    if id == NO_TRIANGLE {
+                        checks.check(x, y, m == 0, || format!("{method} light {li}: background marked lit"));
+                        continue;
+                    }
+                    drawn += 1;
+                    let w = wp.get(x, y).expect("in");
+                    let Some(faces) = seen_side_faces_light(&mesh, id, [w[0], w[1], w[2]].map(f64::from), p.camera.eye, light) else {
+                        ambiguous += 1;
+                        continue;
+                    };
+                    let expected = s == 0 && faces;
+                    lit += usize::from(expected);
+                    shadowed += usize::from(faces && s != 0);
+                    facing_away_stencil_zero += usize::from(!faces && s == 0);
+                    if u8::from(expected) != m {
+                        checks.check(x, y, false, || format!("{method} light {li}: mask {m}, stencil {s}, seen side faces light {faces}"));
+                    }
+                }
+            }
+            // The cases the mask must tell apart occur.
+            let counts = format!("{method} light {li}: {lit} lit, {shadowed} shadowed, {facing_away_stencil_zero} facing away with stencil 0");
+            assert!(lit > 1000, "{counts}");
+            if method == "none" {
+                assert!(shadowed == 0 && facing_away_stencil_zero > 200, "{counts}");
+            } else {
+                assert!(shadowed > 200, "{counts}");
+            }
+            assert!(ambiguous * 200 < drawn, "{method} light {li}: {ambiguous} of {drawn} pixels edge-on to camera or light");
+        }
+        checks.finish();
+
+        // The colour agrees with the mask (one light, so the colour is ambient + that light).
+        let one = render_once(&ctx, &mesh, method, &single);
+        let mask = &one.lit_masks[0].image;
+        let ids = one.triangle_id.as_ref().expect("ids");
+        let mut checks = PixelChecks::new(&ctx, "lit_mask_matches_colour", &one.rgba);
+        let (mut dark, mut bright) = (0, 0);
+        for y in 0..single.height {
+            for x in 0..single.width {
+                if ids.get(x, y) == Some(NO_TRIANGLE) {
+                    continue;
+                }
+                let c = one.rgba.get(x, y).expect("in")[0];
+                if mask.get(x, y) == Some(0) {
+                    dark += 1;
+                    checks.check(x, y, c.abs_diff(ambient) <= 1, || format!("{method}: mask 0 but colour {c} != ambient {ambient}"));
+                } else if c > ambient + 1 {
+                    bright += 1;
+                }
+            }
+        }
+        assert!(dark > 300 && bright > 1000, "{method}: {dark} unlit, {bright} lit pixels");
+        checks.finish();
+
+        // Capturing one light gives exactly that light's mask.
+        let mut p1 = p.clone();
+        p1.capture.lit_mask = LightCapture::Light(1);
+        let only = render_once(&ctx, &mesh, method, &p1);
+        assert_eq!(only.lit_masks.len(), 1, "{method}");
+        assert_eq!(only.lit_masks[0], img.lit_masks[1], "{method}: Light(1) capture equals AllLights' mask of light 1");
+        assert_same_image(&ctx, "lit_mask_capture_does_not_change_colour", &img.rgba, &only.rgba);
+    }
+}
+
+/// Standard (DEPTH24_STENCIL8, [-1, 1]) and reversed-Z (DEPTH32F_STENCIL8, glClipControl
+/// ZERO_TO_ONE) frames of the same scene. In general the two may differ only in the one-pixel
+/// band around shadow boundaries (where their depth precisions may decide differently); on
+/// this scene, whose volumes never graze a surface, they agree exactly, and so must every
+/// method.
+#[test]
+fn standard_and_reversed_z_give_the_same_image() {
+    let ctx = context();
+    let mesh = sphere_over_ground();
+    let base = params(default_camera(), vec![POINT_LIGHT, [0.3, 1.0, 0.2, 0.0]], 320, 240);
+    let standard = FrameParams { depth_convention: DepthConvention::Standard, ..base.clone() };
+    let reversed = FrameParams { depth_convention: DepthConvention::ReversedZ, ..base.clone() };
+    assert_eq!(base.depth_convention, DepthConvention::ReversedZ, "reversed-Z is the default");
+    for method in std::iter::once("none").chain(shadow_methods()) {
+        let a = render_once(&ctx, &mesh, method, &standard);
+        let b = render_once(&ctx, &mesh, method, &reversed);
+        assert_eq!(a.triangle_id, b.triangle_id, "{method}: the same visible triangle at every pixel");
+        assert_same_image(&ctx, "standard_vs_reversed_z", &a.rgba, &b.rgba);
+        assert_eq!(a.lit_masks, b.lit_masks, "{method}: the same lit decisions");
+    }
 }

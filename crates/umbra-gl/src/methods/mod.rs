@@ -34,6 +34,10 @@ pub mod gs_silhouette;
 pub mod silhouette_caps;
 pub mod ts_silhouette;
 pub mod shadow_map;
+pub mod vs_triangle;
+pub mod gs_triangle;
+pub mod ts_triangle;
+pub mod all_edges_invert;
 
 /// How the lighting pass decides that a pixel is lit for the current light.
 ///
@@ -192,7 +196,7 @@ pub struct UnknownMethod {
 
 /// Every registered method, in a stable order.
 pub fn method_names() -> &'static [&'static str] {
-    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME, ts_silhouette::NAME, ts_silhouette::NAME_3EDGE, gs_silhouette::NAME, gs_silhouette::NAME_3EDGE, shadow_map::NAME_1024, shadow_map::NAME_2048]
+    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME, ts_silhouette::NAME, ts_silhouette::NAME_3EDGE, gs_silhouette::NAME, gs_silhouette::NAME_3EDGE, shadow_map::NAME_1024, shadow_map::NAME_2048, ts_triangle::two_pass::NAME, ts_triangle::one_pass::NAME, gs_triangle::NAME, vs_triangle::NAME, all_edges_invert::NAME]
 }
 
 /// Builds a method by registry name (no GL calls; see [`ShadowMethod::prepare`]).
@@ -206,6 +210,11 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
         ts_silhouette::NAME_3EDGE => Ok(Box::new(ts_silhouette::TsSilhouette::new_three_edge())),
         gs_silhouette::NAME => Ok(Box::new(gs_silhouette::GsSilhouette::new())),
         gs_silhouette::NAME_3EDGE => Ok(Box::new(gs_silhouette::GsSilhouette::new_three_edge())),
+        ts_triangle::two_pass::NAME => Ok(Box::new(ts_triangle::two_pass::TsTriangle::new())),
+        ts_triangle::one_pass::NAME => Ok(Box::new(ts_triangle::one_pass::TsTriangle1Pass::new())),
+        gs_triangle::NAME => Ok(Box::new(gs_triangle::GsTriangle::new())),
+        vs_triangle::NAME => Ok(Box::new(vs_triangle::VsTriangle::new())),
+        all_edges_invert::NAME => Ok(Box::new(all_edges_invert::AllEdgesInvert::new())),
         n if n.starts_with(shadow_map::PREFIX) => shadow_map::ShadowMapCube::from_name(n)
             .map(|m| Box::new(m) as Box<dyn ShadowMethod>)
             .ok_or_else(|| UnknownMethod { name: n.to_string() }),

@@ -10,8 +10,8 @@ use std::sync::Arc;
 use umbra_geom::scene::{ground_plane, uv_sphere};
 use umbra_geom::{weld::weld, Mesh, WeldedMesh};
 use umbra_gl::{
-    create_method, Camera, CaptureFlags, ContextOptions, FrameImages, FrameParams, GlApi, HeadlessContext, Renderer,
-    RgbaImage, SceneGpu, StencilCapture,
+    create_method, Camera, CaptureFlags, ContextOptions, FrameImages, FrameParams, GlApi, HeadlessContext, LightCapture,
+    Renderer, RgbaImage, SceneGpu,
 };
 
 pub const SPHERE_CENTER: [f64; 3] = [0.0, 2.0, 0.0];
@@ -42,7 +42,12 @@ pub fn params(camera: Camera, lights: Vec<[f32; 4]>, width: u32, height: u32) ->
         width,
         height,
         lights,
-        capture: CaptureFlags { world_pos: true, triangle_id: true, stencil: StencilCapture::AllLights },
+        capture: CaptureFlags {
+            world_pos: true,
+            triangle_id: true,
+            stencil: LightCapture::AllLights,
+            lit_mask: LightCapture::AllLights,
+        },
         ..FrameParams::default()
     }
 }
@@ -185,6 +190,28 @@ pub fn expected_lit(p: &FrameParams, world: [f64; 3], normal: [f64; 3], light: [
     let h = norm([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
     let spec = dot(n, h).max(0.0).powf(f64::from(p.shininess));
     ambient + f64::from(p.light_color[0]) * (f64::from(p.albedo[0]) * ndl + f64::from(p.specular) * spec)
+}
+
+/// Whether the side of triangle `id` that the camera at `eye` sees faces `light`, decided in
+/// f64 from the f32 vertices; `None` when the camera or the light is within `1e-3` (cosine)
+/// of the triangle's plane, where the GPU's gl_FrontFacing / f32 shading may decide either
+/// way.
+pub fn seen_side_faces_light(mesh: &WeldedMesh, id: u32, world: [f64; 3], eye: [f64; 3], light: [f32; 4]) -> Option<bool> {
+    let t = mesh.triangles[id as usize];
+    let [a, b, c] = t.map(|i| mesh.positions[i as usize].map(f64::from));
+    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    let (u, v) = (sub(b, a), sub(c, a));
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let l4 = light.map(f64::from);
+    let to_light = [l4[0] - world[0] * l4[3], l4[1] - world[1] * l4[3], l4[2] - world[2] * l4[3]];
+    let to_eye = sub(eye, a);
+    let cos = |d: [f64; 3]| dot(n, d) / (dot(n, n) * dot(d, d)).sqrt();
+    let (ce, cl) = (cos(to_eye), cos(to_light));
+    if !(ce.abs() >= 1e-3 && cl.abs() >= 1e-3) {
+        return None;
+    }
+    Some((ce > 0.0) == (cl > 0.0))
 }
 
 /// Expected 8-bit value of an unshadowed-by-light (ambient only) surface.

@@ -8,9 +8,11 @@
 // One invocation per edge. Compaction: an edge with m != 0 (a small fraction of all edges)
 // reserves its |m| slots with one atomicAdd on the indirect draw command's vertex count (the
 // atomic counter, 6 vertices per quad) and writes its quads there. No shared memory and no
-// barrier() (a workgroup-level reservation was slower on llvmpipe, which runs barrier() by
-// switching coroutines). The output order is whatever the atomics give; the stencil counts
-// (INCR_WRAP / DECR_WRAP) are order-independent, so the image is deterministic anyway.
+// barrier(): a workgroup-level reservation (shared-memory sum, one atomic per workgroup,
+// three barriers) measured slower on llvmpipe, whose compute shaders run barrier() by
+// switching coroutines, and silhouette edges are few. The output order is whatever the
+// atomics give; the stencil counts (INCR_WRAP / DECR_WRAP) are order-independent, so the image
+// is deterministic anyway.
 // Prepended by the Rust side: "#version 450 core", multiplicity.glsl.
 
 layout(local_size_x = 256) in;

@@ -67,8 +67,13 @@ void main() {
     // Alg. 5's corners P0 = Q1, P1 = Q2, P2 = Q0, P3 = Q3.
     vec3 first = m > 0 ? b : a;   // Q0
     vec3 second = m > 0 ? a : b;  // Q1
-    p_corner[0] = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
-    p_corner[1] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
-    p_corner[2] = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
-    p_corner[3] = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
+    vec4 q0 = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
+    vec4 q1 = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
+    vec4 q2 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
+    vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
+    if (copies == 1) {
+        p_corner[0] = q1; p_corner[1] = q2; p_corner[2] = q0; p_corner[3] = q3;
+    } else {
+        p_corner[0] = q2; p_corner[1] = q3; p_corner[2] = q1; p_corner[3] = q0;
+    }
 }

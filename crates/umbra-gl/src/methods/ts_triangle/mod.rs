@@ -57,32 +57,42 @@ pub fn depth_from_ndc(far_clip_z: f32) -> [f32; 2] {
     }
 }
 
+/// Window depth that makes a volume fragment never count: it passes the depth test in z-fail
+/// (the near plane) and fails it in z-pass (the far plane). Given to side fragments seen
+/// exactly edge-on (side_depth.frag.glsl). The far plane's window depth is `far_clip_z` (1, or
+/// 0 with a reversed range), the near plane's the other end of the 0..1 range.
+pub fn edge_on_depth(far_clip_z: f32, zpass: bool) -> f32 {
+    if zpass {
+        far_clip_z
+    } else {
+        1.0 - far_clip_z
+    }
+}
+
 /// Uniforms of the fragment-depth path (side_plane.glsl, side_depth.frag.glsl).
 struct DepthUniforms {
-    u_world_from_clip: Option<glow::UniformLocation>,
     u_viewport_size: Option<glow::UniformLocation>,
     u_depth_from_ndc: Option<glow::UniformLocation>,
+    u_edge_on_depth: Option<glow::UniformLocation>,
 }
 
 impl DepthUniforms {
     fn locate(gl: &glow::Context, program: glow::Program) -> Self {
         Self {
-            u_world_from_clip: crate::program::uniform(gl, program, "u_world_from_clip"),
             u_viewport_size: crate::program::uniform(gl, program, "u_viewport_size"),
             u_depth_from_ndc: crate::program::uniform(gl, program, "u_depth_from_ndc"),
+            u_edge_on_depth: crate::program::uniform(gl, program, "u_edge_on_depth"),
         }
     }
 
     /// Sets them for `frame` on the current program.
     fn set(&self, gl: &glow::Context, frame: &VolumeFrame<'_>) {
-        // world_from_clip in f64, then f32: the side planes are moved to clip space with it.
-        let world_from_clip = crate::camera::to_f32_cols(&frame.clip_from_world.inverse());
         // SAFETY: uniform setters on the current program with matching types.
         unsafe {
-            gl.uniform_matrix_4_f32_slice(self.u_world_from_clip.as_ref(), false, &world_from_clip);
             gl.uniform_2_f32(self.u_viewport_size.as_ref(), frame.width as f32, frame.height as f32);
             let [a, b] = depth_from_ndc(frame.far_clip_z());
             gl.uniform_2_f32(self.u_depth_from_ndc.as_ref(), a, b);
+            gl.uniform_1_f32(self.u_edge_on_depth.as_ref(), edge_on_depth(frame.far_clip_z(), frame.zpass));
         }
     }
 }

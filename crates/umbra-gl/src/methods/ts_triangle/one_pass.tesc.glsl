@@ -8,14 +8,15 @@
 // triangle faces the light, 0 discards the patch (outer levels 0). The fourth control point is
 // the added quad corner; the evaluation shader places every tessellated vertex by its
 // tessellation coordinate alone (one_pass.tese.glsl), so it carries a copy of the first point
-// and is never read. Invocations 0..2 also compute the canonical clip-space plane of the side
+// and is never read. Invocations 0..2 also compute the canonical depth plane of the side
 // of edge (i, i + 1) of the wound triangle (side_plane.glsl) for the fragment shader.
 
 layout(vertices = 4) out;
 
 in vec3 v_world[];
 out vec3 c_world[];
-patch out vec4 tc_planes[3];
+patch out vec4 tc_side_anchor[3];
+patch out vec2 tc_side_slope[3];
 
 uniform vec4 u_light;
 
@@ -27,7 +28,7 @@ void main() {
     if (id < 3) {
         int next = id == 2 ? 0 : id + 1;
         int source_next = (o < 0 && next != 0) ? 3 - next : next;
-        tc_planes[id] = umbra_side_plane_clip(v_world[source], v_world[source_next], u_light);
+        umbra_side_depth_plane(v_world[source], v_world[source_next], u_light, tc_side_anchor[id], tc_side_slope[id]);
     }
     if (id == 0) {
         float on = o == 0 ? 0.0 : 1.0;

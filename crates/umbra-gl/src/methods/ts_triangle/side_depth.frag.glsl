@@ -8,33 +8,41 @@
 //
 // Which face a fragment belongs to: every tessellated vertex carries e_corner, the one-hot
 // vector of the patch point (0, 1, 2) it was placed at. A side of the edge between points i and
-// i + 1 only has vertices of those two points, so its fragments interpolate component i + 2 to
-// exactly 0; caps (light or dark) have all three points and all three components > 0 inside.
-// (Perspective-correct interpolation: every cap vertex is finite, and a component that is 0 at
-// all three vertices stays 0 - or NaN next to a point at infinity, which also fails "> 0".)
+// i + 1 only has vertices of those two points, so component i + 2 is 0 at all its vertices and
+// interpolates to exactly 0.0 on every fragment (also after clipping: the clipper interpolates
+// 0 and 0). Caps (light or dark) have all three points; inside them every component is
+// positive in exact arithmetic, but near an edge rounding can leave one at a tiny positive or
+// negative value - hardly ever exactly 0.0. So "some component == 0.0" means side, anything else
+// cap.
 //
 //   UMBRA_CAPS_TO_FAR        cap fragments get the far plane's depth (the 1-pass light cap;
 //                            the dark cap is there already)
 //   UMBRA_CANONICAL_SIDES    side fragments get the depth of their canonical plane
-//                            (e_planes, from side_plane.glsl), identical for both copies
+//                            (e_side_anchor / e_side_slope, from side_plane.glsl), identical
+//                            for both copies
 // Without either define the shader writes no depth (early depth testing stays on): the
 // paper's rasterized depths, kept only to measure what the depth writes cost.
 //
-// Window depth: z_window = u_depth_from_ndc.x * z_ndc + u_depth_from_ndc.y, (0.5, 0.5) for the
-// standard -1..1 clip range with glDepthRange(0, 1); the far plane is u_far_clip_z as a window
-// depth too (1 standard; 0 with a reversed zero-to-one range).
+// A side seen edge-on (flagged by side_plane.glsl: its plane contains the eye up to rounding)
+// has rays lying in its plane, crossing it nowhere, so it must not count; its rasterized
+// coverage is a sliver that the two copies of a shared side need not even cover alike. Its
+// fragments get u_edge_on_depth, a depth that is never counted: the near plane for z-fail (the
+// face passes: KEEP), the far plane for z-pass (it fails: KEEP).
+//
+// The far plane is u_far_clip_z as a window depth (1 standard; 0 with a reversed zero-to-one
+// range).
 #version 450 core
 
 in vec3 e_corner;
-flat in vec4 e_planes[3];
+flat in vec4 e_side_anchor[3];
+flat in vec2 e_side_slope[3];
 
 uniform float u_far_clip_z;
-uniform vec2 u_viewport_size;
-uniform vec2 u_depth_from_ndc;
+uniform float u_edge_on_depth;
 
 void main() {
 #if defined(UMBRA_CAPS_TO_FAR) || defined(UMBRA_CANONICAL_SIDES)
-    bool cap = e_corner.x > 0.0 && e_corner.y > 0.0 && e_corner.z > 0.0;
+    bool cap = e_corner.x != 0.0 && e_corner.y != 0.0 && e_corner.z != 0.0;
     float depth = gl_FragCoord.z;
 #ifdef UMBRA_CAPS_TO_FAR
     if (cap) {
@@ -44,10 +52,11 @@ void main() {
 #ifdef UMBRA_CANONICAL_SIDES
     if (!cap) {
         // Component i + 2 == 0 <=> side of edge (i, i + 1) <=> plane i.
-        vec4 p = !(e_corner.z > 0.0) ? e_planes[0] : (!(e_corner.x > 0.0) ? e_planes[1] : e_planes[2]);
-        vec2 ndc = gl_FragCoord.xy / u_viewport_size * 2.0 - 1.0;
-        float z_ndc = -(p.x * ndc.x + p.y * ndc.y + p.w) / p.z;
-        depth = u_depth_from_ndc.x * z_ndc + u_depth_from_ndc.y;
+        int i = e_corner.z == 0.0 ? 0 : (e_corner.x == 0.0 ? 1 : 2);
+        vec4 anchor = e_side_anchor[i];
+        vec2 slope = e_side_slope[i];
+        depth = anchor.w != 0.0 ? u_edge_on_depth
+              : anchor.z + slope.x * (gl_FragCoord.x - anchor.x) + slope.y * (gl_FragCoord.y - anchor.y);
     }
 #endif
     gl_FragDepth = depth;

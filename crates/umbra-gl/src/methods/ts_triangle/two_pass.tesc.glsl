@@ -11,7 +11,7 @@
 // is then wound to face the light, as its own light cap), 0 (edge-on or degenerate) sets the
 // outer levels to 0, which discards the patch: it casts nothing.
 //
-// Volume pass only: invocation i also computes the canonical clip-space plane of the side of
+// Volume pass only: invocation i also computes the canonical depth plane of the side of
 // edge (i, i + 1) of the wound patch (side_plane.glsl) for the fragment shader, which gives the
 // side's fragments that depth so the two copies of a shared side cancel exactly.
 
@@ -20,7 +20,8 @@ layout(vertices = 3) out;
 in vec3 v_world[];
 out vec3 c_world[];
 #ifndef UMBRA_LIGHT_CAPS
-patch out vec4 tc_planes[3];
+patch out vec4 tc_side_anchor[3];
+patch out vec2 tc_side_slope[3];
 #endif
 
 uniform vec4 u_light;
@@ -32,7 +33,7 @@ void main() {
 #ifndef UMBRA_LIGHT_CAPS
     int next = gl_InvocationID == 2 ? 0 : gl_InvocationID + 1;
     int source_next = (o < 0 && next != 0) ? 3 - next : next;
-    tc_planes[gl_InvocationID] = umbra_side_plane_clip(v_world[source], v_world[source_next], u_light);
+    umbra_side_depth_plane(v_world[source], v_world[source_next], u_light, tc_side_anchor[gl_InvocationID], tc_side_slope[gl_InvocationID]);
 #endif
     if (gl_InvocationID == 0) {
         float outer = o == 0 ? 0.0 : 1.0;

@@ -9,19 +9,29 @@
 //! orientation by paper 001's reference edge (Alg. 3-4), the shared `multiplicity.glsl`.
 //!
 //! Once per mesh ([`ShadowMethod::prepare`] / [`VsSilhouette::prepare_mesh`]): sides-data and
-//! caps-data built on the CPU and uploaded to two static vertex buffers, one vertex array each
-//! with every attribute advancing once per instance (divisor 1), two programs.
-//! Per light per frame: uniforms and two instanced draws, nothing else:
-//! * sides: `e` instances (edge records) of `6 · maxMult` vertices; the side index and the
-//!   vertex of the side come from `gl_VertexID` (the paper had to emulate it in WebGL 1.0);
-//! * caps (z-fail only): `t` instances (triangles) of 6 vertices (3 for a directional light,
-//!   whose dark cap has zero area).
+//! caps-data built on the CPU and uploaded to two static vertex buffers of exactly Eq. 8 and
+//! Eq. 9 bytes, vertex arrays whose attributes advance once per instance (divisor 1), two
+//! programs. Per light per frame: uniforms and instanced draws, nothing else:
+//! * sides: `6 · maxMult` vertices per edge record; the record, the potential side `s` and the
+//!   vertex `v` of the side come from `gl_VertexID` (the paper had to emulate it in WebGL 1.0);
+//! * caps (z-fail only): 6 vertices per triangle (3 for a directional light, whose dark cap
+//!   has zero area).
+//!
+//! Each instance reads `R` consecutive records through `R` attribute sets over the same buffer
+//! (`R = MAX_VERTEX_ATTRIBS / (2 + maxMult)`, at most 8; 5 triangles for the caps with 16
+//! attributes): the paper's layout and bytes, fewer instances (llvmpipe runs its vertex
+//! pipeline once per instance; `R = 1` is the paper's one edge per instance,
+//! [`VsSilhouette::with_records_per_instance_cap`]). The last `records % R` records are drawn
+//! by one more instance whose missing attribute sets are disabled and read an all-zero
+//! generic value: an empty record.
 //!
 //! `maxMult` is the scene's largest number of opposite vertices, capped
-//! ([`umbra_geom::sides_data::choose_max_mult`], at most `MAX_VERTEX_ATTRIBS - 2` and 14):
-//! edges with more opposites are split into several records whose sub-multiplicities add up
-//! (quads of opposite sign over one edge are the same two triangles reversed, Eq. 4-5, and
-//! cancel in the stencil). [`VsSilhouette::with_max_mult_cap`] forces a smaller cap (tests).
+//! ([`umbra_geom::sides_data::choose_max_mult`]: at most `MAX_VERTEX_ATTRIBS - 2` and 14, and
+//! the count that covers 99.9 % of the edges): edges with more opposites are split into
+//! several records whose sub-multiplicities add up; quads of opposite sign over one split edge
+//! are the same two triangles with the last two vertices swapped (Eq. 4-5 tables, see
+//! `sides.vert.glsl`) and cancel in the stencil. [`VsSilhouette::with_max_mult_cap`] forces a
+//! smaller cap (tests).
 //!
 //! The shaders are written in the common subset of GLSL 4.50 core and GLSL ES 3.00 (the basis
 //! of a WebGL 2 build); [`ShaderDialect`] picks the prelude. The GL calls of this module are
@@ -107,14 +117,21 @@ fn record_access(struct_name: &str, struct_body: &str, function: &str, fields: &
 pub fn sides_vertex_source(dialect: ShaderDialect, max_mult: usize, records: usize) -> String {
     let mut fields = vec!["a".to_string(), "b".to_string()];
     fields.extend((0..max_mult).map(|i| format!("o[{i}]")));
-    let access = record_access("UmbraEdgeRecord", "vec4 a; vec4 b; vec4 o[UMBRA_MAX_MULT];", "umbra_edge_record", &fields, records);
+    let access = record_access(
+        "UmbraEdgeRecord",
+        "vec4 a; vec4 b; vec4 o[UMBRA_MAX_MULT];",
+        "umbra_edge_record",
+        &fields,
+        records,
+    );
     format!("{}#define UMBRA_MAX_MULT {max_mult}\n{MULTIPLICITY}\n{DEPTH}\n{access}\n{SIDES_VERT}", dialect.prelude())
 }
 
 /// Full source of the caps vertex shader for `records` triangles per instance.
 pub fn caps_vertex_source(dialect: ShaderDialect, records: usize) -> String {
     let fields = ["p0", "p1", "p2"].map(String::from);
-    let access = record_access("UmbraTriangleRecord", "vec4 p0; vec4 p1; vec4 p2;", "umbra_triangle_record", &fields, records);
+    let access =
+        record_access("UmbraTriangleRecord", "vec4 p0; vec4 p1; vec4 p2;", "umbra_triangle_record", &fields, records);
     format!("{}{MULTIPLICITY}\n{DEPTH}\n{access}\n{CAPS_VERT}", dialect.prelude())
 }
 
@@ -285,7 +302,9 @@ impl RecordArrays {
             gl.bind_vertex_array(None);
             gl.bind_buffer(glow::ARRAY_BUFFER, None);
             match (main, remainder) {
-                (Ok(main_vao), None) => Ok(Self { buffer, main_vao, main_instances, remainder: None, vec4s, per_instance }),
+                (Ok(main_vao), None) => {
+                    Ok(Self { buffer, main_vao, main_instances, remainder: None, vec4s, per_instance })
+                }
                 (Ok(main_vao), Some(Ok(r))) => {
                     Ok(Self { buffer, main_vao, main_instances, remainder: Some((r, rest)), vec4s, per_instance })
                 }
@@ -423,7 +442,10 @@ impl VsSilhouette {
         let caps = build_caps_data(mesh).map_err(|e| GlError::InvalidParams(e.to_string()))?;
         debug_assert_eq!(sides.records(), layout.records);
         let vertices = [6 * layout.max_mult * layout.sides_records_per_instance, 6 * layout.caps_records_per_instance];
-        if i32::try_from(layout.records).is_err() || i32::try_from(layout.triangles).is_err() || vertices.iter().any(|&v| v > 1 << 20) {
+        if i32::try_from(layout.records).is_err()
+            || i32::try_from(layout.triangles).is_err()
+            || vertices.iter().any(|&v| v > 1 << 20)
+        {
             return Err(GlError::InvalidParams(format!(
                 "vs-silhouette: {} edge records / {} triangles exceed one instanced draw",
                 layout.records, layout.triangles
@@ -439,7 +461,8 @@ impl VsSilhouette {
             &frag,
         )?;
         let caps_src = caps_vertex_source(dialect, layout.caps_records_per_instance);
-        let caps_prog = match Program::link(gl, "vs-silhouette caps", "vs_silhouette/caps.vert.glsl", &caps_src, &frag) {
+        let caps_prog = match Program::link(gl, "vs-silhouette caps", "vs_silhouette/caps.vert.glsl", &caps_src, &frag)
+        {
             Ok(p) => p,
             Err(e) => {
                 // SAFETY: our own program, not used afterwards.
@@ -454,22 +477,28 @@ impl VsSilhouette {
                 gl.delete_program(caps_prog.program);
             }
         };
-        let sides_data =
-            match RecordArrays::new(gl, "vs-silhouette sides-data", &sides.data, sides.stride(), layout.sides_records_per_instance) {
-                Ok(x) => x,
-                Err(e) => {
-                    delete_programs();
-                    return Err(e);
-                }
-            };
-        let caps_data = match RecordArrays::new(gl, "vs-silhouette caps-data", &caps, 3, layout.caps_records_per_instance) {
+        let sides_data = match RecordArrays::new(
+            gl,
+            "vs-silhouette sides-data",
+            &sides.data,
+            sides.stride(),
+            layout.sides_records_per_instance,
+        ) {
             Ok(x) => x,
             Err(e) => {
                 delete_programs();
-                sides_data.destroy(gl);
                 return Err(e);
             }
         };
+        let caps_data =
+            match RecordArrays::new(gl, "vs-silhouette caps-data", &caps, 3, layout.caps_records_per_instance) {
+                Ok(x) => x,
+                Err(e) => {
+                    delete_programs();
+                    sides_data.destroy(gl);
+                    return Err(e);
+                }
+            };
         self.gpu = Some(Gpu { sides: sides_prog, caps: caps_prog, sides_data, caps_data, layout });
         Ok(())
     }
@@ -529,7 +558,12 @@ impl ShadowMethod for VsSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, _scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        _scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         let d = VolumeDraw {
             clip_from_world: frame.clip_from_world_f32(),
             light: frame.light,
