@@ -223,7 +223,7 @@ fn best_of_tables(name: &str, mesh: &Mesh, welded: &WeldedMesh, adj: &EdgeAdjace
     const PRE_RUNS: usize = 3;
     const FRAME_RUNS: usize = 10;
     println!(
-        "{name}: best of {PRE_RUNS} (preprocessing) / {FRAME_RUNS} (frames) runs, wall ms (CPU ms of all threads); \
+        "{name}: best of {PRE_RUNS} (preprocessing) / {FRAME_RUNS} (frames) runs: best wall ms (least CPU ms, all threads); \
          load average before: {}",
         load_average()
     );

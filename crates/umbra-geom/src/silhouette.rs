@@ -619,6 +619,43 @@ mod tests {
         assert!(both[0] > 0 && both[1] > 0);
     }
 
+    /// A warmed-up frame of the same size reuses every buffer: the output's and the
+    /// per-thread scratch's (no reallocation, hence no allocation of ours).
+    #[test]
+    fn extract_reuses_buffers_when_warm() {
+        let w = weld(&reference_inputs()[1]);
+        let adj = EdgeAdjacency::build(&w);
+        let light = reference_lights(&w)[0];
+        let mut out = VolumeGeometry::default();
+        extract(&w, &adj, light, true, &mut out);
+        assert!(!out.sides.is_empty() && !out.light_caps.is_empty() && !out.dark_caps.is_empty());
+        let buffers = |out: &VolumeGeometry| {
+            let s = SCRATCH.with(|cell| {
+                let s = cell.borrow();
+                [
+                    s.multiplicity.as_ptr() as usize,
+                    s.orientation.as_ptr() as usize,
+                    s.side_offsets.as_ptr() as usize,
+                    s.cap_offsets.as_ptr() as usize,
+                ]
+            });
+            [
+                out.sides.as_ptr() as usize,
+                out.light_caps.as_ptr() as usize,
+                out.dark_caps.as_ptr() as usize,
+                s[0],
+                s[1],
+                s[2],
+                s[3],
+            ]
+        };
+        let warm = buffers(&out);
+        for caps in [true, false, true] {
+            extract(&w, &adj, light, caps, &mut out);
+            assert_eq!(buffers(&out), warm, "caps {caps}");
+        }
+    }
+
     /// An extraction running inside another one on the same thread (a rayon worker picks up
     /// a second frame's job while it waits) gets its own scratch instead of a borrow panic.
     #[test]

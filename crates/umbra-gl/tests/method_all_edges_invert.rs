@@ -157,7 +157,7 @@ fn exact_for_convex_casters_over_a_plane() {
         let (reference, got) = masks(&ctx, &mesh, &p);
         let (outside, inside, shadowed) = compare(&reference, &got, w, h);
         println!("box + tetrahedron, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
-        assert!(shadowed > 1000, "the casters must cast a visible shadow ({shadowed})");
+        assert!(shadowed > 300, "the casters must cast a visible shadow ({shadowed})");
         assert_eq!(outside, 0, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
     }
 }
@@ -177,7 +177,7 @@ fn nearly_exact_for_a_fine_sphere() {
         let (reference, got) = masks(&ctx, &mesh, &p);
         let (outside, inside, shadowed) = compare(&reference, &got, w, h);
         println!("sphere 48x24, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
-        assert!(shadowed > 1000, "the sphere must cast a visible shadow ({shadowed})");
+        assert!(shadowed > 300, "the sphere must cast a visible shadow ({shadowed})");
         assert!(outside * 2000 <= w * h, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
     }
 }

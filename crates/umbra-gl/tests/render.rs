@@ -23,8 +23,10 @@ fn segment_distance_to_center(world: [f64; 3], light: [f32; 4]) -> f64 {
 }
 
 /// Checks ground points (x, z): the rendered world position, triangle id (a ground
-/// triangle), stencil (exactly 2 = the two sphere triangles between point and light, or 0)
-/// and colour (ambient, or ambient + analytic diffuse + specular).
+/// triangle), the lit mask (0 behind the sphere, 1 elsewhere), for counting methods
+/// (`counting`) the stencil (exactly 2 = the two sphere triangles between point and light,
+/// or 0), and colour (ambient, or ambient + analytic diffuse + specular).
+#[allow(clippy::too_many_arguments)]
 fn check_ground(
     ctx: &HeadlessContext,
     test: &'static str,
@@ -33,11 +35,14 @@ fn check_ground(
     light_index: usize,
     points: &[[f64; 2]],
     triangle_count: usize,
+    method: &str,
+    counting: bool,
 ) -> (usize, usize) {
     let light = p.lights[light_index];
     let wp = img.world_pos.as_ref().expect("world positions captured");
     let ids = img.triangle_id.as_ref().expect("ids captured");
     let stencil = &img.stencil.iter().find(|s| s.light == light_index).expect("stencil captured").image;
+    let mask = &img.lit_masks.iter().find(|s| s.light == light_index).expect("lit mask captured").image;
     let mut checks = PixelChecks::new(ctx, test, &img.rgba);
     let (mut shadowed, mut lit) = (0, 0);
     for &[x, z] in points {
@@ -51,17 +56,24 @@ fn check_ground(
         // The tessellated sphere is inscribed in the ideal one (48 x 24: radius >= 0.991).
         assert!((d - SPHERE_RADIUS).abs() > 0.1, "{test}: test point ({x}, {z}) is too close to the shadow boundary (d = {d})");
         let s = stencil.get(px, py).expect("in image");
+        let m = mask.get(px, py).expect("in image");
+        let checks_before = checks.failures();
         let c = img.rgba.get(px, py).expect("in image");
         if d < SPHERE_RADIUS {
             shadowed += 1;
-            checks.check(px, py, s == 2, || format!("ground ({x}, {z}) behind the sphere: stencil {s}, expected 2"));
+            checks.check(px, py, m == 0, || format!("ground ({x}, {z}) behind the sphere: lit mask {m}, expected 0"));
+            checks.check(px, py, !counting || s == 2, || format!("ground ({x}, {z}) behind the sphere: stencil {s}, expected 2"));
             let e = expected_ambient_u8(p);
             checks.check(px, py, c[0].abs_diff(e) <= 1 && c[2].abs_diff(e) <= 1, || format!("shadowed colour {c:?}, expected {e}"));
         } else {
             lit += 1;
-            checks.check(px, py, s == 0, || format!("ground ({x}, {z}) lit: stencil {s}, expected 0"));
+            checks.check(px, py, m == 1, || format!("ground ({x}, {z}) lit: lit mask {m}, expected 1"));
+            checks.check(px, py, !counting || s == 0, || format!("ground ({x}, {z}) lit: stencil {s}, expected 0"));
             let e = to_u8(expected_lit(p, world, [0.0, 1.0, 0.0], light));
             checks.check(px, py, c[0].abs_diff(e) <= 2, || format!("lit colour {c:?}, expected {e}"));
+        }
+        if checks.failures() > checks_before {
+            checks.check(px, py, false, || format!("(the failures above are {method}'s)"));
         }
     }
     checks.finish();
@@ -76,13 +88,18 @@ fn point_light_shadows_the_ground_under_the_sphere() {
     let ctx = context();
     let mesh = sphere_over_ground();
     let p = params(default_camera(), vec![POINT_LIGHT], 320, 240);
-    for method in shadow_methods() {
+    let counting = counting_methods();
+    for method in overlap_exact_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
-        let (s, l) = check_ground(&ctx, "point_light_ground", &img, &p, 0, &GROUND_POINTS, mesh.triangles.len());
+        let c = counting.contains(&method);
+        let (s, l) = check_ground(&ctx, "point_light_ground", &img, &p, 0, &GROUND_POINTS, mesh.triangles.len(), method, c);
         assert!(s >= 4 && l >= 4, "{method}: {s} shadowed / {l} lit test points");
-        // The top of the sphere faces the light: lit, stencil 0.
+        // The top of the sphere faces the light: lit (stencil 0 for counting methods).
         let (px, py) = pixel_of(&p.camera, [0.0, 2.99, 0.0], p.width, p.height);
-        assert_eq!(img.stencil[0].image.get(px, py), Some(0), "{method}: sphere top must be lit");
+        assert_eq!(img.lit_masks[0].image.get(px, py), Some(1), "{method}: sphere top must be lit");
+        if c {
+            assert_eq!(img.stencil[0].image.get(px, py), Some(0), "{method}: sphere top has stencil 0");
+        }
     }
 }
 
@@ -94,9 +111,11 @@ fn directional_light_shadows_the_ground_along_its_direction() {
     let light = [0.3, 1.0, 0.2, 0.0];
     let p = params(default_camera(), vec![light], 320, 240);
     let points = [[-0.6, -0.4], [-0.2, -0.1], [-1.0, -0.6], [0.6, 0.6], [2.5, 0.0], [-3.0, 2.0], [-2.5, -2.5]];
-    for method in shadow_methods() {
+    let counting = counting_methods();
+    for method in overlap_exact_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
-        let (s, l) = check_ground(&ctx, "directional_light_ground", &img, &p, 0, &points, mesh.triangles.len());
+        let c = counting.contains(&method);
+        let (s, l) = check_ground(&ctx, "directional_light_ground", &img, &p, 0, &points, mesh.triangles.len(), method, c);
         assert!(s >= 3 && l >= 3, "{method}: {s} shadowed / {l} lit test points");
     }
 }
@@ -115,9 +134,11 @@ fn camera_inside_the_shadow_volume_is_right_with_zfail() {
     let mesh = sphere_over_ground();
     let p = params(inside_shadow_camera(), vec![POINT_LIGHT], 320, 240);
     assert!(segment_distance_to_center(p.camera.eye, POINT_LIGHT) < 0.5, "the eye must be in the umbra");
-    for method in shadow_methods() {
+    let counting = counting_methods();
+    for method in overlap_exact_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
-        let (s, l) = check_ground(&ctx, "inside_shadow_zfail", &img, &p, 0, &INSIDE_POINTS, mesh.triangles.len());
+        let c = counting.contains(&method);
+        let (s, l) = check_ground(&ctx, "inside_shadow_zfail", &img, &p, 0, &INSIDE_POINTS, mesh.triangles.len(), method, c);
         assert_eq!((s, l), (2, 2), "{method}");
     }
 }
@@ -133,7 +154,8 @@ fn camera_inside_the_shadow_volume_is_wrong_with_zpass() {
     let mesh = sphere_over_ground();
     let mut p = params(inside_shadow_camera(), vec![POINT_LIGHT], 320, 240);
     p.zpass = true;
-    for method in shadow_methods() {
+    // z-pass is a counting scheme: only the stencil-counting methods have it.
+    for method in counting_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
         let st = &img.stencil[0].image;
         let wp = img.world_pos.as_ref().expect("captured");

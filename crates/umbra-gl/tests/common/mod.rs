@@ -126,6 +126,11 @@ impl<'a> PixelChecks<'a> {
         }
     }
 
+    /// Number of failed checks so far.
+    pub fn failures(&self) -> usize {
+        self.failures.len()
+    }
+
     pub fn finish(self) {
         if self.failures.is_empty() {
             return;
@@ -226,6 +231,23 @@ pub fn to_u8(v: f64) -> u8 {
 /// The method names every generic test iterates over (all registered ones).
 pub fn shadow_methods() -> Vec<&'static str> {
     umbra_gl::method_names().iter().copied().filter(|&m| m != "none").collect()
+}
+
+/// The shadow methods whose shadows are right where the volumes of several triangles overlap
+/// (under the sphere, two of its triangles shadow the ground): all but paper 002's
+/// `all-edges-invert`, whose INVERT parity cancels there by design (documented; see
+/// umbra_verify::must_be_exact).
+pub fn overlap_exact_methods() -> Vec<&'static str> {
+    shadow_methods().into_iter().filter(|&m| m != "all-edges-invert").collect()
+}
+
+/// The shadow methods that count in the stencil (Classification::StencilZero): the ones whose
+/// stencil values (2 under the sphere, z-pass wrap-around, ...) tests may check.
+pub fn counting_methods() -> Vec<&'static str> {
+    shadow_methods()
+        .into_iter()
+        .filter(|m| create_method(m).is_ok_and(|c| c.classification() == umbra_gl::Classification::StencilZero))
+        .collect()
 }
 
 pub fn default_camera() -> Camera {

@@ -25,6 +25,7 @@
 
 use glow::HasContext;
 
+use crate::camera::DepthConvention;
 use crate::error::GlError;
 use crate::methods::VolumeFrame;
 use crate::scene::SceneGpu;
@@ -45,22 +46,20 @@ fn with_shared(body: &str) -> String {
     format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{SIDE_PLANE}\n{body}")
 }
 
-/// `z_window = a * z_ndc + b` for the frame's depth convention, as `[a, b]`: the standard
-/// -1..1 clip range with glDepthRange(0, 1) (far plane at clip z = w, window depth 1) gives
-/// (0.5, 0.5); a reversed zero-to-one range (glClipControl, far plane at clip z = 0, window
-/// depth 0) gives (1, 0). Derived from [`VolumeFrame::far_clip_z`].
-pub fn depth_from_ndc(far_clip_z: f32) -> [f32; 2] {
-    if far_clip_z == 1.0 {
-        [0.5, 0.5]
-    } else {
-        [1.0, 0.0]
+/// `z_window = a * z_ndc + b` for the frame's depth convention, as `[a, b]`: (0.5, 0.5) for
+/// [`DepthConvention::Standard`] (clip z in -w..w, glDepthRange(0, 1)), (1, 0) for
+/// [`DepthConvention::ReversedZ`] (glClipControl ZERO_TO_ONE: the window depth is z_ndc).
+pub fn depth_from_ndc(convention: DepthConvention) -> [f32; 2] {
+    match convention {
+        DepthConvention::Standard => [0.5, 0.5],
+        DepthConvention::ReversedZ => [1.0, 0.0],
     }
 }
 
 /// Window depth that makes a volume fragment never count: it passes the depth test in z-fail
 /// (the near plane) and fails it in z-pass (the far plane). Given to side fragments seen
-/// exactly edge-on (side_depth.frag.glsl). The far plane's window depth is `far_clip_z` (1, or
-/// 0 with a reversed range), the near plane's the other end of the 0..1 range.
+/// exactly edge-on (side_depth.frag.glsl). The far plane's window depth is `far_clip_z` (1
+/// Standard, 0 reversed-Z), the near plane's the other end of the 0..1 range.
 pub fn edge_on_depth(far_clip_z: f32, zpass: bool) -> f32 {
     if zpass {
         far_clip_z
@@ -90,7 +89,7 @@ impl DepthUniforms {
         // SAFETY: uniform setters on the current program with matching types.
         unsafe {
             gl.uniform_2_f32(self.u_viewport_size.as_ref(), frame.width as f32, frame.height as f32);
-            let [a, b] = depth_from_ndc(frame.far_clip_z());
+            let [a, b] = depth_from_ndc(frame.depth_convention());
             gl.uniform_2_f32(self.u_depth_from_ndc.as_ref(), a, b);
             gl.uniform_1_f32(self.u_edge_on_depth.as_ref(), edge_on_depth(frame.far_clip_z(), frame.zpass));
         }
@@ -120,6 +119,24 @@ fn draw_triangle_patches(gl: &glow::Context, scene: &SceneGpu) {
         gl.bind_vertex_array(Some(scene.vertex_array()));
         if indices > 0 {
             gl.draw_elements(glow::PATCHES, indices as i32, glow::UNSIGNED_INT, 0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn window_depth_of_the_planes_per_convention() {
+        for convention in [DepthConvention::Standard, DepthConvention::ReversedZ] {
+            let [a, b] = depth_from_ndc(convention);
+            let far = convention.far_clip_z(); // z_ndc of the far plane
+            // The far plane's window depth is the depth buffer's far value.
+            assert_eq!(a * far + b, convention.far_depth());
+            // Edge-on sides: never counted - nearer than anything in z-fail, the far plane in z-pass.
+            assert_eq!(edge_on_depth(far, true), convention.far_depth());
+            assert_eq!(edge_on_depth(far, false), 1.0 - convention.far_depth());
         }
     }
 }

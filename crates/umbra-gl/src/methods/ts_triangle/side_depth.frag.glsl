@@ -18,8 +18,10 @@
 //   UMBRA_CAPS_TO_FAR        cap fragments get the far plane's depth (the 1-pass light cap;
 //                            the dark cap is there already)
 //   UMBRA_CANONICAL_SIDES    side fragments get the depth of their canonical plane
-//                            (e_side_anchor / e_side_slope, from side_plane.glsl), identical
-//                            for both copies
+//                            (e_side_plane, from side_plane.glsl), identical for both copies;
+//                            except within UMBRA_NEAR_EDGE_PIXELS of the side's own edge
+//                            (e_side_line), where the side meets its caster and keeps its
+//                            rasterized depth, built from the same vertices as the caster's
 // Without either define the shader writes no depth (early depth testing stays on): the
 // paper's rasterized depths, kept only to measure what the depth writes cost.
 //
@@ -34,11 +36,16 @@
 #version 450 core
 
 in vec3 e_corner;
-flat in vec4 e_side_anchor[3];
-flat in vec2 e_side_slope[3];
+flat in vec4 e_side_plane[3];
+flat in vec4 e_side_line[3];
 
 uniform float u_far_clip_z;
 uniform float u_edge_on_depth;
+uniform vec2 u_viewport_size;
+uniform vec2 u_depth_from_ndc;
+
+// Half-width of the band along a side's own edge where it keeps its rasterized depth.
+const float UMBRA_NEAR_EDGE_PIXELS = 1.5;
 
 void main() {
 #if defined(UMBRA_CAPS_TO_FAR) || defined(UMBRA_CANONICAL_SIDES)
@@ -53,10 +60,15 @@ void main() {
     if (!cap) {
         // Component i + 2 == 0 <=> side of edge (i, i + 1) <=> plane i.
         int i = e_corner.z == 0.0 ? 0 : (e_corner.x == 0.0 ? 1 : 2);
-        vec4 anchor = e_side_anchor[i];
-        vec2 slope = e_side_slope[i];
-        depth = anchor.w != 0.0 ? u_edge_on_depth
-              : anchor.z + slope.x * (gl_FragCoord.x - anchor.x) + slope.y * (gl_FragCoord.y - anchor.y);
+        vec4 p = e_side_plane[i];
+        vec4 line = e_side_line[i];
+        if (line.w != 0.0) {
+            depth = u_edge_on_depth;
+        } else if (!(abs(line.x * gl_FragCoord.x + line.y * gl_FragCoord.y + line.z) < UMBRA_NEAR_EDGE_PIXELS)) {
+            vec2 ndc = gl_FragCoord.xy / u_viewport_size * 2.0 - 1.0;
+            float z_ndc = -(p.x * ndc.x + p.y * ndc.y + p.w) / p.z;
+            depth = u_depth_from_ndc.x * z_ndc + u_depth_from_ndc.y;
+        }
     }
 #endif
     gl_FragDepth = depth;

@@ -7,56 +7,46 @@
 // windings, and the two copies must cancel at EVERY sample, also where a receiver lies at the
 // side's depth up to rounding. The tessellator decides the two copies' triangulation and vertex
 // order (they differ: the same edge is A -> B in one patch and B -> A in the other), so their
-// rasterized depths can differ in the last bit. Instead the fragment shader gives every side
-// fragment a depth computed here once per patch from the edge's endpoints in canonical order
-// (A < B, umbra_greater): identical for both copies.
+// rasterized depths can differ in the last bit. So the fragment shader gives side fragments a
+// depth computed here once per patch from the edge's endpoints in canonical order (A < B,
+// umbra_greater): identical for both copies.
 //
-// How: the side's depth as an affine function of the window position, built the way the
-// rasterizer builds the caster triangle's: from the window positions of A and B (same clip
-// expression as the scene's vertex shader, divided by w, viewport-transformed and snapped to
-// the 1/256-pixel grid like llvmpipe's setup), so that along the edge A B it reproduces the
-// caster's own depths and a side judges the caster's surface next to its edge the way a
-// rasterized side would. The slope across the edge comes from a third point of the plane, the
-// vanishing point of the extrusion (A_inf, in homogeneous window coordinates, so w <= 0 is
-// fine). z(P) = z_A + alpha (P.x - x_A) + beta (P.y - y_A), where
-//   alpha dx + beta dy = dz        (d = B - A)
-//   alpha ex + beta ey = ez        (e = V - A w_V, the direction towards the vanishing point)
-// A side seen edge-on (d and e parallel on screen, or not finite) is flagged: its rays lie in
-// its plane and it must not count (side_depth.frag.glsl).
+// What is computed, per side:
+// * plane: the side's plane in clip space, through the clip-space points A, B and A_inf (the
+//   extruded A, Eq. 2), as the 4D cofactor vector of the three homogeneous points - no matrix
+//   inverse, no division, fine for points behind the eye (w < 0) or at infinity (w = 0). At a
+//   fragment, z_ndc = -(p.x x_ndc + p.y y_ndc + p.w) / p.z.
+// * line: the edge A B projected to the window, a homogeneous 2D line scaled so that
+//   |line . (x, y, 1)| is the distance in pixels. Next to its own edge a side is compared
+//   with the caster triangle's rasterized surface, which meets it there: that comparison must
+//   use the side's own rasterized depth (built from the same clipped vertices A, B as the
+//   caster's), or a computed depth may break the tie the other way than the rasterizer.
+// * edge_on: the side's plane contains the eye (p.z negligible) or the edge projects to a
+//   point: its rays lie in its plane and it must not count.
 
 uniform mat4 u_clip_from_world;
 uniform vec2 u_viewport_size;
-uniform vec2 u_depth_from_ndc;
 
-vec3 umbra_window_snapped(vec4 clip) {
-    float inv_w = 1.0 / clip.w;
-    vec3 ndc = clip.xyz * inv_w;
-    vec2 xy = ndc.xy * (0.5 * u_viewport_size) + 0.5 * u_viewport_size;
-    xy = round(xy * 256.0) / 256.0;
-    return vec3(xy, ndc.z * u_depth_from_ndc.x + u_depth_from_ndc.y);
+float umbra_det3(vec3 a, vec3 b, vec3 c) {
+    UMBRA_PRECISE float d = a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) + a.z * (b.x * c.y - b.y * c.x);
+    return d;
 }
 
-// anchor = (x_A, y_A, z_A, edge_on ? 1 : 0), slope = (alpha, beta).
-void umbra_side_depth_plane(vec3 p, vec3 q, vec4 l, out vec4 anchor, out vec2 slope) {
+// plane = (p.x, p.y, p.z, p.w) in clip space; line = (l.x, l.y, l.z, edge_on ? 1 : 0).
+void umbra_side_depth_plane(vec3 p, vec3 q, vec4 l, out vec4 plane, out vec4 line) {
     bool forward = umbra_greater(p, q) < 0;
     vec3 a = forward ? p : q;
     vec3 b = forward ? q : p;
-    vec4 a_clip = u_clip_from_world * vec4(a, 1.0);
-    vec4 b_clip = u_clip_from_world * vec4(b, 1.0);
-    vec4 v_clip = u_clip_from_world * umbra_extrude(a, l);
-    UMBRA_PRECISE vec3 aw = umbra_window_snapped(a_clip);
-    UMBRA_PRECISE vec3 bw = umbra_window_snapped(b_clip);
-    UMBRA_PRECISE vec3 vh = vec3(
-        (v_clip.x + v_clip.w) * (0.5 * u_viewport_size.x),
-        (v_clip.y + v_clip.w) * (0.5 * u_viewport_size.y),
-        v_clip.z * u_depth_from_ndc.x + v_clip.w * u_depth_from_ndc.y);
-    UMBRA_PRECISE vec3 e = vh - aw * v_clip.w;
-    UMBRA_PRECISE vec3 d = bw - aw;
-    UMBRA_PRECISE float det = d.x * e.y - d.y * e.x;
-    UMBRA_PRECISE float alpha = (d.z * e.y - d.y * e.z) / det;
-    UMBRA_PRECISE float beta = (d.x * e.z - d.z * e.x) / det;
-    bool edge_on = !(abs(det) > 1e-6 * (abs(d.x) + abs(d.y)) * (abs(e.x) + abs(e.y)))
-        || isinf(alpha) || isnan(alpha) || isinf(beta) || isnan(beta) || isnan(aw.z) || isinf(aw.x) || isinf(aw.y);
-    anchor = vec4(aw, edge_on ? 1.0 : 0.0);
-    slope = vec2(alpha, beta);
+    vec4 ac = u_clip_from_world * vec4(a, 1.0);
+    vec4 bc = u_clip_from_world * vec4(b, 1.0);
+    vec4 vc = u_clip_from_world * umbra_extrude(a, l);
+    plane = vec4(umbra_det3(ac.yzw, bc.yzw, vc.yzw), -umbra_det3(ac.xzw, bc.xzw, vc.xzw),
+                 umbra_det3(ac.xyw, bc.xyw, vc.xyw), -umbra_det3(ac.xyz, bc.xyz, vc.xyz));
+    vec2 half_size = 0.5 * u_viewport_size;
+    UMBRA_PRECISE vec3 aw = vec3((ac.xy + ac.w) * half_size, ac.w);
+    UMBRA_PRECISE vec3 bw = vec3((bc.xy + bc.w) * half_size, bc.w);
+    UMBRA_PRECISE vec3 lw = cross(aw, bw);
+    float scale = length(lw.xy);
+    bool edge_on = !(abs(plane.z) > 1e-6 * (abs(plane.x) + abs(plane.y) + abs(plane.w))) || !(scale > 0.0);
+    line = vec4(lw / scale, edge_on ? 1.0 : 0.0);
 }

@@ -23,12 +23,12 @@
 layout(triangles, equal_spacing, cw) in;
 
 in vec3 c_world[];
-patch in vec4 tc_side_anchor[3];
-patch in vec2 tc_side_slope[3];
+patch in vec4 tc_side_plane[3];
+patch in vec4 tc_side_line[3];
 
 out vec3 e_corner;
-flat out vec4 e_side_anchor[3];
-flat out vec2 e_side_slope[3];
+flat out vec4 e_side_plane[3];
+flat out vec4 e_side_line[3];
 
 // u_clip_from_world: declared in side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
@@ -44,6 +44,6 @@ void main() {
     vec4 world = c == 0.0 ? vec4(p, 1.0) : umbra_extrude(p, u_light);
     gl_Position = u_clip_from_world * world;
     e_corner = vec3(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
-    e_side_anchor = tc_side_anchor;
-    e_side_slope = tc_side_slope;
+    e_side_plane = tc_side_plane;
+    e_side_line = tc_side_line;
 }
