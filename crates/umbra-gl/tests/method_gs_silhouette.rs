@@ -1,8 +1,8 @@
 //! gs-silhouette and gs-silhouette-3edge (paper 001's geometry-shader comparison method): what
 //! the torture suite cannot see.
 //! * the stencil equals cpu-silhouette's value for value (z-fail and z-pass, point and
-//!   directional lights, several lights per frame), including a 40-page book whose spine is
-//!   split over several invocations (|m| up to 40): the geometry shader emits cpu-silhouette's
+//!   directional lights, several lights per frame), including a 50-page book whose spine is
+//!   split over several invocations (|m| up to 50): the geometry shader emits cpu-silhouette's
 //!   triangles in cpu-silhouette's vertex order;
 //! * gpu_bytes is `patch_bytes` = 12 (V + K) + 4 (3 + K) P, recomputed here from the
 //!   adjacency;
@@ -35,14 +35,14 @@ fn book(pages: usize) -> Mesh {
     m
 }
 
-/// Sphere, 40-page book (all pages wound alike, so the spine's |m| reaches 40), a
-/// non-manifold fin pair and the ground.
+/// Sphere, 50-page book (all pages wound alike, so the spine's |m| reaches 50, more than one
+/// invocation may emit: 42 at the GL minimums), a non-manifold fin pair and the ground.
 fn torture_mesh() -> Arc<WeldedMesh> {
     let mut m = umbra_geom::scene::uv_sphere([0.0, 2.0, 0.0], 1.0, 32, 16);
-    let mut b = book(40);
+    let mut b = book(50);
     for (i, t) in b.triangles.iter_mut().enumerate() {
         if i % 2 == 1 {
-            t.swap(0, 1); // same winding for every page: |m| = 40 for a light above
+            t.swap(0, 1); // same winding for every page: |m| = 50 for a light above
         }
     }
     for p in &mut b.positions {
@@ -117,12 +117,12 @@ fn stencil_equals_cpu_silhouette() {
         let expected = render_stencils(&ctx, &mesh, cpu.as_mut(), zpass);
         cpu.destroy(ctx.gl());
         assert!(expected.iter().all(|s| s.pixels.iter().any(|&v| v != 0)), "every light casts a visible shadow");
-        // The book's spine counts 40 where its shadow is seen through all pages.
+        // The book's spine counts up to 50 where its shadow is seen through all pages.
         assert!(expected[0].pixels.iter().any(|&v| v >= 33), "a stencil count beyond the paper's multiplicity 32");
         for mut method in [GsSilhouette::new(), GsSilhouette::new_three_edge()] {
             let actual = render_stencils(&ctx, &mesh, &mut method, zpass);
             let capacity = method.patch_capacity().expect("prepared");
-            assert!(capacity < 40, "the spine must be split (K = {capacity})");
+            assert!(capacity < 50, "the spine must be split (K = {capacity})");
             method.destroy(ctx.gl());
             for (i, (e, a)) in expected.iter().zip(&actual).enumerate() {
                 let test = format!("{}_light{i}_{}", method.name(), if zpass { "zpass" } else { "zfail" });
@@ -153,9 +153,10 @@ fn gpu_bytes_is_patch_bytes() {
         let k = m.patch_capacity().expect("prepared");
         assert!((1..=42).contains(&k));
         assert_eq!(m.gpu_bytes(), expected_bytes(&adj, k));
-        // The byte-minimising K of these meshes is below the tessellation limit too: the same
-        // buffers as ts-silhouette.
-        assert_eq!(m.gpu_bytes(), patch_bytes(&adj));
+        // No edge beyond ts-silhouette's 29 opposites: the same buffers as ts-silhouette.
+        if adj.max_opposites() <= 29 {
+            assert_eq!(m.gpu_bytes(), patch_bytes(&adj));
+        }
         m.destroy(gl);
         assert_eq!(m.gpu_bytes(), 0, "nothing after destroy");
         scene.destroy(gl);
@@ -196,7 +197,9 @@ fn reports_sides_and_caps_per_light_and_reprepares() {
         // Another scene: new patches.
         r.render(gl, &b, m.as_mut(), &p, None).expect("render");
         assert_eq!(m.prepared_scene(), Some(b.id()));
-        assert_eq!(m.gpu_bytes(), patch_bytes(&EdgeAdjacency::build(b.mesh())));
+        let adj_b = EdgeAdjacency::build(b.mesh());
+        let k = adj_b.max_opposites().min(42);
+        assert_eq!(m.gpu_bytes(), expected_bytes(&adj_b, k));
         assert_ne!(m.gpu_bytes(), bytes_a);
         // Destroyed, then used again: prepared from scratch.
         m.destroy(gl);

@@ -528,3 +528,46 @@ fn sponza_frame_times() {
     scene.destroy(gl);
     assert!(rows.iter().all(|r| r.1 > 0.0));
 }
+
+#[test]
+#[ignore]
+fn debug_scene() {
+    let ctx = common::context();
+    let gl = ctx.gl();
+    let dir = scenes_dir().unwrap();
+    for file in ["conference.obj.gz", "crytek-sponza.obj.gz"] {
+        let mesh = umbra_geom::load::load_path(&dir.join(file)).unwrap();
+        let b = mesh.bounds().unwrap();
+        let at = |f: [f64; 3]| [0, 1, 2].map(|k| b.min[k] as f64 + f[k] * (b.max[k] - b.min[k]) as f64);
+        let welded = Arc::new(weld(&mesh));
+        let scene = SceneGpu::upload(gl, welded.clone()).unwrap();
+        let light = at([0.61, 0.7, 0.57]);
+        let mut p = FrameParams {
+            camera: Camera { eye: at([0.3, 0.45, 0.5]), target: at([0.7, 0.3, 0.5]), near: 1e-3 * b.diagonal() as f64, ..Camera::default() },
+            width: 240,
+            height: 180,
+            lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]],
+            ..FrameParams::default()
+        };
+        p.capture = umbra_gl::CaptureFlags { world_pos: true, triangle_id: true, stencil: umbra_gl::StencilCapture::Light(0), ..Default::default() };
+        let mut r = Renderer::new(gl).unwrap();
+        let mut vs = create_method("vs-triangle").unwrap();
+        let a = r.render(gl, &scene, vs.as_mut(), &p, None).unwrap();
+        let variants: Vec<(&str, Box<dyn ShadowMethod>)> = vec![
+            ("canonical", Box::new(TsTriangle::new())),
+            ("rasterized", Box::new(TsTriangle::with_side_depth(SideDepth::Rasterized))),
+        ];
+        for (label, mut m) in variants {
+            let bb = r.render(gl, &scene, m.as_mut(), &p, None).unwrap();
+            let (sa, sb) = (&a.stencil[0].image.pixels, &bb.stencil[0].image.pixels);
+            let ids = &bb.triangle_id.as_ref().unwrap().pixels;
+            let wp = &bb.world_pos.as_ref().unwrap().pixels;
+            let diff: Vec<_> = (0..sa.len()).filter(|&i| (sa[i] != 0) != (sb[i] != 0)).map(|i| (i % 240, i / 240, sa[i], sb[i], ids[i], wp[i])).collect();
+            println!("{file} {label}: {} differ {:?}", diff.len(), &diff[..diff.len().min(8)]);
+            for d in diff.iter().take(3) {
+                let t = welded.triangles[d.4 as usize].map(|v| welded.positions[v as usize]);
+                println!("   tri {:?}", t);
+            }
+        }
+    }
+}

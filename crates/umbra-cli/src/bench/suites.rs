@@ -424,6 +424,14 @@ pub fn print_suite_table(s: &Suite, results: &[(Run, Measurement)]) {
                 let cells: Vec<String> = results.iter().map(|(_, m)| cell(m, n)).collect();
                 println!("| {n} | {} |", cells.join(" | "));
             }
+            for (r, m) in results {
+                if m.stats.iter().any(|st| !st.stage_ms.is_empty()) {
+                    println!();
+                    println!("### {} ({}x{}): frame statistics and mean stage times (ms)", r.label, r.width, r.height);
+                    println!();
+                    print_table(m);
+                }
+            }
         }
         Kind::Stages => {
             for (r, m) in results {

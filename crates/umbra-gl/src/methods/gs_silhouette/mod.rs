@@ -23,9 +23,9 @@
 //! (z-fail only).
 //!
 //! [`ShadowMethod::gpu_bytes`] = `12 · (V + K) + 4 · (3 + K) · P`, the same formula as
-//! [`crate::methods::ts_silhouette::patch_bytes`] (with the geometry-shader limit on `K`,
-//! 42 at the GL minimums instead of 29; on real meshes the byte-minimising `K` is far below
-//! both, so the two methods' buffers are the same size).
+//! [`crate::methods::ts_silhouette::patch_bytes`], but with the geometry-shader limit on `K`
+//! (42 at the GL minimums instead of 29): the same buffers as ts-silhouette unless some edge
+//! has more than 29 opposite vertices.
 //!
 //! Stages reported: "sides", "caps".
 

@@ -71,7 +71,11 @@ fn one_patch_emits_m_quads() {
         // cpu-silhouette's triangles in its vertex order: Q0 Q1 Q2, Q0 Q2 Q3 per copy.
         let ext = |p: [f32; 3]| umbra_geom::silhouette::extrude(p, ABOVE);
         let (a, b) = ([0.0, 0.0, 0.0, 1.0], [1.0, 0.0, 0.0, 1.0]);
-        let q = if m > 0 { [b, a, ext([0.0; 3]), ext([1.0, 0.0, 0.0])] } else { [a, b, ext([1.0, 0.0, 0.0]), ext([0.0; 3])] };
+        let q = if m > 0 {
+            [b, a, ext([0.0; 3]), ext([1.0, 0.0, 0.0])]
+        } else {
+            [a, b, ext([1.0, 0.0, 0.0]), ext([0.0; 3])]
+        };
         for (i, t) in tris.iter().enumerate() {
             let want = if i % 2 == 0 { [q[0], q[1], q[2]] } else { [q[0], q[2], q[3]] };
             assert_eq!(*t, want, "up {up} down {down}: triangle {i}");
@@ -106,50 +110,4 @@ fn three_edge_discards_inconsistent_triangle() {
     assert_side_quads(&capture_spine(gl, &mesh, light, 1, 2, false), reference, light, true, "reference edge");
     assert!(capture_spine(gl, &mesh, light, 1, 2, true).is_empty(), "3-edge: discarded");
     assert!(ctx.take_gl_errors().is_empty());
-}
-
-#[test]
-#[ignore]
-fn probe_gs_vs_cpu_triangles() {
-    let ctx = context();
-    let gl = ctx.gl();
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes/crytek-sponza.obj.gz");
-    let mesh = umbra_geom::load::load_path(&path).expect("load");
-    let b = mesh.bounds().expect("non-empty");
-    let at = |f: [f64; 3]| [0, 1, 2].map(|k| b.min[k] as f64 + f[k] * (b.max[k] - b.min[k]) as f64);
-    let l = at([0.61, 0.7, 0.57]);
-    let light = [l[0] as f32, l[1] as f32, l[2] as f32, 1.0];
-    let w = weld(&mesh);
-    let adj = EdgeAdjacency::build(&w);
-    let capacity = 2;
-    let patches = EdgePatches::build(&w, &adj, capacity).unwrap();
-    let bufs = upload(gl, &patches).unwrap();
-    let defines = [
-        format!("UMBRA_PATCH_CAPACITY {capacity}"),
-        format!("UMBRA_PATCH_STRIDE {}", capacity + 3),
-        format!("UMBRA_ELEMENTS_BINDING {ELEMENTS_BINDING}"),
-        format!("UMBRA_VERTICES_BINDING {VERTICES_BINDING}"),
-    ];
-    let defines: Vec<&str> = defines.iter().map(String::as_str).collect();
-    let stages = [(glow::VERTEX_SHADER, with_prelude(SIDES_VERT)), (glow::GEOMETRY_SHADER, with_prelude(SIDES_GEOM))];
-    let n = patches.patch_count() as i32;
-    let tris = capture_triangles(gl, &stages, &defines, |program| unsafe {
-        gl.uniform_matrix_4_f32_slice(gl.get_uniform_location(program, "u_clip_from_world").as_ref(), false, &IDENTITY);
-        gl.uniform_4_f32_slice(gl.get_uniform_location(program, "u_light").as_ref(), &light);
-        gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, ELEMENTS_BINDING, Some(bufs.elements));
-        gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, VERTICES_BINDING, Some(bufs.vertices));
-        gl.bind_vertex_array(Some(bufs.vao));
-        gl.draw_arrays(glow::POINTS, 0, n);
-    });
-    let mut cpu = umbra_geom::silhouette::VolumeGeometry::default();
-    umbra_geom::silhouette::extract(&w, &adj, light, true, &mut cpu);
-    eprintln!("gpu side triangles {} cpu {}", tris.len(), cpu.sides.len() / 3);
-    let key = |t: &[[f32; 4]]| t.iter().map(|v| v.map(|c| if c == 0.0 { 0 } else { c.to_bits() })).collect::<Vec<_>>();
-    let mut g: Vec<_> = tris.iter().map(|t| key(t)).collect();
-    let mut c: Vec<_> = cpu.sides.chunks(3).map(key).collect();
-    g.sort();
-    c.sort();
-    let only_gpu = g.iter().filter(|t| c.binary_search(t).is_err()).count();
-    let only_cpu = c.iter().filter(|t| g.binary_search(t).is_err()).count();
-    eprintln!("only gpu {only_gpu}, only cpu {only_cpu}");
 }

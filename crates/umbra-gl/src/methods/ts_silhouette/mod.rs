@@ -50,11 +50,12 @@ const SIDES_TESC: &str = include_str!("sides.tesc.glsl");
 const SIDES_TESE: &str = include_str!("sides.tese.glsl");
 
 /// Bytes of the ts-silhouette input for `adj`: extended vertex buffer + element buffer,
-/// `12 · (V + K) + 4 · (3 + K) · P`, with `V` = 1 + the largest vertex index in `adj`, `K`
-/// the patch capacity [`patches::choose_capacity`] picks under the GL 4.0 minimum limits
-/// (GL_MAX_PATCH_VERTICES 32, GL_MAX_TESS_GEN_LEVEL 64, so `K <= 29`) and
-/// `P = Σ_edges ceil(n_e / K)`. Equals [`TsSilhouette`]'s `gpu_bytes()` after `prepare`
-/// on every GL meeting those minimums (every GL 4.x).
+/// `12 · (V + K) + 4 · (3 + K) · P`, with `V` = 1 + the largest vertex index in `adj`,
+/// `K = min(max_e n_e, 29)` opposite slots per patch (29: the most a patch holds under the
+/// GL 4.0 minimums GL_MAX_PATCH_VERTICES 32 and GL_MAX_TESS_GEN_LEVEL 64) and
+/// `P = Σ_edges ceil(n_e / K)` patches (the number of edges, unless some edge has more than 29
+/// opposite vertices). Equals [`TsSilhouette`]'s `gpu_bytes()` after `prepare` on every GL
+/// meeting those minimums (every GL 4.x).
 pub fn patch_bytes(adj: &EdgeAdjacency) -> usize {
     let k = choose_capacity(adj, ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL));
     patches::layout_bytes(patches::vertex_count(adj), patches::patch_count(adj, k), k)

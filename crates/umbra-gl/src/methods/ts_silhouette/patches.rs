@@ -16,7 +16,9 @@
 //!   unused slots repeating `A` (never read by the shaders; `A` is already in the vertex cache).
 //!
 //! Total: `patch_bytes = 12 · (V + K) + 4 · (3 + K) · P`, with `V` = 1 + the largest vertex
-//! index in the adjacency and `P = Σ_edges ceil(n_e / K)` (`n_e` = opposite vertices of edge e).
+//! index in the adjacency, `K = min(max_e n_e, limit)` and `P = Σ_edges ceil(n_e / K)`
+//! (`n_e` = opposite vertices of edge e; `P` = the number of edges unless an edge has more than
+//! `limit` opposites).
 //!
 //! Splitting: an edge with `n_e > K` opposite vertices becomes `ceil(n_e / K)` consecutive
 //! patches, each holding the edge and up to `K` of its opposites. The multiplicity of an edge is
@@ -25,12 +27,21 @@
 //! sign over one edge are the same quad reversed, which cancel in the stencil count. Any
 //! multiplicity works, whatever the tessellation level or output-vertex limits.
 //!
-//! Choice of `K`: the `k` in `1..=limit` that minimises `patch_bytes` (the smallest such `k`),
-//! from the histogram of `n_e` — on typical models (almost every edge has 1 or 2 opposites)
-//! that is 2. `limit` comes from the GL limits (see [`ts_capacity_limit`],
-//! [`gs_capacity_limit`]); [`crate::methods::ts_silhouette::patch_bytes`] uses the limit implied
-//! by the GL 4.0 minimums, which every GL 4.x implementation meets.
-
+//! Choice of `K`: the largest number of opposite vertices of any edge, capped by `limit`
+//! (from the GL limits, see [`ts_capacity_limit`], [`gs_capacity_limit`];
+//! [`crate::methods::ts_silhouette::patch_bytes`] uses the limit implied by the GL 4.0
+//! minimums, 29, which every GL 4.x implementation meets). So an edge is split only when the
+//! GL forces it, like the paper's patch of "maxMultiplicity" opposite slots. Why not split
+//! more eagerly to save bytes (K = 2 would cut Sponza's buffers by 13 %): a split edge whose
+//! opposite vertices contribute with both signs draws a +1 and a -1 copy of its quad, which
+//! cancel only if they rasterize to the same fragments with the same depths. They are two
+//! different triangulations of the quad (cpu-silhouette's winding for each sign), and a sample
+//! lying in the quad's plane - on a caster triangle edge-on to the light next to the edge -
+//! can pass the depth test for one and fail it for the other: a wrong count over that whole
+//! triangle, not just at a shadow boundary. (Crytek Sponza has such an edge: 4 opposite
+//! vertices contributing +1, 0, 0, -1, the two 0s from a triangle edge-on to the light; with
+//! K = 2 it drew a +1 and a -1 quad where cpu-silhouette draws none.)
+//!
 use umbra_geom::{EdgeAdjacency, WeldedMesh};
 
 use crate::error::GlError;
@@ -85,31 +96,9 @@ pub fn layout_bytes(vertices: usize, patches: usize, k: usize) -> usize {
     VERTEX_BYTES * (vertices + k) + INDEX_BYTES * (HEADER_SLOTS + k) * patches
 }
 
-/// The capacity in `1..=limit` with the fewest bytes (the smallest on ties); 1 if `limit` is 0
-/// (the caller rejects that limit).
+/// `K = min(max_e n_e, limit)`, at least 1 (1 if `limit` is 0: the caller rejects that limit).
 pub fn choose_capacity(adj: &EdgeAdjacency, limit: usize) -> usize {
-    // Histogram of opposite counts: the cost of every k from it, not from every edge again.
-    let mut histogram: Vec<(usize, usize)> = Vec::new();
-    {
-        let mut counts: Vec<usize> = adj.opposite_start.windows(2).map(|w| (w[1] - w[0]) as usize).collect();
-        counts.sort_unstable();
-        for n in counts {
-            match histogram.last_mut() {
-                Some((m, c)) if *m == n => *c += 1,
-                _ => histogram.push((n, 1)),
-            }
-        }
-    }
-    let v = vertex_count(adj);
-    let mut best = (usize::MAX, 1);
-    for k in 1..=limit.max(1) {
-        let patches: usize = histogram.iter().map(|&(n, c)| c * n.div_ceil(k)).sum();
-        let bytes = layout_bytes(v, patches, k);
-        if bytes < best.0 {
-            best = (bytes, k);
-        }
-    }
-    best.1
+    adj.max_opposites().min(limit).max(1)
 }
 
 /// Vertex and element buffers of the edge patches, built once per mesh.
@@ -221,27 +210,22 @@ mod tests {
     }
 
     #[test]
-    fn capacity_minimises_bytes() {
-        // Manifold-ish: every edge of a closed box has 2 opposites -> k = 2.
+    fn capacity_is_max_opposites_capped() {
+        // A closed box: every edge has 2 opposites -> K = 2, no split.
         let cube = umbra_geom::scene::build(&umbra_geom::scene::parse("box").unwrap()).unwrap();
         let w = weld(&cube);
         let adj = EdgeAdjacency::build(&w);
-        let k = choose_capacity(&adj, ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL));
-        let cost = |k| layout_bytes(vertex_count(&adj), patch_count(&adj, k), k);
-        for other in 1..=29 {
-            assert!(cost(k) <= cost(other), "k = {k} costs {} > k = {other} {}", cost(k), cost(other));
-        }
-        // A lone triangle: three open edges -> k = 1.
-        let tri = book(1);
-        assert_eq!(choose_capacity(&EdgeAdjacency::build(&tri), 29), 1);
-        // 40 pages on one spine: the spine alone is cheapest with large k, the 80 open page
-        // edges with k = 1; the byte count decides.
-        let b = book(40);
-        let adj = EdgeAdjacency::build(&b);
-        let k = choose_capacity(&adj, 29);
-        assert!(
-            (1..=29).all(|o| layout_bytes(42, patch_count(&adj, k), k) <= layout_bytes(42, patch_count(&adj, o), o))
-        );
+        assert_eq!(adj.max_opposites(), 2);
+        assert_eq!(choose_capacity(&adj, 29), 2);
+        assert_eq!(patch_count(&adj, 2), adj.len());
+        // A lone triangle: three open edges -> K = 1.
+        assert_eq!(choose_capacity(&EdgeAdjacency::build(&book(1)), 29), 1);
+        // 40 pages on one spine: capped by the limit, the spine split.
+        let adj = EdgeAdjacency::build(&book(40));
+        assert_eq!(choose_capacity(&adj, 29), 29);
+        assert_eq!(patch_count(&adj, 29), 2 + 80);
+        assert_eq!(choose_capacity(&adj, 64), 40);
+        assert_eq!(choose_capacity(&adj, 0), 1);
     }
 
     #[test]
@@ -267,6 +251,6 @@ mod tests {
         let adj = EdgeAdjacency::build(&w);
         let p = EdgePatches::build(&w, &adj, choose_capacity(&adj, 29)).unwrap();
         assert_eq!(p.patch_count(), 0);
-        assert_eq!(p.bytes(), 12);
+        assert_eq!(p.bytes(), 12, "K = 1: one count vertex");
     }
 }

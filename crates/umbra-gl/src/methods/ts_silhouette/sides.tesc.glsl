@@ -16,12 +16,23 @@
 // The four corners of the side quad (Eq. 2, extrusion C = (A * l_w - L.xyz, 0)) are computed
 // here ONCE per patch, already in clip space, so every generated vertex that maps to a corner
 // is bit-identical (watertight volumes). The quad Q0 Q1 Q2 Q3 in umbra_geom::silhouette's
-// winding (counter-clockwise seen from outside the volume):
+// winding (counter-clockwise seen from outside the volume; Q0 Q1 on the edge, Q2 Q3 at
+// infinity):
 //   m > 0: B A A_inf B_inf        m < 0: A B B_inf A_inf
-// is stored as Alg. 5's corners P0 = Q1, P1 = Q2, P2 = Q0, P3 = Q3: the evaluation stage's
-// cell (P0 P1 / P2 P3) is then wound Q1 Q2 Q3 Q0 (see sides.tese.glsl), and the diagonal the
-// tessellator cuts it along (P1-P2 on llvmpipe; implementation-dependent) is Q2-Q0, the
-// diagonal of cpu-silhouette's triangles Q0 Q1 Q2 / Q0 Q2 Q3.
+// is stored as Alg. 5's corners P0..P3 (the evaluation stage's cell 0 is P0 P1 / P2 P3, wound
+// P0 P1 P3 P2, see sides.tese.glsl) in one of two rotations, both of which keep that winding:
+//   |m| = 1:  P0 = Q1, P1 = Q2, P2 = Q0, P3 = Q3  (cell wound Q1 Q2 Q3 Q0)
+//   |m| > 1:  P0 = Q2, P1 = Q3, P2 = Q1, P3 = Q0  (cell wound Q2 Q3 Q0 Q1)
+// Why two: the tessellator (implementation-dependent; llvmpipe here) emits a single quad
+// (|m| = 1, all levels 1) as (c00 c01 c10) (c10 c01 c11) and the quads of a strip with other
+// vertex orders; the rotation is chosen so that on llvmpipe every triangle of |m| <= 2 starts
+// with a vertex on the edge (w = 1), never with one at infinity (w = 0): llvmpipe clips a
+// triangle starting at a w = 0 vertex into a fan that covers pixels along its clipped sides
+// slightly differently, which showed as a stray count of 2 on Conference (torture pose 0).
+// With |m| = 1 this is also exactly cpu-silhouette's diagonal (Q0-Q2). For |m| >= 3 (only
+// when an edge has 3+ consistently oriented opposite vertices) about half of the copies in the
+// strip's interior still start at infinity: Alg. 5 alternates the copies' rotation by 180
+// degrees, and no other corner assignment keeps the degenerate cells degenerate.
 // Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
 // silhouette_caps/determinism.glsl.
 
@@ -63,8 +74,8 @@ void main() {
     gl_TessLevelInner[0] = level;
     gl_TessLevelInner[1] = 1.0;
 
-    // The quad Q0 Q1 Q2 Q3 in umbra_geom::silhouette's winding (see the header), stored as
-    // Alg. 5's corners P0 = Q1, P1 = Q2, P2 = Q0, P3 = Q3.
+    // The quad Q0 Q1 Q2 Q3 in umbra_geom::silhouette's winding, stored as Alg. 5's corners in
+    // the rotation chosen for |m| (see the header).
     vec3 first = m > 0 ? b : a;   // Q0
     vec3 second = m > 0 ? a : b;  // Q1
     vec4 q0 = umbra_clip_from_world_point(u_clip_from_world, vec4(first, 1.0));
@@ -72,8 +83,14 @@ void main() {
     vec4 q2 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
     vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
     if (copies == 1) {
-        p_corner[0] = q1; p_corner[1] = q2; p_corner[2] = q0; p_corner[3] = q3;
+        p_corner[0] = q1;
+        p_corner[1] = q2;
+        p_corner[2] = q0;
+        p_corner[3] = q3;
     } else {
-        p_corner[0] = q2; p_corner[1] = q3; p_corner[2] = q1; p_corner[3] = q0;
+        p_corner[0] = q2;
+        p_corner[1] = q3;
+        p_corner[2] = q1;
+        p_corner[3] = q0;
     }
 }

@@ -13,8 +13,8 @@
 // cells give |m| copies of the quad and |m| - 1 degenerate (zero-area, never rasterized) cells.
 //
 // Winding: `cw` makes every generated triangle clockwise in (u, v), i.e. (0,0) -> (0,1) ->
-// (1,1) -> (1,0) for cell 0: P0 -> P1 -> P3 -> P2 = Q1 Q2 Q3 Q0 with the control stage's
-// corner assignment, a rotation of the quad Q0 Q1 Q2 Q3 it wants.
+// (1,1) -> (1,0) for cell 0: P0 -> P1 -> P3 -> P2, which the control stage's corner
+// assignment makes a rotation of the quad Q0 Q1 Q2 Q3 it wants.
 // Spacing: fractional_odd_spacing with an odd integer level L gives exactly L equal segments.
 // Prepended: "#version 450 core" + shared GLSL.
 

@@ -119,11 +119,6 @@ pub(crate) fn assert_side_quads(triangles: &[[[f32; 4]; 3]], m: i32, light: Ligh
         quad.iter().position(|q| *q == v).unwrap_or_else(|| panic!("{what}: vertex {v:?} is no corner of {quad:?}"))
     };
     let mut net = std::collections::HashMap::<[usize; 3], i32>::new();
-    if std::env::var_os("UMBRA_DEBUG_FIRST").is_some() {
-        let proper: Vec<[usize; 3]> = triangles.iter().map(|t| t.map(corner)).filter(|c| c[0] != c[1] && c[1] != c[2] && c[0] != c[2]).collect();
-        let infinite_first = proper.iter().filter(|c| c[0] >= 2).count();
-        eprintln!("FIRST {what}: {} proper, {} start at infinity: {:?}", proper.len(), infinite_first, &proper[..proper.len().min(8)]);
-    }
     let (mut positive, mut negative) = (0, 0);
     for t in triangles {
         let c = t.map(corner);
@@ -165,6 +160,7 @@ fn alg5_tessellation_gives_m_side_quads() {
         (glow::TESS_CONTROL_SHADER, with_prelude(SIDES_TESC)),
         (glow::TESS_EVALUATION_SHADER, with_prelude(SIDES_TESE)),
     ];
+    let llvmpipe = ctx.renderer_string().contains("llvmpipe");
     let mut checked = 0;
     for (up, down) in (1..=29).map(|n| (n, 0)).chain((1..=29).map(|n| (0, n))).chain([(5, 3), (2, 7), (29, 0)]) {
         let w = weld(&fan(up, down));
@@ -187,6 +183,13 @@ fn alg5_tessellation_gives_m_side_quads() {
         });
         assert_side_quads(&tris, m, ABOVE, true, &format!("up {up} down {down}"));
         checked += (m != 0) as usize;
+        // The corner rotation of sides.tesc.glsl, tuned to llvmpipe's tessellator: for
+        // |m| <= 2 every drawn triangle starts on the edge (w = 1), never at infinity.
+        if llvmpipe && m.abs() <= 2 {
+            for t in tris.iter().filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) {
+                assert_eq!(t[0][3], 1.0, "up {up} down {down}: triangle {t:?} starts at infinity");
+            }
+        }
         // SAFETY: test objects.
         unsafe {
             gl.delete_vertex_array(upload.vao);
@@ -323,45 +326,4 @@ fn three_edge_discards_inconsistent_triangle() {
         gl.delete_buffer(b.elements);
     }
     assert!(ctx.take_gl_errors().is_empty());
-}
-
-#[test]
-#[ignore]
-fn probe_stencil_vs_cpu() {
-    let ctx = context();
-    let gl = ctx.gl();
-    for file in ["conference.obj.gz", "crytek-sponza.obj.gz", "sibenik.obj.gz"] {
-        let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes").join(file);
-        let mesh = umbra_geom::load::load_path(&path).expect("load");
-        let b = mesh.bounds().expect("non-empty");
-        let at = |f: [f64; 3]| [0, 1, 2].map(|k| b.min[k] as f64 + f[k] * (b.max[k] - b.min[k]) as f64);
-        let welded = std::sync::Arc::new(weld(&mesh));
-        let scene = crate::SceneGpu::upload(gl, welded.clone()).expect("upload");
-        let mut r = crate::Renderer::new(gl).expect("renderer");
-        let poses = [
-            ([0.3, 0.45, 0.5], [0.7, 0.3, 0.5], [0.61, 0.7, 0.57]),
-            ([0.5, 0.3, 0.3], [0.5, 0.1, 0.7], [0.35, 0.8, 0.45]),
-            ([0.75, 0.55, 0.6], [0.3, 0.2, 0.4], [0.5, 0.5, 0.5]),
-        ];
-        for (pi, (e, t, l)) in poses.into_iter().enumerate() {
-            let light = at(l);
-            let camera = crate::Camera { eye: at(e), target: at(t), near: 1e-3 * b.diagonal() as f64, ..crate::Camera::default() };
-            let p = crate::FrameParams { camera, width: 480, height: 360, lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]], ..crate::FrameParams::default() };
-            let mut cpu = crate::create_method("cpu-silhouette").unwrap();
-            let expected = r.render_stencil(gl, &scene, cpu.as_mut(), &p, 0).unwrap();
-            cpu.destroy(gl);
-            let mut line = format!("{file} pose{pi}:");
-            for name in ["ts-silhouette", "ts-silhouette-3edge", "gs-silhouette"] {
-                let mut m = crate::create_method(name).unwrap();
-                let s = r.render_stencil(gl, &scene, m.as_mut(), &p, 0).unwrap();
-                let d = s.pixels.iter().zip(&expected.pixels).filter(|(a, b)| a != b).count();
-                let dz = s.pixels.iter().zip(&expected.pixels).filter(|(a, b)| (**a == 0) != (**b == 0)).count();
-                line += &format!(" {name} {d} differ ({dz} lit/shadow)");
-                m.destroy(gl);
-            }
-            eprintln!("{line}");
-        }
-        r.destroy(gl);
-        scene.destroy(gl);
-    }
 }
