@@ -151,8 +151,11 @@ fn verify_json_contract_and_exit_status() {
     assert!(cpu["samples"].as_u64().unwrap() > 10_000);
     assert!(cpu["shadowed_reference"].as_u64().unwrap() > 500, "the default scene has shadows");
     assert_eq!(cpu["mismatches_outside_band"], 0, "{cpu}");
-    // `none` misses every shadow: its mismatches are the shadowed samples.
-    assert_eq!(none["mismatches"], none["shadowed_reference"]);
+    // `none` casts no shadow: its only dark samples are surfaces seen from the side facing
+    // away from the light (the lighting pass gives them no diffuse), so it misses every cast
+    // shadow: many mismatches, none of them false shadow.
+    let (nm, ns) = (none["mismatches"].as_u64().unwrap(), none["shadowed_reference"].as_u64().unwrap());
+    assert!(nm > 500 && nm <= ns, "none: {none}");
     // `none` is measured, never failed: exit status 0.
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }

@@ -236,7 +236,11 @@ fn check_winding(vol: &VolumeGeometry, light: Light, probes: &[([f64; 3], [f64; 
 }
 
 fn probe() -> impl Strategy<Value = ([f64; 3], [f64; 3], [f64; 3])> {
-    let v = || [-5.0f64..5.0, -5.0f64..5.0, -5.0f64..5.0];
+    // Offset off the coordinate grid the soups are built on: proptest shrinks towards 0, and a
+    // probe ray exactly through a shared edge is decided by rounding in this (non-watertight)
+    // f64 crossing test, not by the volume. Pinned: the probe (0, 0, 4.789...) once did that.
+    let off = |x: f64| x + 1e-3 * std::f64::consts::SQRT_2;
+    let v = || [(-5.0f64..5.0).prop_map(off), (-5.0f64..5.0).prop_map(off), (-5.0f64..5.0).prop_map(off)];
     (v(), v(), v())
 }
 
