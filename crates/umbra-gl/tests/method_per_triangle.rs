@@ -132,14 +132,7 @@ fn shadow_masks_equal_cpu_silhouette_off_the_boundary() {
             assert_eq!(m.gpu_bytes(), 0, "{name} owns no GPU buffers");
             m.destroy(gl);
             let wrong: Vec<usize> = (0..expected.len()).filter(|&i| !band[i] && expected[i] != (got.pixels[i] != 0)).collect();
-            // KNOWN, measured on llvmpipe: with the camera low in the sphere's shadow, the 20 x 20
-            // ground is seen at ~2 degrees; one pixel at its far edge (ray hitting the ground's
-            // plane 0.0006 beyond the edge, still rasterized as ground) ties with the side cast
-            // from that edge, and the tessellation methods, which compute side depths in the
-            // fragment shader, break the tie the other way than the rasterized ground (1 sample;
-            // the torture suite's camera-inside-volume case is clean).
-            let allowed = usize::from(case.name.starts_with("camera") && name.starts_with("ts-"));
-            if wrong.len() > allowed {
+            if !wrong.is_empty() {
                 let first: Vec<(usize, usize)> = wrong.iter().take(8).map(|&i| (i % w, i / w)).collect();
                 report.push(format!("{} / {name}: {} samples differ off the boundary, first (x, y): {first:?}", case.name, wrong.len()));
             }
@@ -527,47 +520,4 @@ fn sponza_frame_times() {
     }
     scene.destroy(gl);
     assert!(rows.iter().all(|r| r.1 > 0.0));
-}
-
-#[test]
-#[ignore]
-fn debug_scene() {
-    let ctx = common::context();
-    let gl = ctx.gl();
-    let dir = scenes_dir().unwrap();
-    for file in ["conference.obj.gz", "crytek-sponza.obj.gz"] {
-        let mesh = umbra_geom::load::load_path(&dir.join(file)).unwrap();
-        let b = mesh.bounds().unwrap();
-        let at = |f: [f64; 3]| [0, 1, 2].map(|k| b.min[k] as f64 + f[k] * (b.max[k] - b.min[k]) as f64);
-        let welded = Arc::new(weld(&mesh));
-        let scene = SceneGpu::upload(gl, welded.clone()).unwrap();
-        let light = at([0.61, 0.7, 0.57]);
-        let mut p = FrameParams {
-            camera: Camera { eye: at([0.3, 0.45, 0.5]), target: at([0.7, 0.3, 0.5]), near: 1e-3 * b.diagonal() as f64, ..Camera::default() },
-            width: 240,
-            height: 180,
-            lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]],
-            ..FrameParams::default()
-        };
-        p.capture = umbra_gl::CaptureFlags { world_pos: true, triangle_id: true, stencil: umbra_gl::StencilCapture::Light(0), ..Default::default() };
-        let mut r = Renderer::new(gl).unwrap();
-        let mut vs = create_method("vs-triangle").unwrap();
-        let a = r.render(gl, &scene, vs.as_mut(), &p, None).unwrap();
-        let variants: Vec<(&str, Box<dyn ShadowMethod>)> = vec![
-            ("canonical", Box::new(TsTriangle::new())),
-            ("rasterized", Box::new(TsTriangle::with_side_depth(SideDepth::Rasterized))),
-        ];
-        for (label, mut m) in variants {
-            let bb = r.render(gl, &scene, m.as_mut(), &p, None).unwrap();
-            let (sa, sb) = (&a.stencil[0].image.pixels, &bb.stencil[0].image.pixels);
-            let ids = &bb.triangle_id.as_ref().unwrap().pixels;
-            let wp = &bb.world_pos.as_ref().unwrap().pixels;
-            let diff: Vec<_> = (0..sa.len()).filter(|&i| (sa[i] != 0) != (sb[i] != 0)).map(|i| (i % 240, i / 240, sa[i], sb[i], ids[i], wp[i])).collect();
-            println!("{file} {label}: {} differ {:?}", diff.len(), &diff[..diff.len().min(8)]);
-            for d in diff.iter().take(3) {
-                let t = welded.triangles[d.4 as usize].map(|v| welded.positions[v as usize]);
-                println!("   tri {:?}", t);
-            }
-        }
-    }
 }

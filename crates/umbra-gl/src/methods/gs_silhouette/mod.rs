@@ -10,13 +10,13 @@
 //!
 //! Input: the edge patches of ts-silhouette ([`crate::methods::ts_silhouette::patches`]: the
 //! extended vertex buffer and the element buffer of Fig. 5), read by `gl_PrimitiveIDIn` from two
-//! shader storage buffers (bindings [`ELEMENTS_BINDING`], [`VERTICES_BINDING`]). Each quad is
-//! emitted as cpu-silhouette's two triangles in cpu-silhouette's vertex order (see
-//! `sides.geom.glsl`), so the stencil equals cpu-silhouette's bit for bit. An edge with more
-//! opposite vertices than one invocation may output quads for is split into several patches
-//! whose sub-multiplicities add up, so any multiplicity works: the capacity `K` respects
-//! GL_MAX_GEOMETRY_OUTPUT_VERTICES (`6K`) and GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (`24K`),
-//! queried at prepare; the program is compiled for the chosen `K` (`max_vertices = 6K`).
+//! shader storage buffers (bindings [`ELEMENTS_BINDING`], [`VERTICES_BINDING`]). Each quad is a
+//! 4-vertex strip whose two triangles are cpu-silhouette's, both starting on the edge (see
+//! `sides.geom.glsl`). An edge with more opposite vertices than one invocation may output
+//! quads for is split into several patches whose sub-multiplicities add up, so any
+//! multiplicity works: the capacity `K` respects GL_MAX_GEOMETRY_OUTPUT_VERTICES (`4K`) and
+//! GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (`16K`), queried at prepare; the program is compiled
+//! for the chosen `K` (`max_vertices = 4K`).
 //!
 //! Once per mesh ([`ShadowMethod::prepare`]): patches, two static storage buffers, programs.
 //! Per light per frame: uniforms, `glDrawArrays(GL_POINTS, 0, P)` for the sides, the caps draw
@@ -24,7 +24,7 @@
 //!
 //! [`ShadowMethod::gpu_bytes`] = `12 · (V + K) + 4 · (3 + K) · P`, the same formula as
 //! [`crate::methods::ts_silhouette::patch_bytes`], but with the geometry-shader limit on `K`
-//! (42 at the GL minimums instead of 29): the same buffers as ts-silhouette unless some edge
+//! (64 at the GL minimums instead of 29): the same buffers as ts-silhouette unless some edge
 //! has more than 29 opposite vertices.
 //!
 //! Stages reported: "sides", "caps".
@@ -53,7 +53,7 @@ const SIDES_VERT: &str = include_str!("sides.vert.glsl");
 const SIDES_GEOM: &str = include_str!("sides.geom.glsl");
 
 /// Patch capacity allowed by this GL's geometry-shader limits, capped at what the GL 3.2
-/// minimums allow (42 quads per invocation).
+/// minimums allow (64 quads per invocation).
 fn capacity_limit(gl: &glow::Context) -> Result<usize, GlError> {
     // SAFETY: plain integer queries on the current context.
     let (max_vertices, max_components, storage_blocks) = unsafe {

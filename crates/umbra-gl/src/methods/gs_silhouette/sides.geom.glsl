@@ -10,15 +10,15 @@
 //
 // m = sum of umbra_side_contribution over the patch's opposites (Alg. 3; with UMBRA_THREE_EDGE
 // Peciva 2013's 3-edge test). |m| copies of the side quad Q0 Q1 Q2 Q3 = B A A_inf B_inf
-// (m > 0) or A B B_inf A_inf (m < 0), umbra_geom::silhouette's winding, are emitted as the two
-// separate triangles Q0 Q1 Q2 and Q0 Q2 Q3: exactly the triangles cpu-silhouette draws, in the
-// same vertex order, so the stencil is the same bit for bit. (A 4-vertex strip would save two
-// vertices per quad, but no strip order gives both triangles with Q0 first, and llvmpipe's
-// clipping of these w = 0 vertices rasterizes a triangle's pixels differently depending on
-// which vertex comes first.) An edge with more opposites than UMBRA_PATCH_CAPACITY is split
-// over several patches whose m add up (patches.rs), so |m| <= UMBRA_PATCH_CAPACITY and
-// max_vertices = 6 * UMBRA_PATCH_CAPACITY respects GL_MAX_GEOMETRY_OUTPUT_VERTICES and
-// GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (checked at prepare).
+// (m > 0) or A B B_inf A_inf (m < 0), umbra_geom::silhouette's winding, are emitted, each as
+// the 4-vertex strip Q1 Q2 Q0 Q3: its triangles are Q1 Q2 Q0 and Q0 Q2 Q3, cpu-silhouette's
+// two triangles (same diagonal Q0-Q2) wound the same way, and both START ON THE EDGE (w = 1):
+// llvmpipe clips a triangle whose first vertex is at infinity (w = 0) into a fan that covers
+// pixels along its clipped sides slightly differently (see ts_silhouette/sides.tesc.glsl).
+// An edge with more opposites than UMBRA_PATCH_CAPACITY is split over several patches whose m
+// add up (patches.rs), so |m| <= UMBRA_PATCH_CAPACITY and max_vertices = 4 * UMBRA_PATCH_CAPACITY
+// respects GL_MAX_GEOMETRY_OUTPUT_VERTICES and GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS
+// (checked at prepare).
 //
 // Defines (inserted at link time): UMBRA_PATCH_CAPACITY (K), UMBRA_PATCH_STRIDE (3 + K),
 // UMBRA_ELEMENTS_BINDING, UMBRA_VERTICES_BINDING.
@@ -26,7 +26,7 @@
 // silhouette_caps/determinism.glsl.
 
 layout(points) in;
-layout(triangle_strip, max_vertices = 6 * UMBRA_PATCH_CAPACITY) out;
+layout(triangle_strip, max_vertices = 4 * UMBRA_PATCH_CAPACITY) out;
 
 layout(std430, binding = UMBRA_ELEMENTS_BINDING) readonly buffer Elements {
     uint u_elements[];
@@ -63,16 +63,11 @@ void main() {
     vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
     int copies = abs(m);
     for (int c = 0; c < copies; ++c) {
-        gl_Position = q0;
-        EmitVertex();
         gl_Position = q1;
         EmitVertex();
         gl_Position = q2;
         EmitVertex();
-        EndPrimitive();
         gl_Position = q0;
-        EmitVertex();
-        gl_Position = q2;
         EmitVertex();
         gl_Position = q3;
         EmitVertex();

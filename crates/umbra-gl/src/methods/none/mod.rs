@@ -1,6 +1,7 @@
-//! `none`: no shadows. Draws no volumes, so the stencil stays 0 and every visible surface is
-//! lit by every light. The floor for benchmarks (depth + ambient + lighting passes only) and
-//! the reference for "what does lighting alone look like".
+//! `none`: no shadows. Draws no volumes, so the stencil stays 0 and every visible surface whose
+//! seen side faces a light is lit by it (the renderer's two-sided lighting still leaves the
+//! dark side of a surface unlit, and the lit mask says so). The floor for benchmarks (depth +
+//! ambient + lighting passes only) and the reference for "what does lighting alone look like".
 
 use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};

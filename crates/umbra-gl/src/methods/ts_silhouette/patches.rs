@@ -24,8 +24,9 @@
 //! patches, each holding the edge and up to `K` of its opposites. The multiplicity of an edge is
 //! a sum of independent per-opposite terms (Alg. 3), so the patches' sub-multiplicities add up
 //! to the edge's; each patch draws `|m_sub|` quads of sign `sgn(m_sub)`, and quads of opposite
-//! sign over one edge are the same quad reversed, which cancel in the stencil count. Any
-//! multiplicity works, whatever the tessellation level or output-vertex limits.
+//! sign over one edge are the same quad reversed, which cancel in the stencil count (but see
+//! the choice of `K` for how exactly they cancel on a rasterizer). Any multiplicity works,
+//! whatever the tessellation level or output-vertex limits.
 //!
 //! Choice of `K`: the largest number of opposite vertices of any edge, capped by `limit`
 //! (from the GL limits, see [`ts_capacity_limit`], [`gs_capacity_limit`];
@@ -40,8 +41,10 @@
 //! can pass the depth test for one and fail it for the other: a wrong count over that whole
 //! triangle, not just at a shadow boundary. (Crytek Sponza has such an edge: 4 opposite
 //! vertices contributing +1, 0, 0, -1, the two 0s from a triangle edge-on to the light; with
-//! K = 2 it drew a +1 and a -1 quad where cpu-silhouette draws none.)
-//!
+//! K = 2 it drew a +1 and a -1 quad where cpu-silhouette draws none.) Splits forced by the
+//! limit (edges with more than 29 opposite vertices for tessellation, 64 for the geometry
+//! shader) keep that risk.
+
 use umbra_geom::{EdgeAdjacency, WeldedMesh};
 
 use crate::error::GlError;
@@ -72,11 +75,10 @@ pub fn ts_capacity_limit(max_patch_vertices: i32, max_tess_gen_level: i32) -> us
 }
 
 /// Most opposite vertices one geometry-shader invocation may handle: it emits up to `K`
-/// quads as two separate triangles (6 vertices) of `gl_Position` only (4 components per
-/// vertex, 24 per quad).
+/// quads as 4-vertex strips of `gl_Position` only (4 components per vertex, 16 per quad).
 pub fn gs_capacity_limit(max_output_vertices: i32, max_total_output_components: i32) -> usize {
-    let by_vertices = max_output_vertices / 6;
-    let by_components = max_total_output_components / 24;
+    let by_vertices = max_output_vertices / 4;
+    let by_components = max_total_output_components / 16;
     by_vertices.min(by_components).max(0) as usize
 }
 
@@ -233,9 +235,9 @@ mod tests {
         assert_eq!(ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL), 29);
         assert_eq!(ts_capacity_limit(32, 16), 8);
         assert_eq!(ts_capacity_limit(3, 64), 0);
-        assert_eq!(gs_capacity_limit(MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS), 42);
-        assert_eq!(gs_capacity_limit(1024, 1024), 42);
-        assert_eq!(gs_capacity_limit(1024, 16384), 170);
+        assert_eq!(gs_capacity_limit(MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS), 64);
+        assert_eq!(gs_capacity_limit(1024, 1024), 64);
+        assert_eq!(gs_capacity_limit(1024, 16384), 256);
     }
 
     #[test]

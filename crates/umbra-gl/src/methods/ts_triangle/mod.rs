@@ -12,11 +12,14 @@
 //! their shared edge comes out of two different patches with different triangulations and
 //! vertex orders, so the two copies (+1 and -1) can rasterize to depths differing in the last
 //! bit and fail to cancel where a receiver lies at the side's depth (measured: tens of samples
-//! per frame on a 100k-triangle scene). The fragment shader therefore gives every side fragment
-//! the depth of the side's plane, computed once per patch from the edge's endpoints in
-//! canonical order (side_plane.glsl, side_depth.frag.glsl): both copies get the same depth.
-//! This costs the early depth test of the volume pass; the rasterized variant stays available
-//! for measurements (not registered, not exact).
+//! per frame on a 100k-triangle scene, tens more on the real scenes). The fragment shader
+//! therefore gives every side fragment the depth of the side's plane, computed once per patch
+//! from the edge's endpoints in canonical order as a clip-space plane in double precision and
+//! evaluated in double at the fragment (side_plane.glsl, side_depth.frag.glsl): both copies
+//! get the same depth, and with reversed-Z the tiny depths of distant samples keep their
+//! precision. A side seen exactly edge-on gets a depth that never counts. This costs the early
+//! depth test of the volume pass; the rasterized variant stays available for measurements (not
+//! registered, not exact).
 //!
 //! Both draw the scene's own vertex array and index buffer as `GL_PATCHES` of 3 vertices, in
 //! triangle order, and orient each triangle towards the light through its reference edge

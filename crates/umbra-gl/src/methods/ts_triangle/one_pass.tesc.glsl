@@ -15,8 +15,7 @@ layout(vertices = 4) out;
 
 in vec3 v_world[];
 out vec3 c_world[];
-patch out vec4 tc_side_plane[3];
-patch out vec4 tc_side_line[3];
+patch out dvec4 tc_side_plane[3];
 
 uniform vec4 u_light;
 
@@ -28,7 +27,7 @@ void main() {
     if (id < 3) {
         int next = id == 2 ? 0 : id + 1;
         int source_next = (o < 0 && next != 0) ? 3 - next : next;
-        umbra_side_depth_plane(v_world[source], v_world[source_next], u_light, tc_side_plane[id], tc_side_line[id]);
+        tc_side_plane[id] = umbra_side_depth_plane(v_world[source], v_world[source_next], u_light);
     }
     if (id == 0) {
         float on = o == 0 ? 0.0 : 1.0;

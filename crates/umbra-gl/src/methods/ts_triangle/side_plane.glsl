@@ -13,40 +13,43 @@
 //
 // What is computed, per side:
 // * plane: the side's plane in clip space, through the clip-space points A, B and A_inf (the
-//   extruded A, Eq. 2), as the 4D cofactor vector of the three homogeneous points - no matrix
-//   inverse, no division, fine for points behind the eye (w < 0) or at infinity (w = 0). At a
-//   fragment, z_ndc = -(p.x x_ndc + p.y y_ndc + p.w) / p.z.
-// * line: the edge A B projected to the window, a homogeneous 2D line scaled so that
-//   |line . (x, y, 1)| is the distance in pixels. Next to its own edge a side is compared
-//   with the caster triangle's rasterized surface, which meets it there: that comparison must
-//   use the side's own rasterized depth (built from the same clipped vertices A, B as the
-//   caster's), or a computed depth may break the tie the other way than the rasterizer.
-// * edge_on: the side's plane contains the eye (p.z negligible) or the edge projects to a
-//   point: its rays lie in its plane and it must not count.
+//   extruded A, Eq. 2; the same f32 clip coordinates the rasterizer would get), as the 4D
+//   cofactor vector of the three homogeneous points - no matrix inverse, no division, fine for
+//   points behind the eye (w < 0) or at infinity (w = 0). In double precision (GLSL 4.00): at
+//   a fragment z_ndc = -(p.x x_ndc + p.y y_ndc + p.w) / p.z, and with reversed-Z the depths of
+//   distant samples are tiny values that a float evaluation of that sum would lose to
+//   cancellation; in double the result is the plane of the rounded clip points to ~1e-15.
+// * edge-on: the side's plane contains the eye up to rounding (p.z negligible next to the other
+//   coefficients): its rays lie in its plane and it must not count. Returned as the zero
+//   plane (side_depth.frag.glsl tests p.z == 0).
+//
+// A computed depth breaks a tie between a side and the caster it was cast from (at pixels on
+// their shared edge) independently of how the rasterizer breaks it for the caster; measured on
+// the torture suite and the three real scenes this costs nothing outside the boundary band.
+// (Keeping the rasterized depth within a pixel or two of the edge was tried and was worse:
+// there the two copies of a shared side disagree again.)
 
 uniform mat4 u_clip_from_world;
-uniform vec2 u_viewport_size;
 
-float umbra_det3(vec3 a, vec3 b, vec3 c) {
-    UMBRA_PRECISE float d = a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) + a.z * (b.x * c.y - b.y * c.x);
+double umbra_det3(dvec3 a, dvec3 b, dvec3 c) {
+    UMBRA_PRECISE double d = a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) + a.z * (b.x * c.y - b.y * c.x);
     return d;
 }
 
-// plane = (p.x, p.y, p.z, p.w) in clip space; line = (l.x, l.y, l.z, edge_on ? 1 : 0).
-void umbra_side_depth_plane(vec3 p, vec3 q, vec4 l, out vec4 plane, out vec4 line) {
+// The side's clip-space plane, or the zero plane for a side seen edge-on.
+dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
     bool forward = umbra_greater(p, q) < 0;
     vec3 a = forward ? p : q;
     vec3 b = forward ? q : p;
     vec4 ac = u_clip_from_world * vec4(a, 1.0);
     vec4 bc = u_clip_from_world * vec4(b, 1.0);
     vec4 vc = u_clip_from_world * umbra_extrude(a, l);
-    plane = vec4(umbra_det3(ac.yzw, bc.yzw, vc.yzw), -umbra_det3(ac.xzw, bc.xzw, vc.xzw),
-                 umbra_det3(ac.xyw, bc.xyw, vc.xyw), -umbra_det3(ac.xyz, bc.xyz, vc.xyz));
-    vec2 half_size = 0.5 * u_viewport_size;
-    UMBRA_PRECISE vec3 aw = vec3((ac.xy + ac.w) * half_size, ac.w);
-    UMBRA_PRECISE vec3 bw = vec3((bc.xy + bc.w) * half_size, bc.w);
-    UMBRA_PRECISE vec3 lw = cross(aw, bw);
-    float scale = length(lw.xy);
-    bool edge_on = !(abs(plane.z) > 1e-6 * (abs(plane.x) + abs(plane.y) + abs(plane.w))) || !(scale > 0.0);
-    line = vec4(lw / scale, edge_on ? 1.0 : 0.0);
+    dvec4 ad = dvec4(ac);
+    dvec4 bd = dvec4(bc);
+    dvec4 vd = dvec4(vc);
+    dvec4 plane = dvec4(umbra_det3(ad.yzw, bd.yzw, vd.yzw), -umbra_det3(ad.xzw, bd.xzw, vd.xzw),
+                  umbra_det3(ad.xyw, bd.xyw, vd.xyw), -umbra_det3(ad.xyz, bd.xyz, vd.xyz));
+    // (A NaN plane - from non-finite input - fails the comparison and counts as edge-on.)
+    bool edge_on = !(abs(plane.z) > 1e-6 * (abs(plane.x) + abs(plane.y) + abs(plane.w)));
+    return edge_on ? dvec4(0.0LF) : plane;
 }

@@ -20,8 +20,7 @@ layout(vertices = 3) out;
 in vec3 v_world[];
 out vec3 c_world[];
 #ifndef UMBRA_LIGHT_CAPS
-patch out vec4 tc_side_plane[3];
-patch out vec4 tc_side_line[3];
+patch out dvec4 tc_side_plane[3];
 #endif
 
 uniform vec4 u_light;
@@ -33,7 +32,7 @@ void main() {
 #ifndef UMBRA_LIGHT_CAPS
     int next = gl_InvocationID == 2 ? 0 : gl_InvocationID + 1;
     int source_next = (o < 0 && next != 0) ? 3 - next : next;
-    umbra_side_depth_plane(v_world[source], v_world[source_next], u_light, tc_side_plane[gl_InvocationID], tc_side_line[gl_InvocationID]);
+    tc_side_plane[gl_InvocationID] = umbra_side_depth_plane(v_world[source], v_world[source_next], u_light);
 #endif
     if (gl_InvocationID == 0) {
         float outer = o == 0 ? 0.0 : 1.0;

@@ -23,12 +23,10 @@
 layout(triangles, equal_spacing, cw) in;
 
 in vec3 c_world[];
-patch in vec4 tc_side_plane[3];
-patch in vec4 tc_side_line[3];
+patch in dvec4 tc_side_plane[3];
 
 out vec3 e_corner;
-flat out vec4 e_side_plane[3];
-flat out vec4 e_side_line[3];
+flat out dvec4 e_side_plane[3];
 
 // u_clip_from_world: declared in side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
@@ -45,5 +43,4 @@ void main() {
     gl_Position = u_clip_from_world * world;
     e_corner = vec3(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
     e_side_plane = tc_side_plane;
-    e_side_line = tc_side_line;
 }
