@@ -299,21 +299,25 @@ fn check_scene(file: &str, test: &'static str, inside: bool, open_roof: bool) {
 }
 
 #[test]
+#[ignore = "slow (~500 s on 2 loaded cores) and superseded by the torture suite (umbra-verify), which runs every method on the shared scenes; run with --ignored"]
 fn sibenik_outside_stencil_matches_ray_casting() {
     check_scene("sibenik.obj.gz", "sibenik_outside", false, false);
 }
 
 #[test]
+#[ignore = "slow (~500 s on 2 loaded cores) and superseded by the torture suite (umbra-verify), which runs every method on the shared scenes; run with --ignored"]
 fn sibenik_inside_stencil_matches_ray_casting() {
     check_scene("sibenik.obj.gz", "sibenik_inside", true, false);
 }
 
 #[test]
+#[ignore = "slow (~500 s on 2 loaded cores) and superseded by the torture suite (umbra-verify), which runs every method on the shared scenes; run with --ignored"]
 fn sponza_inside_stencil_matches_ray_casting() {
     check_scene("crytek-sponza.obj.gz", "sponza_inside", true, true);
 }
 
 #[test]
+#[ignore = "slow (~500 s on 2 loaded cores) and superseded by the torture suite (umbra-verify), which runs every method on the shared scenes; run with --ignored"]
 fn conference_inside_stencil_matches_ray_casting() {
     check_scene("conference.obj.gz", "conference_inside", true, false);
 }
