@@ -382,7 +382,6 @@ fn shared_scene(file: &str) {
 }
 
 #[test]
-#[ignore = "known failure (issue 3 open): 1-2 samples outside the band for every stencil method, from side quads meeting a surface at a shallow angle under limited depth precision; run with --ignored"]
 fn torture_crytek_sponza() {
     shared_scene("crytek-sponza.obj.gz");
 }
