@@ -319,7 +319,7 @@ impl Progress {
             return;
         }
         let width = 30;
-        let filled = if self.total == 0 { width } else { done * width / self.total };
+        let filled = (done * width).checked_div(self.total).unwrap_or(width).min(width);
         let bar: String = "#".repeat(filled) + &" ".repeat(width - filled);
         eprint!("\r{} [{bar}] {done}/{} {what:<28}", self.label, self.total);
         let _ = std::io::stderr().flush();
@@ -341,14 +341,24 @@ pub struct Measurement {
 
 /// Runs the interleaved schedule of `methods` over `cameras` (one camera per measured round;
 /// warm-up round r uses camera r) on a fresh context.
-pub fn measure(scene: &BenchScene, methods: &[String], cameras: &[Keyframe], o: &MeasureOptions) -> Result<Measurement, CliError> {
+pub fn measure(
+    scene: &BenchScene,
+    methods: &[String],
+    cameras: &[Keyframe],
+    o: &MeasureOptions,
+) -> Result<Measurement, CliError> {
     if cameras.is_empty() {
         return Err(CliError::Other("no frames to measure".into()));
     }
     let view = ViewConfig {
         scene_spec: scene.spec.clone(),
         mesh: scene.mesh.clone(),
-        camera: CameraConfig { eye: cameras[0].eye, target: cameras[0].target, up: [0.0, 1.0, 0.0], fov_y_degrees: o.fov },
+        camera: CameraConfig {
+            eye: cameras[0].eye,
+            target: cameras[0].target,
+            up: [0.0, 1.0, 0.0],
+            fov_y_degrees: o.fov,
+        },
         lights: scene.lights.clone(),
         width: o.width,
         height: o.height,
@@ -363,7 +373,8 @@ pub fn measure(scene: &BenchScene, methods: &[String], cameras: &[Keyframe], o: 
     for m in methods {
         instances.push(make_method(m, &o.sm)?);
     }
-    let mut stats: Vec<MethodStats> = methods.iter().map(|m| MethodStats { method: m.clone(), ..Default::default() }).collect();
+    let mut stats: Vec<MethodStats> =
+        methods.iter().map(|m| MethodStats { method: m.clone(), ..Default::default() }).collect();
     let slots = schedule(methods.len(), o.warmup, cameras.len());
     let progress = Progress::new(slots.len(), &o.progress_label);
     let mut clock = FrameClock { inner: TimestampHook::synchronous(), seen_first: false };
@@ -446,7 +457,14 @@ pub struct JsonRow {
     pub error: Option<String>,
 }
 
-pub fn json_rows(m: &Measurement, scene: &str, width: u32, height: u32, run: Option<&str>, x: Option<f64>) -> Vec<JsonRow> {
+pub fn json_rows(
+    m: &Measurement,
+    scene: &str,
+    width: u32,
+    height: u32,
+    run: Option<&str>,
+    x: Option<f64>,
+) -> Vec<JsonRow> {
     m.stats
         .iter()
         .map(|s| JsonRow {
@@ -559,14 +577,23 @@ pub fn write_plots(path: &Path, title: &str, m: &Measurement) -> Result<(), CliE
         .filter(|s| !s.stage_ms.is_empty())
         .map(|s| {
             let means = s.stage_means();
-            (s.method.clone(), stage_names.iter().map(|n| means.iter().find(|(k, _)| k == n).map_or(0.0, |(_, v)| *v)).collect())
+            (
+                s.method.clone(),
+                stage_names.iter().map(|n| means.iter().find(|(k, _)| k == n).map_or(0.0, |(_, v)| *v)).collect(),
+            )
         })
         .collect();
     plot::stacked_bars(&plot::stages_path(path), &format!("{title}: stages"), &stage_names, &rows)
 }
 
 /// Frames, warm-up and stage settings from the flags (shared by plain runs and suites).
-pub fn measure_options(a: &BenchArgs, width: u32, height: u32, stage_every_default: usize, label: &str) -> Result<MeasureOptions, CliError> {
+pub fn measure_options(
+    a: &BenchArgs,
+    width: u32,
+    height: u32,
+    stage_every_default: usize,
+    label: &str,
+) -> Result<MeasureOptions, CliError> {
     if !(a.fov > 0.0 && a.fov < 180.0) {
         return Err(bad("--fov", format!("must be in (0, 180) degrees, got {}", a.fov)));
     }
@@ -642,7 +669,17 @@ mod tests {
         let order: Vec<(usize, usize, bool)> = s.iter().map(|x| (x.round, x.method, x.warmup)).collect();
         assert_eq!(
             order,
-            vec![(0, 0, true), (0, 1, true), (0, 2, true), (0, 0, false), (0, 1, false), (0, 2, false), (1, 0, false), (1, 1, false), (1, 2, false)]
+            vec![
+                (0, 0, true),
+                (0, 1, true),
+                (0, 2, true),
+                (0, 0, false),
+                (0, 1, false),
+                (0, 2, false),
+                (1, 0, false),
+                (1, 1, false),
+                (1, 2, false)
+            ]
         );
         assert!(schedule(0, 2, 5).is_empty());
     }

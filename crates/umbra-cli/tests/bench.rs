@@ -49,7 +49,10 @@ fn json_has_one_object_per_method_with_the_contract_keys() {
         assert!(p95 >= mean * 0.999 || row["frames"] == 1, "p95 {p95} below mean {mean}?");
         let stages = row["stages"].as_object().expect("stages object");
         for s in ["depth+ambient", "lighting"] {
-            assert!(stages.get(s).and_then(|x| x.as_f64()).is_some_and(|x| x >= 0.0), "{name}: stage {s} in {stages:?}");
+            assert!(
+                stages.get(s).and_then(|x| x.as_f64()).is_some_and(|x| x >= 0.0),
+                "{name}: stage {s} in {stages:?}"
+            );
         }
         assert!(row["gpu_bytes"].is_u64(), "{row}");
         assert!(row.get("error").is_none(), "{row}");
@@ -66,8 +69,21 @@ fn json_has_one_object_per_method_with_the_contract_keys() {
 #[test]
 fn methods_are_interleaved_frame_by_frame_after_the_warmup() {
     let o = umbra(&[
-        "bench", "--scene", "box", "--size", "32x24", "--methods", "none,cpu-silhouette,shadow-map-cube:64", "--frames", "2",
-        "--warmup", "1", "--stage-every", "0", "--json", "--trace-order",
+        "bench",
+        "--scene",
+        "box",
+        "--size",
+        "32x24",
+        "--methods",
+        "none,cpu-silhouette,shadow-map-cube:64",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--stage-every",
+        "0",
+        "--json",
+        "--trace-order",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let order: Vec<String> =
@@ -96,14 +112,34 @@ fn methods_are_interleaved_frame_by_frame_after_the_warmup() {
 fn flythrough_errors_name_the_file_and_line() {
     let bad = tmp("bad.flythrough");
     std::fs::write(&bad, "# path\n0 5 10  0 0 0\n1 5 10  0 0\n").expect("write");
-    let o = umbra(&["bench", "--scene", "box", "--size", "32x24", "--frames", "2", "--flythrough", bad.to_str().expect("utf8")]);
+    let o = umbra(&[
+        "bench",
+        "--scene",
+        "box",
+        "--size",
+        "32x24",
+        "--frames",
+        "2",
+        "--flythrough",
+        bad.to_str().expect("utf8"),
+    ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(e.contains(&format!("{}:3:", bad.display())) && e.contains("expected 6 numbers"), "{e}");
 
     let nan = tmp("nan.flythrough");
     std::fs::write(&nan, "0 5 10 0 0 0\n\n0 5 ten 0 0 0\n").expect("write");
-    let o = umbra(&["bench", "--scene", "box", "--size", "32x24", "--frames", "2", "--flythrough", nan.to_str().expect("utf8")]);
+    let o = umbra(&[
+        "bench",
+        "--scene",
+        "box",
+        "--size",
+        "32x24",
+        "--frames",
+        "2",
+        "--flythrough",
+        nan.to_str().expect("utf8"),
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains(&format!("{}:3:", nan.display())), "{}", stderr(&o));
 
@@ -123,8 +159,17 @@ fn a_flythrough_file_drives_the_camera_and_outputs_are_written() {
         let _ = std::fs::remove_file(p);
     }
     let mut args = vec![
-        "bench", "--methods", "none,cpu-silhouette", "--frames", "4", "--flythrough", fly.to_str().expect("utf8"), "--csv",
-        csv.to_str().expect("utf8"), "--plot", svg.to_str().expect("utf8"),
+        "bench",
+        "--methods",
+        "none,cpu-silhouette",
+        "--frames",
+        "4",
+        "--flythrough",
+        fly.to_str().expect("utf8"),
+        "--csv",
+        csv.to_str().expect("utf8"),
+        "--plot",
+        svg.to_str().expect("utf8"),
     ];
     args.extend(SMALL);
     let o = umbra(&args);
@@ -145,7 +190,17 @@ fn a_flythrough_file_drives_the_camera_and_outputs_are_written() {
 
 #[test]
 fn shadow_map_options_and_errors() {
-    let mut args = vec!["bench", "--json", "--methods", "none,shadow-map-cube:128,shadow-map-cube:99999999", "--frames", "1", "--sm-bias", "2,1", "--sm-pcf"];
+    let mut args = vec![
+        "bench",
+        "--json",
+        "--methods",
+        "none,shadow-map-cube:128,shadow-map-cube:99999999",
+        "--frames",
+        "1",
+        "--sm-bias",
+        "2,1",
+        "--sm-pcf",
+    ];
     args.extend(SMALL);
     let o = umbra(&args);
     assert!(o.status.success(), "a failing method is reported, not fatal: {}", stderr(&o));
@@ -186,8 +241,19 @@ fn suites_are_listed_and_unknown_ones_rejected() {
 #[test]
 fn a_reduced_suite_run_prints_its_table() {
     let o = umbra(&[
-        "bench", "--suite", "001-spheres", "--runs", "1", "--methods", "cpu-silhouette", "--frames", "1", "--warmup", "0",
-        "--size", "64x48",
+        "bench",
+        "--suite",
+        "001-spheres",
+        "--runs",
+        "1",
+        "--methods",
+        "cpu-silhouette",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--size",
+        "64x48",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let s = stdout(&o);

@@ -18,7 +18,9 @@ use std::time::Instant;
 use umbra_geom::scene::{cuboid, ground_plane, tetrahedron, uv_sphere};
 use umbra_geom::{weld::weld, Light, Mesh, WeldedMesh};
 use umbra_gl::methods::all_edges_invert::{self, AllEdgesInvert};
-use umbra_gl::{create_method, Camera, Classification, FrameParams, HeadlessContext, Renderer, SceneGpu, ShadowMethod, StencilImage};
+use umbra_gl::{
+    create_method, Camera, Classification, FrameParams, HeadlessContext, Renderer, SceneGpu, ShadowMethod, StencilImage,
+};
 
 fn stencil_of(ctx: &HeadlessContext, scene: &SceneGpu, method: &mut dyn ShadowMethod, p: &FrameParams) -> StencilImage {
     let gl = ctx.gl();
@@ -50,7 +52,8 @@ fn masks(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> (Vec
         m.classification(),
         Classification::StencilTest { func: umbra_gl::glow::NOTEQUAL, reference: 0b1100, value_mask: 0b1101 }
     );
-    let got: Vec<bool> = stencil_of(ctx, &scene, &mut m, p).pixels.iter().map(|&s| s == all_edges_invert::SHADOW_VALUE as u8).collect();
+    let got: Vec<bool> =
+        stencil_of(ctx, &scene, &mut m, p).pixels.iter().map(|&s| s == all_edges_invert::SHADOW_VALUE as u8).collect();
     assert_eq!(m.gpu_bytes(), 0);
     m.destroy(gl);
     scene.destroy(gl);
@@ -67,7 +70,12 @@ fn boundary_band(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
             let mut edge = false;
             for (dx, dy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
                 let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                if nx >= 0 && ny >= 0 && (nx as usize) < w && (ny as usize) < h && mask[ny as usize * w + nx as usize] != c {
+                if nx >= 0
+                    && ny >= 0
+                    && (nx as usize) < w
+                    && (ny as usize) < h
+                    && mask[ny as usize * w + nx as usize] != c
+                {
                     edge = true;
                 }
             }
@@ -122,7 +130,11 @@ fn tree(leaves: usize, seed: u64) -> Mesh {
         };
         let b = m.positions.len() as u32;
         for _ in 0..3 {
-            m.positions.push([c[0] + rng.range(-0.08, 0.08), c[1] + rng.range(-0.08, 0.08), c[2] + rng.range(-0.08, 0.08)]);
+            m.positions.push([
+                c[0] + rng.range(-0.08, 0.08),
+                c[1] + rng.range(-0.08, 0.08),
+                c[2] + rng.range(-0.08, 0.08),
+            ]);
         }
         m.triangles.push([b, b + 1, b + 2]);
     }
@@ -156,9 +168,14 @@ fn exact_for_convex_casters_over_a_plane() {
         let p = params([5.0, 4.0, 6.0], [0.0, 0.5, 0.0], light, (w as u32, h as u32));
         let (reference, got) = masks(&ctx, &mesh, &p);
         let (outside, inside, shadowed) = compare(&reference, &got, w, h);
-        println!("box + tetrahedron, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
+        println!(
+            "box + tetrahedron, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}"
+        );
         assert!(shadowed > 300, "the casters must cast a visible shadow ({shadowed})");
-        assert_eq!(outside, 0, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
+        assert_eq!(
+            outside, 0,
+            "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band"
+        );
     }
 }
 
@@ -178,7 +195,10 @@ fn nearly_exact_for_a_fine_sphere() {
         let (outside, inside, shadowed) = compare(&reference, &got, w, h);
         println!("sphere 48x24, light {light:?}: {shadowed} shadowed; differ outside band {outside}, in band {inside}");
         assert!(shadowed > 300, "the sphere must cast a visible shadow ({shadowed})");
-        assert!(outside * 2000 <= w * h, "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band");
+        assert!(
+            outside * 2000 <= w * h,
+            "light {light:?}: {outside} samples differ from cpu-silhouette outside the boundary band"
+        );
     }
 }
 
@@ -214,7 +234,13 @@ fn camera_inside_a_shadow_volume_is_wrong() {
 // ---------------------------------------------------------------------------------------
 // Timing (ignored by default).
 
-fn time_frames(ctx: &HeadlessContext, scene: &SceneGpu, method: &mut dyn ShadowMethod, p: &FrameParams, frames: usize) -> f64 {
+fn time_frames(
+    ctx: &HeadlessContext,
+    scene: &SceneGpu,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+    frames: usize,
+) -> f64 {
     let gl = ctx.gl();
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     r.render(gl, scene, method, p, None).unwrap_or_else(|e| panic!("{}: {e}", method.name()));

@@ -81,14 +81,22 @@ fn cases() -> Vec<Case> {
     let book = Arc::new(weld(&with_ground(book(40))));
     vec![
         Case { name: "sphere and box, point light", mesh: spheres.clone(), params: params(eye, target, above, false) },
-        Case { name: "sphere and box, directional light", mesh: spheres.clone(), params: params(eye, target, [0.4, 1.0, 0.3, 0.0], false) },
+        Case {
+            name: "sphere and box, directional light",
+            mesh: spheres.clone(),
+            params: params(eye, target, [0.4, 1.0, 0.3, 0.0], false),
+        },
         Case { name: "sphere and box, z-pass", mesh: spheres.clone(), params: params(eye, target, above, true) },
         Case {
             name: "camera in the sphere's shadow",
             mesh: spheres,
             params: params([0.1, 0.3, 0.1], [4.0, 0.0, 3.0], above, false),
         },
-        Case { name: "40-page book", mesh: book, params: params([3.0, 4.0, 5.0], [0.0, 1.0, 0.0], [0.2, 6.0, 0.3, 1.0], false) },
+        Case {
+            name: "40-page book",
+            mesh: book,
+            params: params([3.0, 4.0, 5.0], [0.0, 1.0, 0.0], [0.2, 6.0, 0.3, 1.0], false),
+        },
     ]
 }
 
@@ -100,7 +108,12 @@ fn boundary_band(mask: &[bool], w: usize, h: usize) -> Vec<bool> {
             let c = mask[y * w + x];
             for (dx, dy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
                 let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                if nx >= 0 && ny >= 0 && (nx as usize) < w && (ny as usize) < h && mask[ny as usize * w + nx as usize] != c {
+                if nx >= 0
+                    && ny >= 0
+                    && (nx as usize) < w
+                    && (ny as usize) < h
+                    && mask[ny as usize * w + nx as usize] != c
+                {
                     band[y * w + x] = true;
                 }
             }
@@ -121,7 +134,8 @@ fn shadow_masks_equal_cpu_silhouette_off_the_boundary() {
         let (w, h) = (case.params.width as usize, case.params.height as usize);
         let scene = SceneGpu::upload(gl, case.mesh.clone()).expect("upload");
         let mut reference = create_method("cpu-silhouette").expect("registered");
-        let expected: Vec<bool> = stencil_of(&ctx, &scene, reference.as_mut(), &case.params).pixels.iter().map(|&s| s != 0).collect();
+        let expected: Vec<bool> =
+            stencil_of(&ctx, &scene, reference.as_mut(), &case.params).pixels.iter().map(|&s| s != 0).collect();
         reference.destroy(gl);
         let band = boundary_band(&expected, w, h);
         let shadowed = expected.iter().filter(|&&s| s).count();
@@ -131,10 +145,15 @@ fn shadow_masks_equal_cpu_silhouette_off_the_boundary() {
             let got = stencil_of(&ctx, &scene, m.as_mut(), &case.params);
             assert_eq!(m.gpu_bytes(), 0, "{name} owns no GPU buffers");
             m.destroy(gl);
-            let wrong: Vec<usize> = (0..expected.len()).filter(|&i| !band[i] && expected[i] != (got.pixels[i] != 0)).collect();
+            let wrong: Vec<usize> =
+                (0..expected.len()).filter(|&i| !band[i] && expected[i] != (got.pixels[i] != 0)).collect();
             if !wrong.is_empty() {
                 let first: Vec<(usize, usize)> = wrong.iter().take(8).map(|&i| (i % w, i / w)).collect();
-                report.push(format!("{} / {name}: {} samples differ off the boundary, first (x, y): {first:?}", case.name, wrong.len()));
+                report.push(format!(
+                    "{} / {name}: {} samples differ off the boundary, first (x, y): {first:?}",
+                    case.name,
+                    wrong.len()
+                ));
             }
         }
         scene.destroy(gl);
@@ -218,7 +237,10 @@ fn shared_sides_cancel_on_a_fine_heightfield() {
     }
     let variants: Vec<(&str, Box<dyn ShadowMethod>)> = vec![
         ("ts-triangle, rasterized side depth", Box::new(TsTriangle::with_side_depth(SideDepth::Rasterized))),
-        ("ts-triangle-1pass, caps-only fragment depth", Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::CapsOnly))),
+        (
+            "ts-triangle-1pass, caps-only fragment depth",
+            Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::CapsOnly)),
+        ),
     ];
     for (label, mut m) in variants {
         let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
@@ -254,7 +276,11 @@ fn capture(ctx: &HeadlessContext, tesc: &str, tese: &str, tri: [[f32; 3]; 3], li
     unsafe {
         let program = gl.create_program().expect("program");
         let mut shaders = Vec::new();
-        for (stage, src) in [(glow::VERTEX_SHADER, PATCH_VERT.to_string()), (glow::TESS_CONTROL_SHADER, tesc.to_string()), (glow::TESS_EVALUATION_SHADER, tese.to_string())] {
+        for (stage, src) in [
+            (glow::VERTEX_SHADER, PATCH_VERT.to_string()),
+            (glow::TESS_CONTROL_SHADER, tesc.to_string()),
+            (glow::TESS_EVALUATION_SHADER, tese.to_string()),
+        ] {
             let s = gl.create_shader(stage).expect("shader");
             gl.shader_source(s, &src);
             gl.compile_shader(s);
@@ -322,10 +348,13 @@ fn is_degenerate(t: &[[f32; 4]; 3]) -> bool {
     t[0] == t[1] || t[1] == t[2] || t[0] == t[2]
 }
 
+/// Faces as cyclic lists of homogeneous corners.
+type Faces = Vec<Vec<[f32; 4]>>;
+
 /// Expected faces of the volume of `tri` (already wound to face `light`): light cap, dark cap
 /// (point light only), the side quads (B, A, A', B') of every edge A -> B; every face
 /// counter-clockwise seen from outside (umbra_geom::silhouette's convention).
-fn expected_faces(tri: [[f32; 3]; 3], light: Light, dark_cap: bool) -> (Vec<Vec<[f32; 4]>>, Vec<Vec<[f32; 4]>>) {
+fn expected_faces(tri: [[f32; 3]; 3], light: Light, dark_cap: bool) -> (Faces, Faces) {
     let p = |v: [f32; 3]| [v[0], v[1], v[2], 1.0];
     let e = |v: [f32; 3]| umbra_geom::silhouette::extrude(v, light);
     let [a, b, c] = tri;
@@ -449,7 +478,13 @@ fn scenes_dir() -> Option<std::path::PathBuf> {
 }
 
 /// Median wall time of `frames` warm 1280x720 frames (glFinish via the colour readback).
-fn time_frames(ctx: &HeadlessContext, scene: &SceneGpu, method: &mut dyn ShadowMethod, p: &FrameParams, frames: usize) -> f64 {
+fn time_frames(
+    ctx: &HeadlessContext,
+    scene: &SceneGpu,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+    frames: usize,
+) -> f64 {
     let gl = ctx.gl();
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     // Warm-up: shader compiles on first draw, preparation.
@@ -488,7 +523,12 @@ fn sponza_frame_times() {
     let at = |f: [f64; 3]| [0, 1, 2].map(|k| b.min[k] as f64 + f[k] * (b.max[k] - b.min[k]) as f64);
     let light = at([0.61, 0.7, 0.57]);
     let p = FrameParams {
-        camera: Camera { eye: at([0.3, 0.45, 0.5]), target: at([0.7, 0.3, 0.5]), near: 1e-3 * b.diagonal() as f64, ..Camera::default() },
+        camera: Camera {
+            eye: at([0.3, 0.45, 0.5]),
+            target: at([0.7, 0.3, 0.5]),
+            near: 1e-3 * b.diagonal() as f64,
+            ..Camera::default()
+        },
         width: 1280,
         height: 720,
         lights: vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]],
@@ -498,19 +538,38 @@ fn sponza_frame_times() {
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, welded.clone()).expect("upload");
     println!("crytek-sponza: {} welded triangles, 1280x720, {}", welded.triangles.len(), ctx.renderer_string());
+    // UMBRA_TIMING_FILTER=text: only the rows whose label contains it.
+    let filter = std::env::var("UMBRA_TIMING_FILTER").unwrap_or_default();
     let mut rows = Vec::new();
-    for name in ["none", "cpu-silhouette", "ts-triangle", "ts-triangle-1pass", "gs-triangle", "vs-triangle", "all-edges-invert"] {
+    for name in
+        ["none", "cpu-silhouette", "ts-triangle", "ts-triangle-1pass", "gs-triangle", "vs-triangle", "all-edges-invert"]
+    {
+        if !name.contains(filter.as_str()) {
+            continue;
+        }
         let mut m = create_method(name).expect("registered");
         let ms = time_frames(&ctx, &scene, m.as_mut(), &p, frames);
         rows.push((name.to_string(), ms, m.gpu_bytes()));
         m.destroy(gl);
     }
     let variants: Vec<(&str, Box<dyn ShadowMethod>)> = vec![
-        ("ts-triangle, rasterized side depth (paper; not exact)", Box::new(TsTriangle::with_side_depth(SideDepth::Rasterized))),
-        ("ts-triangle-1pass, caps-only FragDepth (paper; not exact)", Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::CapsOnly))),
-        ("ts-triangle-1pass, no FragDepth (z-fights; not exact)", Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::None))),
+        (
+            "ts-triangle, rasterized side depth (paper; not exact)",
+            Box::new(TsTriangle::with_side_depth(SideDepth::Rasterized)),
+        ),
+        (
+            "ts-triangle-1pass, caps-only FragDepth (paper; not exact)",
+            Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::CapsOnly)),
+        ),
+        (
+            "ts-triangle-1pass, no FragDepth (z-fights; not exact)",
+            Box::new(TsTriangle1Pass::with_fragment_depth(FragmentDepth::None)),
+        ),
     ];
     for (label, mut m) in variants {
+        if !label.contains(filter.as_str()) {
+            continue;
+        }
         let ms = time_frames(&ctx, &scene, m.as_mut(), &p, frames);
         rows.push((label.to_string(), ms, m.gpu_bytes()));
         m.destroy(gl);
@@ -519,5 +578,5 @@ fn sponza_frame_times() {
         println!("  {name:<58} {ms:9.1} ms/frame (median of {frames}, warm)   gpu bytes {bytes}");
     }
     scene.destroy(gl);
-    assert!(rows.iter().all(|r| r.1 > 0.0));
+    assert!(rows.iter().all(|r| r.1 > 0.0), "{rows:?}");
 }

@@ -8,7 +8,9 @@ mod common;
 use common::*;
 use umbra_gl::glow::HasContext;
 use umbra_gl::methods::shadow_map::{FacePasses, ShadowMapConfig, ShadowMapCube};
-use umbra_gl::{create_method, glow, method_names, FrameParams, GlError, HeadlessContext, Renderer, SceneGpu, ShadowMethod};
+use umbra_gl::{
+    create_method, glow, method_names, FrameParams, GlError, HeadlessContext, Renderer, SceneGpu, ShadowMethod,
+};
 
 /// Distance from the sphere centre to the segment world -> light (w = 1) or the ray towards
 /// the light (w = 0).
@@ -27,7 +29,13 @@ fn segment_distance_to_center(world: [f64; 3], light: [f32; 4]) -> f64 {
 /// Renders with `method` and checks ground points: well inside the umbra (analytic distance
 /// of the light ray to the sphere centre < 0.8 R) ambient only; well outside (> 1.25 R) the
 /// analytic lit colour. Returns (shadowed, lit) counts.
-fn check_ground(ctx: &HeadlessContext, test: &'static str, method: &mut dyn ShadowMethod, p: &FrameParams, points: &[[f64; 2]]) -> (usize, usize) {
+fn check_ground(
+    ctx: &HeadlessContext,
+    test: &'static str,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+    points: &[[f64; 2]],
+) -> (usize, usize) {
     let gl = ctx.gl();
     let mesh = sphere_over_ground();
     let scene = SceneGpu::upload(gl, mesh).expect("upload");
@@ -42,16 +50,23 @@ fn check_ground(ctx: &HeadlessContext, test: &'static str, method: &mut dyn Shad
         let w = wp.get(px, py).expect("in image");
         let world = [w[0], w[1], w[2]].map(f64::from);
         let d = segment_distance_to_center(world, light);
-        assert!(!(0.8..=1.25).contains(&(d / SPHERE_RADIUS)), "{test}: point ({x}, {z}) too close to the shadow edge: {d}");
+        assert!(
+            !(0.8..=1.25).contains(&(d / SPHERE_RADIUS)),
+            "{test}: point ({x}, {z}) too close to the shadow edge: {d}"
+        );
         let c = img.rgba.get(px, py).expect("in image");
         if d < SPHERE_RADIUS {
             shadowed += 1;
             let e = expected_ambient_u8(p);
-            checks.check(px, py, c[0].abs_diff(e) <= 1, || format!("({x}, {z}) under the sphere: {c:?}, expected ambient {e}"));
+            checks.check(px, py, c[0].abs_diff(e) <= 1, || {
+                format!("({x}, {z}) under the sphere: {c:?}, expected ambient {e}")
+            });
         } else {
             lit += 1;
             let e = to_u8(expected_lit(p, world, [0.0, 1.0, 0.0], light));
-            checks.check(px, py, c[0].abs_diff(e) <= 2, || format!("({x}, {z}) far from the sphere: {c:?}, expected lit {e}"));
+            checks.check(px, py, c[0].abs_diff(e) <= 2, || {
+                format!("({x}, {z}) far from the sphere: {c:?}, expected lit {e}")
+            });
         }
     }
     checks.finish();
@@ -61,7 +76,8 @@ fn check_ground(ctx: &HeadlessContext, test: &'static str, method: &mut dyn Shad
     (shadowed, lit)
 }
 
-const POINT_GROUND: [[f64; 2]; 8] = [[0.2, 0.3], [-0.5, 0.4], [0.0, 0.0], [0.3, -0.4], [3.0, 0.0], [-3.0, 1.0], [2.5, 2.5], [0.0, 3.5]];
+const POINT_GROUND: [[f64; 2]; 8] =
+    [[0.2, 0.3], [-0.5, 0.4], [0.0, 0.0], [0.3, -0.4], [3.0, 0.0], [-3.0, 1.0], [2.5, 2.5], [0.0, 3.5]];
 
 #[test]
 fn point_light_ground_under_sphere_is_dark_and_far_ground_lit() {
@@ -140,7 +156,9 @@ fn registry_parses_the_resolution_suffix() {
     assert!(names.contains(&"shadow-map-cube:1024") && names.contains(&"shadow-map-cube:2048"), "{names:?}");
     assert_eq!(create_method("shadow-map-cube:8192").expect("8K").name(), "shadow-map-cube:8192");
     assert_eq!(create_method("shadow-map-cube:4k").expect("4k suffix").name(), "shadow-map-cube:4096");
-    for bad in ["shadow-map-cube", "shadow-map-cube:", "shadow-map-cube:0", "shadow-map-cube:big", "shadow-map-cube:12x"] {
+    for bad in
+        ["shadow-map-cube", "shadow-map-cube:", "shadow-map-cube:0", "shadow-map-cube:big", "shadow-map-cube:12x"]
+    {
         let err = create_method(bad).err().unwrap_or_else(|| panic!("{bad} must be rejected"));
         assert!(err.to_string().contains(bad), "{err}");
     }

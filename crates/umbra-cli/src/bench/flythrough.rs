@@ -33,7 +33,8 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Keyframe>, CliError> {
         if content.is_empty() {
             continue;
         }
-        let fields: Vec<&str> = content.split(|c: char| c == ',' || c.is_whitespace()).filter(|s| !s.is_empty()).collect();
+        let fields: Vec<&str> =
+            content.split(|c: char| c == ',' || c.is_whitespace()).filter(|s| !s.is_empty()).collect();
         if fields.len() != 6 {
             return Err(line_error(
                 file,
@@ -157,7 +158,8 @@ mod tests {
     use super::*;
 
     fn keys() -> Vec<Keyframe> {
-        parse("# a path\n0 1 2  3 4 5\n1,1,1, 0,0,0 # trailing comment\n\n-2 5 7 2 -1 0\n4 4 4 0 0 1\n", "t.fly").expect("valid")
+        parse("# a path\n0 1 2  3 4 5\n1,1,1, 0,0,0 # trailing comment\n\n-2 5 7 2 -1 0\n4 4 4 0 0 1\n", "t.fly")
+            .expect("valid")
     }
 
     #[test]
@@ -204,7 +206,8 @@ mod tests {
     #[test]
     fn catmull_rom_on_a_line_stays_on_it_evenly() {
         // Collinear, evenly spaced keys: uniform Catmull-Rom reproduces linear motion.
-        let k: Vec<Keyframe> = (0..4).map(|i| Keyframe { eye: [i as f64, 0.0, 0.0], target: [i as f64, 0.0, -1.0] }).collect();
+        let k: Vec<Keyframe> =
+            (0..4).map(|i| Keyframe { eye: [i as f64, 0.0, 0.0], target: [i as f64, 0.0, -1.0] }).collect();
         let path = interpolate(&k, 7);
         for (f, key) in path.iter().enumerate().skip(1).take(4) {
             assert!((key.eye[0] - f as f64 * 0.5).abs() < 1e-12, "{key:?}");

@@ -82,7 +82,9 @@ pub fn lines(
                     .map_err(|e| plot_err(path, e))?
                     .label(name.as_str())
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-                chart.draw_series(p.iter().map(|&(x, y)| Circle::new((x, y), 3, c.filled()))).map_err(|e| plot_err(path, e))?;
+                chart
+                    .draw_series(p.iter().map(|&(x, y)| Circle::new((x, y), 3, c.filled())))
+                    .map_err(|e| plot_err(path, e))?;
             }
             chart
                 .configure_series_labels()
@@ -103,7 +105,12 @@ pub fn lines(
 
 /// Horizontal stacked bars, one per row (e.g. method): segments = stages in `stage_names`
 /// order, lengths in ms; each bar labelled with its row name and total.
-pub fn stacked_bars(path: &Path, title: &str, stage_names: &[String], rows: &[(String, Vec<f64>)]) -> Result<(), CliError> {
+pub fn stacked_bars(
+    path: &Path,
+    title: &str,
+    stage_names: &[String],
+    rows: &[(String, Vec<f64>)],
+) -> Result<(), CliError> {
     let total = |v: &Vec<f64>| v.iter().copied().filter(|x| x.is_finite()).sum::<f64>();
     let max = rows.iter().map(|(_, v)| total(v)).fold(0.0f64, f64::max);
     let x1 = if max > 0.0 { max * 1.6 } else { 1.0 };

@@ -273,12 +273,9 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
 fn parse_runs(text: &str, count: usize) -> Result<Vec<usize>, CliError> {
     text.split(',')
         .map(|s| {
-            s.trim()
-                .parse::<usize>()
-                .ok()
-                .filter(|&i| (1..=count).contains(&i))
-                .map(|i| i - 1)
-                .ok_or_else(|| CliError::BadFlag { flag: "--runs", message: format!("{s:?}: expected run numbers 1..={count}") })
+            s.trim().parse::<usize>().ok().filter(|&i| (1..=count).contains(&i)).map(|i| i - 1).ok_or_else(|| {
+                CliError::BadFlag { flag: "--runs", message: format!("{s:?}: expected run numbers 1..={count}") }
+            })
         })
         .collect()
 }
@@ -344,7 +341,11 @@ pub fn run(name: &str, a: &BenchArgs) -> Result<(), CliError> {
         renderer = m.renderer.clone();
         rows.extend(json_rows(&m, &r.scene, r.width, r.height, Some(&r.label), Some(r.x)));
         if let (Some(p), Kind::Scenes) = (&a.plot, s.kind) {
-            write_plots(&plot::tagged_path(Path::new(p), &r.label), &format!("{} {}x{}", r.label, r.width, r.height), &m)?;
+            write_plots(
+                &plot::tagged_path(Path::new(p), &r.label),
+                &format!("{} {}x{}", r.label, r.width, r.height),
+                &m,
+            )?;
         }
         results.push((r, m));
     }
@@ -417,7 +418,10 @@ pub fn print_suite_table(s: &Suite, results: &[(Run, Measurement)]) {
         Kind::Scenes => {
             println!("Mean frame time in ms (lower is better).");
             println!();
-            let labels: Vec<String> = results.iter().map(|(r, m)| format!("{} ({}x{}, {} tris)", r.label, r.width, r.height, m.triangles)).collect();
+            let labels: Vec<String> = results
+                .iter()
+                .map(|(r, m)| format!("{} ({}x{}, {} tris)", r.label, r.width, r.height, m.triangles))
+                .collect();
             println!("| method | {} |", labels.join(" | "));
             println!("| --- |{}", " ---: |".repeat(results.len()));
             for n in &methods {
@@ -452,7 +456,9 @@ fn suite_plot(path: &Path, s: &Suite, results: &[(Run, Measurement)]) -> Result<
                 .map(|n| {
                     let pts = results
                         .iter()
-                        .filter_map(|(r, m)| m.stats.iter().find(|st| st.method == n).and_then(|st| st.mean()).map(|v| (r.x, v)))
+                        .filter_map(|(r, m)| {
+                            m.stats.iter().find(|st| st.method == n).and_then(|st| st.mean()).map(|v| (r.x, v))
+                        })
                         .collect();
                     (n, pts)
                 })

@@ -112,8 +112,16 @@ impl ShadowMethod for GsTriangle {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
-        let gpu = self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("gs-triangle: draw_volumes before prepare".into()))?;
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
+        let gpu = self
+            .gpu
+            .as_ref()
+            .ok_or_else(|| GlError::InvalidParams("gs-triangle: draw_volumes before prepare".into()))?;
         frame.mark(gl, "volumes");
         // Counting state (z-fail or z-pass, two-sided stencil, depth clamp, no colour or depth
         // writes); the reason for every field is in GlState::shadow_volume.

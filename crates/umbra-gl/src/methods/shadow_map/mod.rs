@@ -373,7 +373,8 @@ impl ShadowMapCube {
             gl.texture_parameter_i32(texture, glow::TEXTURE_COMPARE_FUNC, glow::GEQUAL as i32);
 
             let mut framebuffers = Vec::new();
-            let attachments: Vec<Option<i32>> = if cube { vec![None, Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)] } else { vec![Some(0)] };
+            let attachments: Vec<Option<i32>> =
+                if cube { vec![None, Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)] } else { vec![Some(0)] };
             let mut failure = None;
             for layer in attachments {
                 let fb = match gl.create_named_framebuffer() {
@@ -387,7 +388,9 @@ impl ShadowMapCube {
                 match layer {
                     // Whole texture: layered, gl_Layer picks the face.
                     None => gl.named_framebuffer_texture(Some(fb), glow::DEPTH_ATTACHMENT, Some(texture), 0),
-                    Some(face) => gl.named_framebuffer_texture_layer(Some(fb), glow::DEPTH_ATTACHMENT, Some(texture), 0, face),
+                    Some(face) => {
+                        gl.named_framebuffer_texture_layer(Some(fb), glow::DEPTH_ATTACHMENT, Some(texture), 0, face)
+                    }
                 }
                 // Depth only: no colour buffer to draw to or read from.
                 gl.named_framebuffer_draw_buffer(Some(fb), glow::NONE);
@@ -450,8 +453,9 @@ impl ShadowMethod for ShadowMapCube {
 
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
         // SAFETY: integer queries on the current context.
-        let (max_cube, max_2d) =
-            unsafe { (gl.get_parameter_i32(glow::MAX_CUBE_MAP_TEXTURE_SIZE), gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE)) };
+        let (max_cube, max_2d) = unsafe {
+            (gl.get_parameter_i32(glow::MAX_CUBE_MAP_TEXTURE_SIZE), gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE))
+        };
         let res = self.config.resolution;
         if i64::from(res) > i64::from(max_cube) || i64::from(res) > i64::from(max_2d) {
             return Err(GlError::Unsupported {
@@ -476,7 +480,12 @@ impl ShadowMethod for ShadowMapCube {
                 ],
                 &[],
             )?;
-            let single = match link_program(gl, "shadow-map depth", &[ShaderSource::vertex("shadow_map/depth.vert.glsl", &vert_single)], &[]) {
+            let single = match link_program(
+                gl,
+                "shadow-map depth",
+                &[ShaderSource::vertex("shadow_map/depth.vert.glsl", &vert_single)],
+                &[],
+            ) {
                 Ok(p) => p,
                 Err(e) => {
                     // SAFETY: our program, not used afterwards.
@@ -500,16 +509,28 @@ impl ShadowMethod for ShadowMapCube {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         frame.mark(gl, "shadow-map");
         let light: Light = frame.light;
         let point = light[3] != 0.0;
         let missing = if point { self.cube.is_none() } else { self.map2d.is_none() };
         if missing {
             let map = self.allocate(gl, point)?;
-            if point { self.cube = Some(map) } else { self.map2d = Some(map) }
+            if point {
+                self.cube = Some(map)
+            } else {
+                self.map2d = Some(map)
+            }
         }
-        let programs = self.programs.as_ref().ok_or_else(|| GlError::InvalidParams(format!("{}: draw before prepare", self.name)))?;
+        let programs = self
+            .programs
+            .as_ref()
+            .ok_or_else(|| GlError::InvalidParams(format!("{}: draw before prepare", self.name)))?;
         let map = if point { self.cube.as_ref() } else { self.map2d.as_ref() }
             .ok_or_else(|| GlError::InvalidParams("shadow map missing".into()))?;
         // The frame's glClipControl depth mode is in force for this pass too (we leave it as
@@ -568,7 +589,11 @@ impl ShadowMethod for ShadowMapCube {
                 gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, Some(fb));
                 gl.clear_named_framebuffer_f32_slice(Some(fb), glow::DEPTH, 0, &[0.0]);
                 gl.use_program(Some(programs.single));
-                gl.uniform_matrix_4_f32_slice(programs.u_single.as_ref(), false, &f32_cols(&map_clip_from_world(&m, zero_to_one)));
+                gl.uniform_matrix_4_f32_slice(
+                    programs.u_single.as_ref(),
+                    false,
+                    &f32_cols(&map_clip_from_world(&m, zero_to_one)),
+                );
                 if count > 0 {
                     gl.draw_elements(glow::TRIANGLES, count, glow::UNSIGNED_INT, 0);
                 }
@@ -590,8 +615,15 @@ impl ShadowMethod for ShadowMapCube {
         Some(if self.config.pcf { LIT_PCF_GLSL } else { LIT_GLSL })
     }
 
-    fn bind_lighting(&mut self, gl: &glow::Context, program: glow::Program, _frame: &VolumeFrame<'_>) -> Result<(), GlError> {
-        let lookup = self.lookup.ok_or_else(|| GlError::InvalidParams(format!("{}: lighting before draw_volumes", self.name)))?;
+    fn bind_lighting(
+        &mut self,
+        gl: &glow::Context,
+        program: glow::Program,
+        _frame: &VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
+        let lookup = self
+            .lookup
+            .ok_or_else(|| GlError::InvalidParams(format!("{}: lighting before draw_volumes", self.name)))?;
         if self.lit_uniforms.as_ref().map(|u| u.program) != Some(program) {
             let u = |n| uniform(gl, program, n);
             self.lit_uniforms = Some(LitUniforms {
@@ -653,7 +685,15 @@ mod tests {
     fn names_parse_with_resolution() {
         assert_eq!(ShadowMapConfig::from_name("shadow-map-cube:2048").map(|c| c.resolution), Some(2048));
         assert_eq!(ShadowMapConfig::from_name("shadow-map-cube:8k").map(|c| c.resolution), Some(8192));
-        for bad in ["shadow-map-cube", "shadow-map-cube:", "shadow-map-cube:0", "shadow-map-cube:-1", "shadow-map-cube:1.5", "shadow-map-cube:99999999999", "cpu-silhouette"] {
+        for bad in [
+            "shadow-map-cube",
+            "shadow-map-cube:",
+            "shadow-map-cube:0",
+            "shadow-map-cube:-1",
+            "shadow-map-cube:1.5",
+            "shadow-map-cube:99999999999",
+            "cpu-silhouette",
+        ] {
             assert!(ShadowMapConfig::from_name(bad).is_none(), "{bad}");
         }
         assert_eq!(ShadowMapConfig::new(1024).name(), NAME_1024);

@@ -104,7 +104,10 @@ fn require_tess_level(gl: &glow::Context, method: &'static str, level: i32) -> R
     // SAFETY: plain limit query on the current context.
     let max = unsafe { gl.get_parameter_i32(glow::MAX_TESS_GEN_LEVEL) };
     if max < level {
-        return Err(GlError::Unsupported { method, reason: format!("needs tessellation level {level}, MAX_TESS_GEN_LEVEL is {max}") });
+        return Err(GlError::Unsupported {
+            method,
+            reason: format!("needs tessellation level {level}, MAX_TESS_GEN_LEVEL is {max}"),
+        });
     }
     Ok(())
 }
@@ -135,7 +138,7 @@ mod tests {
         for convention in [DepthConvention::Standard, DepthConvention::ReversedZ] {
             let [a, b] = depth_from_ndc(convention);
             let far = convention.far_clip_z(); // z_ndc of the far plane
-            // The far plane's window depth is the depth buffer's far value.
+                                               // The far plane's window depth is the depth buffer's far value.
             assert_eq!(a * far + b, convention.far_depth());
             // Edge-on sides: never counted - nearer than anything in z-fail, the far plane in z-pass.
             assert_eq!(edge_on_depth(far, true), convention.far_depth());

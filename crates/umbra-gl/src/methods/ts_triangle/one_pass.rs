@@ -104,8 +104,16 @@ impl ShadowMethod for TsTriangle1Pass {
                 "ts-triangle-1pass volumes",
                 &[
                     ShaderSource::vertex("ts_triangle/patch.vert.glsl", PATCH_VERT),
-                    ShaderSource { stage: glow::TESS_CONTROL_SHADER, name: "ts_triangle/one_pass.tesc.glsl", source: &tesc },
-                    ShaderSource { stage: glow::TESS_EVALUATION_SHADER, name: "ts_triangle/one_pass.tese.glsl", source: &tese },
+                    ShaderSource {
+                        stage: glow::TESS_CONTROL_SHADER,
+                        name: "ts_triangle/one_pass.tesc.glsl",
+                        source: &tesc,
+                    },
+                    ShaderSource {
+                        stage: glow::TESS_EVALUATION_SHADER,
+                        name: "ts_triangle/one_pass.tese.glsl",
+                        source: &tese,
+                    },
                     ShaderSource::fragment("ts_triangle/side_depth.frag.glsl", SIDE_DEPTH_FRAG),
                 ],
                 defines,
@@ -126,8 +134,16 @@ impl ShadowMethod for TsTriangle1Pass {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
-        let gpu = self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("ts-triangle-1pass: draw_volumes before prepare".into()))?;
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
+        let gpu = self
+            .gpu
+            .as_ref()
+            .ok_or_else(|| GlError::InvalidParams("ts-triangle-1pass: draw_volumes before prepare".into()))?;
         frame.mark(gl, "volumes");
         // Counting state (z-fail or z-pass, two-sided stencil, depth clamp, no colour or depth
         // writes: gl_FragDepth only feeds the depth test); the reason for every field is in

@@ -18,13 +18,12 @@
 //   UMBRA_CAPS_TO_FAR        cap fragments get the far plane's depth (the 1-pass light cap;
 //                            the dark cap is there already)
 //   UMBRA_CANONICAL_SIDES    side fragments get the depth of their canonical plane
-//                            (e_side_plane, from side_plane.glsl, evaluated in double),
-//                            identical for both copies
+//                            (e_side_plane, the window-space depth function from
+//                            side_plane.glsl, evaluated in double), identical for both copies
 // Without either define the shader writes no depth (early depth testing stays on): the
 // paper's rasterized depths, kept only to measure what the depth writes cost.
 //
-// A side seen edge-on (the zero plane from side_plane.glsl: its plane contains the eye up to
-// rounding) has rays lying in its plane, crossing it nowhere, so it must not count; its
+// A side seen edge-on (flagged by side_plane.glsl: its plane contains the eye up to rounding) has rays lying in its plane, crossing it nowhere, so it must not count; its
 // rasterized coverage is a sliver that the two copies of a shared side need not even cover
 // alike. Its fragments get u_edge_on_depth, a depth that is never counted: the near plane for z-fail (the
 // face passes: KEEP), the far plane for z-pass (it fails: KEEP).
@@ -38,8 +37,6 @@ flat in dvec4 e_side_plane[3];
 
 uniform float u_far_clip_z;
 uniform float u_edge_on_depth;
-uniform vec2 u_viewport_size;
-uniform vec2 u_depth_from_ndc;
 
 void main() {
 #if defined(UMBRA_CAPS_TO_FAR) || defined(UMBRA_CANONICAL_SIDES)
@@ -54,14 +51,8 @@ void main() {
     if (!cap) {
         // Component i + 2 == 0 <=> side of edge (i, i + 1) <=> plane i.
         int i = e_corner.z == 0.0 ? 0 : (e_corner.x == 0.0 ? 1 : 2);
-        dvec4 p = e_side_plane[i];
-        if (p.z == 0.0LF) {
-            depth = u_edge_on_depth;
-        } else {
-            dvec2 ndc = dvec2(gl_FragCoord.xy) / dvec2(u_viewport_size) * 2.0LF - 1.0LF;
-            double z_ndc = -(p.x * ndc.x + p.y * ndc.y + p.w) / p.z;
-            depth = float(double(u_depth_from_ndc.x) * z_ndc + double(u_depth_from_ndc.y));
-        }
+        dvec4 r = e_side_plane[i];
+        depth = r.w != 0.0LF ? u_edge_on_depth : float(r.x * double(gl_FragCoord.x) + r.y * double(gl_FragCoord.y) + r.z);
     }
 #endif
     gl_FragDepth = depth;

@@ -14,11 +14,13 @@
 // What is computed, per side:
 // * plane: the side's plane in clip space, through the clip-space points A, B and A_inf (the
 //   extruded A, Eq. 2; the same f32 clip coordinates the rasterizer would get), as the 4D
-//   cofactor vector of the three homogeneous points - no matrix inverse, no division, fine for
-//   points behind the eye (w < 0) or at infinity (w = 0). In double precision (GLSL 4.00): at
-//   a fragment z_ndc = -(p.x x_ndc + p.y y_ndc + p.w) / p.z, and with reversed-Z the depths of
-//   distant samples are tiny values that a float evaluation of that sum would lose to
-//   cancellation; in double the result is the plane of the rounded clip points to ~1e-15.
+//   cofactor vector p of the three homogeneous points - no matrix inverse, fine for points
+//   behind the eye (w < 0) or at infinity (w = 0); z_ndc = -(p.x x_ndc + p.y y_ndc + p.w) / p.z.
+//   Folded here with the viewport and depth-range transforms into the window-space depth
+//   function z_window = r.x x_window + r.y y_window + r.z, all in double precision (GLSL 4.00):
+//   with reversed-Z the depths of distant samples are tiny values that a float evaluation of
+//   that sum would lose to cancellation; in double it is the plane of the rounded clip points
+//   to ~1e-15, and the fragment shader only does two double multiply-adds.
 // * edge-on: the side's plane contains the eye up to rounding (p.z negligible next to the other
 //   coefficients): its rays lie in its plane and it must not count. Returned as the zero
 //   plane (side_depth.frag.glsl tests p.z == 0).
@@ -30,13 +32,15 @@
 // there the two copies of a shared side disagree again.)
 
 uniform mat4 u_clip_from_world;
+uniform vec2 u_viewport_size;
+uniform vec2 u_depth_from_ndc;
 
 double umbra_det3(dvec3 a, dvec3 b, dvec3 c) {
     UMBRA_PRECISE double d = a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) + a.z * (b.x * c.y - b.y * c.x);
     return d;
 }
 
-// The side's clip-space plane, or the zero plane for a side seen edge-on.
+// (r.x, r.y, r.z, 0): z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) for a side seen edge-on.
 dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
     bool forward = umbra_greater(p, q) < 0;
     vec3 a = forward ? p : q;
@@ -51,5 +55,14 @@ dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
                   umbra_det3(ad.xyw, bd.xyw, vd.xyw), -umbra_det3(ad.xyz, bd.xyz, vd.xyz));
     // (A NaN plane - from non-finite input - fails the comparison and counts as edge-on.)
     bool edge_on = !(abs(plane.z) > 1e-6 * (abs(plane.x) + abs(plane.y) + abs(plane.w)));
-    return edge_on ? dvec4(0.0LF) : plane;
+    if (edge_on) {
+        return dvec4(0.0LF, 0.0LF, 0.0LF, 1.0LF);
+    }
+    // z_ndc = n.x x_ndc + n.y y_ndc + n.w, x_ndc = x (2 / W) - 1, z_window = scale z_ndc + offset.
+    UMBRA_PRECISE dvec4 n = -plane / plane.z;
+    UMBRA_PRECISE double scale = double(u_depth_from_ndc.x);
+    UMBRA_PRECISE double sx = 2.0LF / double(u_viewport_size.x);
+    UMBRA_PRECISE double sy = 2.0LF / double(u_viewport_size.y);
+    UMBRA_PRECISE dvec4 r = dvec4(scale * n.x * sx, scale * n.y * sy, scale * (n.w - n.x - n.y) + double(u_depth_from_ndc.y), 0.0LF);
+    return r;
 }

@@ -17,7 +17,9 @@
 
 use glow::HasContext;
 
-use super::{draw_triangle_patches, require_tess_level, with_shared, DepthUniforms, PATCH_VERT, SIDE_DEPTH_FRAG, VOLUME_FRAG};
+use super::{
+    draw_triangle_patches, require_tess_level, with_shared, DepthUniforms, PATCH_VERT, SIDE_DEPTH_FRAG, VOLUME_FRAG,
+};
 use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
@@ -49,7 +51,13 @@ struct Program {
 }
 
 impl Program {
-    fn link(gl: &glow::Context, name: &str, tese: (&str, &str), frag: (&str, &str), defines: &[&str]) -> Result<Self, GlError> {
+    fn link(
+        gl: &glow::Context,
+        name: &str,
+        tese: (&str, &str),
+        frag: (&str, &str),
+        defines: &[&str],
+    ) -> Result<Self, GlError> {
         let tesc = with_shared(TESC);
         let tese_source = with_shared(tese.1);
         let program = link_program(
@@ -57,7 +65,11 @@ impl Program {
             name,
             &[
                 ShaderSource::vertex("ts_triangle/patch.vert.glsl", PATCH_VERT),
-                ShaderSource { stage: glow::TESS_CONTROL_SHADER, name: "ts_triangle/two_pass.tesc.glsl", source: &tesc },
+                ShaderSource {
+                    stage: glow::TESS_CONTROL_SHADER,
+                    name: "ts_triangle/two_pass.tesc.glsl",
+                    source: &tesc,
+                },
                 ShaderSource { stage: glow::TESS_EVALUATION_SHADER, name: tese.0, source: &tese_source },
                 ShaderSource::fragment(frag.0, frag.1),
             ],
@@ -157,8 +169,16 @@ impl ShadowMethod for TsTriangle {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
-        let gpu = self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("ts-triangle: draw_volumes before prepare".into()))?;
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
+        let gpu = self
+            .gpu
+            .as_ref()
+            .ok_or_else(|| GlError::InvalidParams("ts-triangle: draw_volumes before prepare".into()))?;
         // Counting state (z-fail or z-pass, two-sided stencil, depth clamp, no colour or depth
         // writes: gl_FragDepth only feeds the depth test); the reason for every field is in
         // GlState::shadow_volume. Same for both passes.

@@ -108,7 +108,10 @@ impl ShadowMethod for VsTriangle {
             let program = link_program(
                 gl,
                 "vs-triangle volume",
-                &[ShaderSource::vertex("vs_triangle/volume.vert.glsl", &vert), ShaderSource::fragment("vs_triangle/volume.frag.glsl", FRAG)],
+                &[
+                    ShaderSource::vertex("vs_triangle/volume.vert.glsl", &vert),
+                    ShaderSource::fragment("vs_triangle/volume.frag.glsl", FRAG),
+                ],
                 &[&positions, &triangles],
             )?;
             // SAFETY: DSA creation on the current context; the program is deleted on failure.
@@ -136,14 +139,23 @@ impl ShadowMethod for VsTriangle {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
-        let gpu = self.gpu.as_ref().ok_or_else(|| GlError::InvalidParams("vs-triangle: draw_volumes before prepare".into()))?;
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
+        let gpu = self
+            .gpu
+            .as_ref()
+            .ok_or_else(|| GlError::InvalidParams("vs-triangle: draw_volumes before prepare".into()))?;
         let draw_count = |per_triangle: usize| {
-            scene
-                .triangle_count()
-                .checked_mul(per_triangle)
-                .and_then(|n| i32::try_from(n).ok())
-                .ok_or_else(|| GlError::InvalidParams(format!("{} triangles x {per_triangle} vertices exceed one draw call", scene.triangle_count())))
+            scene.triangle_count().checked_mul(per_triangle).and_then(|n| i32::try_from(n).ok()).ok_or_else(|| {
+                GlError::InvalidParams(format!(
+                    "{} triangles x {per_triangle} vertices exceed one draw call",
+                    scene.triangle_count()
+                ))
+            })
         };
         let per_triangle = vertices_per_triangle(frame.zpass, frame.light[3] == 0.0);
         let count = draw_count(per_triangle)?;
