@@ -54,7 +54,7 @@ impl Session {
                 fov_y_degrees: c.fov_y_degrees,
                 // The infinite far plane puts all depth precision near the near plane: keep
                 // it as far out as the scene allows.
-                near: near_plane(c.eye, diagonal),
+                near: near_plane(diagonal),
             },
             width: view.width,
             height: view.height,
@@ -67,6 +67,6 @@ impl Session {
 
 /// A near-plane distance for a scene of `diagonal` seen from `eye`: a small fraction of the
 /// scene size, so nearby geometry is not clipped and depth precision is not wasted.
-fn near_plane(_eye: [f64; 3], diagonal: f64) -> f64 {
+fn near_plane(diagonal: f64) -> f64 {
     diagonal * 1e-3
 }
