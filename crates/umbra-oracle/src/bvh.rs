@@ -188,7 +188,7 @@ impl Bvh {
     /// Exits at the first hit found.
     pub fn occluded(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64, ignore_triangle: u32) -> bool {
         let mut found = false;
-        self.traverse(origin, direction, t_min, t_max, |bvh, i, ray, t_far| {
+        self.traverse(origin, direction, t_min, t_max, 0.0, |bvh, i, ray, t_far| {
             if bvh.ids[i] == ignore_triangle {
                 return None;
             }
@@ -204,11 +204,45 @@ impl Bvh {
         found
     }
 
+    /// [`Bvh::occluded`] that also says whether the answer is *robust*: whether it would stay
+    /// the same if every triangle were grown or shrunk by `margin` (a world distance; see
+    /// [`crate::watertight::ShearedRay::intersect_near`]). Returns `(occluded, uncertain)`:
+    /// `occluded` is exactly [`Bvh::occluded`]'s answer; `uncertain` is true when no triangle is
+    /// hit at least `margin` inside its edges but some triangle is passed within `margin`
+    /// (the ray grazes an edge: the sample is on a shadow boundary, up to `margin`).
+    pub fn occluded_near(
+        &self,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        t_min: f64,
+        t_max: f64,
+        ignore_triangle: u32,
+        margin: f64,
+    ) -> (bool, bool) {
+        let (mut exact, mut grown, mut shrunk) = (false, false, false);
+        self.traverse(origin, direction, t_min, t_max, margin, |bvh, i, ray, _t_far| {
+            if bvh.ids[i] == ignore_triangle {
+                return None;
+            }
+            let [a, b, c] = bvh.vertices[i];
+            let hit = ray.intersect_near(a, b, c, t_min, t_max, margin);
+            exact |= hit.exact;
+            grown |= hit.grown;
+            if hit.shrunk {
+                shrunk = true;
+                // A robust hit settles it: occluded, and certainly so. End the traversal.
+                return Some(t_min);
+            }
+            None
+        });
+        (exact, grown && !shrunk)
+    }
+
     /// Closest-hit query over `t_min < t < t_max`. Among hits at exactly equal `t` (a ray through
     /// a shared edge) the one met first in the fixed traversal order wins, deterministically.
     pub fn intersect(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.traverse(origin, direction, t_min, t_max, |bvh, i, ray, t_far| {
+        self.traverse(origin, direction, t_min, t_max, 0.0, |bvh, i, ray, t_far| {
             let [a, b, c] = bvh.vertices[i];
             let t = ray.intersect(a, b, c, t_min, t_far)?;
             best = Some(Hit { t, triangle: bvh.ids[i] });
@@ -220,7 +254,7 @@ impl Bvh {
     /// Ordered stack traversal. `visit(bvh, index in BVH order, ray, current far limit)` returns
     /// `Some(new far limit)` to shrink the interval (closest hit) or end it (any hit).
     #[inline]
-    fn traverse<F>(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64, mut visit: F)
+    fn traverse<F>(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64, margin: f64, mut visit: F)
     where
         F: FnMut(&Bvh, usize, &ShearedRay, f64) -> Option<f64>,
     {
@@ -231,7 +265,7 @@ impl Bvh {
             return;
         }
         let ray = ShearedRay::new(origin, direction);
-        let slabs = SlabRay::new(origin, direction);
+        let slabs = SlabRay::new(origin, direction, margin);
         let mut t_far = t_max;
         let mut stack = [0u32; STACK];
         let mut top = 0usize;
@@ -297,12 +331,16 @@ struct SlabRay {
     origin: [f64; 3],
     inv: [f64; 3],
     negative: [bool; 3],
+    /// Every box is grown by this distance on each side (0 for the exact queries: `x - 0.0`
+    /// is `x`, so they are unchanged): a ray passing within it of a box may pass within it of
+    /// a triangle inside, which [`Bvh::occluded_near`] must visit.
+    margin: f64,
 }
 
 impl SlabRay {
-    fn new(origin: [f64; 3], direction: [f64; 3]) -> SlabRay {
+    fn new(origin: [f64; 3], direction: [f64; 3], margin: f64) -> SlabRay {
         let inv = direction.map(|d| 1.0 / d);
-        SlabRay { origin, inv, negative: inv.map(|i| i.is_sign_negative()) }
+        SlabRay { origin, inv, negative: inv.map(|i| i.is_sign_negative()), margin }
     }
 
     /// Conservative slab test (Ize 2013, Sec. 3): the entry distance if the interval
@@ -320,9 +358,10 @@ impl SlabRay {
         let mut far = t_max;
         for k in 0..3 {
             // Per-ray constant branch: perfectly predicted.
-            let (plane_near, plane_far) = if self.negative[k] { (n.max[k], n.min[k]) } else { (n.min[k], n.max[k]) };
-            let t_near = (plane_near as f64 - self.origin[k]) * self.inv[k];
-            let t_far = (plane_far as f64 - self.origin[k]) * self.inv[k];
+            let (lo, hi) = (n.min[k] as f64 - self.margin, n.max[k] as f64 + self.margin);
+            let (plane_near, plane_far) = if self.negative[k] { (hi, lo) } else { (lo, hi) };
+            let t_near = (plane_near - self.origin[k]) * self.inv[k];
+            let t_far = (plane_far - self.origin[k]) * self.inv[k];
             let t_far = t_far + t_far.abs() * (2.0 * GAMMA3);
             near = if t_near > near { t_near } else { near };
             far = if t_far < far { t_far } else { far };

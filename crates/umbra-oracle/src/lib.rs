@@ -18,7 +18,7 @@ pub mod watertight;
 
 pub use bvh::{Bvh, Hit};
 pub use metrics::{compare, diff_image, Metrics};
-pub use reference::{boundary_band, reference, segment_epsilon, Reference, SampleClass, Samples};
+pub use reference::{boundary_band, reference, reference_in_view, segment_epsilon, RasterView, Reference, SampleClass, Samples};
 
 /// Bad input to the oracle. Pixel coordinates are `(x, y)` with `y = 0` the top row.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

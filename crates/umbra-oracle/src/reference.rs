@@ -9,6 +9,20 @@
 //!   (`w = 0`) the segment is the ray towards the light (direction `xyz`), `t` in `(eps, inf)`.
 //! * Boundary band: samples whose 3x3 neighbourhood holds both classes (lit and shadowed), and
 //!   grazing samples, `|N.L| < 1e-4 |N||L|` with `L` the direction from `S` to the light.
+//! * The band also holds the samples whose class is not decided by exact geometry but by the
+//!   precision of the rasterizer and of the depth test, wherever they lie in the image (the
+//!   3x3 rule only covers boundaries at least a pixel wide):
+//!   - *snapped*: the pixel centre lies within [`SNAP_PIXELS`] of the line of an edge of its own
+//!     triangle. Rasterizers snap vertices to a fixed-point grid (8 sub-pixel bits on llvmpipe
+//!     and on most GPUs), so which side of that edge the sample is on, and hence whether the
+//!     side quad extruded from that edge covers it in front or behind, is the grid's choice.
+//!     Needs the view ([`RasterView`]); [`reference`] without one skips it.
+//!   - *near a shadow boundary*: the segment to the light passes within
+//!     [`NEAR_BOUNDARY_RELATIVE`] `(|S - eye| + |S|max)` of an occluder's edge without
+//!     passing robustly through one ([`Bvh::occluded_near`]): the sample lies that close to a
+//!     shadow-volume side, which the depth test (a 24-bit mantissa) cannot resolve. Such
+//!     samples only escape the 3x3 rule where a side meets the surface at a very shallow
+//!     angle (under a degree), so the boundary runs along the surface for many pixels.
 //!
 //! Choices made here, each explained where it is implemented:
 //! * The plane test is done in `f64` from the `f32` vertices of `T` (the cross product of two
@@ -27,6 +41,49 @@ use crate::OracleError;
 pub const EPSILON_RELATIVE: f64 = 1e-5;
 /// Samples with `|N.L| < GRAZING |N||L|` are grazing: they count as band.
 pub const GRAZING: f64 = 1e-4;
+/// A pixel centre closer than this (in pixels) to the line of an edge of its own triangle is
+/// band (*snapped*, see the module doc): 4 times the largest displacement of an edge by
+/// snapping vertices to 1/256 pixel (half a step per coordinate, times sqrt 2, is 1/362).
+pub const SNAP_PIXELS: f64 = 1.0 / 128.0;
+/// Relative margin of the *near a shadow boundary* band (see the module doc): 2^-20, i.e. 8 to
+/// 16 units in the last place of an f32 depth or position at the sample's distance.
+pub const NEAR_BOUNDARY_RELATIVE: f64 = 1.0 / 1_048_576.0;
+
+/// The view the samples were rasterized with, for the *snapped* band.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RasterView {
+    /// Clip space from world space, column-major (OpenGL's convention; the depth convention
+    /// does not matter: only x, y and w are used).
+    pub clip_from_world: [f64; 16],
+}
+
+impl RasterView {
+    fn clip(&self, p: [f64; 3]) -> [f64; 3] {
+        let m = &self.clip_from_world;
+        let row = |r: usize| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+        [row(0), row(1), row(3)]
+    }
+
+    /// Distance in pixels from the centre of pixel `(x, y)` (top row first) of a `width` x
+    /// `height` image to the nearest line of the triangle's three edges, in homogeneous 2D
+    /// clip coordinates (right for vertices behind the eye too: the line through two
+    /// homogeneous points is their cross product). `None` when every line is degenerate.
+    fn edge_distance_px(&self, tri: [[f64; 3]; 3], x: u32, y: u32, width: u32, height: u32) -> Option<f64> {
+        let (w, h) = (width as f64, height as f64);
+        let p = [(x as f64 + 0.5) / w * 2.0 - 1.0, 1.0 - (y as f64 + 0.5) / h * 2.0, 1.0];
+        let v = tri.map(|q| self.clip(q));
+        let mut best: Option<f64> = None;
+        for k in 0..3 {
+            let l = cross(v[k], v[(k + 1) % 3]);
+            let g = (2.0 * l[0] / w).hypot(2.0 * l[1] / h);
+            if g > 0.0 && g.is_finite() {
+                let d = dot(l, p).abs() / g;
+                best = Some(best.map_or(d, |b: f64| b.min(d)));
+            }
+        }
+        best
+    }
+}
 
 /// The rasterized samples read back from the GPU, one per pixel, row-major, TOP row first.
 #[derive(Clone, Copy, Debug)]
@@ -96,6 +153,19 @@ pub fn segment_epsilon(positions: &[[f32; 3]]) -> f64 {
 ///
 /// `bvh` must have been built from `mesh.positions` / `mesh.triangles` (checked by count).
 pub fn reference(mesh: &WeldedMesh, bvh: &Bvh, samples: &Samples, light: Light, eye: [f32; 3]) -> Result<Reference, OracleError> {
+    reference_in_view(mesh, bvh, samples, light, eye, None)
+}
+
+/// [`reference`] with the view the samples were rasterized with, which adds the *snapped*
+/// samples to the band (see the module doc). `umbra verify` and the torture suite use this.
+pub fn reference_in_view(
+    mesh: &WeldedMesh,
+    bvh: &Bvh,
+    samples: &Samples,
+    light: Light,
+    eye: [f32; 3],
+    view: Option<&RasterView>,
+) -> Result<Reference, OracleError> {
     let (width, height) = (samples.width, samples.height);
     let pixels = width as usize * height as usize;
     check_len("world_pos", samples.world_pos.len(), pixels, width, height)?;
@@ -146,7 +216,11 @@ pub fn reference(mesh: &WeldedMesh, bvh: &Bvh, samples: &Samples, light: Light, 
                     }
                     let (c, g) = classify(mesh, bvh, eps, &shading, t, samples.world_pos[start + x]);
                     class_row[x] = c;
-                    grazing_row[x] = g;
+                    let snapped = view.is_some_and(|v| {
+                        let tri = mesh.triangles[t as usize].map(|k| to_f64(mesh.positions[k as usize]));
+                        v.edge_distance_px(tri, x as u32, row as u32, width, height).is_some_and(|d| d < SNAP_PIXELS)
+                    });
+                    grazing_row[x] = g || snapped;
                 }
             });
     }
@@ -191,6 +265,24 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
+/// Two unit vectors perpendicular to `d` and to each other (`d` non-zero).
+fn perpendicular_basis(d: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let len = dot(d, d).sqrt();
+    let n = d.map(|c| c / len);
+    // Cross with the axis least aligned with d: never near-parallel.
+    let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
+        [1.0, 0.0, 0.0]
+    } else if n[1].abs() <= n[2].abs() {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    };
+    let u = cross(n, axis);
+    let lu = dot(u, u).sqrt();
+    let u = u.map(|c| c / lu);
+    (u, cross(n, u))
+}
+
 fn to_f64(p: [f32; 3]) -> [f64; 3] {
     p.map(|c| c as f64)
 }
@@ -236,21 +328,48 @@ fn classify(mesh: &WeldedMesh, bvh: &Bvh, eps: f64, shading: &Shading, triangle:
     // where the answer is rounding noise, and its facing was decided by the plane test above.
     // Neighbours of T are NOT skipped: across a concave crease a neighbour really does shadow
     // T (a wall shading the floor); a coplanar neighbour meets the ray only at t ~ 0 < eps.
-    let occluded = match shading.point {
-        Some(_) => {
-            let len = ll.sqrt();
-            // Parametric t along S -> light: eps as a distance is eps / |L| in t.
-            let t_eps = eps / len;
-            // A sample within 2 eps of the light: the segment is empty, nothing can occlude.
-            t_eps < 0.5 && bvh.occluded(s, to_light, t_eps, 1.0 - t_eps, triangle)
-        }
-        None => {
-            let len = ll.sqrt();
-            let dir = to_light.map(|c| c / len);
-            bvh.occluded(s, dir, eps, f64::INFINITY, triangle)
+    // Near a shadow boundary (module doc): a world distance at S.
+    let margin = NEAR_BOUNDARY_RELATIVE * (dot(sub(s, shading.eye), sub(s, shading.eye)).sqrt() + s.iter().fold(0f64, |m, c| m.max(c.abs())));
+    // The exact segment (or ray) from a start point towards the light, as (direction, t range).
+    let segment = |from: [f64; 3]| -> Option<([f64; 3], f64, f64)> {
+        match shading.point {
+            Some(p) => {
+                let to_light = sub(p, from);
+                // Parametric t along S -> light: eps as a distance is eps / |L| in t.
+                let t_eps = eps / dot(to_light, to_light).sqrt();
+                // A sample within 2 eps of the light: the segment is empty, nothing can occlude.
+                (t_eps < 0.5).then_some((to_light, t_eps, 1.0 - t_eps))
+            }
+            None => {
+                let len = dot(to_light, to_light).sqrt();
+                Some((to_light.map(|c| c / len), eps, f64::INFINITY))
+            }
         }
     };
-    (if occluded { SampleClass::Shadowed } else { SampleClass::Lit }, grazing)
+    let Some((dir, t_min, t_max)) = segment(s) else {
+        return (SampleClass::Lit, grazing);
+    };
+    // The exact answer, and whether some occluder's edge passes near the segment without one
+    // occluder being hit robustly (the margin doubled: distances in the watertight test's
+    // sheared plane are up to sqrt 3 longer than perpendicular ones). The margin stays a world
+    // distance: the sheared plane does not depend on the direction's length.
+    let (occluded, near) = bvh.occluded_near(s, dir, t_min, t_max, triangle, 2.0 * margin);
+    // Near an edge: move S by the margin in 8 directions across the segment; if any of them
+    // changes the answer, S lies within the margin of a shadow boundary. (An interior edge of
+    // a flat occluder is near too, but every moved segment still hits one of its triangles.)
+    let uncertain = near && {
+        let (u, v) = perpendicular_basis(dir);
+        (0..8).any(|k| {
+            let (sin, cos) = (k as f64 * std::f64::consts::FRAC_PI_4).sin_cos();
+            let moved = [0, 1, 2].map(|i| s[i] + margin * (cos * u[i] + sin * v[i]));
+            let moved_occluded = match segment(moved) {
+                Some((d, lo, hi)) => bvh.occluded(moved, d, lo, hi, triangle),
+                None => false,
+            };
+            moved_occluded != occluded
+        })
+    };
+    (if occluded { SampleClass::Shadowed } else { SampleClass::Lit }, grazing || uncertain)
 }
 
 /// Band: a non-background sample whose 3x3 neighbourhood (itself included, clipped at the

@@ -109,6 +109,70 @@ impl ShearedRay {
     }
 }
 
+/// What [`ShearedRay::intersect_near`] found: the exact answer, and the answers for the
+/// triangle grown and shrunk by a margin (each edge line moved outwards or inwards by that
+/// distance, measured in the sheared plane perpendicular to the dominant axis).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NearHit {
+    /// The plain test of [`ShearedRay::intersect`] hits.
+    pub exact: bool,
+    /// The grown triangle is hit: the ray passes within the margin of the triangle.
+    pub grown: bool,
+    /// The shrunk triangle is hit: the ray passes through it at least the margin away from
+    /// every edge, so moving the ray by less than the margin cannot make it miss.
+    pub shrunk: bool,
+}
+
+impl ShearedRay {
+    /// [`ShearedRay::intersect`] with a `margin` (a world distance, `>= 0`): also reports whether
+    /// the ray hits the triangle grown and shrunk by `margin` (see [`NearHit`]). The `t` range is
+    /// the same open interval for all three answers. Used to find samples whose shadow would
+    /// change if the sample moved by less than the rounding of the GPU's depth test.
+    ///
+    /// The distance of the ray to an edge line is measured in the sheared plane: there an edge
+    /// function is twice the area of the triangle (origin, edge), i.e. the edge's 2D length
+    /// times the origin's distance to its line. Along the dominant axis the shear changes
+    /// distances by at most a factor sqrt(3), which a band definition can afford.
+    #[inline]
+    pub fn intersect_near(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64, margin: f64) -> NearHit {
+        let o = self.origin;
+        let rel = |p: [f32; 3]| [p[0] as f64 - o[0], p[1] as f64 - o[1], p[2] as f64 - o[2]];
+        let (pa, pb, pc) = (rel(a), rel(b), rel(c));
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let ax = pa[kx] - self.sx * pa[kz];
+        let ay = pa[ky] - self.sy * pa[kz];
+        let bx = pb[kx] - self.sx * pb[kz];
+        let by = pb[ky] - self.sy * pb[kz];
+        let cx = pc[kx] - self.sx * pc[kz];
+        let cy = pc[ky] - self.sy * pc[kz];
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        let det = u + v + w;
+        if det == 0.0 || det.is_nan() {
+            return NearHit::default();
+        }
+        // Edge functions scaled to distances: u belongs to edge (b, c), v to (c, a), w to (a, b).
+        let mu = margin * (cx - bx).hypot(cy - by);
+        let mv = margin * (ax - cx).hypot(ay - cy);
+        let mw = margin * (bx - ax).hypot(by - ay);
+        let grown = (u >= -mu && v >= -mv && w >= -mw) || (u <= mu && v <= mv && w <= mw);
+        if !grown {
+            return NearHit::default();
+        }
+        let az = self.sz * pa[kz];
+        let bz = self.sz * pb[kz];
+        let cz = self.sz * pc[kz];
+        let t = (u * az + v * bz + w * cz) / det;
+        if !(t > t_min && t < t_max) {
+            return NearHit::default();
+        }
+        let exact = !((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0));
+        let shrunk = (u >= mu && v >= mv && w >= mw) || (u <= -mu && v <= -mv && w <= -mw);
+        NearHit { exact, grown: true, shrunk: shrunk && exact }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

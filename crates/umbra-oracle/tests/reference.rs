@@ -340,3 +340,63 @@ fn epsilon_scales_with_the_scene() {
     assert!((segment_epsilon(&far) - 1e-5 * 1003.0).abs() < 1e-9);
     assert_eq!(segment_epsilon(&[]), 0.0);
 }
+
+/// One ground sample at (x, 0, z) under the square occluder at y = 1, point light (0, 10, 0):
+/// (class, band) of a 1x1 image, where the 3x3 rule cannot put anything in the band.
+fn single_sample_under_square(x: f32, z: f32) -> (SampleClass, bool) {
+    let mut scene = Scene::with_ground();
+    scene.add_square_occluder(1.0, false);
+    let r = run(&scene, &[[x, 0.0, z]], &[Scene::ground_triangle(x, z)], 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
+    (r.class[0], r.band[0])
+}
+
+#[test]
+fn near_boundary_sample_is_band_where_the_3x3_rule_sees_one_class() {
+    // The shadow boundary on the ground is x = 10/9: the segment from there to the light grazes
+    // the occluder's edge x = 1. Nearest f32 to 10/9 lies within 1e-7 of it: band, whatever
+    // its class.
+    let (_, band) = single_sample_under_square(10.0 / 9.0, 0.0);
+    assert!(band, "a sample on the shadow boundary must be band");
+    // 1e-3 away (far above the 2^-20 relative margin, ~2e-5 here): a plain sample again.
+    assert_eq!(single_sample_under_square(10.0 / 9.0 + 1e-3, 0.0), (SampleClass::Lit, false));
+    assert_eq!(single_sample_under_square(10.0 / 9.0 - 1e-3, 0.0), (SampleClass::Shadowed, false));
+}
+
+#[test]
+fn ray_through_an_occluders_interior_edge_is_not_band() {
+    // (0, 0, 0) -> light passes exactly through the occluder's diagonal (its two triangles'
+    // shared edge): near an edge of each triangle, yet every nearby segment is occluded.
+    assert_eq!(single_sample_under_square(0.0, 0.0), (SampleClass::Shadowed, false));
+    assert_eq!(single_sample_under_square(0.5, 0.5), (SampleClass::Shadowed, false));
+}
+
+#[test]
+fn snapped_samples_on_their_own_triangles_edge_are_band() {
+    use umbra_oracle::{reference_in_view, RasterView};
+    // Top-down orthographic view of ground_samples(): clip x = x / 3, clip y = -z / 3, w = 1,
+    // so pixel centres are exactly the sample positions. Ground only, light above: all lit.
+    let scene = Scene::with_ground();
+    let (pos, tri) = ground_samples();
+    let mesh = scene.mesh();
+    let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
+    let samples = Samples { width: 60, height: 60, world_pos: &pos, triangle: &tri };
+    let mut clip_from_world = [0.0f64; 16];
+    clip_from_world[0] = 1.0 / 3.0; // x_clip from x
+    clip_from_world[9] = -1.0 / 3.0; // y_clip from z (column 2, row 1)
+    clip_from_world[15] = 1.0; // w = 1
+    let view = RasterView { clip_from_world };
+    let light = [0.0, 10.0, 0.0, 1.0];
+    let eye = [0.0, 20.0, 5.0];
+    let plain = reference(&mesh, &bvh, &samples, light, eye).unwrap();
+    assert!(plain.band.iter().all(|&b| !b), "without the view nothing is band");
+    let r = reference_in_view(&mesh, &bvh, &samples, light, eye, Some(&view)).unwrap();
+    assert_eq!(r.class, plain.class, "the view changes the band only");
+    // Pixel centres on a cell's diagonal x + z = integer: px + py + 1 a multiple of 10. No
+    // centre comes near a grid line x or z = integer (0.5 pixel away).
+    for py in 0..60usize {
+        for px in 0..60usize {
+            let on_diagonal = (px + py + 1) % 10 == 0;
+            assert_eq!(r.band[py * 60 + px], on_diagonal, "pixel ({px}, {py})");
+        }
+    }
+}

@@ -26,7 +26,7 @@ use umbra_gl::glow;
 use umbra_gl::{
     create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
 };
-use umbra_oracle::{compare, reference, Bvh, Metrics, Reference, Samples};
+use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Reference, Samples};
 
 /// Why a verification could not run (not: a method that failed it).
 #[derive(Debug, thiserror::Error)]
@@ -145,10 +145,13 @@ pub fn view_reference(
     let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
     let samples = Samples { width: params.width, height: params.height, world_pos: &world_pos, triangle: &triangle };
     let eye = params.camera.eye.map(|c| c as f32);
+    // The renderer's own projection (x, y and w do not depend on the depth convention).
+    let aspect = params.width as f64 / params.height.max(1) as f64;
+    let raster = RasterView { clip_from_world: params.camera.clip_from_world(aspect).to_cols_array() };
     let mut lights = Vec::new();
     for (i, &light) in params.lights.iter().enumerate() {
         let start = Instant::now();
-        let reference = reference(mesh, &bvh, &samples, light, eye)?;
+        let reference = reference_in_view(mesh, &bvh, &samples, light, eye, Some(&raster))?;
         lights.push(LightReference { light: i, reference, reference_ms: ms(start) });
     }
     Ok(ViewReference { width: params.width, height: params.height, lights, bvh_ms })
