@@ -4,6 +4,9 @@ use serde::Serialize;
 use umbra_geom::adjacency::EdgeAdjacency;
 use umbra_geom::silhouette::silhouette_stats;
 use umbra_geom::weld::weld;
+use umbra_gl::methods::ts_silhouette::patch_bytes;
+use umbra_geom::sides_data::MAX_MULT_LIMIT;
+use umbra_gl::methods::vs_silhouette::plan_layout;
 
 use crate::args::InfoArgs;
 use crate::config::{load_scene, parse_light, CliError};
@@ -20,6 +23,17 @@ pub struct InfoReport {
     pub open_edges: usize,
     pub nonmanifold_edges: usize,
     pub max_opposites: usize,
+    /// `ts-silhouette`'s input (paper 001 Fig. 4-5 patches over an element buffer), bytes.
+    pub patch_bytes: usize,
+    /// `vs-silhouette`'s sides-data, paper 003 Eq. 8: `16 (2 + max_mult) e` bytes, with `e` the
+    /// edge records (edges with more opposite vertices than `max_mult` split over several).
+    pub sides_data_bytes: usize,
+    /// `vs-silhouette`'s caps-data, paper 003 Eq. 9: `48 t` bytes.
+    pub caps_data_bytes: usize,
+    /// The `maxMult` of Eq. 8 that `vs-silhouette` picks for this scene.
+    pub max_mult: usize,
+    /// The `e` of Eq. 8.
+    pub sides_data_records: usize,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub silhouette_edges: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -32,6 +46,9 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
     let welded = weld(&mesh);
     let adj = EdgeAdjacency::build(&welded);
     let silhouette = light.map(|l| silhouette_stats(&welded, &adj, l));
+    // The layout vs-silhouette's `prepare` uses with 16 vertex attributes (the minimum of GL
+    // 4.5 and ES 3.0, and what llvmpipe reports), computed without GL.
+    let layout = plan_layout(&adj, welded.triangles.len(), 16, MAX_MULT_LIMIT);
     let report = InfoReport {
         triangles: mesh.triangles.len(),
         vertices: welded.positions.len(),
@@ -40,6 +57,11 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         open_edges: adj.open_edges(),
         nonmanifold_edges: adj.nonmanifold_edges(),
         max_opposites: adj.max_opposites(),
+        patch_bytes: patch_bytes(&adj),
+        sides_data_bytes: layout.sides_bytes,
+        caps_data_bytes: layout.caps_bytes,
+        max_mult: layout.max_mult,
+        sides_data_records: layout.records,
         silhouette_edges: silhouette.map(|s| s.0),
         multiplicity_sum: silhouette.map(|s| s.1),
     };
@@ -54,6 +76,12 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         println!("open edges            {}", report.open_edges);
         println!("non-manifold edges    {}", report.nonmanifold_edges);
         println!("max opposite vertices {}", report.max_opposites);
+        println!("patch bytes           {} (ts-silhouette input)", report.patch_bytes);
+        println!(
+            "sides-data bytes      {} (vs-silhouette, Eq. 8: 16 x (2 + {}) x {} records)",
+            report.sides_data_bytes, report.max_mult, report.sides_data_records
+        );
+        println!("caps-data bytes       {} (vs-silhouette, Eq. 9: 48 x {} triangles)", report.caps_data_bytes, welded.triangles.len());
         if let (Some(e), Some(s)) = (report.silhouette_edges, report.multiplicity_sum) {
             println!("silhouette edges      {e}");
             println!("sum of |multiplicity| {s}");

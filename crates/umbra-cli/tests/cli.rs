@@ -39,6 +39,47 @@ fn info_json_box_counts() {
     assert_eq!(v["nonmanifold_edges"], 0);
     assert_eq!(v["max_opposites"], 2);
     assert!(v.get("silhouette_edges").is_none(), "no light, no silhouette keys");
+    // Paper 003 Eq. 8 and 9 with maxMult = 2 (every edge has 2 opposite vertices) and one
+    // record per edge: 16 (2 + 2) 18 and 48 x 12.
+    assert_eq!(v["max_mult"], 2);
+    assert_eq!(v["sides_data_records"], 18);
+    assert_eq!(v["sides_data_bytes"], 16 * (2 + 2) * 18);
+    assert_eq!(v["caps_data_bytes"], 48 * 12);
+    // ts-silhouette patches (001 Fig. 4-5): 12 (V + K) + 4 (3 + K) P with V = 8 vertices,
+    // K = 2 opposite slots (the most any edge has), P = 18 patches (one per edge).
+    assert_eq!(v["patch_bytes"], 12 * (8 + 2) + 4 * (3 + 2) * 18);
+}
+
+#[test]
+fn info_json_sides_data_splits_the_book_spine() {
+    // 40 pages on one spine: one edge with 40 opposite vertices; the other 80 edges (2 open
+    // edges per page) have 1. maxMult stays the common case and the spine is split into
+    // ceil(40 / maxMult) records; the sizes still follow Eq. 8 and 9 exactly. ts-silhouette's
+    // patches hold K = 29 opposites at most (GL 4.0 minimums), so the spine takes 2 patches.
+    let dir = tmp("book");
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("book.obj");
+    let mut obj = String::from("v 0 0 0\nv 0 1 0\n");
+    for k in 0..40 {
+        let a = k as f64 * std::f64::consts::PI / 40.0;
+        obj += &format!("v {} 0.5 {}\n", a.cos(), a.sin());
+    }
+    for k in 0..40 {
+        obj += &format!("f 1 2 {}\n", k + 3);
+    }
+    std::fs::write(&f, obj).unwrap();
+    let o = umbra(&["info", f.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    assert_eq!(v["max_opposites"], 40);
+    let (m, e) = (v["max_mult"].as_u64().unwrap(), v["sides_data_records"].as_u64().unwrap());
+    let edges = v["edges"].as_u64().unwrap();
+    assert!(m < 40, "the rare spine must not set maxMult: {m}");
+    assert_eq!(e, edges - 1 + 40u64.div_ceil(m), "spine split into ceil(40 / maxMult) records");
+    assert_eq!(v["sides_data_bytes"].as_u64().unwrap(), 16 * (2 + m) * e);
+    assert_eq!(v["caps_data_bytes"], 48 * 40);
+    assert_eq!(edges, 81);
+    assert_eq!(v["patch_bytes"], 12 * (42 + 29) + 4 * (3 + 29) * (80 + 2));
 }
 
 #[test]

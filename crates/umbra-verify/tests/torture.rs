@@ -228,7 +228,6 @@ fn torture_single_quad() {
 }
 
 #[test]
-#[ignore = "known failure (issue 3 open): 1-2 samples outside the band for every stencil method, from side quads meeting a surface at a shallow angle under limited depth precision; run with --ignored"]
 fn torture_open_box() {
     // A cube with its top face removed, light shining in from above.
     let mut b = cuboid([0.0, 1.0, 0.0], [1.0, 1.0, 1.0]);
@@ -387,13 +386,11 @@ fn torture_crytek_sponza() {
 }
 
 #[test]
-#[ignore = "known failure (issue 3 open): 1-2 samples outside the band for every stencil method, from side quads meeting a surface at a shallow angle under limited depth precision; run with --ignored"]
 fn torture_conference() {
     shared_scene("conference.obj.gz");
 }
 
 #[test]
-#[ignore = "known failure (issue 3 open): 1-2 samples outside the band for every stencil method, from side quads meeting a surface at a shallow angle under limited depth precision; run with --ignored"]
 fn torture_sibenik() {
     shared_scene("sibenik.obj.gz");
 }
