@@ -59,10 +59,26 @@ pub struct ViewArgs {
     pub max_input_bytes: Option<u64>,
 }
 
+/// Options of the shadow-map methods, shared by `render`, `verify` and `bench`.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SmArgs {
+    /// Shadow-map bias: constant C [, slope-scaled S] (glPolygonOffset units, factor).
+    #[arg(long, allow_hyphen_values = true)]
+    pub sm_bias: Option<String>,
+    /// Shadow maps: 3x3 percentage-closer filtering (majority vote).
+    #[arg(long)]
+    pub sm_pcf: bool,
+    /// Shadow maps: cube faces rendered in one layered pass (`layered`) or six passes (`six`).
+    #[arg(long, default_value = "layered")]
+    pub sm_faces: String,
+}
+
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub sm: SmArgs,
     /// Shadow method (see `umbra render --method help`). Default: the best one available.
     #[arg(long)]
     pub method: Option<String>,
@@ -93,6 +109,8 @@ pub struct InfoArgs {
 pub struct VerifyArgs {
     #[command(flatten)]
     pub view: ViewArgs,
+    #[command(flatten)]
+    pub sm: SmArgs,
     /// Methods to verify: NAME[,NAME...] or `all`.
     #[arg(long, default_value = "all")]
     pub method: String,
@@ -162,15 +180,8 @@ pub struct BenchArgs {
     /// Largest accepted input file in bytes, after decompression.
     #[arg(long)]
     pub max_input_bytes: Option<u64>,
-    /// Shadow-map bias: constant C [, slope-scaled S] (glPolygonOffset units, factor).
-    #[arg(long, allow_hyphen_values = true)]
-    pub sm_bias: Option<String>,
-    /// Shadow maps: 3x3 percentage-closer filtering (majority vote).
-    #[arg(long)]
-    pub sm_pcf: bool,
-    /// Shadow maps: cube faces rendered in one layered pass (`layered`) or six passes (`six`).
-    #[arg(long, default_value = "layered")]
-    pub sm_faces: String,
+    #[command(flatten)]
+    pub sm: SmArgs,
     /// Test hook: print the interleaving order to stderr (`bench-order warmup|frame ROUND METHOD`).
     #[arg(long, hide = true)]
     pub trace_order: bool,

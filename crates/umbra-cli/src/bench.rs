@@ -29,15 +29,20 @@ use std::path::Path;
 use serde::Serialize;
 use umbra_geom::scene;
 use umbra_geom::{Aabb, Light};
-use umbra_gl::methods::shadow_map::{FacePasses, ShadowMapConfig, ShadowMapCube};
 use umbra_gl::{
-    create_method, method_names, Attachments, FrameTarget, RenderTarget, ShadowMethod, StageHook, StageMark,
+    Attachments, FrameTarget, RenderTarget, StageHook, StageMark,
     StageTiming, TimestampHook,
 };
 
 use crate::args::BenchArgs;
 use crate::config::{default_light, load_scene, parse_light, parse_size, CameraConfig, CliError, Framing, ViewConfig};
 use crate::session::Session;
+pub use crate::methods::{make_method, method_exists, SmOptions};
+
+/// `bench --methods`: see [`crate::methods::parse_methods`].
+pub fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
+    crate::methods::parse_methods(text, "--methods")
+}
 
 pub use flythrough::Keyframe;
 
@@ -47,79 +52,6 @@ fn bad(flag: &'static str, message: impl Into<String>) -> CliError {
 
 fn gl_err(e: impl std::fmt::Display) -> CliError {
     CliError::Gl(e.to_string())
-}
-
-/// Options of the shadow-map methods (`--sm-bias`, `--sm-pcf`, `--sm-faces`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SmOptions {
-    pub bias_constant: Option<f32>,
-    pub bias_slope: Option<f32>,
-    pub pcf: bool,
-    pub faces: FacePasses,
-}
-
-impl SmOptions {
-    pub fn from_args(a: &BenchArgs) -> Result<Self, CliError> {
-        let (mut bias_constant, mut bias_slope) = (None, None);
-        if let Some(text) = &a.sm_bias {
-            let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-            if parts.is_empty() || parts.len() > 2 {
-                return Err(bad("--sm-bias", format!("expected C or C,S, got {text:?}")));
-            }
-            let num = |s: &str| -> Result<f32, CliError> {
-                s.parse::<f32>()
-                    .ok()
-                    .filter(|v| v.is_finite() && *v >= 0.0)
-                    .ok_or_else(|| bad("--sm-bias", format!("{s:?} in {text:?} is not a finite number >= 0")))
-            };
-            bias_constant = Some(num(parts[0])?);
-            if let Some(s) = parts.get(1) {
-                bias_slope = Some(num(s)?);
-            }
-        }
-        let faces = match a.sm_faces.as_str() {
-            "layered" => FacePasses::Layered,
-            "six" => FacePasses::SixPasses,
-            other => return Err(bad("--sm-faces", format!("expected layered or six, got {other:?}"))),
-        };
-        Ok(Self { bias_constant, bias_slope, pcf: a.sm_pcf, faces })
-    }
-}
-
-/// Builds a method by name; shadow-map names get the `--sm-*` options.
-pub fn make_method(name: &str, sm: &SmOptions) -> Result<Box<dyn ShadowMethod>, CliError> {
-    if let Some(mut c) = ShadowMapConfig::from_name(name) {
-        if let Some(b) = sm.bias_constant {
-            c.bias_constant = b;
-        }
-        if let Some(s) = sm.bias_slope {
-            c.bias_slope = s;
-        }
-        c.pcf = sm.pcf;
-        c.faces = sm.faces;
-        return Ok(Box::new(ShadowMapCube::new(c)));
-    }
-    create_method(name).map_err(|e| bad("--methods", e.to_string()))
-}
-
-/// True if the registry can build `name` (listed or parameterised).
-pub fn method_exists(name: &str) -> bool {
-    create_method(name).is_ok()
-}
-
-/// `all` (every registered method), or a comma-separated list of names.
-pub fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
-    if text.trim() == "all" {
-        return Ok(method_names().iter().map(|s| s.to_string()).collect());
-    }
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
-    if names.is_empty() {
-        return Err(bad("--methods", "no method named"));
-    }
-    for n in &names {
-        create_method(n).map_err(|e| bad("--methods", e.to_string()))?;
-    }
-    Ok(names)
 }
 
 /// One step of the interleaved schedule: round `round` (warm-up or measured) of method
@@ -371,7 +303,7 @@ pub fn measure(
     let fb = FrameTarget { framebuffer: Some(target.framebuffer()) };
     let mut instances = Vec::new();
     for m in methods {
-        instances.push(make_method(m, &o.sm)?);
+        instances.push(make_method(m, &o.sm, "--methods")?);
     }
     let mut stats: Vec<MethodStats> =
         methods.iter().map(|m| MethodStats { method: m.clone(), ..Default::default() }).collect();
@@ -604,7 +536,7 @@ pub fn measure_options(
         stage_every: a.stage_every.unwrap_or(stage_every_default),
         fov: a.fov,
         zpass: a.zpass,
-        sm: SmOptions::from_args(a)?,
+        sm: SmOptions::from_args(&a.sm)?,
         trace_order: a.trace_order,
         progress_label: label.to_string(),
     })

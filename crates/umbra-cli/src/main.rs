@@ -5,6 +5,7 @@ mod args;
 mod bench;
 mod config;
 mod info;
+mod methods;
 mod render;
 mod session;
 mod verify;

@@ -2,8 +2,6 @@
 
 use std::path::Path;
 
-use umbra_gl::create_method;
-
 use crate::args::RenderArgs;
 use crate::config::{CliError, ViewConfig};
 use crate::session::{Session, DEFAULT_METHOD};
@@ -16,7 +14,8 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         }
         return Ok(());
     }
-    let mut method = create_method(method_name).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
+    let sm = crate::methods::SmOptions::from_args(&a.sm)?;
+    let mut method = crate::methods::make_method(method_name, &sm, "--method")?;
     let view = ViewConfig::from_args(&a.view)?;
     let mut s = Session::new(&view)?;
     let params = s.frame_params(&view);

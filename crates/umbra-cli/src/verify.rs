@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
-use umbra_gl::{create_method, method_names, RgbaImage};
+use umbra_gl::RgbaImage;
 use umbra_oracle::diff_image;
 use umbra_verify::{verify_method, view_reference, MethodReport};
 
@@ -24,21 +24,6 @@ struct JsonRow<'a> {
     mismatches_outside_band: u64,
     reference_ms: f64,
     render_ms: f64,
-}
-
-/// `all`, or a comma-separated list of registered names.
-fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
-    if text.trim() == "all" {
-        return Ok(method_names().iter().map(|s| s.to_string()).collect());
-    }
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
-    if names.is_empty() {
-        return Err(CliError::BadFlag { flag: "--method", message: "no method named".into() });
-    }
-    for n in &names {
-        create_method(n).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
-    }
-    Ok(names)
 }
 
 /// `diff.png` → `diff.METHOD.png` when several images are written (and `.lightN` per light).
@@ -68,7 +53,8 @@ fn write_diff(path: &Path, report: &MethodReport, reference: &umbra_oracle::Refe
 
 /// Returns whether every method that must be exact passed.
 pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
-    let methods = parse_methods(&a.method)?;
+    let methods = crate::methods::parse_methods(&a.method, "--method")?;
+    let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let view = ViewConfig::from_args(&a.view)?;
     let mut s = Session::new(&view)?;
     let params = s.frame_params(&view);
@@ -78,7 +64,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     let mut rows = Vec::new();
     let mut all_passed = true;
     for name in &methods {
-        let mut method = create_method(name).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
+        let mut method = crate::methods::make_method(name, &sm, "--method")?;
         let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
         method.destroy(gl);
         let report = report.map_err(|e| CliError::Other(e.to_string()))?;

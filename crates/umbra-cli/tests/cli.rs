@@ -225,3 +225,33 @@ fn verify_writes_diff_image() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(&std::fs::read(&d).expect("diff written")[..4], b"\x89PNG");
 }
+
+#[test]
+fn sm_options_reach_the_shadow_map_in_render_and_verify() {
+    // --sm-bias / --sm-pcf are accepted by render and verify as by bench, and change what the
+    // shadow map decides: without any bias a depth map shadows its own receivers (acne), so
+    // verify counts many more false shadows than with the default bias.
+    let verify = |extra: &[&str]| {
+        let mut args = vec!["verify", "--method", "shadow-map-cube:256", "--size", "160x120", "--json"];
+        args.extend_from_slice(extra);
+        let o = umbra(&args);
+        assert_eq!(o.status.code(), Some(0), "shadow maps are never failed: {}", stderr(&o));
+        json(&o)[0]["mismatches"].as_u64().unwrap()
+    };
+    let default_bias = verify(&[]);
+    let no_bias = verify(&["--sm-bias", "0,0"]);
+    assert!(no_bias > default_bias + 100, "no bias {no_bias} vs default {default_bias}");
+    let pcf = verify(&["--sm-pcf"]);
+    assert_ne!(pcf, default_bias, "3x3 PCF must change some decisions");
+    let (a, b) = (tmp("sm-plain.png"), tmp("sm-pcf.png"));
+    for (out, extra) in [(&a, None), (&b, Some("--sm-pcf"))] {
+        let mut args = vec!["render", "--method", "shadow-map-cube:256", "--size", "160x120", "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        let o = umbra(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "--sm-pcf must reach render");
+    let o = umbra(&["render", "--method", "shadow-map-cube:256", "--sm-bias", "-1", "--out", a.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--sm-bias"), "{}", stderr(&o));
+}
