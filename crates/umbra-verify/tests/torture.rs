@@ -89,6 +89,8 @@ fn run(case: Case) {
     let params = FrameParams { camera: case.camera, width: W, height: H, lights: case.lights.clone(), ..FrameParams::default() };
     let view = view_reference(gl, &mut renderer, &scene, &params).unwrap_or_else(|e| panic!("{}: {e}", case.name));
     let mut failures = Vec::new();
+    // Every method's numbers, one TSV per case, for scripts/exactness.py's torture table.
+    let mut tsv = String::from("method\tsamples\tshadowed_reference\tmismatches\tband_samples\tband_mismatches\tmismatches_outside_band\n");
     for &name in method_names() {
         let mut method = create_method(name).expect("registered");
         let report = verify_method(gl, &mut renderer, &scene, method.as_mut(), &params, &view);
@@ -99,12 +101,19 @@ fn run(case: Case) {
             "{:<28} {:<24} samples {:>6} shadowed {:>6} band {:>5} band-mis {:>4} outside-band {:>4}",
             case.name, name, m.samples, m.shadowed_reference, m.band_samples, m.band_mismatches, m.mismatches_outside_band
         );
+        tsv += &format!(
+            "{name}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+            m.samples, m.shadowed_reference, m.mismatches, m.band_samples, m.band_mismatches, m.mismatches_outside_band
+        );
         let excused = case.excused.iter().any(|(n, _)| *n == name);
         if !report.passed() && !excused {
             let dir = write_failure(&ctx, case.name, &report, &view);
             failures.push(format!("{name}: {} mismatches outside the band (images in {})", m.mismatches_outside_band, dir.display()));
         }
     }
+    let results = output_dir().join("results");
+    let _ = std::fs::create_dir_all(&results);
+    let _ = std::fs::write(results.join(format!("{}.tsv", case.name)), tsv);
     let errors = ctx.take_gl_errors();
     assert!(errors.is_empty(), "{}: GL errors: {errors:?}", case.name);
     assert!(view.lights.iter().all(|l| l.reference.class.len() == (W * H) as usize));
