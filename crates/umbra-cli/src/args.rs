@@ -121,6 +121,10 @@ pub struct VerifyArgs {
     /// With several methods, the method name is inserted before the extension.
     #[arg(long)]
     pub diff: Option<String>,
+    /// Print, on stderr, what is known about up to N mismatching samples outside the band per
+    /// method and light (triangle, position, distance to its edges, first occluder).
+    #[arg(long, default_value_t = 0)]
+    pub explain: usize,
 }
 
 /// Flags of `umbra bench` (frame benchmarks; see docs/benchmarks.md "Frame benchmarks").

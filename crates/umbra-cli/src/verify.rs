@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use umbra_gl::RgbaImage;
 use umbra_oracle::diff_image;
-use umbra_verify::{verify_method, view_reference, MethodReport};
+use umbra_verify::{verify_method, view_reference, MethodReport, SampleClass};
 
 use crate::args::VerifyArgs;
 use crate::config::{CliError, ViewConfig};
@@ -72,6 +72,23 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             for (i, lr) in reference.lights.iter().enumerate() {
                 let path = diff_path(base, name, i, methods.len(), reference.lights.len());
                 write_diff(&path, &report, &lr.reference, i)?;
+            }
+        }
+        if a.explain > 0 {
+            for (i, (lr, res)) in reference.lights.iter().zip(&report.per_light).enumerate() {
+                let outside: Vec<usize> = (0..res.shadowed.len())
+                    .filter(|&k| {
+                        let class = lr.reference.class[k];
+                        class != SampleClass::Background
+                            && !lr.reference.band[k]
+                            && res.shadowed[k] != (class == SampleClass::Shadowed)
+                    })
+                    .collect();
+                for &k in outside.iter().take(a.explain) {
+                    let (x, y) = ((k % view.width as usize) as u32, (k / view.width as usize) as u32);
+                    let what = if res.shadowed[k] { "false shadow" } else { "false light" };
+                    eprintln!("{name} light {i} {what} {}", umbra_verify::explain(&s.welded, &reference, i, x, y));
+                }
             }
         }
         all_passed &= report.passed();

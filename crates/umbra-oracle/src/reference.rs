@@ -68,7 +68,7 @@ impl RasterView {
     /// `height` image to the nearest line of the triangle's three edges, in homogeneous 2D
     /// clip coordinates (right for vertices behind the eye too: the line through two
     /// homogeneous points is their cross product). `None` when every line is degenerate.
-    fn edge_distance_px(&self, tri: [[f64; 3]; 3], x: u32, y: u32, width: u32, height: u32) -> Option<f64> {
+    pub fn edge_distance_px(&self, tri: [[f64; 3]; 3], x: u32, y: u32, width: u32, height: u32) -> Option<f64> {
         let (w, h) = (width as f64, height as f64);
         let p = [(x as f64 + 0.5) / w * 2.0 - 1.0, 1.0 - (y as f64 + 0.5) / h * 2.0, 1.0];
         let v = tri.map(|q| self.clip(q));

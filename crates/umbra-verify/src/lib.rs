@@ -27,6 +27,7 @@ use umbra_gl::{
     create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
 };
 use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Reference, Samples};
+pub use umbra_oracle::SampleClass;
 
 /// Why a verification could not run (not: a method that failed it).
 #[derive(Debug, thiserror::Error)]
@@ -67,6 +68,14 @@ pub struct ViewReference {
     pub lights: Vec<LightReference>,
     /// Time to build the BVH (shared by every light and method).
     pub bvh_ms: f64,
+    /// The rasterized samples (row-major, top row first; `u32::MAX` = background), the BVH and
+    /// the view, kept for [`explain`].
+    pub world_pos: Vec<[f32; 3]>,
+    pub triangle: Vec<u32>,
+    pub bvh: Bvh,
+    pub raster: RasterView,
+    pub eye: [f32; 3],
+    pub light_positions: Vec<umbra_geom::Light>,
 }
 
 impl ViewReference {
@@ -154,7 +163,58 @@ pub fn view_reference(
         let reference = reference_in_view(mesh, &bvh, &samples, light, eye, Some(&raster))?;
         lights.push(LightReference { light: i, reference, reference_ms: ms(start) });
     }
-    Ok(ViewReference { width: params.width, height: params.height, lights, bvh_ms })
+    Ok(ViewReference {
+        width: params.width,
+        height: params.height,
+        lights,
+        bvh_ms,
+        world_pos,
+        triangle,
+        bvh,
+        raster,
+        eye,
+        light_positions: params.lights.clone(),
+    })
+}
+
+/// What is known about the sample at pixel `(x, y)` for light `light` (an index into
+/// [`ViewReference::lights`]), for diagnosing a mismatch: its triangle, position, the distance
+/// of the pixel centre to its triangle's edges, the reference's class and band, and the first
+/// occluder along the segment to the light (if any), with its distance from the segment's
+/// start. One line of text.
+pub fn explain(mesh: &WeldedMesh, view: &ViewReference, light: usize, x: u32, y: u32) -> String {
+    let i = y as usize * view.width as usize + x as usize;
+    let (Some(&t), Some(lr), Some(&l)) = (view.triangle.get(i), view.lights.get(light), view.light_positions.get(light))
+    else {
+        return format!("({x}, {y}): no such sample");
+    };
+    if t == u32::MAX || t as usize >= mesh.triangles.len() {
+        return format!("({x}, {y}): background");
+    }
+    let p = view.world_pos[i];
+    let tri = mesh.triangles[t as usize].map(|k| mesh.positions[k as usize].map(f64::from));
+    let edge_px = view.raster.edge_distance_px(tri, x, y, view.width, view.height);
+    let s = p.map(f64::from);
+    let (dir, t_max) = if l[3] != 0.0 {
+        ([0, 1, 2].map(|k| f64::from(l[k]) / f64::from(l[3]) - s[k]), 1.0)
+    } else {
+        ([0, 1, 2].map(|k| f64::from(l[k])), f64::INFINITY)
+    };
+    let len = dir.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let hit = view.bvh.intersect(s, dir, 0.0, t_max);
+    let hit = match hit {
+        Some(h) if h.triangle == t => format!("own triangle at {:.3e}", h.t * len),
+        Some(h) => format!("triangle {} at distance {:.3e}", h.triangle, h.t * len),
+        None => "nothing".into(),
+    };
+    format!(
+        "({x}, {y}): triangle {t} {:?} at {:?}, pixel centre {} px from its edges; reference {:?}{}; first hit towards the light: {hit}",
+        mesh.triangles[t as usize],
+        p,
+        edge_px.map_or("?".into(), |d| format!("{d:.4}")),
+        lr.reference.class[i],
+        if lr.reference.band[i] { " (band)" } else { "" },
+    )
 }
 
 /// Evaluates a stencil test `(reference & mask) func (stencil & mask)` as GL does.
