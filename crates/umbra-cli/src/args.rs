@@ -21,6 +21,10 @@ pub enum Command {
     Verify(VerifyArgs),
     /// Time shadow methods along a camera path (frame and per-stage times), or run a paper's benchmark suite.
     Bench(BenchArgs),
+    /// Open a window on a scene: orbit/fly camera, movable lights, method switching, shadow-mask view.
+    View(ViewWindowArgs),
+    /// Write paper 003's preprocessed scene (mesh, sides-data, caps-data, manifest.json) for the WebGL2 viewer.
+    Export(ExportArgs),
 }
 
 /// Scene, camera and light flags shared by `render` and `verify`.
@@ -85,6 +89,30 @@ pub struct RenderArgs {
     /// Output PNG file.
     #[arg(long, default_value = "umbra.png")]
     pub out: String,
+}
+
+/// Flags of `umbra view` (see umbra_view for the controls).
+#[derive(Args, Debug)]
+pub struct ViewWindowArgs {
+    /// Scene spec or mesh file, as for `render --scene` (takes precedence over --scene).
+    #[arg(value_name = "SCENE")]
+    pub scene_arg: Option<String>,
+    /// Scene, camera, light and size flags as for `render`; --size is the window's initial size.
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Initial shadow method (number keys and M switch it in the window).
+    #[arg(long)]
+    pub method: Option<String>,
+    /// Camera path: one frame per line, `eye x y z target x y z` (or the six numbers, as in
+    /// bench/*.flythrough); `#` comments.
+    #[arg(long)]
+    pub script: Option<String>,
+    /// Write the window's frame after the script's last pose (or the first frame) to this PNG, then exit.
+    #[arg(long)]
+    pub screenshot: Option<String>,
+    /// Start in the shadow-mask view (V toggles it): white = lit by every light, black = by none.
+    #[arg(long)]
+    pub mask: bool,
 }
 
 #[derive(Args, Debug)]
@@ -189,4 +217,33 @@ pub struct BenchArgs {
     /// Test hook: print the interleaving order to stderr (`bench-order warmup|frame ROUND METHOD`).
     #[arg(long, hide = true)]
     pub trace_order: bool,
+}
+
+/// Flags of `umbra export` (see crate::export).
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    /// Scene spec or mesh file, as for `render --scene`.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<String>,
+    /// Output directory (created if needed).
+    #[arg(long)]
+    pub out: Option<String>,
+    /// Add the receiving ground plane, as `render --ground`.
+    #[arg(long)]
+    pub ground: bool,
+    /// Suggested light X,Y,Z[,W] written to the manifest. Default: as `render`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub light: Option<String>,
+    /// Suggested camera position X,Y,Z. Default: as `render`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// Suggested camera target X,Y,Z. Default: as `render`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub target: Option<String>,
+    /// Largest accepted input file in bytes, after decompression.
+    #[arg(long)]
+    pub max_input_bytes: Option<u64>,
+    /// Instead of exporting: read DIR/manifest.json back and check it and every buffer file's size.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scene", "out"])]
+    pub check: Option<String>,
 }

@@ -4,11 +4,13 @@
 mod args;
 mod bench;
 mod config;
+mod export;
 mod info;
 mod methods;
 mod render;
 mod session;
 mod verify;
+mod view;
 
 use clap::Parser;
 
@@ -18,6 +20,8 @@ fn main() {
         args::Command::Info(a) => info::run(a),
         args::Command::Render(a) => render::run(a),
         args::Command::Bench(a) => bench::run(a),
+        args::Command::View(a) => view::run(a),
+        args::Command::Export(a) => export::run(a),
         args::Command::Verify(a) => match verify::run(a) {
             // A method that must be exact was not: exit status 1 (errors are 2).
             Ok(false) => std::process::exit(1),
