@@ -1,0 +1,53 @@
+// Camera matrices in f64 (JS numbers), uploaded as f32: the twins of crates/umbra-gl/src/
+// camera.rs (glam's look_at_rh and the infinite-far perspective of Everitt & Kilgard 2002), in
+// both of its depth conventions: reversed-Z (the native renderer's default; in WebGL 2 only
+// with the EXT_clip_control extension) and standard (clip z in [-w, w], depth 1 at infinity,
+// the fallback). x and y rows are the same in both, so coverage is the native frame's.
+
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+// glam's normalize: a * (1 / sqrt(a . a)), same operations in the same order.
+const normalize = (a) => {
+  const r = 1 / Math.sqrt(dot(a, a));
+  return [a[0] * r, a[1] * r, a[2] * r];
+};
+export { sub, dot, cross, normalize };
+
+/** Column-major 4x4 (array of 16), glam's DMat4::look_at_rh. */
+export function lookAt(eye, target, up) {
+  const f = normalize(sub(target, eye));
+  const s = normalize(cross(f, up));
+  const u = cross(s, f);
+  return [s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0, -dot(s, eye), -dot(u, eye), dot(f, eye), 1];
+}
+
+/** Infinite-far perspective, standard convention (camera.rs module doc, first matrix). */
+export function infinitePerspective(fovYDegrees, aspect, near) {
+  const f = 1 / Math.tan(0.5 * (fovYDegrees * Math.PI) / 180);
+  return [f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, -1, -1, 0, 0, -2 * near, 0];
+}
+
+/** a * b, column-major. */
+export function mul(a, b) {
+  const o = new Array(16).fill(0);
+  for (let c = 0; c < 4; c++) for (let r = 0; r < 4; r++) {
+    let s = 0;
+    for (let k = 0; k < 4; k++) s += a[k * 4 + r] * b[c * 4 + k];
+    o[c * 4 + r] = s;
+  }
+  return o;
+}
+
+/** Infinite-far perspective, reversed-Z (camera.rs module doc, second matrix; needs
+ * EXT_clip_control ZERO_TO_ONE): depth n / d, exactly 0 at infinity. */
+export function infinitePerspectiveReversedZ(fovYDegrees, aspect, near) {
+  const f = 1 / Math.tan(0.5 * (fovYDegrees * Math.PI) / 180);
+  return [f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, 0, -1, 0, 0, near, 0];
+}
+
+/** clip_from_world in the standard or the reversed-Z convention (f64 product, f32 upload). */
+export function clipFromWorld(cam, aspect, reversedZ = false) {
+  const p = (reversedZ ? infinitePerspectiveReversedZ : infinitePerspective)(cam.fov_y_degrees, aspect, cam.near);
+  return new Float32Array(mul(p, lookAt(cam.eye, cam.target, cam.up)));
+}
