@@ -68,6 +68,10 @@ pub enum LoadError {
         available: u64,
         max_possible: u64,
     },
+    /// The mesh a small file expands to (glTF nodes instancing one mesh many times) would
+    /// exceed `LoadOptions::max_input_bytes` bytes of positions, normals and triangles.
+    #[error("{file}: {location}: the loaded mesh would hold {bytes} bytes (positions, normals, triangles), over the limit of {limit} bytes; raise LoadOptions::max_input_bytes to load it")]
+    OutputTooLarge { file: String, location: Location, bytes: u64, limit: u64 },
     /// The file uses a feature this loader does not implement (e.g. a required glTF extension).
     #[error("{file}: {location}: unsupported: {what}")]
     Unsupported { file: String, location: Location, what: String },
@@ -86,6 +90,7 @@ impl LoadError {
             | LoadError::NonFinite { file, .. }
             | LoadError::Malformed { file, .. }
             | LoadError::TooManyElements { file, .. }
+            | LoadError::OutputTooLarge { file, .. }
             | LoadError::Unsupported { file, .. } => file,
         }
     }
@@ -98,6 +103,7 @@ impl LoadError {
             | LoadError::NonFinite { location, .. }
             | LoadError::Malformed { location, .. }
             | LoadError::TooManyElements { location, .. }
+            | LoadError::OutputTooLarge { location, .. }
             | LoadError::Unsupported { location, .. } => Some(location),
             _ => None,
         }

@@ -13,8 +13,12 @@
 //!   normals use the inverse transpose; a node transform with negative determinant
 //!   (mirroring) flips the triangles so they stay counter-clockwise. A node reached twice
 //!   (a cycle or a node with two parents, both invalid glTF) is an error.
+//! * Output bound: the mesh (positions, normals, triangles at 12 bytes each) may not grow
+//!   beyond `LoadOptions::max_input_bytes`, which stops a small document whose nodes
+//!   instance one mesh many times ([`LoadError::OutputTooLarge`]).
 //! * Buffers: the GLB `BIN` chunk, `data:` URIs with base64, or files relative to the
-//!   `.gltf` (percent-decoded URI), each bounded by `LoadOptions::max_input_bytes`. A
+//!   `.gltf` (percent-decoded URI; absolute paths, other schemes and anything but a regular
+//!   file are refused), each bounded by `LoadOptions::max_input_bytes`. A
 //!   `.gltf` passed to `load_bytes` has no directory and can only use data URIs.
 //! * [`super::Format::Gltf`] and [`super::Format::Glb`] are parsed alike: input starting
 //!   with the GLB magic `glTF` is a GLB container, anything else JSON text.
@@ -393,6 +397,24 @@ impl<'a> Doc<'a> {
                 }
                 None => (0..vertex_count as u64).collect(),
             };
+            // Node instancing multiplies a mesh by the nodes using it: a small document
+            // could expand quadratically (every node x every vertex), so the output is
+            // bounded by the input limit before it is allocated.
+            let new_triangles = match mode {
+                4 => indices.len() / 3,
+                _ => indices.len().saturating_sub(2),
+            } as u64;
+            let vertex_bytes = 12 + if normal.is_some() { 12 } else { 0 };
+            let output_bytes = (out.positions.len() as u64 + vertex_count as u64) * vertex_bytes
+                + (out.triangles.len() as u64 + new_triangles) * 12;
+            if output_bytes > self.options.max_input_bytes {
+                return Err(LoadError::OutputTooLarge {
+                    file: self.file.to_string(),
+                    location: Location::Json(ppath),
+                    bytes: output_bytes,
+                    limit: self.options.max_input_bytes,
+                });
+            }
             let base = out.positions.len() as u64;
             if base + vertex_count as u64 > u64::from(u32::MAX) {
                 return Err(self.malformed(ppath, "more than 2^32 - 1 vertices in total".into()));
@@ -511,7 +533,23 @@ impl<'a> Doc<'a> {
         };
         let relative = percent_decode(uri)
             .ok_or_else(|| self.malformed(path.to_string(), format!("bad percent-encoding in uri {uri:?}")))?;
+        // Only files relative to the document: an absolute path or another scheme could
+        // point at /dev/zero (4 GiB of zeros up to the limit), a FIFO (a hang) or a URL.
+        if relative.contains(':') || Path::new(&relative).has_root() {
+            return Err(LoadError::Unsupported {
+                file: self.file.to_string(),
+                location: Location::Json(path.to_string()),
+                what: format!("buffer uri {uri:?} is not a relative file path or a data URI"),
+            });
+        }
         let full = dir.join(relative);
+        if std::fs::metadata(&full).is_ok_and(|m| !m.is_file()) {
+            return Err(LoadError::Unsupported {
+                file: self.file.to_string(),
+                location: Location::Json(path.to_string()),
+                what: format!("buffer {} is not a regular file", full.display()),
+            });
+        }
         super::read_limited(&full, &full.display().to_string(), false, self.options.max_input_bytes)
     }
 
@@ -875,6 +913,37 @@ mod tests {
         assert_eq!(base64_decode(b"Zm9v").unwrap(), b"foo");
         assert_eq!(base64_decode(b"Zm9vYmFy").unwrap(), b"foobar");
         assert_eq!(base64_decode(b"Zm9v!mFy"), Err(4));
+    }
+
+    /// Hostile external buffers (found reviewing the loader for issue 8): `/dev/zero` read
+    /// 4 GiB of zeros up to the default limit, a FIFO or `/dev/stdin` hung, a directory or a
+    /// URL must not be opened.
+    #[test]
+    fn regression_external_buffer_must_be_a_relative_regular_file() {
+        let dir = std::env::temp_dir().join(format!("umbra-gltf-uri-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        let opts = LoadOptions::default();
+        for uri in ["/dev/zero", "/dev/stdin", "file:///dev/zero", "http://example.invalid/a.bin", "sub", "C:/x.bin"] {
+            let doc = format!(
+                r#"{{"asset": {{"version": "2.0"}}, "buffers": [{{"byteLength": 36, "uri": "{uri}"}}],
+                    "bufferViews": [{{"buffer": 0, "byteLength": 36}}],
+                    "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}}],
+                    "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}], "nodes": [{{"mesh": 0}}]}}"#
+            );
+            let err = parse(doc.as_bytes(), "uri.gltf", Some(&dir), &opts, &mut Vec::new()).unwrap_err();
+            assert!(matches!(err, LoadError::Unsupported { .. }), "{uri}: {err:?}");
+            assert_eq!(err.location(), Some(&Location::Json("buffers[0].uri".into())), "{uri}: {err}");
+        }
+        // a relative regular file still loads
+        let bin: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+        std::fs::write(dir.join("sub").join("ok.bin"), bin).unwrap();
+        let doc = r#"{"asset": {"version": "2.0"}, "buffers": [{"byteLength": 36, "uri": "sub/ok.bin"}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "nodes": [{"mesh": 0}]}"#;
+        let mesh = parse(doc.as_bytes(), "ok.gltf", Some(&dir), &opts, &mut Vec::new()).unwrap();
+        assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

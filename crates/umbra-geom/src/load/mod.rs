@@ -4,7 +4,8 @@
 //! * [`load_path`] picks the format from the extension (case-insensitive); a trailing `.gz`
 //!   is decompressed first (bounded by [`LoadOptions::max_input_bytes`]) and the inner
 //!   extension decides.
-//! * [`load_bytes`] parses an in-memory file of a known [`Format`] (used by fuzzing).
+//! * [`load_bytes`] parses an in-memory file of a known [`Format`] and [`gunzip_bytes`]
+//!   decompresses one (both used by fuzzing).
 //! * The `*_detailed` variants also return non-fatal [`Loaded::warnings`] (e.g. glTF
 //!   primitives of a mode other than triangles, which are skipped). [`load_path`] and
 //!   [`load_path_with`] print those warnings to stderr and return just the mesh;
@@ -168,6 +169,12 @@ pub(crate) fn read_limited(path: &Path, file: &str, gzipped: bool, limit: u64) -
         return Ok(bytes);
     }
     gunzip_limited(std::io::BufReader::new(f), file, limit)
+}
+
+/// Decompresses an in-memory (possibly multi-member) gzip file as [`load_path`] does for
+/// `.gz` files, refusing more than `limit` decompressed bytes (used by fuzzing).
+pub fn gunzip_bytes(bytes: &[u8], name_for_errors: &str, limit: u64) -> Result<Vec<u8>, LoadError> {
+    gunzip_limited(bytes, name_for_errors, limit)
 }
 
 /// Decompresses a (possibly multi-member) gzip stream, refusing more than `limit` bytes.

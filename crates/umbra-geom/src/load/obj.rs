@@ -12,16 +12,24 @@
 //!   `vn` and each position is always paired with the same normal (unreferenced positions
 //!   get a zero normal); otherwise they are dropped with a warning.
 //! * `vt`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, curves and unknown statements are
-//!   ignored; `#` starts a comment; a UTF-8 BOM is skipped; `\` line continuation is not
-//!   supported.
+//!   ignored; `#` starts a comment; a UTF-8 BOM is skipped; a file starting with a UTF-16
+//!   byte-order mark is converted to UTF-8 first (assimp's `box_UTF16BE.obj`, which would
+//!   otherwise load silently as an empty mesh); `\` line continuation is not supported.
 
-use super::text::{parse_f32, parse_i64, show, tokens, Lines};
+use super::text::{parse_f32, parse_i64, show, tokens, utf16_to_utf8, Lines};
 use super::{LoadError, Location};
 use crate::Mesh;
 
 const UNSET: u32 = u32::MAX;
 
 pub(crate) fn parse(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Mesh, LoadError> {
+    if let Some(utf8) = utf16_to_utf8(bytes, file)? {
+        return parse_utf8(&utf8, file, warnings);
+    }
+    parse_utf8(bytes, file, warnings)
+}
+
+fn parse_utf8(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Mesh, LoadError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut vns: Vec<[f32; 3]> = Vec::new();
@@ -199,4 +207,47 @@ fn resolve(index: &[u8], count: usize, tok: &[u8], file: &str, line_no: u64) -> 
         });
     }
     Ok(zero_based as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// UTF-16 text encoded with a byte-order mark.
+    fn utf16(text: &str, big_endian: bool) -> Vec<u8> {
+        let mut out = if big_endian { vec![0xFE, 0xFF] } else { vec![0xFF, 0xFE] };
+        for u in text.encode_utf16() {
+            out.extend(if big_endian { u.to_be_bytes() } else { u.to_le_bytes() });
+        }
+        out
+    }
+
+    /// Regression (assimp-testmodels `OBJ/box_UTF16BE.obj`): a UTF-16 big-endian OBJ with a
+    /// byte-order mark loaded as an empty mesh, without any error or warning.
+    #[test]
+    fn regression_assimp_box_utf16be_obj_loads() {
+        let text = "# box\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 1\r\nf 1 2 3\r\nf 1 2 4\r\n";
+        let plain = parse(text.as_bytes(), "box.obj", &mut Vec::new()).unwrap();
+        assert_eq!(plain.triangles, vec![[0, 1, 2], [0, 1, 3]]);
+        for big_endian in [true, false] {
+            let mesh = parse(&utf16(text, big_endian), "box_UTF16.obj", &mut Vec::new()).unwrap();
+            assert_eq!(mesh, plain, "big endian {big_endian}");
+        }
+        // errors keep the original line numbers
+        let bad = utf16("v 0 0 0\nv 1 0 0\nf 1 2 9\n", true);
+        let err = parse(&bad, "bad.obj", &mut Vec::new()).unwrap_err();
+        assert_eq!(err.location(), Some(&Location::Line(3)), "{err}");
+    }
+
+    #[test]
+    fn regression_utf16_odd_length_and_lone_surrogate_are_errors() {
+        let mut odd = utf16("v 0 0 0\n", true);
+        odd.push(0);
+        let err = parse(&odd, "odd.obj", &mut Vec::new()).unwrap_err();
+        assert!(matches!(err, LoadError::Truncated { location: Location::Byte(18), .. }), "{err:?}");
+        let mut lone = utf16("v", false);
+        lone.extend([0x00, 0xD8, b' ', 0]);
+        let err = parse(&lone, "lone.obj", &mut Vec::new()).unwrap_err();
+        assert!(matches!(err, LoadError::Malformed { location: Location::Byte(4), .. }), "{err:?}");
+    }
 }

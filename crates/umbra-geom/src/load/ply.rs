@@ -12,6 +12,8 @@
 //! * Before any allocation, the element counts are checked against the body size: binary
 //!   elements need at least the size of their scalar properties and list counts, ASCII
 //!   elements at least two bytes per property.
+//! * Header lines starting with an unknown keyword are ignored with a warning (free-text
+//!   lines written without `comment` by old exporters).
 //! * Errors name the header line, the body line (ASCII) or the byte offset (binary).
 
 use super::text::{is_space, parse_f32, parse_i64, show, tokens, Lines};
@@ -94,7 +96,7 @@ struct Header {
 }
 
 pub(crate) fn parse(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Mesh, LoadError> {
-    let header = parse_header(bytes, file)?;
+    let header = parse_header(bytes, file, warnings)?;
     let body = bytes.get(header.body_start..).unwrap_or(&[]);
     check_counts(&header, body.len() as u64, file)?;
     let mut reader = match header.encoding {
@@ -146,7 +148,7 @@ pub(crate) fn parse(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Res
     Ok(mesh)
 }
 
-fn parse_header(bytes: &[u8], file: &str) -> Result<Header, LoadError> {
+fn parse_header(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Header, LoadError> {
     let malformed = |line: u64, message: String| LoadError::Malformed {
         file: file.to_string(),
         location: Location::Line(line),
@@ -221,7 +223,12 @@ fn parse_header(bytes: &[u8], file: &str) -> Result<Header, LoadError> {
                 element.properties.push(Property { name: name.to_vec(), kind });
             }
             b"end_header" => break,
-            other => return Err(malformed(line_no, format!("unknown header keyword {:?}", show(other)))),
+            // free text without `comment` (Blender 2.47 wrote "Created by Blender3D ..."):
+            // skipped like a comment, as other readers do, but not silently
+            other => warnings.push(format!(
+                "{file}: line {line_no}: unknown header keyword {:?}, line ignored",
+                show(other)
+            )),
         }
     }
     let encoding = encoding.ok_or_else(|| malformed(line_no, "header has no `format` line".into()))?;
@@ -600,5 +607,26 @@ fn int_from_le(s: Scalar, b: [u8; 8]) -> i64 {
         Scalar::U32 => i64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
         Scalar::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
         Scalar::F64 => f64::from_le_bytes(b) as i64,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (assimp-testmodels `PLY/Wuson.ply`, Blender 2.47): a free-text header
+    /// line without the `comment` keyword made the whole file an error.
+    #[test]
+    fn regression_assimp_wuson_ply_free_text_header_line() {
+        let text = "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: \n\
+                    element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                    element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                    0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        let mut warnings = Vec::new();
+        let mesh = parse(text.as_bytes(), "Wuson.ply", &mut warnings).unwrap();
+        assert_eq!(mesh.positions, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("Wuson.ply: line 3") && warnings[0].contains("Created"), "{warnings:?}");
     }
 }

@@ -1,5 +1,8 @@
 //! Shared helpers for the text formats (OBJ, ASCII PLY, ASCII STL): line splitting with
-//! 1-based line numbers, whitespace tokenising, number parsing on byte slices.
+//! 1-based line numbers, whitespace tokenising, number parsing on byte slices, and UTF-16
+//! (with a byte-order mark) to UTF-8 conversion.
+
+use super::{LoadError, Location};
 
 /// Iterates the lines of `bytes` as `(line_number, line)`, 1-based, without the line
 /// terminator (`\n`, `\r\n`, or a lone `\r` at the very end of a line).
@@ -89,4 +92,44 @@ pub(crate) fn show(token: &[u8]) -> String {
         out.push('…');
     }
     out
+}
+
+/// A UTF-16 text (starting with a byte-order mark, big- or little-endian) re-encoded as
+/// UTF-8 without the mark; `Ok(None)` when `bytes` has no UTF-16 byte-order mark. Line
+/// breaks are kept, so line numbers stay those of the original file. An unpaired surrogate
+/// or an odd byte count is an error at its byte offset.
+pub(crate) fn utf16_to_utf8(bytes: &[u8], file: &str) -> Result<Option<Vec<u8>>, LoadError> {
+    let big_endian = match bytes.get(..2) {
+        Some([0xFE, 0xFF]) => true,
+        Some([0xFF, 0xFE]) => false,
+        _ => return Ok(None),
+    };
+    let body = &bytes[2..];
+    if body.len() % 2 != 0 {
+        return Err(LoadError::Truncated {
+            file: file.to_string(),
+            location: Location::Byte(bytes.len() as u64 - 1),
+            what: "UTF-16 text has an odd number of bytes".into(),
+        });
+    }
+    let units = body.chunks_exact(2).map(|c| {
+        if big_endian {
+            u16::from_be_bytes([c[0], c[1]])
+        } else {
+            u16::from_le_bytes([c[0], c[1]])
+        }
+    });
+    let mut out = Vec::with_capacity(body.len() / 2);
+    let mut at = 2u64;
+    let mut buf = [0u8; 4];
+    for c in char::decode_utf16(units) {
+        let c = c.map_err(|e| LoadError::Malformed {
+            file: file.to_string(),
+            location: Location::Byte(at),
+            message: format!("unpaired UTF-16 surrogate {:#06x}", e.unpaired_surrogate()),
+        })?;
+        at += 2 * c.len_utf16() as u64;
+        out.extend_from_slice(c.encode_utf8(&mut buf).as_bytes());
+    }
+    Ok(Some(out))
 }

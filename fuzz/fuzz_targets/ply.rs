@@ -1,0 +1,7 @@
+//! cargo-fuzz target `ply`: feeds arbitrary bytes to `fuzz_ply` of fuzz/entry.rs (issue 8,
+//! Section 1); replayed by crates/umbra-geom/tests/fuzz_replay.rs.
+#![no_main]
+
+include!("../entry.rs");
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| fuzz_ply(data));
