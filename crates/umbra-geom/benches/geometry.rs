@@ -7,7 +7,10 @@
 //!   manifold meshes and keeps one neighbour per edge, so it is a speed reference only);
 //! * per frame: [`extract`], i.e. every edge's multiplicity (paper 001 Alg. 3-4) plus the
 //!   side quads and caps (throughput in edges), for a point light inside the scene and for
-//!   a directional light, with the output buffers reused across frames as a renderer would.
+//!   a directional light, with the output buffers reused across frames as a renderer would;
+//!   the caps both as vertex copies ([`extract`]) and as oriented index triples from one
+//!   orientation per triangle ([`extract_indexed`] with its per-mesh [`TriangleSlots`], what
+//!   the cpu-silhouette renderer uses), in the same run.
 //!
 //! Scenes come from `UMBRA_SCENES` (default `<workspace>/../shared/scenes`); Sponza is
 //! skipped with a message when absent. Before criterion measures, each scene's counts and
@@ -26,7 +29,7 @@ use std::time::{Duration, Instant};
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, SamplingMode, Throughput};
 use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
 use umbra_geom::adjacency::EdgeAdjacency;
-use umbra_geom::silhouette::{extract, VolumeGeometry};
+use umbra_geom::silhouette::{extract, extract_indexed, has_dark_caps, IndexedVolume, TriangleSlots, VolumeGeometry};
 use umbra_geom::weld::{weld, WeldedMesh};
 use umbra_geom::{load, scene, Light, Mesh};
 
@@ -124,6 +127,7 @@ fn bench_geometry(c: &mut Criterion) {
         pre.bench_function("adjacency", |b| b.iter(|| EdgeAdjacency::build(black_box(&welded))));
         pre.finish();
 
+        let slots = TriangleSlots::build(&welded, &adj).expect("the adjacency of the mesh");
         let mut frame = c.benchmark_group(format!("{name}/extract"));
         configure(&mut frame);
         frame.throughput(Throughput::Elements(adj.len() as u64));
@@ -132,12 +136,7 @@ fn bench_geometry(c: &mut Criterion) {
                 let mut out = VolumeGeometry::default();
                 extract(&welded, &adj, light, caps, &mut out);
                 extract(&welded, &adj, light, caps, &mut out);
-                let region = Region::new(GLOBAL);
-                for _ in 0..FRAMES_COUNTED {
-                    extract(&welded, &adj, light, caps, &mut out);
-                }
-                let change = region.change();
-                let allocations = change.allocations + change.reallocations;
+                let allocations = count_allocations(|| extract(&welded, &adj, light, caps, &mut out));
                 let label = format!("{light_name}{}", if caps { "+caps" } else { "" });
                 println!(
                     "{name}/{label}: {} side, {} light-cap, {} dark-cap vertices; \
@@ -153,9 +152,40 @@ fn bench_geometry(c: &mut Criterion) {
                     b.iter(|| extract(black_box(&welded), &adj, black_box(light), caps, &mut out))
                 });
             }
+            // The renderer's variant: one orientation per triangle, caps as oriented index
+            // triples.
+            let mut out = IndexedVolume::default();
+            extract_indexed(&welded, &adj, &slots, light, true, &mut out);
+            extract_indexed(&welded, &adj, &slots, light, true, &mut out);
+            let allocations = count_allocations(|| extract_indexed(&welded, &adj, &slots, light, true, &mut out));
+            let label = format!("{light_name}+indexed-caps");
+            println!(
+                "{name}/{label}: {} side vertices, {} caps ({} index bytes); \
+                 {allocations} heap allocations in {FRAMES_COUNTED} warmed-up frames",
+                out.sides.len(),
+                out.caps.len(),
+                std::mem::size_of_val(&out.caps[..]),
+            );
+            if fingerprints() {
+                // Expanded: equal to the fingerprint of `+caps` above when the volumes agree.
+                println!("{name}/{label}: fingerprint {:016x}", fingerprint(&out.expand(&welded.positions, light)));
+            }
+            frame.bench_function(label, |b| {
+                b.iter(|| extract_indexed(black_box(&welded), &adj, &slots, black_box(light), true, &mut out))
+            });
         }
         frame.finish();
     }
+}
+
+/// Heap allocations (and reallocations) of [`FRAMES_COUNTED`] calls of `frame`.
+fn count_allocations(mut frame: impl FnMut()) -> usize {
+    let region = Region::new(GLOBAL);
+    for _ in 0..FRAMES_COUNTED {
+        frame();
+    }
+    let change = region.change();
+    change.allocations + change.reallocations
 }
 
 /// `UMBRA_BENCH_FINGERPRINTS=1` prints [`fingerprint`]s of every result (slow: seconds).
@@ -212,6 +242,18 @@ fn best_ms<R>(runs: usize, mut f: impl FnMut() -> R) -> (f64, f64) {
     (wall, cpu)
 }
 
+/// [`best_ms`] of several functions, run in turn `runs` times (one run of each per round).
+fn best_ms_interleaved<const N: usize>(runs: usize, mut fs: [&mut dyn FnMut(); N]) -> [(f64, f64); N] {
+    let mut best = [(f64::INFINITY, f64::INFINITY); N];
+    for _ in 0..runs {
+        for (f, best) in fs.iter_mut().zip(&mut best) {
+            let (wall, cpu) = best_ms(1, &mut **f);
+            *best = (best.0.min(wall), best.1.min(cpu));
+        }
+    }
+    best
+}
+
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map_or_else(|_| "unknown".into(), |s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
@@ -251,19 +293,41 @@ fn best_of_tables(name: &str, mesh: &Mesh, welded: &WeldedMesh, adj: &EdgeAdjace
         ms(meshopt_welded_ms),
         adj_ms.0 / meshopt_welded_ms.0,
     );
-    let mut out = VolumeGeometry::default();
+    let slots_ms = best_ms(PRE_RUNS, || TriangleSlots::build(welded, adj));
+    println!("{name}: triangle slots (per-mesh preprocessing of the indexed variant): {}", ms(slots_ms));
+    let slots = TriangleSlots::build(welded, adj).expect("the adjacency of the mesh");
+    let (mut vertices, mut indexed, mut sides) =
+        (VolumeGeometry::default(), IndexedVolume::default(), VolumeGeometry::default());
     for (light_name, light) in lights(welded) {
-        for caps in [true, false] {
-            let frame_ms = best_ms(FRAME_RUNS, || extract(welded, adj, light, caps, &mut out));
+        // The three outputs interleaved run by run, so that a change of load hits them alike.
+        let [vertex_ms, indexed_ms, sides_ms] = best_ms_interleaved(
+            FRAME_RUNS,
+            [
+                &mut || extract(welded, adj, light, true, &mut vertices),
+                &mut || extract_indexed(welded, adj, &slots, light, true, &mut indexed),
+                &mut || extract(welded, adj, light, false, &mut sides),
+            ],
+        );
+        let dark = if has_dark_caps(light) { 2 } else { 1 };
+        let rows = [
+            (
+                "sides + caps (vertex copies)",
+                vertex_ms,
+                vertices.sides.len(),
+                (vertices.light_caps.len() + vertices.dark_caps.len()) / 3,
+            ),
+            ("sides + caps (indexed)", indexed_ms, indexed.sides.len(), dark * indexed.caps.len()),
+            ("sides", sides_ms, sides.sides.len(), 0),
+        ];
+        for (output, frame_ms, side_vertices, cap_tris) in rows {
             println!(
-                "| {name} | {light_name} | {} | {} | {} | {} | {} | {:.1} | {:.1} |",
-                if caps { "sides + caps" } else { "sides" },
+                "| {name} | {light_name} | {output} | {} | {} | {cap_tris} | {} | {:.1} | {:.1} | {:.2} |",
                 adj.len(),
-                out.sides.len() / 3,
-                (out.light_caps.len() + out.dark_caps.len()) / 3,
+                side_vertices / 3,
                 ms(frame_ms),
                 adj.len() as f64 / frame_ms.0 / 1e3,
                 adj.len() as f64 / (frame_ms.1 / 2.0) / 1e3,
+                frame_ms.0 / vertex_ms.0,
             );
         }
     }

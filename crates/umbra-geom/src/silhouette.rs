@@ -19,12 +19,23 @@
 //! Directional lights (`l_w = 0`): every vertex extrudes to the same point at infinity
 //! `-L.xyz`, so dark caps have zero area and are not emitted.
 //!
-//! Per frame, in parallel and (once warmed up) without allocating: the multiplicities are
-//! evaluated 256 (edge, opposite vertex) pairs at a time in a loop the compiler vectorises,
-//! calling the very [`comp_multiplicity`] of [`crate::multiplicity`] on the very arguments
-//! Alg. 3 gives it (so the result is the same bit for bit); per-chunk sums of `|m|` and their
-//! prefix sums place every chunk's quads, which it then writes straight into `out`. Caps the
-//! same way. Figures in `docs/benchmarks.md`.
+//! Two outputs of the same volume:
+//! * [`extract`] (the reference): per frame, the multiplicities are evaluated 256 (edge,
+//!   opposite vertex) pairs at a time in a loop the compiler vectorises, calling the very
+//!   [`comp_multiplicity`] of [`crate::multiplicity`] on the very arguments Alg. 3 gives it
+//!   (so the result is the same bit for bit); per-chunk sums of `|m|` and their prefix sums
+//!   place every chunk's quads, which it then writes straight into `out`. Caps the same way,
+//!   as vertex copies ([`VolumeGeometry`], 96 bytes per cap for a point light).
+//! * [`extract_indexed`] (what the renderer draws): every triangle's orientation once (the
+//!   same vectorised kernel as [`extract`]'s caps), each edge's multiplicity as the sum of
+//!   its triangles' ± orientations through the per-mesh [`TriangleSlots`] (bit for bit the
+//!   contributions of Alg. 3), the same side quads, and the caps as one oriented index triple
+//!   per triangle into the welded positions ([`IndexedVolume`], 12 bytes), drawn from the
+//!   mesh's static position buffer (light caps as they are, dark caps extruded in the vertex
+//!   shader). [`IndexedVolume::expand_into`] turns the indices into the very vertices drawn.
+//!
+//! Both in parallel and, once warmed up, without allocating. Figures in
+//! `docs/benchmarks.md`.
 
 use rayon::prelude::*;
 
@@ -78,7 +89,8 @@ struct Scratch {
     multiplicity: Vec<i32>,
     /// Orientation of every triangle towards the light (caps only).
     orientation: Vec<i8>,
-    /// Output vertices before each chunk (exclusive prefix sums; one more entry than chunks).
+    /// Side vertices, resp. caps, before each chunk (exclusive prefix sums; one more entry
+    /// than chunks).
     side_offsets: Vec<usize>,
     cap_offsets: Vec<usize>,
 }
@@ -240,13 +252,18 @@ fn orientations(t: &Triples, n: usize, light: Light, out: &mut [i32; BATCH]) -> 
     !tie
 }
 
-/// [`triangle_orientation`] of every triangle of `tris` into `ss`, a batch at a time through
-/// [`orientations`]; returns how many are not edge-on.
-fn orientations_batched(positions: &[[f32; 3]], tris: &[[u32; 3]], ss: &mut [i8], light: Light) -> usize {
+/// [`triangle_orientation`] of every triangle of `tris`, a batch of up to [`BATCH`] at a time
+/// through [`orientations`]: `f(batch, orientations)` for consecutive batches of `tris`.
+#[inline(always)]
+fn orientation_batches(
+    positions: &[[f32; 3]],
+    tris: &[[u32; 3]],
+    light: Light,
+    mut f: impl FnMut(&[[u32; 3]], &[i32]),
+) {
     let mut triples: Triples = [[0.0; BATCH]; 9];
     let mut orientation = [0i32; BATCH];
-    let mut not_edge_on = 0;
-    for (tris, ss) in tris.chunks(BATCH).zip(ss.chunks_mut(BATCH)) {
+    for tris in tris.chunks(BATCH) {
         for (slot, tri) in tris.iter().enumerate() {
             let [p0, p1, p2] = tri.map(|v| positions[v as usize]);
             let slot_values = [p0[0], p0[1], p0[2], p1[0], p1[1], p1[2], p2[0], p2[1], p2[2]];
@@ -254,17 +271,27 @@ fn orientations_batched(positions: &[[f32; 3]], tris: &[[u32; 3]], ss: &mut [i8]
                 triples[k][slot] = slot_values[k];
             }
         }
-        if orientations(&triples, tris.len(), light, &mut orientation) {
-            for (s, &o) in ss.iter_mut().zip(&orientation) {
-                *s = o as i8;
-            }
-        } else {
-            for (s, &tri) in ss.iter_mut().zip(tris) {
-                *s = triangle_orientation(positions, tri, light) as i8;
+        if !orientations(&triples, tris.len(), light, &mut orientation) {
+            for (s, &tri) in orientation.iter_mut().zip(tris) {
+                *s = triangle_orientation(positions, tri, light);
             }
         }
-        not_edge_on += ss.iter().filter(|&&s| s != 0).count();
+        f(tris, &orientation[..tris.len()]);
     }
+}
+
+/// [`triangle_orientation`] of every triangle of `tris` into `ss`; returns how many are not
+/// edge-on.
+fn orientations_batched(positions: &[[f32; 3]], tris: &[[u32; 3]], ss: &mut [i8], light: Light) -> usize {
+    let mut not_edge_on = 0;
+    let mut at = 0;
+    orientation_batches(positions, tris, light, |_, orientation| {
+        for (s, &o) in ss[at..at + orientation.len()].iter_mut().zip(orientation) {
+            *s = o as i8;
+        }
+        not_edge_on += orientation.iter().filter(|&&s| s != 0).count();
+        at += orientation.len();
+    });
     not_edge_on
 }
 
@@ -312,8 +339,8 @@ impl<T: Send> SplitOutput for &mut [T] {
     }
 }
 
-/// Light caps and dark caps of one chunk.
-type CapsOut<'a> = (&'a mut [[f32; 4]], &'a mut [[f32; 4]]);
+/// Light caps and dark caps of one chunk, three vertices per cap.
+type CapsOut<'a> = (&'a mut [[[f32; 4]; 3]], &'a mut [[[f32; 4]; 3]]);
 
 /// Light caps and dark caps, which have the same length or (directional light) no dark caps.
 impl<T: Send> SplitOutput for (&mut [T], &mut [T]) {
@@ -352,52 +379,67 @@ fn write_chunks<O: SplitOutput>(
     }
 }
 
-/// Computes every edge's multiplicity (in parallel) and emits the volume into `out`
-/// (its previous contents replaced, its capacity reused). `caps` adds the light and dark
-/// caps z-fail needs.
-///
-/// Output order is deterministic (edge order, then triangle order). Two parallel passes per
-/// output: multiplicities (or cap orientations) with a count per chunk, then, after prefix
-/// sums over the chunks, every chunk writes its vertices straight into its own part of
-/// `out`. Once warmed up (same thread, output not larger than before) a frame allocates
-/// nothing.
-pub fn extract(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light, caps: bool, out: &mut VolumeGeometry) {
-    SCRATCH.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut scratch) => extract_with(mesh, adj, light, caps, out, &mut scratch),
-        // Re-entered on this thread (a rayon worker ran another extract while waiting): use
-        // a fresh scratch rather than share.
-        Err(_) => extract_with(mesh, adj, light, caps, out, &mut Scratch::default()),
-    })
+/// Whether a volume for `light` has dark caps: point lights only. A directional light
+/// (`l_w = 0`) extrudes every vertex to the same point `-L.xyz`, so its dark caps would have
+/// zero area.
+#[inline]
+pub fn has_dark_caps(light: Light) -> bool {
+    light[3] != 0.0
 }
 
-fn extract_with(
-    mesh: &WeldedMesh,
+/// The cap of a triangle with orientation `s != 0` ([`triangle_orientation`]): its vertices
+/// wound so that it faces the light (the light cap's winding).
+#[inline(always)]
+fn oriented(tri: [u32; 3], s: i8) -> [u32; 3] {
+    if s > 0 {
+        tri
+    } else {
+        [tri[0], tri[2], tri[1]]
+    }
+}
+
+/// The light cap and the dark cap of the oriented cap `[i0, i1, i2]` (see [`oriented`]): the
+/// triangle `P0 P1 P2` at `w = 1` and, reversed so that it faces out of the volume, `P0∞ P2∞
+/// P1∞` (001 Eq. 2). The one definition of both caps' geometry: [`extract`] writes it,
+/// [`IndexedVolume::expand_into`] expands indexed caps with it, and the cpu-silhouette vertex
+/// shader draws the same (light caps from the indices, dark caps from the same indices
+/// extruded and drawn with the front face flipped).
+#[inline(always)]
+fn cap_vertices(positions: &[[f32; 3]], cap: [u32; 3], light: Light) -> ([[f32; 4]; 3], [[f32; 4]; 3]) {
+    let [p0, p1, p2] = cap.map(|i| positions[i as usize]);
+    ([point(p0), point(p1), point(p2)], [extrude(p0, light), extrude(p2, light), extrude(p1, light)])
+}
+
+/// Pass 1 and 2 of the sides, shared by [`extract`] and [`extract_indexed`]: every edge's
+/// multiplicity (into `multiplicity`, with `|m|` summed per chunk into `side_offsets`), then
+/// every chunk writes its quads into its own part of `sides`.
+fn emit_sides(
+    positions: &[[f32; 3]],
     adj: &EdgeAdjacency,
     light: Light,
-    caps: bool,
-    out: &mut VolumeGeometry,
-    scratch: &mut Scratch,
+    multiplicity: &mut Vec<i32>,
+    side_offsets: &mut Vec<usize>,
+    sides: &mut Vec<[f32; 4]>,
+    multiplicities: &(impl Fn(usize, &mut [i32]) + Sync),
 ) {
-    let positions = &mesh.positions;
-    let Scratch { multiplicity, orientation, side_offsets, cap_offsets } = scratch;
-
-    // Pass 1: multiplicities, and |m| summed per chunk into `side_offsets[chunk + 1]`.
+    // Pass 1: multiplicities (`multiplicities(first_edge, ms)`), and |m| summed per chunk
+    // into `side_offsets[chunk + 1]`.
     let edges = adj.len();
     let edge_chunks = edges.div_ceil(ITEMS_PER_CHUNK);
     set_len(multiplicity, edges, 0);
     set_len(side_offsets, edge_chunks + 1, 0);
     multiplicity.par_chunks_mut(ITEMS_PER_CHUNK).zip(side_offsets[1..].par_iter_mut()).enumerate().for_each(
         |(chunk, (ms, sum))| {
-            multiplicities_batched(positions, adj, chunk * ITEMS_PER_CHUNK, ms, light);
+            multiplicities(chunk * ITEMS_PER_CHUNK, ms);
             *sum = ms.iter().map(|m| m.unsigned_abs() as usize).sum();
         },
     );
     prefix_sums(side_offsets, 6);
 
-    // Pass 2: every chunk writes its quads into its own part of `out.sides`.
-    set_len(&mut out.sides, side_offsets[edge_chunks], [0.0; 4]);
+    // Pass 2: every chunk writes its quads into its own part of `sides`.
+    set_len(sides, side_offsets[edge_chunks], [0.0; 4]);
     let ms: &[i32] = multiplicity;
-    write_chunks(0..edge_chunks, side_offsets, &mut out.sides[..], &|chunk, piece: &mut [[f32; 4]]| {
+    write_chunks(0..edge_chunks, side_offsets, &mut sides[..], &|chunk, piece: &mut [[f32; 4]]| {
         let first = chunk * ITEMS_PER_CHUNK;
         let last = (first + ITEMS_PER_CHUNK).min(edges);
         let mut at = 0;
@@ -416,14 +458,13 @@ fn extract_with(
             }
         }
     });
+}
 
-    if !caps {
-        out.light_caps.clear();
-        out.dark_caps.clear();
-        return;
-    }
-    // Caps, the same way: orientations with a count per chunk, then the writes.
-    let directional = light[3] == 0.0;
+/// Every triangle's [`triangle_orientation`] into `orientation` (in parallel, vectorised),
+/// and the number of caps (triangles not edge-on) before each chunk into `cap_offsets`
+/// (exclusive prefix sums, one more entry than chunks). Shared by [`extract`] and
+/// [`extract_indexed`]; returns the number of chunks.
+fn cap_orientations(mesh: &WeldedMesh, light: Light, orientation: &mut Vec<i8>, cap_offsets: &mut Vec<usize>) -> usize {
     let triangles = mesh.triangles.len();
     let tri_chunks = triangles.div_ceil(ITEMS_PER_CHUNK);
     set_len(orientation, triangles, 0);
@@ -433,36 +474,304 @@ fn extract_with(
         .zip(mesh.triangles.par_chunks(ITEMS_PER_CHUNK))
         .zip(cap_offsets[1..].par_iter_mut())
         .for_each(|((ss, tris), count)| {
-            *count = orientations_batched(positions, tris, ss, light);
+            *count = orientations_batched(&mesh.positions, tris, ss, light);
         });
-    prefix_sums(cap_offsets, 3);
-    let cap_vertices = cap_offsets[tri_chunks];
-    set_len(&mut out.light_caps, cap_vertices, [0.0; 4]);
-    set_len(&mut out.dark_caps, if directional { 0 } else { cap_vertices }, [0.0; 4]);
-    let ss: &[i8] = orientation;
-    let caps_out = (&mut out.light_caps[..], &mut out.dark_caps[..]);
-    write_chunks(0..tri_chunks, cap_offsets, caps_out, &|chunk, (light_caps, dark_caps): CapsOut<'_>| {
-        let first = chunk * ITEMS_PER_CHUNK;
-        let last = (first + ITEMS_PER_CHUNK).min(triangles);
-        let lit =
-            mesh.triangles[first..last].iter().zip(&ss[first..last]).filter(|(_, &s)| s != 0).map(|(&tri, &s)| {
-                // Wind the cap so that it faces the light.
-                let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
-                [i0, i1, i2].map(|i| positions[i as usize])
+    prefix_sums(cap_offsets, 1);
+    tri_chunks
+}
+
+/// The oriented caps of `tris` (those whose orientation in `ss` is not 0, in order), passed
+/// to `emit` one at a time.
+#[inline(always)]
+fn for_each_cap(tris: &[[u32; 3]], ss: &[i8], mut emit: impl FnMut([u32; 3])) {
+    for (&tri, &s) in tris.iter().zip(ss) {
+        if s != 0 {
+            emit(oriented(tri, s));
+        }
+    }
+}
+
+/// The per-frame scratch, borrowed from this thread's [`SCRATCH`] (a fresh one when it is
+/// already borrowed: a rayon worker ran another extraction while waiting).
+fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut scratch) => f(&mut scratch),
+        Err(_) => f(&mut Scratch::default()),
+    })
+}
+
+/// Computes every edge's multiplicity (in parallel) and emits the volume into `out`
+/// (its previous contents replaced, its capacity reused). `caps` adds the light and dark
+/// caps z-fail needs, as vertex copies (96 bytes per cap and frame for a point light; the
+/// renderer uses [`extract_indexed`], which writes 12).
+///
+/// Output order is deterministic (edge order, then triangle order). Two parallel passes per
+/// output: multiplicities (or cap orientations) with a count per chunk, then, after prefix
+/// sums over the chunks, every chunk writes its vertices straight into its own part of
+/// `out`. Once warmed up (same thread, output not larger than before) a frame allocates
+/// nothing.
+pub fn extract(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light, caps: bool, out: &mut VolumeGeometry) {
+    with_scratch(|scratch| {
+        let positions = &mesh.positions;
+        let Scratch { multiplicity, orientation, side_offsets, cap_offsets } = scratch;
+        let from_positions = |first: usize, ms: &mut [i32]| multiplicities_batched(positions, adj, first, ms, light);
+        emit_sides(positions, adj, light, multiplicity, side_offsets, &mut out.sides, &from_positions);
+        if !caps {
+            out.light_caps.clear();
+            out.dark_caps.clear();
+            return;
+        }
+        let tri_chunks = cap_orientations(mesh, light, orientation, cap_offsets);
+        let cap_count = cap_offsets[tri_chunks];
+        set_len(&mut out.light_caps, 3 * cap_count, [0.0; 4]);
+        set_len(&mut out.dark_caps, if has_dark_caps(light) { 3 * cap_count } else { 0 }, [0.0; 4]);
+        let (ss, triangles): (&[i8], _) = (orientation, &mesh.triangles);
+        let caps_out: CapsOut<'_> = (out.light_caps.as_chunks_mut().0, out.dark_caps.as_chunks_mut().0);
+        write_chunks(0..tri_chunks, cap_offsets, caps_out, &|chunk, (light_caps, dark_caps): CapsOut<'_>| {
+            let range = chunk * ITEMS_PER_CHUNK..((chunk + 1) * ITEMS_PER_CHUNK).min(triangles.len());
+            let mut at = 0;
+            for_each_cap(&triangles[range.clone()], &ss[range], |cap| {
+                let (lit, dark) = cap_vertices(positions, cap, light);
+                light_caps[at] = lit;
+                if let Some(d) = dark_caps.get_mut(at) {
+                    *d = dark;
+                }
+                at += 1;
             });
-        if directional {
-            for (cap, [p0, p1, p2]) in light_caps.chunks_exact_mut(3).zip(lit) {
-                cap.copy_from_slice(&[point(p0), point(p1), point(p2)]);
-            }
-        } else {
-            for ((cap, dark), [p0, p1, p2]) in
-                light_caps.chunks_exact_mut(3).zip(dark_caps.chunks_exact_mut(3)).zip(lit)
-            {
-                cap.copy_from_slice(&[point(p0), point(p1), point(p2)]);
-                dark.copy_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
+        });
+    })
+}
+
+/// The shadow volume of [`extract`] with the caps as indices into the welded positions
+/// instead of vertex copies: 12 bytes per triangle and frame instead of 96. The renderer
+/// draws the caps from the mesh's static position buffer; [`IndexedVolume::expand_into`]
+/// gives the vertices it draws, so tests can check the very volume drawn.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct IndexedVolume {
+    /// Silhouette sides, exactly as [`VolumeGeometry::sides`].
+    pub sides: Vec<[f32; 4]>,
+    /// One cap per triangle of the mesh, in mesh order (empty without caps): the triangle
+    /// wound so that it faces the light, by its [`triangle_orientation`] (through the
+    /// reference edge, as the sides), or, when it is edge-on (orientation 0, no cap), the
+    /// degenerate cap `[i0, i0, i0]`, which has zero area and draws nothing. Light cap: the
+    /// triangle at `w = 1`, pushed to the far plane by the renderer. Dark cap (only if
+    /// [`has_dark_caps`]): the same three vertices extruded to infinity with 001 Eq. 2 and
+    /// the opposite winding. Keeping edge-on triangles as degenerate caps gives every
+    /// triangle a fixed slot, so each chunk of triangles writes its caps in the same pass
+    /// that orients them, without counting first.
+    pub caps: Vec<[u32; 3]>,
+}
+
+/// Whether an [`IndexedVolume`] cap is the degenerate stand-in of an edge-on triangle.
+#[inline]
+pub fn is_degenerate_cap(cap: [u32; 3]) -> bool {
+    cap[0] == cap[1] && cap[1] == cap[2]
+}
+
+impl IndexedVolume {
+    pub fn clear(&mut self) {
+        self.sides.clear();
+        self.caps.clear();
+    }
+
+    /// The vertices the renderer draws for this volume, into `out` (its contents replaced):
+    /// the sides as they are, then per cap the light cap and, for point lights, the dark cap,
+    /// degenerate caps included (as zero-area triangles). Without the degenerate caps this
+    /// is, bit for bit, what [`extract`] writes for the same mesh and light. `positions`
+    /// must be those of the mesh the volume was extracted from; an index out of their range
+    /// is a programming error and panics.
+    pub fn expand_into(&self, positions: &[[f32; 3]], light: Light, out: &mut VolumeGeometry) {
+        out.clear();
+        out.sides.extend_from_slice(&self.sides);
+        for &cap in &self.caps {
+            let (lit, dark) = cap_vertices(positions, cap, light);
+            out.light_caps.extend_from_slice(&lit);
+            if has_dark_caps(light) {
+                out.dark_caps.extend_from_slice(&dark);
             }
         }
+    }
+
+    /// [`IndexedVolume::expand_into`] into a new [`VolumeGeometry`].
+    pub fn expand(&self, positions: &[[f32; 3]], light: Light) -> VolumeGeometry {
+        let mut out = VolumeGeometry::default();
+        self.expand_into(positions, light, &mut out);
+        out
+    }
+}
+
+/// Static per-mesh data of [`extract_indexed`]: the triangle behind every (edge, opposite
+/// vertex) slot of an [`EdgeAdjacency`], and whether that triangle runs along the edge as
+/// stored (`A → B`) or against it. Built once per mesh, like the adjacency.
+///
+/// The contribution of opposite `O` to edge `A → B` (001 Alg. 3) is the orientation of the
+/// triangle `A → B → O`, computed through the triangle's reference edge: bit for bit the
+/// [`triangle_orientation`] of that triangle, negated when the triangle runs `B → A` (this
+/// is what makes sides and caps agree; property (a) of `tests/volume_props.rs`). So a frame
+/// can orient every triangle once and sum those orientations per edge, instead of evaluating
+/// Alg. 4 three times per triangle for the sides and a fourth time for the caps.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleSlots {
+    /// Parallel to [`EdgeAdjacency::opposites`]: `t << 1 | against` for triangle `t`.
+    slots: Vec<u32>,
+}
+
+/// Why [`TriangleSlots::build`] failed: the adjacency is not that of the mesh.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TriangleSlotsError {
+    #[error("triangle slots: {0} triangles, more than 2^31")]
+    TooManyTriangles(usize),
+    #[error("triangle slots: triangle {triangle} refers to vertex {vertex}, but the mesh has {vertices} vertices")]
+    Vertex { triangle: usize, vertex: u32, vertices: usize },
+    #[error("triangle slots: edge {edge:?} of triangle {triangle} is not in the adjacency (or has fewer opposites)")]
+    MissingEdge { triangle: usize, edge: [u32; 2] },
+    #[error("triangle slots: the adjacency's opposites of edge {edge} are not those of the mesh's triangles, in triangle order")]
+    Mismatch { edge: usize },
+}
+
+impl TriangleSlots {
+    /// Maps every slot of `adj` (built from `mesh` by [`EdgeAdjacency::build`], whose
+    /// opposites are in triangle order) to its triangle. Serial, `O(triangles)` with a
+    /// per-vertex index of the edges.
+    pub fn build(mesh: &WeldedMesh, adj: &EdgeAdjacency) -> Result<Self, TriangleSlotsError> {
+        let triangles = mesh.triangles.len();
+        if triangles > (u32::MAX >> 1) as usize {
+            return Err(TriangleSlotsError::TooManyTriangles(triangles));
+        }
+        let vertices = mesh.positions.len();
+        // Edges by their smaller vertex index (CSR): `edge_ids[row_start[v]..row_start[v + 1]]`.
+        let mut row_start = vec![0u32; vertices + 1];
+        for (edge, &[a, b]) in adj.edges.iter().enumerate() {
+            let low = a.min(b) as usize;
+            if a.max(b) as usize >= vertices {
+                return Err(TriangleSlotsError::Mismatch { edge });
+            }
+            row_start[low + 1] += 1;
+        }
+        for v in 0..vertices {
+            row_start[v + 1] += row_start[v];
+        }
+        let mut fill = row_start.clone();
+        let mut edge_ids = vec![0u32; adj.len()];
+        for (e, &[a, b]) in adj.edges.iter().enumerate() {
+            let low = a.min(b) as usize;
+            edge_ids[fill[low] as usize] = e as u32;
+            fill[low] += 1;
+        }
+        // Each triangle takes the next free slot of each of its edges: the adjacency lists
+        // an edge's opposites in triangle order.
+        let mut cursor: Vec<u32> = adj.opposite_start[..adj.len()].to_vec();
+        let mut slots = vec![0u32; adj.opposites.len()];
+        for (t, &tri) in mesh.triangles.iter().enumerate() {
+            if let Some(&vertex) = tri.iter().find(|&&v| v as usize >= vertices) {
+                return Err(TriangleSlotsError::Vertex { triangle: t, vertex, vertices });
+            }
+            for k in 0..3 {
+                let (u, v, w) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                let (low, high) = (u.min(v) as usize, u.max(v));
+                let row = &edge_ids[row_start[low] as usize..row_start[low + 1] as usize];
+                let missing = TriangleSlotsError::MissingEdge { triangle: t, edge: [u, v] };
+                let e = *row.iter().find(|&&e| adj.edges[e as usize].contains(&high)).ok_or(missing.clone())? as usize;
+                let slot = cursor[e] as usize;
+                if slot >= adj.opposite_start[e + 1] as usize {
+                    return Err(missing);
+                }
+                if adj.opposites[slot] != w {
+                    return Err(TriangleSlotsError::Mismatch { edge: e });
+                }
+                cursor[e] += 1;
+                slots[slot] = (t as u32) << 1 | (adj.edges[e][0] != u) as u32;
+            }
+        }
+        if let Some(e) = (0..adj.len()).find(|&e| cursor[e] != adj.opposite_start[e + 1]) {
+            return Err(TriangleSlotsError::Mismatch { edge: e });
+        }
+        Ok(Self { slots })
+    }
+
+    /// Whether these slots fit `adj` (same number of slots).
+    pub fn fits(&self, adj: &EdgeAdjacency) -> bool {
+        self.slots.len() == adj.opposites.len()
+    }
+}
+
+/// The volume of [`extract`] with indexed caps ([`IndexedVolume`]), from one orientation per
+/// triangle: pass 1 orients every triangle (the vectorised kernel of [`extract`]'s caps)
+/// into the scratch and, with `caps`, writes its cap in the same go; pass 2 sums the
+/// orientations per edge through `slots` ([`TriangleSlots`]) into the multiplicities; pass 3
+/// writes the side quads exactly as [`extract`] does. The same multiplicities, sides and
+/// caps as [`extract`] (bit for bit, checked by the unit tests) whenever the vertex order is
+/// strict, i.e. without NaN coordinates; with NaN the sides follow the caps' orientations,
+/// so the volume stays closed. Deterministic, parallel, and allocation-free once warmed up
+/// (rayon's global queue allocates a block per 63 calls from outside its pool).
+///
+/// `slots` must be [`TriangleSlots::build`] of this mesh and adjacency; slots of another
+/// mesh give a wrong volume or panic on an index out of range.
+pub fn extract_indexed(
+    mesh: &WeldedMesh,
+    adj: &EdgeAdjacency,
+    slots: &TriangleSlots,
+    light: Light,
+    caps: bool,
+    out: &mut IndexedVolume,
+) {
+    // One job for the whole frame: the passes below fork and join on the pool's workers
+    // instead of each queueing from outside.
+    rayon::scope(|_| {
+        with_scratch(|scratch| extract_indexed_with(mesh, adj, slots, light, caps, out, scratch));
     });
+}
+
+fn extract_indexed_with(
+    mesh: &WeldedMesh,
+    adj: &EdgeAdjacency,
+    slots: &TriangleSlots,
+    light: Light,
+    caps: bool,
+    out: &mut IndexedVolume,
+    scratch: &mut Scratch,
+) {
+    let Scratch { multiplicity, orientation, side_offsets, .. } = scratch;
+    let triangles = &mesh.triangles;
+    // Pass 1: orientations, and the caps.
+    set_len(orientation, triangles.len(), 0);
+    if caps {
+        set_len(&mut out.caps, triangles.len(), [0; 3]);
+    } else {
+        out.caps.clear();
+    }
+    let orient = |ss: &mut [i8], tris: &[[u32; 3]], mut caps_out: Option<&mut [[u32; 3]]>| {
+        let mut at = 0;
+        orientation_batches(&mesh.positions, tris, light, |tris, orientations| {
+            for (s, &o) in ss[at..at + tris.len()].iter_mut().zip(orientations) {
+                *s = o as i8;
+            }
+            if let Some(out) = caps_out.as_deref_mut() {
+                for ((cap, &tri), &s) in out[at..at + tris.len()].iter_mut().zip(tris).zip(orientations) {
+                    *cap = if s != 0 { oriented(tri, s as i8) } else { [tri[0]; 3] };
+                }
+            }
+            at += tris.len();
+        });
+    };
+    let chunks = orientation.par_chunks_mut(ITEMS_PER_CHUNK).zip(triangles.par_chunks(ITEMS_PER_CHUNK));
+    if caps {
+        chunks.zip(out.caps.par_chunks_mut(ITEMS_PER_CHUNK)).for_each(|((ss, tris), c)| orient(ss, tris, Some(c)));
+    } else {
+        chunks.for_each(|(ss, tris)| orient(ss, tris, None));
+    }
+
+    // Pass 2 and 3: multiplicities as sums of ± orientations, then the sides.
+    let (ss, slots, start): (&[i8], &[u32], &[u32]) = (orientation, &slots.slots, &adj.opposite_start);
+    let from_orientations = |first: usize, ms: &mut [i32]| {
+        for (e, m) in (first..first + ms.len()).zip(ms.iter_mut()) {
+            *m = slots[start[e] as usize..start[e + 1] as usize]
+                .iter()
+                .map(|&slot| ss[(slot >> 1) as usize] as i32 * (1 - 2 * (slot & 1) as i32))
+                .sum();
+        }
+    };
+    emit_sides(&mesh.positions, adj, light, multiplicity, side_offsets, &mut out.sides, &from_orientations);
 }
 
 /// Per-edge multiplicities in edge order (for statistics and tests).
@@ -529,20 +838,42 @@ mod tests {
     #[test]
     fn extract_matches_serial_reference_with_reused_output() {
         let mut out = VolumeGeometry::default();
-        let mut nonempty = 0;
+        let mut indexed = IndexedVolume::default();
+        let (mut nonempty, mut with_caps, mut degenerate) = (0, 0, 0);
         for mesh in reference_inputs() {
             let w = weld(&mesh);
             let adj = EdgeAdjacency::build(&w);
+            let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
             for light in reference_lights(&w) {
                 for caps in [true, false] {
                     extract(&w, &adj, light, caps, &mut out);
                     let expected = reference_extract(&w, &adj, light, caps);
                     assert!(bits(&out) == bits(&expected), "light {light:?} caps {caps}");
                     nonempty += !out.sides.is_empty() as usize;
+                    // The indexed caps stand for the very same vertices, plus degenerate caps
+                    // exactly for the edge-on triangles.
+                    extract_indexed(&w, &adj, &slots, light, caps, &mut indexed);
+                    assert_eq!(indexed.sides, expected.sides, "indexed sides, light {light:?}");
+                    assert_eq!(indexed.caps.len(), if caps { w.triangles.len() } else { 0 });
+                    for (&cap, &tri) in indexed.caps.iter().zip(&w.triangles) {
+                        let edge_on = triangle_orientation(&w.positions, tri, light) == 0;
+                        assert_eq!(is_degenerate_cap(cap), edge_on, "{tri:?} {cap:?}");
+                        degenerate += edge_on as usize;
+                    }
+                    let drawn = IndexedVolume {
+                        sides: indexed.sides.clone(),
+                        caps: indexed.caps.iter().copied().filter(|&c| !is_degenerate_cap(c)).collect(),
+                    };
+                    assert!(bits(&drawn.expand(&w.positions, light)) == bits(&expected), "indexed, light {light:?}");
+                    with_caps += drawn.caps.len();
                 }
             }
         }
         assert!(nonempty >= 8, "the inputs must cast silhouettes ({nonempty})");
+        assert!(
+            with_caps > 1000 && degenerate > 0,
+            "the inputs must have caps ({with_caps}) and edge-on triangles ({degenerate})"
+        );
     }
 
     /// The select forms equal Alg. 3-4 as written in `multiplicity`, on every ordering of
@@ -654,6 +985,17 @@ mod tests {
             extract(&w, &adj, light, caps, &mut out);
             assert_eq!(buffers(&out), warm, "caps {caps}");
         }
+        // The indexed variant reuses its own output the same way (its scratch is that of the
+        // rayon worker that runs it).
+        let mut indexed = IndexedVolume::default();
+        let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
+        extract_indexed(&w, &adj, &slots, light, true, &mut indexed);
+        assert!(!indexed.caps.is_empty());
+        let warm_indexed = [indexed.sides.as_ptr() as usize, indexed.caps.as_ptr() as usize];
+        for caps in [true, false, true] {
+            extract_indexed(&w, &adj, &slots, light, caps, &mut indexed);
+            assert_eq!([indexed.sides.as_ptr() as usize, indexed.caps.as_ptr() as usize], warm_indexed);
+        }
     }
 
     /// An extraction running inside another one on the same thread (a rayon worker picks up
@@ -671,5 +1013,48 @@ mod tests {
             extract(&w, &adj, light, true, &mut out);
             assert!(bits(&out) == bits(&expected));
         });
+    }
+
+    /// Every slot names a triangle that has the slot's edge and opposite vertex, running along
+    /// or against the edge as recorded; every triangle fills exactly three slots.
+    #[test]
+    fn triangle_slots_name_the_triangle_of_each_opposite() {
+        for mesh in reference_inputs() {
+            let w = weld(&mesh);
+            let adj = EdgeAdjacency::build(&w);
+            let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
+            assert!(slots.fits(&adj));
+            let mut uses = vec![0; w.triangles.len()];
+            for e in 0..adj.len() {
+                let [a, b] = adj.edges[e];
+                for slot in adj.opposite_start[e] as usize..adj.opposite_start[e + 1] as usize {
+                    let (t, against) = ((slots.slots[slot] >> 1) as usize, slots.slots[slot] & 1 == 1);
+                    let tri = w.triangles[t];
+                    let k = (0..3).find(|&k| tri[(k + 2) % 3] == adj.opposites[slot]).expect("opposite in triangle");
+                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                    assert_eq!([u, v], if against { [b, a] } else { [a, b] }, "slot {slot}");
+                    uses[t] += 1;
+                }
+            }
+            assert!(uses.iter().all(|&n| n == 3));
+        }
+    }
+
+    /// Slots built for another adjacency are refused with a typed error, not a panic.
+    #[test]
+    fn triangle_slots_of_a_foreign_adjacency_are_an_error() {
+        let inputs = reference_inputs();
+        let (w0, w1) = (weld(&inputs[0]), weld(&inputs[1]));
+        let adj1 = EdgeAdjacency::build(&w1);
+        assert!(TriangleSlots::build(&w0, &adj1).is_err());
+        let mut fewer = w0.clone();
+        fewer.triangles.pop();
+        assert!(TriangleSlots::build(&fewer, &EdgeAdjacency::build(&w0)).is_err());
+        let mut wrong = w0.clone();
+        wrong.triangles[0] = [0, 1, u32::MAX];
+        assert!(matches!(
+            TriangleSlots::build(&wrong, &EdgeAdjacency::build(&w0)),
+            Err(TriangleSlotsError::Vertex { triangle: 0, vertex: u32::MAX, .. })
+        ));
     }
 }

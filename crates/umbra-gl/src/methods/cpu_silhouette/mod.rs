@@ -2,22 +2,31 @@
 //!
 //! Paper 001, Sections 2.2-2.3 (deterministic edge multiplicity with a reference edge,
 //! Alg. 2-4; sides extruded with Eq. 2; caps oriented by the same test), via
-//! [`umbra_geom::silhouette::extract`] (rayon-parallel). Light caps are pushed to the far
-//! plane in the vertex shader (paper 003, Eq. 6); z-fail counting by default (Everitt &
+//! [`umbra_geom::silhouette::extract_indexed`] (rayon-parallel). Light caps are pushed to the
+//! far plane in the vertex shader (paper 003, Eq. 6); z-fail counting by default (Everitt &
 //! Kilgard 2002), z-pass without caps when asked (Heidmann 1991).
 //!
 //! Once per mesh ([`ShadowMethod::prepare`]): edge adjacency (shared through
-//! [`SceneGpu::adjacency`]), program, vertex array, one vertex buffer.
-//! Per light per frame: extract into a reused [`VolumeGeometry`] (its Vecs keep their
-//! capacity), orphan the vertex buffer with glNamedBufferData (grown geometrically, never
-//! shrunk) and upload sides | dark caps | light caps with glNamedBufferSubData, then three
-//! draws with [`VolumeFrame::shadow_volume_state`] (the frame's depth convention; light caps
-//! pushed to [`VolumeFrame::far_clip_z`]).
+//! [`SceneGpu::adjacency`]), the [`TriangleSlots`] of the mesh (which triangle each of the
+//! adjacency's opposite vertices comes from), program, two vertex arrays, two buffers.
+//! Per light per frame: extract into a reused [`IndexedVolume`] (its Vecs keep their
+//! capacity), orienting every triangle once and summing those orientations per edge: the
+//! side quads as homogeneous vertices, the caps as one oriented index triple per triangle
+//! (12 bytes instead of 96 bytes of light- and dark-cap vertex copies). Upload
+//! both into buffers orphaned with glNamedBufferData (grown geometrically, never shrunk),
+//! then three draws with [`VolumeFrame::shadow_volume_state`] (the frame's depth convention):
+//! the sides as they are; the light caps from the scene's own static position buffer with
+//! our index buffer, pushed to [`VolumeFrame::far_clip_z`]; the dark caps from the same
+//! positions and indices, extruded to infinity in the vertex shader (001 Eq. 2, the CPU's
+//! expression) and drawn with the front face flipped, which reverses their winding as the
+//! volume needs (`P0∞ P2∞ P1∞`, see `umbra_geom::silhouette`). That is the volume
+//! `IndexedVolume::expand_into` spells out vertex by vertex, which the property tests of
+//! `umbra-geom/tests/volume_props.rs` check for closedness.
 //!
 //! Stages reported: "silhouette" (CPU extraction), "upload", "sides", "caps".
 
 use glow::HasContext;
-use umbra_geom::silhouette::{extract, VolumeGeometry};
+use umbra_geom::silhouette::{extract_indexed, has_dark_caps, IndexedVolume, TriangleSlots};
 
 use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
@@ -31,14 +40,49 @@ const FRAG: &str = include_str!("volume.frag.glsl");
 /// `umbra_push_to_far` and `u_far_clip_z` (paper 003 Eq. 6 in either depth convention).
 const DEPTH_GLSL: &str = include_str!("../shared/depth.glsl");
 
+/// `u_mode` of volume.vert.glsl.
+const MODE_SIDES: i32 = 0;
+const MODE_LIGHT_CAPS: i32 = 1;
+const MODE_DARK_CAPS: i32 = 2;
+
+/// A buffer re-specified every frame, grown geometrically and never shrunk.
+struct StreamBuffer {
+    buffer: glow::Buffer,
+    capacity: usize,
+}
+
+impl StreamBuffer {
+    /// Orphans the buffer (a fresh store, so the driver never waits for the GPU to finish
+    /// reading last frame's data) and uploads `data` at offset 0.
+    fn upload(&mut self, gl: &glow::Context, data: &[u8], what: &'static str) -> Result<(), GlError> {
+        if data.len() > self.capacity {
+            self.capacity = data.len().max(self.capacity + self.capacity / 2);
+        }
+        let capacity = checked_size(self.capacity, what)?;
+        // SAFETY: our own buffer; data.len() <= capacity.
+        unsafe {
+            gl.named_buffer_data_size(self.buffer, capacity, glow::STREAM_DRAW);
+            if !data.is_empty() {
+                gl.named_buffer_sub_data_u8_slice(self.buffer, 0, data);
+            }
+        }
+        Ok(())
+    }
+}
+
 struct Gpu {
     program: glow::Program,
     u_clip_from_world: Option<glow::UniformLocation>,
-    u_push_to_far: Option<glow::UniformLocation>,
+    u_mode: Option<glow::UniformLocation>,
+    u_light: Option<glow::UniformLocation>,
     u_far_clip_z: Option<glow::UniformLocation>,
-    vao: glow::VertexArray,
-    buffer: glow::Buffer,
-    capacity: usize,
+    /// Sides: attribute 0 = vec4 from `sides`.
+    sides_vao: glow::VertexArray,
+    sides: StreamBuffer,
+    /// Caps: attribute 0 = vec3 from the scene's position buffer (bound per draw), element
+    /// buffer `caps`.
+    caps_vao: glow::VertexArray,
+    caps: StreamBuffer,
 }
 
 /// See the module documentation.
@@ -46,22 +90,50 @@ struct Gpu {
 pub struct CpuSilhouette {
     prepared: Option<SceneId>,
     gpu: Option<Gpu>,
-    geometry: VolumeGeometry,
+    volume: IndexedVolume,
+    /// [`TriangleSlots`] of the scene they were built for.
+    slots: Option<(SceneId, TriangleSlots)>,
+    /// Whether the last volume has dark caps (a point light with caps).
+    last_dark_caps: bool,
 }
 
-fn as_bytes(v: &[[f32; 4]]) -> &[u8] {
-    // SAFETY: [f32; 4] has no padding and every byte is initialised.
+/// The bytes of plain-old-data arrays of `u32` or `f32` (no padding, every byte initialised).
+fn as_bytes<T: Pod, const N: usize>(v: &[[T; N]]) -> &[u8] {
+    // SAFETY: `T` is `f32` or `u32` (sealed by `Pod`): arrays of them have no padding and
+    // every byte is initialised.
     unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
 }
+
+/// Element types [`as_bytes`] accepts.
+trait Pod: Copy {}
+impl Pod for f32 {}
+impl Pod for u32 {}
 
 impl CpuSilhouette {
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Vertex counts (sides, dark caps, light caps) of the last extracted volume.
+    /// Vertex counts (sides, dark caps, light caps) of the last extracted volume, as drawn
+    /// (degenerate caps of edge-on triangles included).
     pub fn last_counts(&self) -> (usize, usize, usize) {
-        (self.geometry.sides.len(), self.geometry.dark_caps.len(), self.geometry.light_caps.len())
+        let caps = 3 * self.volume.caps.len();
+        (self.volume.sides.len(), if self.last_dark_caps { caps } else { 0 }, caps)
+    }
+
+    /// Builds the [`TriangleSlots`] of `scene` unless they are already there.
+    fn slots_for(&mut self, scene: &SceneGpu) -> Result<(), GlError> {
+        if self.slots.as_ref().is_none_or(|(id, _)| *id != scene.id()) {
+            let slots = TriangleSlots::build(scene.mesh(), scene.adjacency())
+                .map_err(|e| GlError::InvalidParams(format!("cpu-silhouette: {e}")))?;
+            self.slots = Some((scene.id(), slots));
+        }
+        Ok(())
+    }
+
+    /// The last extracted volume (indices into the prepared scene's welded positions).
+    pub fn last_volume(&self) -> &IndexedVolume {
+        &self.volume
     }
 }
 
@@ -75,46 +147,69 @@ impl ShadowMethod for CpuSilhouette {
     }
 
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
-        // Preprocessing once per mesh: the adjacency (cached on the scene).
-        scene.adjacency();
+        // Preprocessing once per mesh: the adjacency (cached on the scene) and the slots.
+        self.slots_for(scene)?;
         if self.gpu.is_none() {
             let vert = format!("#version 450 core\n{DEPTH_GLSL}\n{VERT}");
             let program = link_program(
                 gl,
                 "cpu-silhouette volume",
-                &[ShaderSource::vertex("cpu_silhouette/volume.vert.glsl", &vert), ShaderSource::fragment("cpu_silhouette/volume.frag.glsl", FRAG)],
+                &[
+                    ShaderSource::vertex("cpu_silhouette/volume.vert.glsl", &vert),
+                    ShaderSource::fragment("cpu_silhouette/volume.frag.glsl", FRAG),
+                ],
                 &[],
             )?;
-            // SAFETY: DSA creation on the current context; the program is deleted if a later
-            // creation fails.
+            // SAFETY: DSA creation on the current context; everything created so far is
+            // deleted if a later creation fails.
             unsafe {
-                let cleanup = |e| {
+                let mut buffers = Vec::new();
+                let mut vaos = Vec::new();
+                let cleanup = |buffers: &[glow::Buffer], vaos: &[glow::VertexArray], e| {
+                    for &b in buffers {
+                        gl.delete_buffer(b);
+                    }
+                    for &v in vaos {
+                        gl.delete_vertex_array(v);
+                    }
                     gl.delete_program(program);
                     e
                 };
-                let buffer = gl
-                    .create_named_buffer()
-                    .map_err(|detail| cleanup(GlError::Create { what: "volume buffer", detail }))?;
-                let vao = match gl.create_named_vertex_array() {
-                    Ok(v) => v,
-                    Err(detail) => {
-                        gl.delete_buffer(buffer);
-                        return Err(cleanup(GlError::Create { what: "volume vertex array", detail }));
+                for what in ["volume side buffer", "volume cap index buffer"] {
+                    match gl.create_named_buffer() {
+                        Ok(b) => buffers.push(b),
+                        Err(detail) => return Err(cleanup(&buffers, &vaos, GlError::Create { what, detail })),
                     }
-                };
-                // Attribute 0: vec4 homogeneous world position, tightly packed.
-                gl.vertex_array_vertex_buffer(vao, 0, Some(buffer), 0, 16);
-                gl.vertex_array_attrib_format_f32(vao, 0, 4, glow::FLOAT, false, 0);
-                gl.vertex_array_attrib_binding_f32(vao, 0, 0);
-                gl.enable_vertex_array_attrib(vao, 0);
+                }
+                for what in ["volume side vertex array", "volume cap vertex array"] {
+                    match gl.create_named_vertex_array() {
+                        Ok(v) => vaos.push(v),
+                        Err(detail) => return Err(cleanup(&buffers, &vaos, GlError::Create { what, detail })),
+                    }
+                }
+                let (sides, caps) = (buffers[0], buffers[1]);
+                let (sides_vao, caps_vao) = (vaos[0], vaos[1]);
+                // Sides, attribute 0: vec4 homogeneous world position, tightly packed.
+                gl.vertex_array_vertex_buffer(sides_vao, 0, Some(sides), 0, 16);
+                gl.vertex_array_attrib_format_f32(sides_vao, 0, 4, glow::FLOAT, false, 0);
+                gl.vertex_array_attrib_binding_f32(sides_vao, 0, 0);
+                gl.enable_vertex_array_attrib(sides_vao, 0);
+                // Caps, attribute 0: vec3 welded position (w = 1 by default), from the scene's
+                // buffer, bound in draw_volumes; elements: our oriented cap indices.
+                gl.vertex_array_attrib_format_f32(caps_vao, 0, 3, glow::FLOAT, false, 0);
+                gl.vertex_array_attrib_binding_f32(caps_vao, 0, 0);
+                gl.enable_vertex_array_attrib(caps_vao, 0);
+                gl.vertex_array_element_buffer(caps_vao, Some(caps));
                 self.gpu = Some(Gpu {
                     u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
-                    u_push_to_far: uniform(gl, program, "u_push_to_far"),
+                    u_mode: uniform(gl, program, "u_mode"),
+                    u_light: uniform(gl, program, "u_light"),
                     u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
                     program,
-                    vao,
-                    buffer,
-                    capacity: 0,
+                    sides_vao,
+                    sides: StreamBuffer { buffer: sides, capacity: 0 },
+                    caps_vao,
+                    caps: StreamBuffer { buffer: caps, capacity: 0 },
                 });
             }
         }
@@ -126,73 +221,80 @@ impl ShadowMethod for CpuSilhouette {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
-        let gpu = self
-            .gpu
-            .as_mut()
-            .ok_or_else(|| GlError::InvalidParams("cpu-silhouette: draw_volumes before prepare".into()))?;
-
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         frame.mark(gl, "silhouette");
+        // Built in prepare; rebuilt only if drawn with another scene.
+        self.slots_for(scene)?;
+        let (Some(gpu), Some((_, slots))) = (self.gpu.as_mut(), self.slots.as_ref()) else {
+            return Err(GlError::InvalidParams("cpu-silhouette: draw_volumes before prepare".into()));
+        };
         // z-pass needs no caps (it counts only faces in front of the sample).
-        extract(scene.mesh(), scene.adjacency(), frame.light, !frame.zpass, &mut self.geometry);
-        let g = &self.geometry;
+        let caps = !frame.zpass;
+        extract_indexed(scene.mesh(), scene.adjacency(), slots, frame.light, caps, &mut self.volume);
+        self.last_dark_caps = caps && has_dark_caps(frame.light);
+        let v = &self.volume;
 
         frame.mark(gl, "upload");
-        let parts = [as_bytes(&g.sides), as_bytes(&g.dark_caps), as_bytes(&g.light_caps)];
-        let total: usize = parts.iter().map(|p| p.len()).sum();
-        let vertex_count = g.sides.len() + g.dark_caps.len() + g.light_caps.len();
-        if i32::try_from(vertex_count).is_err() {
-            return Err(GlError::InvalidParams(format!("{vertex_count} shadow-volume vertices exceed one draw call")));
+        let (sides, cap_indices) = (v.sides.len(), 3 * v.caps.len());
+        if i32::try_from(sides).is_err() || i32::try_from(cap_indices).is_err() {
+            return Err(GlError::InvalidParams(format!(
+                "{sides} shadow-volume side vertices or {cap_indices} cap indices exceed one draw call"
+            )));
         }
-        if total > gpu.capacity {
-            gpu.capacity = total.max(gpu.capacity + gpu.capacity / 2);
-        }
-        let capacity = checked_size(gpu.capacity, "cpu-silhouette volume buffer")?;
-        // SAFETY: uploads into our own buffer; offsets + lengths sum to total <= capacity.
-        unsafe {
-            // Orphaning: a fresh store each frame, so the driver never waits for the GPU to
-            // finish reading last frame's volume.
-            gl.named_buffer_data_size(gpu.buffer, capacity, glow::STREAM_DRAW);
-            let mut offset = 0;
-            for p in parts {
-                if !p.is_empty() {
-                    gl.named_buffer_sub_data_u8_slice(gpu.buffer, offset as i32, p);
-                }
-                offset += p.len();
-            }
-        }
+        gpu.sides.upload(gl, as_bytes(&v.sides), "cpu-silhouette side buffer")?;
+        gpu.caps.upload(gl, as_bytes(&v.caps), "cpu-silhouette cap index buffer")?;
 
         // Counting state: z-fail or z-pass two-sided stencil, depth clamp, no colour/depth
         // writes, depth func of the frame's convention; the reason for every field is in
         // GlState::shadow_volume_for.
-        frame.shadow_volume_state().apply(gl);
-        let (sides, dark, light) = (g.sides.len() as i32, g.dark_caps.len() as i32, g.light_caps.len() as i32);
-        // SAFETY: our program and VAO; draw ranges lie within the uploaded vertices.
+        let state = frame.shadow_volume_state();
+        state.apply(gl);
+        let (sides, cap_indices) = (sides as i32, cap_indices as i32);
+        // SAFETY: our program and VAOs; the side draw lies within the uploaded vertices; the
+        // cap indices come from the scene's triangles, all < positions.len() (checked at
+        // SceneGpu::upload), and the scene's position buffer holds those positions.
         unsafe {
             gl.use_program(Some(gpu.program));
-            gl.bind_vertex_array(Some(gpu.vao));
             gl.uniform_matrix_4_f32_slice(gpu.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
-            gl.uniform_1_i32(gpu.u_push_to_far.as_ref(), 0);
+            gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
             frame.mark(gl, "sides");
             if sides > 0 {
+                gl.bind_vertex_array(Some(gpu.sides_vao));
+                gl.uniform_1_i32(gpu.u_mode.as_ref(), MODE_SIDES);
                 gl.draw_arrays(glow::TRIANGLES, 0, sides);
             }
             frame.mark(gl, "caps");
-            if dark > 0 {
-                gl.draw_arrays(glow::TRIANGLES, sides, dark);
-            }
-            if light > 0 {
+            if cap_indices > 0 {
+                // The scene's welded positions (12-byte vec3): the caps' indices refer to them.
+                gl.vertex_array_vertex_buffer(gpu.caps_vao, 0, Some(scene.position_buffer()), 0, 12);
+                gl.bind_vertex_array(Some(gpu.caps_vao));
                 // Light caps to the far plane, paper 003 Eq. 6 (see volume.vert.glsl).
-                gl.uniform_1_i32(gpu.u_push_to_far.as_ref(), 1);
-                gl.draw_arrays(glow::TRIANGLES, sides + dark, light);
+                gl.uniform_1_i32(gpu.u_mode.as_ref(), MODE_LIGHT_CAPS);
+                gl.draw_elements(glow::TRIANGLES, cap_indices, glow::UNSIGNED_INT, 0);
+                if self.last_dark_caps {
+                    // Dark caps: the same indices extruded to infinity (volume.vert.glsl). They
+                    // must face the other way than the light caps (P0∞ P2∞ P1∞): flipping the
+                    // front face reverses every triangle's facing for the two-sided stencil ops,
+                    // exactly as reversing its indices would.
+                    gl.front_face(if state.front_face == glow::CCW { glow::CW } else { glow::CCW });
+                    gl.uniform_1_i32(gpu.u_mode.as_ref(), MODE_DARK_CAPS);
+                    gl.draw_elements(glow::TRIANGLES, cap_indices, glow::UNSIGNED_INT, 0);
+                    // Back to the counting state's front face for whatever draws next.
+                    gl.front_face(state.front_face);
+                }
             }
         }
         Ok(())
     }
 
     fn gpu_bytes(&self) -> usize {
-        self.gpu.as_ref().map_or(0, |g| g.capacity)
+        self.gpu.as_ref().map_or(0, |g| g.sides.capacity + g.caps.capacity)
     }
 
     fn destroy(&mut self, gl: &glow::Context) {
@@ -200,8 +302,10 @@ impl ShadowMethod for CpuSilhouette {
             // SAFETY: our own objects, not used afterwards.
             unsafe {
                 gl.delete_program(g.program);
-                gl.delete_vertex_array(g.vao);
-                gl.delete_buffer(g.buffer);
+                gl.delete_vertex_array(g.sides_vao);
+                gl.delete_vertex_array(g.caps_vao);
+                gl.delete_buffer(g.sides.buffer);
+                gl.delete_buffer(g.caps.buffer);
             }
         }
         self.prepared = None;

@@ -1,36 +1,62 @@
-// cpu-silhouette shadow volumes: vertex shader for sides, dark caps and light caps.
+// cpu-silhouette shadow volumes: vertex shader for sides, light caps and dark caps.
 // Algorithm: silhouette shadow volumes from deterministic edge multiplicities, computed on the
-// CPU by umbra_geom::silhouette::extract (paper 001, Sections 2.2-2.3, extrusion Eq. 2:
-// C = (A * l_w - L.xyz, 0)); this shader only transforms the world-space homogeneous vertices.
-// Sides and dark caps carry w = 0 vertices (points at infinity); with the infinite far plane
-// they land exactly on the far plane (clip z = u_far_clip_z * w: depth 1 under the standard
-// convention, exactly 0 under reversed-Z) and, with GL_DEPTH_CLAMP on, are never clipped.
+// CPU by umbra_geom::silhouette::extract_indexed (paper 001, Sections 2.2-2.3, extrusion Eq. 2:
+// C = (A * l_w - L.xyz, 0)).
 //
-// Light caps (u_push_to_far): paper 003, Eq. 6, through shared/depth.glsl umbra_push_to_far:
-// the cap keeps its screen footprint but moves to the far plane, so it FAILS the strict
-// depth test of the counting pass (LESS, resp. GREATER under reversed-Z) at every sample and
-// is always counted by z-fail. For samples in front of the caster triangle that is what the
-// unmoved cap did anyway; it changes the count only for samples strictly behind the triangle
-// in view, which the triangle itself hides, so no visible sample changes. The one sample set
-// where the unmoved cap was ambiguous is the triangle's own surface (cap and surface have
-// equal depth and z-fight): now the triangle is consistently outside its own volume when seen
-// from its lit side (the cap's front face, -1, cancels the side or dark cap the ray leaves
-// through, +1) and inside it when seen from its dark side (the cap's back face, +1), which
-// the two-sided lighting pass shades without diffuse or specular anyway.
+// u_mode selects what a_world_pos is (mod.rs draws each part with its own vertex array):
+//   0 SIDES: CPU-built homogeneous world positions (vec4), drawn as they are. Two of every
+//     quad's vertices are at infinity (w = 0).
+//   1 LIGHT CAPS: the scene's welded positions (vec3, w = 1 by GL's attribute default),
+//     indexed by the CPU-built oriented caps; pushed to the far plane (see below).
+//   2 DARK CAPS: the same positions and indices, extruded to infinity here with Eq. 2,
+//     exactly the expression the CPU uses for the sides' infinite vertices
+//     (umbra_geom::silhouette::extrude: P * l_w - L.xyz, then w = 0), `precise` so that no
+//     fused multiply-add changes a bit: a dark-cap vertex equals the side vertex it shares.
+//     The dark cap must face away from the light cap (P0∞ P2∞ P1∞), so mod.rs draws it with
+//     the front face flipped (glFrontFace CW) instead of reversing the indices.
+// w = 0 vertices land exactly on the far plane with the infinite far plane (clip z =
+// u_far_clip_z * w: depth 1 under the standard convention, exactly 0 under reversed-Z) and,
+// with GL_DEPTH_CLAMP on, are never clipped.
+//
+// Light caps: paper 003, Eq. 6, through shared/depth.glsl umbra_push_to_far: the cap keeps its
+// screen footprint but moves to the far plane, so it FAILS the strict depth test of the
+// counting pass (LESS, resp. GREATER under reversed-Z) at every sample and is always counted
+// by z-fail. For samples in front of the caster triangle that is what the unmoved cap did
+// anyway; it changes the count only for samples strictly behind the triangle in view, which
+// the triangle itself hides, so no visible sample changes. The one sample set where the
+// unmoved cap was ambiguous is the triangle's own surface (cap and surface have equal depth
+// and z-fight): now the triangle is consistently outside its own volume when seen from its
+// lit side (the cap's front face, -1, cancels the side or dark cap the ray leaves through,
+// +1) and inside it when seen from its dark side (the cap's back face, +1), which the
+// two-sided lighting pass shades without diffuse or specular anyway.
+//
+// Edge-on triangles (orientation 0) come as degenerate caps (one vertex three times): zero
+// area in both caps, no fragment.
 //
 // Prepended by mod.rs: "#version 450 core" and shared/depth.glsl (uniform u_far_clip_z).
 
 layout(location = 0) in vec4 a_world_pos;
 
 uniform mat4 u_clip_from_world;
-uniform bool u_push_to_far;
+uniform int u_mode;
+uniform vec4 u_light;
+
+const int MODE_SIDES = 0;
+const int MODE_LIGHT_CAPS = 1;
+const int MODE_DARK_CAPS = 2;
 
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
 
 void main() {
-    vec4 clip = u_clip_from_world * a_world_pos;
-    if (u_push_to_far) {
+    vec4 world = a_world_pos;
+    if (u_mode == MODE_DARK_CAPS) {
+        precise vec3 direction = a_world_pos.xyz * u_light.w - u_light.xyz; // 001 Eq. 2
+        world = vec4(direction, 0.0);
+    }
+    // One multiplication for every mode: equal world vectors give equal clip positions.
+    vec4 clip = u_clip_from_world * world;
+    if (u_mode == MODE_LIGHT_CAPS) {
         clip = umbra_push_to_far(clip); // paper 003, Eq. 6
     }
     gl_Position = clip;
