@@ -44,24 +44,30 @@ impl Session {
 
     /// The frame parameters for a view (camera near plane scaled to the scene).
     pub fn frame_params(&self, view: &ViewConfig) -> FrameParams {
-        let diagonal = self.scene.bounds().map_or(1.0, |b| b.diagonal() as f64).max(1e-6);
-        let c = &view.camera;
-        FrameParams {
-            camera: Camera {
-                eye: c.eye,
-                target: c.target,
-                up: c.up,
-                fov_y_degrees: c.fov_y_degrees,
-                // The infinite far plane puts all depth precision near the near plane: keep
-                // it as far out as the scene allows.
-                near: near_plane(diagonal),
-            },
-            width: view.width,
-            height: view.height,
-            lights: view.lights.clone(),
-            zpass: view.zpass,
-            ..FrameParams::default()
-        }
+        frame_params_for(view, self.scene.bounds())
+    }
+}
+
+/// The frame parameters `render`, `verify` and `view` use for `view` of a scene with
+/// `bounds` (those of its triangles, [`umbra_gl::scene::triangle_bounds`]).
+pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> FrameParams {
+    let diagonal = bounds.map_or(1.0, |b| b.diagonal() as f64).max(1e-6);
+    let c = &view.camera;
+    FrameParams {
+        camera: Camera {
+            eye: c.eye,
+            target: c.target,
+            up: c.up,
+            fov_y_degrees: c.fov_y_degrees,
+            // The infinite far plane puts all depth precision near the near plane: keep
+            // it as far out as the scene allows.
+            near: near_plane(diagonal),
+        },
+        width: view.width,
+        height: view.height,
+        lights: view.lights.clone(),
+        zpass: view.zpass,
+        ..FrameParams::default()
     }
 }
 

@@ -6,44 +6,12 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use umbra_geom::weld::weld;
-use umbra_geom::{Aabb, WeldedMesh};
-use umbra_gl::{Camera, FrameParams};
 
 use crate::args::ViewWindowArgs;
 use crate::config::{CliError, ViewConfig};
 use crate::session::DEFAULT_METHOD;
 
-/// Bounds of the vertices the triangles use (what `SceneGpu::bounds` reports for `render`).
-fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
-    let mut it = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]);
-    let first = it.next()?;
-    Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
-        min: [0, 1, 2].map(|k| b.min[k].min(p[k])),
-        max: [0, 1, 2].map(|k| b.max[k].max(p[k])),
-    }))
-}
-
-/// The frame parameters `render` uses for `view` (see `Session::frame_params`: the near plane
-/// is 1e-3 of the scene's diagonal).
-fn frame_params(view: &ViewConfig, welded: &WeldedMesh) -> FrameParams {
-    let diagonal = triangle_bounds(welded).map_or(1.0, |b| b.diagonal() as f64).max(1e-6);
-    let c = &view.camera;
-    FrameParams {
-        camera: Camera {
-            eye: c.eye,
-            target: c.target,
-            up: c.up,
-            fov_y_degrees: c.fov_y_degrees,
-            near: diagonal * 1e-3,
-        },
-        width: view.width,
-        height: view.height,
-        lights: view.lights.clone(),
-        zpass: view.zpass,
-        ..FrameParams::default()
-    }
-}
-
+/// Opens the window (see crate umbra_view); returns when it is closed or the script ends.
 pub fn run(a: &ViewWindowArgs) -> Result<(), CliError> {
     let method = a.method.as_deref().unwrap_or(DEFAULT_METHOD);
     if method == "help" || method == "list" {
@@ -64,7 +32,7 @@ pub fn run(a: &ViewWindowArgs) -> Result<(), CliError> {
     }
     let config = umbra_view::ViewerConfig {
         scene_name: view.scene_spec.clone(),
-        params: frame_params(&view, &welded),
+        params: crate::session::frame_params_for(&view, umbra_gl::scene::triangle_bounds(&welded)),
         mesh: welded,
         method: method.to_string(),
         script: a.script.as_ref().map(PathBuf::from),

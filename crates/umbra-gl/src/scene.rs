@@ -64,8 +64,9 @@ pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlEr
     i32::try_from(bytes).map_err(|_| GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)")))
 }
 
-/// Bounds of the vertices the triangles use; `None` without triangles.
-fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
+/// Bounds of the vertices the triangles use (what [`SceneGpu::bounds`] reports); `None`
+/// without triangles.
+pub fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
     let mut it = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]);
     let first = it.next()?;
     Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {

@@ -67,26 +67,32 @@ impl ShearedRay {
         }
     }
 
+    /// The triangle in the ray's sheared space: its vertices relative to the origin, sheared
+    /// and scaled so that the ray is the +z axis (paper Fig. 2, first block), and the scaled
+    /// barycentric coordinates = 2D edge functions `u` (edge b c), `v` (c a), `w` (a b).
+    #[inline]
+    fn shear(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Sheared {
+        let o = self.origin;
+        // Vertices relative to the ray origin.
+        let rel = |p: [f32; 3]| [p[0] as f64 - o[0], p[1] as f64 - o[1], p[2] as f64 - o[2]];
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let xy = |p: [f64; 3]| [p[kx] - self.sx * p[kz], p[ky] - self.sy * p[kz]];
+        let (pa, pb, pc) = (rel(a), rel(b), rel(c));
+        let (a2, b2, c2) = (xy(pa), xy(pb), xy(pc));
+        Sheared {
+            u: c2[0] * b2[1] - c2[1] * b2[0],
+            v: a2[0] * c2[1] - a2[1] * c2[0],
+            w: b2[0] * a2[1] - b2[1] * a2[0],
+            xy: [a2, b2, c2],
+            z: [self.sz * pa[kz], self.sz * pb[kz], self.sz * pc[kz]],
+        }
+    }
+
     /// Two-sided watertight intersection with triangle `(a, b, c)`; returns the ray parameter
     /// `t` if the ray hits it with `t_min < t < t_max` (open interval).
     #[inline]
     pub fn intersect(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64) -> Option<f64> {
-        let o = self.origin;
-        // Vertices relative to the ray origin.
-        let rel = |p: [f32; 3]| [p[0] as f64 - o[0], p[1] as f64 - o[1], p[2] as f64 - o[2]];
-        let (pa, pb, pc) = (rel(a), rel(b), rel(c));
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        // Shear and scale of the vertices (paper Fig. 2, first block).
-        let ax = pa[kx] - self.sx * pa[kz];
-        let ay = pa[ky] - self.sy * pa[kz];
-        let bx = pb[kx] - self.sx * pb[kz];
-        let by = pb[ky] - self.sy * pb[kz];
-        let cx = pc[kx] - self.sx * pc[kz];
-        let cy = pc[ky] - self.sy * pc[kz];
-        // Scaled barycentric coordinates = 2D edge functions.
-        let u = cx * by - cy * bx;
-        let v = ax * cy - ay * cx;
-        let w = bx * ay - by * ax;
+        let Sheared { u, v, w, z, .. } = self.shear(a, b, c);
         // Outside if the edge functions have mixed signs; zeros count as inside on both sides.
         if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
             return None;
@@ -97,16 +103,24 @@ impl ShearedRay {
             return None;
         }
         // Scaled hit distance, then t by one division (the paper defers it; we need t anyway).
-        let az = self.sz * pa[kz];
-        let bz = self.sz * pb[kz];
-        let cz = self.sz * pc[kz];
-        let t = (u * az + v * bz + w * cz) / det;
+        let t = (u * z[0] + v * z[1] + w * z[2]) / det;
         if t > t_min && t < t_max {
             Some(t)
         } else {
             None
         }
     }
+}
+
+/// A triangle in a ray's sheared space (see [`ShearedRay::shear`]).
+struct Sheared {
+    u: f64,
+    v: f64,
+    w: f64,
+    /// The sheared 2D vertices a, b, c.
+    xy: [[f64; 2]; 3],
+    /// The scaled z of a, b, c.
+    z: [f64; 3],
 }
 
 /// What [`ShearedRay::intersect_near`] found: the exact answer, and the answers for the
@@ -135,19 +149,7 @@ impl ShearedRay {
     /// distances by at most a factor sqrt(3), which a band definition can afford.
     #[inline]
     pub fn intersect_near(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64, margin: f64) -> NearHit {
-        let o = self.origin;
-        let rel = |p: [f32; 3]| [p[0] as f64 - o[0], p[1] as f64 - o[1], p[2] as f64 - o[2]];
-        let (pa, pb, pc) = (rel(a), rel(b), rel(c));
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let ax = pa[kx] - self.sx * pa[kz];
-        let ay = pa[ky] - self.sy * pa[kz];
-        let bx = pb[kx] - self.sx * pb[kz];
-        let by = pb[ky] - self.sy * pb[kz];
-        let cx = pc[kx] - self.sx * pc[kz];
-        let cy = pc[ky] - self.sy * pc[kz];
-        let u = cx * by - cy * bx;
-        let v = ax * cy - ay * cx;
-        let w = bx * ay - by * ax;
+        let Sheared { u, v, w, xy: [[ax, ay], [bx, by], [cx, cy]], z } = self.shear(a, b, c);
         let det = u + v + w;
         if det == 0.0 || det.is_nan() {
             return NearHit::default();
@@ -160,10 +162,7 @@ impl ShearedRay {
         if !grown {
             return NearHit::default();
         }
-        let az = self.sz * pa[kz];
-        let bz = self.sz * pb[kz];
-        let cz = self.sz * pc[kz];
-        let t = (u * az + v * bz + w * cz) / det;
+        let t = (u * z[0] + v * z[1] + w * z[2]) / det;
         if !(t > t_min && t < t_max) {
             return NearHit::default();
         }
