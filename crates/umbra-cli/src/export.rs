@@ -5,7 +5,7 @@
 //! scene and downloaded; the browser's vertex shaders only evaluate them. This module writes
 //! exactly the buffers the native `vs-silhouette` method uploads — same builders
 //! ([`umbra_geom::sides_data::build_sides_data`] / [`build_caps_data`]), same layout and
-//! `maxMult` ([`plan_layout`] with 16 vertex attributes, the minimum of OpenGL 4.5, OpenGL ES
+//! `maxMult` ([`plan_portable_layout`]: 16 vertex attributes, the minimum of OpenGL 4.5, OpenGL ES
 //! 3.0 and WebGL 2, and what `umbra info` reports) — plus the drawable welded mesh and a JSON
 //! manifest. Every file is little-endian binary a browser fetches as one ArrayBuffer:
 //!
@@ -33,7 +33,7 @@ use umbra_geom::adjacency::EdgeAdjacency;
 use umbra_geom::sides_data::{build_caps_data, build_sides_data, caps_data_bytes, sides_data_bytes, MAX_MULT_LIMIT};
 use umbra_geom::weld::{weld, WeldedMesh};
 use umbra_geom::Aabb;
-use umbra_gl::methods::vs_silhouette::plan_layout;
+use umbra_gl::methods::vs_silhouette::plan_portable_layout;
 use umbra_gl::scene::flat_normal;
 
 use crate::args::{ExportArgs, ViewArgs};
@@ -45,9 +45,6 @@ pub const FORMAT: &str = "umbra-export";
 pub const VERSION: u64 = 1;
 /// The manifest's file name inside the export directory.
 pub const MANIFEST: &str = "manifest.json";
-/// Vertex attributes the layout is planned for: the minimum of GL 4.5, ES 3.0 and WebGL 2.
-pub const PLANNED_ATTRIBS: usize = 16;
-
 /// One buffer: which file, where in it, how many bytes, and how to read them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BufferRef {
@@ -399,7 +396,8 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
     }
     let adj = EdgeAdjacency::build(&welded);
     let t = welded.triangles.len();
-    let layout = plan_layout(&adj, t, PLANNED_ATTRIBS, MAX_MULT_LIMIT);
+    // Planned for the 16 vertex attributes GL 4.5, ES 3.0 and WebGL 2 all guarantee.
+    let layout = plan_portable_layout(&adj, t);
     let sides = build_sides_data(&welded, &adj, layout.max_mult).map_err(|e| CliError::Other(e.to_string()))?;
     let caps = build_caps_data(&welded).map_err(|e| CliError::Other(e.to_string()))?;
 

@@ -5,8 +5,7 @@ use umbra_geom::adjacency::EdgeAdjacency;
 use umbra_geom::silhouette::silhouette_stats;
 use umbra_geom::weld::weld;
 use umbra_gl::methods::ts_silhouette::patch_bytes;
-use umbra_geom::sides_data::MAX_MULT_LIMIT;
-use umbra_gl::methods::vs_silhouette::plan_layout;
+use umbra_gl::methods::vs_silhouette::plan_portable_layout;
 
 use crate::args::InfoArgs;
 use crate::config::{load_scene, parse_light, CliError};
@@ -46,9 +45,8 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
     let welded = weld(&mesh);
     let adj = EdgeAdjacency::build(&welded);
     let silhouette = light.map(|l| silhouette_stats(&welded, &adj, l));
-    // The layout vs-silhouette's `prepare` uses with 16 vertex attributes (the minimum of GL
-    // 4.5 and ES 3.0, and what llvmpipe reports), computed without GL.
-    let layout = plan_layout(&adj, welded.triangles.len(), 16, MAX_MULT_LIMIT);
+    // The layout vs-silhouette's `prepare` uses with the guaranteed 16 vertex attributes.
+    let layout = plan_portable_layout(&adj, welded.triangles.len());
     let report = InfoReport {
         triangles: mesh.triangles.len(),
         vertices: welded.positions.len(),

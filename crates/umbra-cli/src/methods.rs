@@ -92,3 +92,15 @@ pub fn parse_methods(text: &str, flag: &'static str) -> Result<Vec<String>, CliE
     }
     Ok(names)
 }
+
+/// `--method help` (or `list`): prints every registered method, one per line, and returns
+/// true; any other name returns false.
+pub fn list_if_help(name: &str) -> bool {
+    if name == "help" || name == "list" {
+        for n in method_names() {
+            println!("{n}");
+        }
+        return true;
+    }
+    false
+}

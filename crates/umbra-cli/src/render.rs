@@ -8,10 +8,7 @@ use crate::session::{Session, DEFAULT_METHOD};
 
 pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     let method_name = a.method.as_deref().unwrap_or(DEFAULT_METHOD);
-    if method_name == "help" || method_name == "list" {
-        for name in umbra_gl::method_names() {
-            println!("{name}");
-        }
+    if crate::methods::list_if_help(method_name) {
         return Ok(());
     }
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;

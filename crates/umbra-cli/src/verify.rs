@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use umbra_gl::RgbaImage;
-use umbra_oracle::diff_image;
-use umbra_verify::{verify_method, view_reference, MethodReport, SampleClass};
+use umbra_oracle::{diff_image, mismatches_outside_band};
+use umbra_verify::{verify_method, view_reference, MethodReport};
 
 use crate::args::VerifyArgs;
 use crate::config::{CliError, ViewConfig};
@@ -76,14 +76,8 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
         }
         if a.explain > 0 {
             for (i, (lr, res)) in reference.lights.iter().zip(&report.per_light).enumerate() {
-                let outside: Vec<usize> = (0..res.shadowed.len())
-                    .filter(|&k| {
-                        let class = lr.reference.class[k];
-                        class != SampleClass::Background
-                            && !lr.reference.band[k]
-                            && res.shadowed[k] != (class == SampleClass::Shadowed)
-                    })
-                    .collect();
+                let outside = mismatches_outside_band(&lr.reference, &res.shadowed)
+                    .map_err(|e| CliError::Other(e.to_string()))?;
                 for &k in outside.iter().take(a.explain) {
                     let (x, y) = ((k % view.width as usize) as u32, (k / view.width as usize) as u32);
                     let what = if res.shadowed[k] { "false shadow" } else { "false light" };

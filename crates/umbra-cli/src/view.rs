@@ -14,13 +14,10 @@ use crate::session::DEFAULT_METHOD;
 /// Opens the window (see crate umbra_view); returns when it is closed or the script ends.
 pub fn run(a: &ViewWindowArgs) -> Result<(), CliError> {
     let method = a.method.as_deref().unwrap_or(DEFAULT_METHOD);
-    if method == "help" || method == "list" {
-        for name in umbra_gl::method_names() {
-            println!("{name}");
-        }
+    if crate::methods::list_if_help(method) {
         return Ok(());
     }
-    umbra_gl::create_method(method).map_err(|e| CliError::BadFlag { flag: "--method", message: e.to_string() })?;
+    crate::methods::parse_methods(method, "--method")?;
     let mut flags = a.view.clone();
     if let Some(scene) = &a.scene_arg {
         flags.scene = scene.clone();

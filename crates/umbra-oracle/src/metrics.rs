@@ -60,6 +60,20 @@ pub fn compare(reference: &Reference, method_shadowed: &[bool]) -> Result<Metric
     Ok(m)
 }
 
+/// The pixels (indices, row-major) where `method_shadowed` differs from the reference outside
+/// the band: the samples [`Metrics::mismatches_outside_band`] counts, for diagnosis.
+pub fn mismatches_outside_band(reference: &Reference, method_shadowed: &[bool]) -> Result<Vec<usize>, OracleError> {
+    check(reference, "method mask", method_shadowed.len())?;
+    Ok((0..method_shadowed.len())
+        .filter(|&i| {
+            let class = reference.class[i];
+            class != SampleClass::Background
+                && !reference.band[i]
+                && method_shadowed[i] != (class == SampleClass::Shadowed)
+        })
+        .collect())
+}
+
 /// Colour of a false shadow outside the band (method shadowed, reference lit).
 pub const FALSE_SHADOW: [u8; 4] = [255, 0, 0, 255];
 /// Colour of a false light outside the band (method lit, reference shadowed).

@@ -27,7 +27,6 @@ use umbra_gl::{
     create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
 };
 use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Reference, Samples};
-pub use umbra_oracle::SampleClass;
 
 /// Why a verification could not run (not: a method that failed it).
 #[derive(Debug, thiserror::Error)]

@@ -187,6 +187,16 @@ pub fn plan_layout(adj: &EdgeAdjacency, triangles: usize, attribs: usize, max_mu
     }
 }
 
+/// GL_MAX_VERTEX_ATTRIBS guaranteed by OpenGL 4.5 and OpenGL ES 3.0 (llvmpipe reports it too).
+pub const MIN_VERTEX_ATTRIBS: usize = 16;
+
+/// The layout `prepare` uses on any implementation with the guaranteed minimum of vertex
+/// attributes and no tighter cap: [`plan_layout`] with [`MIN_VERTEX_ATTRIBS`] and
+/// [`MAX_MULT_LIMIT`], no GL needed (`umbra info`, `umbra export`).
+pub fn plan_portable_layout(adj: &EdgeAdjacency, triangles: usize) -> Layout {
+    plan_layout(adj, triangles, MIN_VERTEX_ATTRIBS, MAX_MULT_LIMIT)
+}
+
 /// What one volume pass needs besides the prepared data (the fields of a [`VolumeFrame`]).
 #[derive(Clone, Copy, Debug)]
 pub struct VolumeDraw {
