@@ -11,6 +11,7 @@
 //! * [`synthetic`]: primary-ray samples from a pinhole camera, for tests and benchmarks only.
 
 pub mod bvh;
+pub mod edge_on;
 pub mod metrics;
 pub mod reference;
 pub mod synthetic;
@@ -18,7 +19,9 @@ pub mod watertight;
 
 pub use bvh::{Bvh, Hit};
 pub use metrics::{compare, diff_image, mismatches_outside_band, Metrics};
-pub use reference::{boundary_band, reference, reference_in_view, segment_epsilon, RasterView, Reference, SampleClass, Samples};
+pub use reference::{
+    boundary_band, reference, reference_in_view, segment_epsilon, RasterView, Reference, SampleClass, Samples, DEPTH_QUANTA,
+};
 
 /// Bad input to the oracle. Pixel coordinates are `(x, y)` with `y = 0` the top row.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

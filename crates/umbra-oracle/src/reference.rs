@@ -17,12 +17,21 @@
 //!     and on most GPUs), so which side of that edge the sample is on, and hence whether the
 //!     side quad extruded from that edge covers it in front or behind, is the grid's choice.
 //!     Needs the view ([`RasterView`]); [`reference`] without one skips it.
-//!   - *near a shadow boundary*: the segment to the light passes within
-//!     [`NEAR_BOUNDARY_RELATIVE`] `(|S - eye| + |S|max)` of an occluder's edge without
-//!     passing robustly through one ([`Bvh::occluded_near`]): the sample lies that close to a
-//!     shadow-volume side, which the depth test (a 24-bit mantissa) cannot resolve. Such
+//!   - *near a shadow boundary*: the segment to the light passes within a margin of an
+//!     occluder's edge without passing robustly through one ([`Bvh::occluded_near`]), and
+//!     moving `S` by that margin across the segment changes its class: the sample lies that
+//!     close to a shadow-volume side, which the depth test cannot resolve. The margin is the
+//!     larger of [`NEAR_BOUNDARY_RELATIVE`] `(|S - eye| + |S|max)` (rounding of positions)
+//!     and, with the view, [`DEPTH_QUANTA`] steps of the depth buffer along the view ray
+//!     ([`RasterView::depth_margin`]; it grows with the square of the distance over the near
+//!     plane: 2.4e-4 units at 10 units with a 0.1 near plane). Such
 //!     samples only escape the 3x3 rule where a side meets the surface at a very shallow
 //!     angle (under a degree), so the boundary runs along the surface for many pixels.
+//!   - *edge-on*: pixels a shadow-volume side face seen almost exactly edge-on may cover
+//!     ([`crate::edge_on`]). Needs the view.
+//!   - *within eps*: samples lit only because an occluder lies within `eps` of them along the
+//!     segment (the segment test's own tolerance, see [`segment_epsilon`]): a concave crease or
+//!     an object touching the surface, which a method (it has no eps) may count as shadow.
 //!
 //! Choices made here, each explained where it is implemented:
 //! * The plane test is done in `f64` from the `f32` vertices of `T` (the cross product of two
@@ -49,11 +58,16 @@ pub const SNAP_PIXELS: f64 = 1.0 / 128.0;
 /// 16 units in the last place of an f32 depth or position at the sample's distance.
 pub const NEAR_BOUNDARY_RELATIVE: f64 = 1.0 / 1_048_576.0;
 
+/// Depth-buffer steps a sample must be away from a shadow-volume face for the depth test to
+/// order them for sure: the face's depth is interpolated in f32 over its (often long, thin)
+/// screen triangle, off by a few steps, and the sample's own depth is rounded once.
+pub const DEPTH_QUANTA: f64 = 4.0;
+
 /// The view the samples were rasterized with, for the *snapped* band.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RasterView {
-    /// Clip space from world space, column-major (OpenGL's convention; the depth convention
-    /// does not matter: only x, y and w are used).
+    /// Clip space from world space, column-major (OpenGL's convention), in the depth
+    /// convention the samples were rendered with (only [`RasterView::depth_margin`] reads z).
     pub clip_from_world: [f64; 16],
 }
 
@@ -62,6 +76,43 @@ impl RasterView {
         let m = &self.clip_from_world;
         let row = |r: usize| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
         [row(0), row(1), row(3)]
+    }
+
+    /// The world distance along the view ray at `s` (seen from `eye`) that moves its window
+    /// depth by [`DEPTH_QUANTA`] quanta of a depth buffer: below it the depth test cannot tell
+    /// whether `s` lies in front of or behind a shadow-volume face through that point. The
+    /// quantum is the larger of a 24-bit fixed-point step (2^-24) and the f32 spacing at the
+    /// sample's depth (DEPTH24 or DEPTH32F, whichever the method used); the window depth is
+    /// `(z/w + 1) / 2` for GL's default clip depth mode and `z/w` for reversed-Z (detected: its
+    /// depth row has no x, y, z terms). `0` when the depth does not change along the ray (then
+    /// only the other margins apply).
+    pub fn depth_margin(&self, s: [f64; 3], eye: [f64; 3]) -> f64 {
+        let m = &self.clip_from_world;
+        let row = |r: usize, p: [f64; 3], w: f64| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] * w;
+        let reversed = m[2] == 0.0 && m[6] == 0.0 && m[10] == 0.0;
+        let scale = if reversed { 1.0 } else { 0.5 };
+        let d = sub(s, eye);
+        let len = dot(d, d).sqrt();
+        if !(len > 0.0) {
+            return 0.0;
+        }
+        let v = d.map(|c| c / len);
+        let (z, w) = (row(2, s, 1.0), row(3, s, 1.0));
+        let (dz, dw) = (row(2, v, 0.0), row(3, v, 0.0));
+        if !(w > 0.0) {
+            return 0.0;
+        }
+        // d(z/w)/dt along the unit view direction, then to window depth.
+        let slope = scale * ((dz * w - z * dw) / (w * w)).abs();
+        let window = if reversed { z / w } else { 0.5 * (z / w + 1.0) };
+        let ulp = (window.abs() as f32).max(f32::MIN_POSITIVE);
+        let ulp = f64::from(f32::from_bits(ulp.to_bits() + 1) - ulp);
+        let quantum = ulp.max(1.0 / 16_777_216.0);
+        if slope > 0.0 && slope.is_finite() {
+            DEPTH_QUANTA * quantum / slope
+        } else {
+            0.0
+        }
     }
 
     /// Distance in pixels from the centre of pixel `(x, y)` (top row first) of a `width` x
@@ -214,7 +265,7 @@ pub fn reference_in_view(
                     if t == u32::MAX {
                         continue;
                     }
-                    let (c, g) = classify(mesh, bvh, eps, &shading, t, samples.world_pos[start + x]);
+                    let (c, g) = classify(mesh, bvh, eps, &shading, view, t, samples.world_pos[start + x]);
                     class_row[x] = c;
                     let snapped = view.is_some_and(|v| {
                         let tri = mesh.triangles[t as usize].map(|k| to_f64(mesh.positions[k as usize]));
@@ -224,7 +275,11 @@ pub fn reference_in_view(
                 }
             });
     }
-    let band = boundary_band(width, height, &class, &grazing);
+    let mut band = boundary_band(width, height, &class, &grazing);
+    if let Some(v) = view {
+        let eye = eye.map(f64::from);
+        crate::edge_on::mark_edge_on(mesh, light, eye, v, width, height, &mut band, |i| class[i] != SampleClass::Background);
+    }
     Ok(Reference { width, height, class, band })
 }
 
@@ -288,7 +343,15 @@ fn to_f64(p: [f32; 3]) -> [f64; 3] {
 }
 
 /// Class and grazing flag of one sample at `world_pos` on triangle `triangle` (in range).
-fn classify(mesh: &WeldedMesh, bvh: &Bvh, eps: f64, shading: &Shading, triangle: u32, world_pos: [f32; 3]) -> (SampleClass, bool) {
+fn classify(
+    mesh: &WeldedMesh,
+    bvh: &Bvh,
+    eps: f64,
+    shading: &Shading,
+    view: Option<&RasterView>,
+    triangle: u32,
+    world_pos: [f32; 3],
+) -> (SampleClass, bool) {
     let [ia, ib, ic] = mesh.triangles[triangle as usize];
     let a = to_f64(mesh.positions[ia as usize]);
     let b = to_f64(mesh.positions[ib as usize]);
@@ -329,7 +392,10 @@ fn classify(mesh: &WeldedMesh, bvh: &Bvh, eps: f64, shading: &Shading, triangle:
     // Neighbours of T are NOT skipped: across a concave crease a neighbour really does shadow
     // T (a wall shading the floor); a coplanar neighbour meets the ray only at t ~ 0 < eps.
     // Near a shadow boundary (module doc): a world distance at S.
-    let margin = NEAR_BOUNDARY_RELATIVE * (dot(sub(s, shading.eye), sub(s, shading.eye)).sqrt() + s.iter().fold(0f64, |m, c| m.max(c.abs())));
+    // Rounding of positions: relative to the sample's distance and coordinates; depth-test
+    // resolution: a few depth-buffer steps along the view ray (RasterView::depth_margin).
+    let margin = (NEAR_BOUNDARY_RELATIVE * (dot(sub(s, shading.eye), sub(s, shading.eye)).sqrt() + s.iter().fold(0f64, |m, c| m.max(c.abs()))))
+        .max(view.map_or(0.0, |v| v.depth_margin(s, shading.eye)));
     // The exact segment (or ray) from a start point towards the light, as (direction, t range).
     let segment = |from: [f64; 3]| -> Option<([f64; 3], f64, f64)> {
         match shading.point {
@@ -369,7 +435,26 @@ fn classify(mesh: &WeldedMesh, bvh: &Bvh, eps: f64, shading: &Shading, triangle:
             moved_occluded != occluded
         })
     };
-    (if occluded { SampleClass::Shadowed } else { SampleClass::Lit }, grazing || uncertain)
+    // Lit only because the reference's eps ignores what lies within eps along the segment (a
+    // concave crease, an object resting on the surface): the method, which has no eps, may
+    // shadow the sample. Band (*within eps*) when, with the segment starting at S instead of
+    // eps away, an occluder is hit, or an occluder's edge passes within the margin and one of
+    // the 8 moved segments is occluded. The range starts at t_min / 1024, not 0: a hit at
+    // t ~ 0 is a surface through S itself (a coplanar neighbour met on its shared edge), not
+    // an occluder in front of S.
+    let within_eps = !occluded && t_min > 0.0 && {
+        let from_s = |from: [f64; 3]| segment(from).map(|(d, lo, hi)| (d, lo / 1024.0, lo, hi));
+        let (hit, near) = bvh.occluded_near(s, dir, t_min / 1024.0, t_min, triangle, 2.0 * margin);
+        hit || (near && {
+            let (u, v) = perpendicular_basis(dir);
+            (0..8).any(|k| {
+                let (sin, cos) = (k as f64 * std::f64::consts::FRAC_PI_4).sin_cos();
+                let moved = [0, 1, 2].map(|i| s[i] + margin * (cos * u[i] + sin * v[i]));
+                from_s(moved).is_some_and(|(d, start, _, hi)| bvh.occluded(moved, d, start, hi, triangle))
+            })
+        })
+    };
+    (if occluded { SampleClass::Shadowed } else { SampleClass::Lit }, grazing || uncertain || within_eps)
 }
 
 /// Band: a non-background sample whose 3x3 neighbourhood (itself included, clipped at the

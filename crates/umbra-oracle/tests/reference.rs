@@ -400,3 +400,168 @@ fn snapped_samples_on_their_own_triangles_edge_are_band() {
         }
     }
 }
+
+/// GL's perspective with an infinite far plane (standard depth convention, NEGATIVE_ONE_TO_ONE)
+/// looking from `eye` at `target` (up +y), column-major clip_from_world.
+fn clip_from_world_looking(eye: [f64; 3], target: [f64; 3], fovy_degrees: f64, aspect: f64, near: f64) -> [f64; 16] {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let unit = |a: [f64; 3]| {
+        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        a.map(|c| c / l)
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let f = unit(sub(target, eye));
+    let r = unit(cross(f, [0.0, 1.0, 0.0]));
+    let u = cross(r, f);
+    // view_from_world rows: r, u, -f; translation -R eye.
+    let view = [r, u, f.map(|c| -c)];
+    let t = [-dot(r, eye), -dot(u, eye), dot(f, eye)];
+    let g = 1.0 / (fovy_degrees.to_radians() / 2.0).tan();
+    // clip rows: x = g/aspect * xv, y = g * yv, z = -zv - 2 near, w = -zv.
+    let mut m = [0.0; 16];
+    for col in 0..4 {
+        let v = |row: usize| if col < 3 { view[row][col] } else { t[row] };
+        m[col * 4] = g / aspect * v(0);
+        m[col * 4 + 1] = g * v(1);
+        m[col * 4 + 2] = -v(2) - if col == 3 { 2.0 * near } else { 0.0 };
+        m[col * 4 + 3] = -v(2);
+    }
+    m
+}
+
+#[test]
+fn depth_margin_is_a_few_depth_steps_along_the_view_ray() {
+    use umbra_oracle::{RasterView, DEPTH_QUANTA};
+    // Standard infinite projection: window depth 1 - near / d on the axis, d(depth)/dd =
+    // near / d^2, depth steps of 2^-24 (24-bit, and f32 just below 1): the margin is
+    // DEPTH_QUANTA 2^-24 d^2 / near.
+    let (eye, near) = ([0.0, 0.0, 0.0], 0.1);
+    let view = RasterView { clip_from_world: clip_from_world_looking(eye, [0.0, 0.0, -1.0], 60.0, 1.0, near) };
+    for d in [1.0, 10.0, 100.0] {
+        let expected = DEPTH_QUANTA / 16_777_216.0 * d * d / near;
+        let m = view.depth_margin([0.0, 0.0, -d], eye);
+        assert!((m / expected - 1.0).abs() < 1e-6, "d = {d}: margin {m}, expected {expected}");
+    }
+    // Behind the eye: no depth, no margin.
+    assert_eq!(view.depth_margin([0.0, 0.0, 5.0], eye), 0.0);
+}
+
+/// The ground sample (x, 0, 0.3) under the square occluder at y = 1, point light (0, 10, 0)
+/// (shadow boundary x = 10/9), rasterized alone at its own pixel of a 64x64 view from
+/// (0, 20, 5) with near plane `near`: (class, band) with the view.
+fn depth_limited_sample(x: f32, near: f64) -> (SampleClass, bool) {
+    use umbra_oracle::{reference_in_view, RasterView};
+    let mut scene = Scene::with_ground();
+    scene.add_square_occluder(1.0, false);
+    let mesh = scene.mesh();
+    let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
+    let eye = [0.0f32, 20.0, 5.0];
+    let clip_from_world = clip_from_world_looking(eye.map(f64::from), [0.0, 0.0, 0.0], 60.0, 1.0, near);
+    let s = [x, 0.0, 0.3];
+    // The pixel S projects to.
+    let m = &clip_from_world;
+    let row = |r: usize| m[r] * f64::from(s[0]) + m[4 + r] * f64::from(s[1]) + m[8 + r] * f64::from(s[2]) + m[12 + r];
+    let (px, py) = (((row(0) / row(3) + 1.0) * 32.0) as usize, ((1.0 - row(1) / row(3)) * 32.0) as usize);
+    let mut pos = vec![[0.0f32; 3]; 64 * 64];
+    let mut tri = vec![BG; 64 * 64];
+    pos[py * 64 + px] = s;
+    tri[py * 64 + px] = Scene::ground_triangle(s[0], s[2]);
+    let samples = Samples { width: 64, height: 64, world_pos: &pos, triangle: &tri };
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world })).unwrap();
+    (r.class[py * 64 + px], r.band[py * 64 + px])
+}
+
+#[test]
+fn depth_limited_sample_near_a_boundary_is_band() {
+    // 1e-3 beyond the boundary x = 10/9 at ~20.6 units from the eye. A 0.01 near plane makes
+    // 4 depth steps there 4 * 2^-24 * 20.6^2 / 0.01 ~ 1e-2 units: the depth test cannot say on
+    // which side of the volume's side face the sample lies: band.
+    assert_eq!(depth_limited_sample(10.0 / 9.0 + 1e-3, 0.01), (SampleClass::Lit, true));
+    assert_eq!(depth_limited_sample(10.0 / 9.0 - 1e-3, 0.01), (SampleClass::Shadowed, true));
+    // A 1.0 near plane: 1e-4 units, far below 1e-3: a plain sample.
+    assert_eq!(depth_limited_sample(10.0 / 9.0 + 1e-3, 1.0), (SampleClass::Lit, false));
+    assert_eq!(depth_limited_sample(10.0 / 9.0 - 1e-3, 1.0), (SampleClass::Shadowed, false));
+    // Far from the boundary nothing changes, whatever the near plane.
+    assert_eq!(depth_limited_sample(1.5, 0.01), (SampleClass::Lit, false));
+}
+
+#[test]
+fn sample_lit_only_by_the_epsilon_is_band() {
+    // A tiny occluder 2e-5 above the ground sample (eps = 1e-5 of the scene's ~8.5 scale is
+    // 8.5e-5): the segment meets it at t < eps, so the sample is lit, by tolerance only: band.
+    let mut scene = Scene::with_ground();
+    let h = 2e-5f32;
+    scene.add([[0.2, h, 0.2], [0.4, h, 0.2], [0.3, h, 0.4]]);
+    let s = [0.3f32, 0.0, 0.27];
+    let tri = [Scene::ground_triangle(s[0], s[2])];
+    let r = run(&scene, &[s], &tri, 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
+    assert_eq!((r.class[0], r.band[0]), (SampleClass::Lit, true));
+    // Its edge passing 1e-6 beside the segment (no hit) within eps: a method may still count
+    // the sample in the occluder's volume (the probes moved by the ~2e-5 margin hit it): band.
+    let p = [0, 1, 2].map(|k| f64::from(s[k]) + f64::from(h) / 10.0 * ([0.0, 10.0, 0.0][k] - f64::from(s[k])));
+    let x_edge = (p[0] + 1e-6) as f32;
+    let mut scene = Scene::with_ground();
+    scene.add([[x_edge, h, 0.2], [x_edge + 0.1, h, 0.3], [x_edge, h, 0.4]]);
+    let r = run(&scene, &[s], &tri, 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
+    assert_eq!((r.class[0], r.band[0]), (SampleClass::Lit, true));
+    // Lifted to 1e-3 (beyond eps) it shadows the sample, robustly: not band.
+    let mut scene = Scene::with_ground();
+    scene.add([[0.2, 1e-3, 0.2], [0.4, 1e-3, 0.2], [0.3, 1e-3, 0.4]]);
+    let r = run(&scene, &[s], &tri, 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
+    assert_eq!((r.class[0], r.band[0]), (SampleClass::Shadowed, false));
+}
+
+#[test]
+fn side_face_seen_edge_on_marks_its_line() {
+    use umbra_oracle::edge_on::{mark_edge_on, EDGE_ON_PIXELS};
+    use umbra_oracle::RasterView;
+    // The square occluder's edge x = 1 (y = 1) and the light (0, 10, 0) span the plane
+    // x = 1 - (y - 1) / 9. An eye in that plane sees the edge's side face edge-on: its image
+    // is a line of the 64x64 image; every sample pixel within EDGE_ON_PIXELS of it is marked.
+    let mut scene = Scene::new();
+    scene.add_square_occluder(1.0, false);
+    let mesh = scene.mesh();
+    let light = [0.0, 10.0, 0.0, 1.0];
+    let run_at = |eye: [f64; 3]| {
+        let clip_from_world = clip_from_world_looking(eye, [1.0, 0.0, 0.0], 60.0, 1.0, 0.1);
+        let view = RasterView { clip_from_world };
+        let mut band = vec![false; 64 * 64];
+        let faces = mark_edge_on(&mesh, light, eye, &view, 64, 64, &mut band, |_| true);
+        (faces, band, clip_from_world)
+    };
+    let in_plane = [1.0 - 19.0 / 9.0, 20.0, 5.0];
+    let (faces, band, m) = run_at(in_plane);
+    assert_eq!(faces, 1, "only the x = 1 edge's side face is edge-on");
+    // The plane's image: project two points of the plane (the wedge's foot on the ground lies
+    // on it too), then compare per pixel. Only the face's own extent is marked.
+    let project = |p: [f64; 3]| {
+        let row = |r: usize| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+        [(row(0) / row(3) + 1.0) * 32.0, (1.0 - row(1) / row(3)) * 32.0]
+    };
+    let (a, b) = (project([10.0 / 9.0, 0.0, -3.0]), project([10.0 / 9.0, 0.0, 3.0]));
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len = dx.hypot(dy);
+    let mut marked = 0;
+    for y in 0..64 {
+        for x in 0..64 {
+            if band[y * 64 + x] {
+                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+                let d = ((cx - a[0]) * dy - (cy - a[1]) * dx).abs() / len;
+                assert!(d < EDGE_ON_PIXELS + 1e-6, "pixel ({x}, {y}) marked {d} px from the line");
+                marked += 1;
+            }
+        }
+    }
+    // Points of the face itself (L + s ((1, 1, 0) - L), s > 1): their pixels are marked.
+    for s in [1.02, 1.05, 1.1] {
+        let p = project([s, 10.0 - 9.0 * s, 0.0]);
+        let (x, y) = (p[0] as usize, p[1] as usize);
+        assert!(band[y * 64 + x], "face point s = {s} at pixel ({x}, {y}) not marked");
+    }
+    assert!(marked >= 20, "a piece of line: {marked} pixels");
+    // One unit out of the plane, the face is seen at a visible angle: nothing is marked.
+    let (faces, band, _) = run_at([in_plane[0] - 1.0, 20.0, 5.0]);
+    assert_eq!(faces, 0);
+    assert!(band.iter().all(|&b| !b));
+}
