@@ -86,6 +86,11 @@ pub struct RenderArgs {
     /// Shadow method (see `umbra render --method help`). Default: the best one available.
     #[arg(long)]
     pub method: Option<String>,
+    /// Shadow-volume counter: `stencil8` (the 8-bit stencil; wraps when 256 or more
+    /// triangles lie between a sample and the light), `float32` (an exact f32 count resolved
+    /// into the stencil) or `auto` (float32 only when a sound bound of that count reaches 256).
+    #[arg(long, default_value = "auto")]
+    pub counter: String,
     /// Output PNG file.
     #[arg(long, default_value = "umbra.png")]
     pub out: String,
@@ -142,6 +147,11 @@ pub struct VerifyArgs {
     /// Methods to verify: NAME[,NAME...] or `all`.
     #[arg(long, default_value = "all")]
     pub method: String,
+    /// Shadow-volume counter: `stencil8` (the 8-bit stencil; wraps when 256 or more
+    /// triangles lie between a sample and the light), `float32` (an exact f32 count resolved
+    /// into the stencil) or `auto` (float32 only when a sound bound of that count reaches 256).
+    #[arg(long, default_value = "auto")]
+    pub counter: String,
     /// Print a JSON array, one object per method.
     #[arg(long)]
     pub json: bool,
@@ -209,6 +219,11 @@ pub struct BenchArgs {
     /// z-pass stencil counting instead of z-fail.
     #[arg(long)]
     pub zpass: bool,
+    /// Shadow-volume counter: `stencil8` (the 8-bit stencil; wraps when 256 or more
+    /// triangles lie between a sample and the light), `float32` (an exact f32 count resolved
+    /// into the stencil) or `auto` (float32 only when a sound bound of that count reaches 256).
+    #[arg(long, default_value = "auto")]
+    pub counter: String,
     /// Largest accepted input file in bytes, after decompression.
     #[arg(long)]
     pub max_input_bytes: Option<u64>,

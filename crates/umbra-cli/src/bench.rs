@@ -113,6 +113,8 @@ pub struct MeasureOptions {
     pub stage_every: usize,
     pub fov: f64,
     pub zpass: bool,
+    /// `--counter` (resolved per scene and lights in [`measure`]).
+    pub counter: crate::methods::CounterChoice,
     pub sm: SmOptions,
     pub trace_order: bool,
     pub progress_label: String,
@@ -128,6 +130,9 @@ pub struct MethodStats {
     pub stage_ms: Vec<(String, Vec<f64>)>,
     pub gpu_bytes: usize,
     pub error: Option<String>,
+    /// The counter the method's volume pass used ("stencil8", "float32", or "none" for a
+    /// method that does not count in the stencil).
+    pub counter: String,
 }
 
 impl MethodStats {
@@ -298,6 +303,9 @@ pub fn measure(
     };
     let mut s = Session::new(&view)?;
     let mut params = s.frame_params(&view);
+    let decision = crate::methods::choose_counter(o.counter, &s.welded.positions, &s.welded.triangles, &params.lights)?;
+    crate::methods::report_counter(&decision);
+    params.counter = decision.counter;
     let gl = s.context.gl();
     let target = RenderTarget::new(gl, o.width, o.height, Attachments::default()).map_err(gl_err)?;
     let fb = FrameTarget { framebuffer: Some(target.framebuffer()) };
@@ -305,8 +313,15 @@ pub fn measure(
     for m in methods {
         instances.push(make_method(m, &o.sm, "--methods")?);
     }
-    let mut stats: Vec<MethodStats> =
-        methods.iter().map(|m| MethodStats { method: m.clone(), ..Default::default() }).collect();
+    let mut stats: Vec<MethodStats> = methods
+        .iter()
+        .zip(&instances)
+        .map(|(m, i)| MethodStats {
+            method: m.clone(),
+            counter: crate::methods::counter_label(i.as_ref(), params.counter).to_string(),
+            ..Default::default()
+        })
+        .collect();
     let slots = schedule(methods.len(), o.warmup, cameras.len());
     let progress = Progress::new(slots.len(), &o.progress_label);
     let mut clock = FrameClock { inner: TimestampHook::synchronous(), seen_first: false };
@@ -379,6 +394,8 @@ pub struct JsonRow {
     pub gpu_bytes: usize,
     pub scene: String,
     pub triangles: usize,
+    /// "stencil8", "float32", or "none" (the method does not count in the stencil).
+    pub counter: String,
     pub width: u32,
     pub height: u32,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -409,6 +426,7 @@ pub fn json_rows(
             gpu_bytes: s.gpu_bytes,
             scene: scene.to_string(),
             triangles: m.triangles,
+            counter: s.counter.clone(),
             width,
             height,
             run: run.map(str::to_string),
@@ -536,6 +554,7 @@ pub fn measure_options(
         stage_every: a.stage_every.unwrap_or(stage_every_default),
         fov: a.fov,
         zpass: a.zpass,
+        counter: crate::methods::CounterChoice::parse(&a.counter, "--counter")?,
         sm: SmOptions::from_args(&a.sm)?,
         trace_order: a.trace_order,
         progress_label: label.to_string(),

@@ -1,9 +1,17 @@
 //! Shadow methods by name, as `render`, `verify` and `bench` take them: the registry's names
-//! (`umbra_gl::method_names`, parameterised ones like `shadow-map-cube:RES` included), and the
-//! shadow-map options (`--sm-bias`, `--sm-pcf`, `--sm-faces`) checked once into [`SmOptions`].
+//! (`umbra_gl::method_names`, parameterised ones like `shadow-map-cube:RES` included), the
+//! shadow-map options (`--sm-bias`, `--sm-pcf`, `--sm-faces`) checked once into [`SmOptions`],
+//! and the shadow-volume counter (`--counter stencil8|float32|auto`, [`CounterChoice`]):
+//! `auto` takes float32 exactly when [`umbra_geom::winding_bound`] cannot prove every count
+//! below 256 for some light (so it never gives a silently wrapped image).
 
+use std::time::Instant;
 use umbra_gl::methods::shadow_map::{FacePasses, ShadowMapConfig, ShadowMapCube};
-use umbra_gl::{create_method, method_names, ShadowMethod};
+
+use umbra_geom::winding_bound::{winding_bound, BoundOptions, STENCIL8_LIMIT};
+use umbra_geom::Light;
+use umbra_gl::counter::Counter;
+use umbra_gl::{create_method, method_names, Classification, ShadowMethod};
 
 use crate::args::SmArgs;
 use crate::config::CliError;
@@ -103,4 +111,116 @@ pub fn list_if_help(name: &str) -> bool {
         return true;
     }
     false
+}
+
+/// `--counter`: a fixed counter, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CounterChoice {
+    Fixed(Counter),
+    Auto,
+}
+
+impl CounterChoice {
+    pub fn parse(text: &str, flag: &'static str) -> Result<Self, CliError> {
+        match text.trim() {
+            "stencil8" => Ok(CounterChoice::Fixed(Counter::Stencil8)),
+            "float32" => Ok(CounterChoice::Fixed(Counter::Float32)),
+            "auto" => Ok(CounterChoice::Auto),
+            other => Err(bad(flag, format!("expected stencil8, float32 or auto, got {other:?}"))),
+        }
+    }
+}
+
+/// The counter a frame uses, and for `auto` why.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CounterDecision {
+    pub counter: Counter,
+    /// `auto`: the largest winding bound over the lights (see [`umbra_geom::winding_bound`]).
+    pub bound: Option<u64>,
+    /// `auto`: time to compute the bounds (ms).
+    pub bound_ms: f64,
+}
+
+/// Resolves `choice` for a mesh (the triangles the GPU draws) and its lights: `auto` is
+/// float32 when the bound of any light reaches 256, stencil8 otherwise (provably exact).
+pub fn choose_counter(
+    choice: CounterChoice,
+    positions: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+    lights: &[Light],
+) -> Result<CounterDecision, CliError> {
+    match choice {
+        CounterChoice::Fixed(counter) => Ok(CounterDecision { counter, bound: None, bound_ms: 0.0 }),
+        CounterChoice::Auto => {
+            let start = Instant::now();
+            let mut worst = 0;
+            for &light in lights {
+                let b = winding_bound(positions, triangles, light, &BoundOptions::default())
+                    .map_err(|e| CliError::Other(format!("counter bound: {e}")))?;
+                worst = worst.max(b.bound);
+            }
+            let bound_ms = start.elapsed().as_secs_f64() * 1e3;
+            let counter = if worst >= STENCIL8_LIMIT { Counter::Float32 } else { Counter::Stencil8 };
+            Ok(CounterDecision { counter, bound: Some(worst), bound_ms })
+        }
+    }
+}
+
+/// What `verify --json` / `bench --json` print as "counter" for `method`: the counter's name
+/// for methods that count in the stencil ([`Classification::StencilZero`]), "none" for the
+/// others (their own stencil scheme, or no stencil: the counter does not apply).
+pub fn counter_label(method: &dyn ShadowMethod, counter: Counter) -> &'static str {
+    match method.classification() {
+        Classification::StencilZero => counter.name(),
+        _ => "none",
+    }
+}
+
+/// One line on stderr saying what `auto` decided (nothing for a fixed counter).
+pub fn report_counter(d: &CounterDecision) {
+    if let Some(bound) = d.bound {
+        let cmp = if bound >= STENCIL8_LIMIT { ">=" } else { "<" };
+        eprintln!(
+            "umbra: counter {} (auto: winding bound {bound} {cmp} {STENCIL8_LIMIT}, {:.1} ms)",
+            d.counter.name(),
+            d.bound_ms
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counter_flag_values() {
+        assert_eq!(CounterChoice::parse("stencil8", "--counter").unwrap(), CounterChoice::Fixed(Counter::Stencil8));
+        assert_eq!(CounterChoice::parse("float32", "--counter").unwrap(), CounterChoice::Fixed(Counter::Float32));
+        assert_eq!(CounterChoice::parse("auto", "--counter").unwrap(), CounterChoice::Auto);
+        assert!(CounterChoice::parse("stencil16", "--counter").is_err());
+    }
+
+    #[test]
+    fn auto_counter_follows_the_bound() {
+        // n separate horizontal quads stacked over each other, light above.
+        let quads = |n: u32| {
+            let (mut p, mut t) = (Vec::new(), Vec::new());
+            for k in 0..n {
+                let (y, b) = (k as f32 * 0.01, p.len() as u32);
+                p.extend([[0.0, y, 0.0], [1.0, y, 0.0], [1.0, y, 1.0], [0.0, y, 1.0]]);
+                t.extend([[b, b + 2, b + 1], [b, b + 3, b + 2]]);
+            }
+            (p, t)
+        };
+        let light = [[0.5f32, 100.0, 0.5, 1.0]];
+        let (p, t) = quads(50);
+        let d = choose_counter(CounterChoice::Auto, &p, &t, &light).unwrap();
+        assert_eq!(d.counter, Counter::Stencil8, "{d:?}");
+        let (p, t) = quads(300);
+        let d = choose_counter(CounterChoice::Auto, &p, &t, &light).unwrap();
+        assert_eq!(d.counter, Counter::Float32, "{d:?}");
+        assert!(d.bound.unwrap() >= 300);
+        let d = choose_counter(CounterChoice::Fixed(Counter::Stencil8), &p, &t, &light).unwrap();
+        assert_eq!((d.counter, d.bound), (Counter::Stencil8, None));
+    }
 }

@@ -14,8 +14,12 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let mut method = crate::methods::make_method(method_name, &sm, "--method")?;
     let view = ViewConfig::from_args(&a.view)?;
+    let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
     let mut s = Session::new(&view)?;
-    let params = s.frame_params(&view);
+    let mut params = s.frame_params(&view);
+    let decision = crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
+    crate::methods::report_counter(&decision);
+    params.counter = decision.counter;
     let gl = s.context.gl();
     let images =
         s.renderer.render(gl, &s.scene, method.as_mut(), &params, None).map_err(|e| CliError::Gl(e.to_string()))?;

@@ -16,6 +16,8 @@ use crate::session::Session;
 #[derive(Serialize)]
 struct JsonRow<'a> {
     method: &'a str,
+    /// "stencil8" or "float32" for methods that count in the stencil, "none" for the others.
+    counter: &'a str,
     samples: u64,
     shadowed_reference: u64,
     mismatches: u64,
@@ -56,8 +58,12 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     let methods = crate::methods::parse_methods(&a.method, "--method")?;
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let view = ViewConfig::from_args(&a.view)?;
+    let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
     let mut s = Session::new(&view)?;
-    let params = s.frame_params(&view);
+    let mut params = s.frame_params(&view);
+    let decision = crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
+    crate::methods::report_counter(&decision);
+    params.counter = decision.counter;
     let gl = s.context.gl();
     let reference =
         view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
@@ -66,6 +72,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     for name in &methods {
         let mut method = crate::methods::make_method(name, &sm, "--method")?;
         let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
+        let counter = crate::methods::counter_label(method.as_ref(), params.counter);
         method.destroy(gl);
         let report = report.map_err(|e| CliError::Other(e.to_string()))?;
         if let Some(base) = &a.diff {
@@ -86,13 +93,14 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             }
         }
         all_passed &= report.passed();
-        rows.push((report, reference.total_ms()));
+        rows.push((report, reference.total_ms(), counter));
     }
     if a.json {
         let json: Vec<JsonRow> = rows
             .iter()
-            .map(|(r, reference_ms)| JsonRow {
+            .map(|(r, reference_ms, counter)| JsonRow {
                 method: &r.method,
+                counter,
                 samples: r.metrics.samples,
                 shadowed_reference: r.metrics.shadowed_reference,
                 mismatches: r.metrics.mismatches,
@@ -118,7 +126,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             "{:<24} {:>9} {:>9} {:>10} {:>9} {:>9} {:>13} {:>10}  verdict",
             "method", "samples", "shadowed", "mismatch", "band", "band mis", "outside band", "render ms"
         );
-        for (r, _) in &rows {
+        for (r, _, _) in &rows {
             let m = &r.metrics;
             let verdict = match (r.must_be_exact, r.passed()) {
                 (false, _) => "measured",

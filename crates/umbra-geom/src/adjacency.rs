@@ -43,6 +43,7 @@ pub struct EdgeAdjacency {
     pub edges: Vec<[u32; 2]>,
     /// Opposite vertices of edge `e` are `opposites[opposite_start[e]..opposite_start[e + 1]]`.
     pub opposite_start: Vec<u32>,
+    /// Opposite vertices of all edges, edge by edge (see `opposite_start`).
     pub opposites: Vec<u32>,
 }
 
@@ -184,6 +185,7 @@ impl EdgeAdjacency {
         self.edges.len()
     }
 
+    /// Whether there are no edges.
     pub fn is_empty(&self) -> bool {
         self.edges.is_empty()
     }

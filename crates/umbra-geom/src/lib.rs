@@ -8,6 +8,82 @@
 //! * [`order`]: the strict vertex order of paper 001, Eq. 1 / Alg. 2.
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
+//!
+//! # Examples
+//!
+//! Loading a mesh from bytes (any format of [`load::Format`]); errors name the file and the
+//! line or byte offset:
+//!
+//! ```
+//! use umbra_geom::load::{load_bytes, Format, LoadError};
+//!
+//! // Two triangles of a unit quad, written as a soup (every vertex repeated).
+//! let obj = b"v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 3\nf 4 5 6\n";
+//! let mesh = load_bytes(obj, Format::Obj, "quad.obj")?;
+//! assert_eq!((mesh.positions.len(), mesh.triangles.len()), (6, 2));
+//!
+//! let err = load_bytes(b"v 0 0 0\nf 1 2 3\n", Format::Obj, "bad.obj").unwrap_err();
+//! assert!(matches!(err, LoadError::IndexOutOfRange { index: 2, .. }));
+//! assert!(err.to_string().starts_with("bad.obj: line 2"), "{err}");
+//! # Ok::<(), LoadError>(())
+//! ```
+//!
+//! Welding a soup by exact position, then the edge adjacency: every unique edge with all
+//! of its opposite vertices, however many (open, manifold and non-manifold edges alike):
+//!
+//! ```
+//! use umbra_geom::{weld::weld, EdgeAdjacency, Mesh};
+//!
+//! // A "book": three triangles sharing the edge (0,0,0)-(0,1,0), vertices duplicated.
+//! let spine = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+//! let pages = [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]];
+//! let mut soup = Mesh::default();
+//! for page in pages {
+//!     let n = soup.positions.len() as u32;
+//!     soup.positions.extend([spine[0], spine[1], page]);
+//!     soup.triangles.push([n, n + 1, n + 2]);
+//! }
+//! let welded = weld(&soup);
+//! assert_eq!(welded.positions.len(), 5); // 9 soup vertices, 5 distinct positions
+//! assert_eq!(welded.degenerate_triangles, 0);
+//!
+//! let adj = EdgeAdjacency::build(&welded);
+//! assert_eq!(adj.len(), 7); // the spine + 2 open edges per page
+//! assert_eq!(adj.max_opposites(), 3); // the spine has all three pages
+//! assert_eq!(adj.nonmanifold_edges(), 1);
+//! assert_eq!(adj.open_edges(), 6);
+//! ```
+//!
+//! Deterministic multiplicity (paper 001, Alg. 3-4): an edge's multiplicity is the signed
+//! number of volume sides it needs; 0 means it is not a silhouette edge. Two coplanar
+//! triangles of a quad lit from above: their shared diagonal cancels, the four borders are
+//! silhouette edges of multiplicity +-1:
+//!
+//! ```
+//! use umbra_geom::silhouette::{multiplicities, silhouette_stats};
+//! use umbra_geom::{weld::weld, EdgeAdjacency, Light, Mesh};
+//!
+//! let quad = Mesh {
+//!     positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]],
+//!     triangles: vec![[0, 2, 1], [0, 3, 2]],
+//!     normals: None,
+//! };
+//! let mesh = weld(&quad);
+//! let adj = EdgeAdjacency::build(&mesh);
+//! let point_light: Light = [0.5, 4.0, 0.5, 1.0]; // w = 1: a point light
+//!
+//! let m = multiplicities(&mesh, &adj, point_light);
+//! assert_eq!(m.len(), 5);
+//! for (e, &mult) in m.iter().enumerate() {
+//!     let shared = adj.opposites(e).len() == 2;
+//!     assert_eq!(mult.abs(), if shared { 0 } else { 1 }, "edge {:?}", adj.edges[e]);
+//! }
+//! // The same from a directional light (w = 0), and umbra info's statistics.
+//! let sun: Light = [0.3, 1.0, 0.2, 0.0];
+//! assert_eq!(silhouette_stats(&mesh, &adj, sun), (4, 4));
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod adjacency;
 pub mod load;
@@ -18,6 +94,7 @@ pub mod scene;
 pub mod sides_data;
 pub mod silhouette;
 pub mod weld;
+pub mod winding_bound;
 
 pub use adjacency::EdgeAdjacency;
 pub use mesh::{Aabb, Mesh};

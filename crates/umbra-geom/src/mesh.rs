@@ -6,7 +6,9 @@
 /// degenerate, edges open or shared by any number of triangles. That is normal input.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions.
     pub positions: Vec<[f32; 3]>,
+    /// Triangles as three indices into `positions`.
     pub triangles: Vec<[u32; 3]>,
     /// Per-vertex normals, same length as `positions`, when the file had them.
     pub normals: Option<Vec<[f32; 3]>>,
@@ -15,14 +17,18 @@ pub struct Mesh {
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// Smallest x, y, z.
     pub min: [f32; 3],
+    /// Largest x, y, z.
     pub max: [f32; 3],
 }
 
 impl Aabb {
+    /// The centre point.
     pub fn center(&self) -> [f32; 3] {
         [0, 1, 2].map(|i| 0.5 * (self.min[i] + self.max[i]))
     }
+    /// Size along x, y, z.
     pub fn extent(&self) -> [f32; 3] {
         [0, 1, 2].map(|i| self.max[i] - self.min[i])
     }

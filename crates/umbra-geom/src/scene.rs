@@ -42,7 +42,16 @@ pub enum SceneSpec {
     Box,
     /// `spheres:N` or `spheres:N:T`: an `n` x `n` grid of spheres with `slices` x `stacks`
     /// tessellation over a ground plane. `target_triangles` is `T` when given.
-    Spheres { n: u32, slices: u32, stacks: u32, target_triangles: Option<u64> },
+    Spheres {
+        /// Spheres per row and column.
+        n: u32,
+        /// Segments around each sphere.
+        slices: u32,
+        /// Segments from pole to pole.
+        stacks: u32,
+        /// The requested total triangle count T, if given.
+        target_triangles: Option<u64>,
+    },
     /// A mesh file, loaded by extension.
     File(PathBuf),
 }
@@ -64,7 +73,12 @@ impl SceneSpec {
 pub enum SceneError {
     /// The spec string is not valid.
     #[error("scene spec {spec:?}: {message}")]
-    InvalidSpec { spec: String, message: String },
+    InvalidSpec {
+        /// The spec string.
+        spec: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// The spec named a file that could not be loaded (the error names the file).
     #[error("{0}")]
     Load(#[from] LoadError),

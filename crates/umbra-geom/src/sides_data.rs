@@ -52,12 +52,29 @@ pub fn caps_data_bytes(triangles: usize) -> usize {
 /// Why sides-data or caps-data could not be built.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum SidesDataError {
+    /// `maxMult` outside 1..=[`MAX_MULT_LIMIT`].
     #[error("sides-data: maxMult must be between 1 and {MAX_MULT_LIMIT}, got {0}")]
     MaxMult(usize),
+    /// An edge refers to a vertex the mesh does not have.
     #[error("sides-data: edge {edge} refers to vertex {vertex}, but the mesh has {vertices} vertices")]
-    EdgeVertex { edge: usize, vertex: u32, vertices: usize },
+    EdgeVertex {
+        /// The edge index.
+        edge: usize,
+        /// The vertex index.
+        vertex: u32,
+        /// Vertices the mesh has.
+        vertices: usize,
+    },
+    /// A triangle refers to a vertex the mesh does not have.
     #[error("caps-data: triangle {triangle} refers to vertex {vertex}, but the mesh has {vertices} vertices")]
-    TriangleVertex { triangle: usize, vertex: u32, vertices: usize },
+    TriangleVertex {
+        /// The triangle index.
+        triangle: usize,
+        /// The vertex index.
+        vertex: u32,
+        /// Vertices the mesh has.
+        vertices: usize,
+    },
 }
 
 /// Sides-data in the compact layout (see the module documentation).

@@ -59,6 +59,7 @@ pub struct VolumeGeometry {
 }
 
 impl VolumeGeometry {
+    /// Empties every list, keeping the allocations.
     pub fn clear(&mut self) {
         self.sides.clear();
         self.light_caps.clear();
@@ -569,6 +570,7 @@ pub fn is_degenerate_cap(cap: [u32; 3]) -> bool {
 }
 
 impl IndexedVolume {
+    /// Empties sides and caps, keeping the allocations.
     pub fn clear(&mut self) {
         self.sides.clear();
         self.caps.clear();
@@ -619,14 +621,33 @@ pub struct TriangleSlots {
 /// Why [`TriangleSlots::build`] failed: the adjacency is not that of the mesh.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum TriangleSlotsError {
+    /// More than 2^31 triangles (the slot encoding has 31 bits for the triangle).
     #[error("triangle slots: {0} triangles, more than 2^31")]
     TooManyTriangles(usize),
+    /// A triangle refers to a vertex the mesh does not have.
     #[error("triangle slots: triangle {triangle} refers to vertex {vertex}, but the mesh has {vertices} vertices")]
-    Vertex { triangle: usize, vertex: u32, vertices: usize },
+    Vertex {
+        /// The triangle index.
+        triangle: usize,
+        /// The vertex index.
+        vertex: u32,
+        /// Vertices the mesh has.
+        vertices: usize,
+    },
+    /// An edge of a triangle is not in the adjacency.
     #[error("triangle slots: edge {edge:?} of triangle {triangle} is not in the adjacency (or has fewer opposites)")]
-    MissingEdge { triangle: usize, edge: [u32; 2] },
+    MissingEdge {
+        /// The triangle index.
+        triangle: usize,
+        /// The edge as a vertex pair.
+        edge: [u32; 2],
+    },
+    /// The adjacency does not belong to the mesh.
     #[error("triangle slots: the adjacency's opposites of edge {edge} are not those of the mesh's triangles, in triangle order")]
-    Mismatch { edge: usize },
+    Mismatch {
+        /// The edge index in the adjacency.
+        edge: usize,
+    },
 }
 
 impl TriangleSlots {

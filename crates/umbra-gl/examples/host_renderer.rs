@@ -5,13 +5,15 @@
 //! The host owns everything: its GL context, its framebuffer (RGBA8 colour, an R8 "lit bits"
 //! attachment for checking, DEPTH24_STENCIL8), its vertex buffers and its shaders. Per frame:
 //! 1. host pass: its own shader draws the scene's depth and ambient colour;
-//! 2. per light, umbra counts that light's shadow volumes into the host's stencil:
-//!    [`Renderer::draw_frame`] into the host's framebuffer with the colour draw buffers set to
-//!    NONE and umbra's own lighting suppressed by [`CountOnly`]. `draw_frame` redraws the depth
-//!    of step 1 with umbra's own pass 1, bit-identical because both vertex shaders are the
-//!    same invariant expression on the same positions and matrix;
-//! 3. the host's own lighting pass adds the light where the stencil says "lit" (the method's
-//!    [`Classification`]) and the seen side faces the light, and sets the light's bit.
+//! 2. per light, umbra counts that light's shadow volumes into the host's stencil with
+//!    [`Renderer::count_shadows`]: it clears and writes the stencil only — the host's depth
+//!    and colour stay as the host drew them, and every GL state umbra changes is restored.
+//!    The host's vertex shader is the same invariant expression as umbra's on the same
+//!    positions and matrix, so the depths the volumes are tested against are the ones umbra
+//!    would have drawn (count_shadows' invariance requirement);
+//! 3. the host's own lighting pass adds the light where the stencil says "lit" (the
+//!    [`Classification`] count_shadows returns) and the seen side faces the light, and sets
+//!    the light's bit.
 //!
 //! The standard depth convention keeps the host free of glClipControl; reversed-Z works the
 //! same way with a DEPTH32F_STENCIL8 buffer and the host drawing with glClipControl(LOWER_LEFT,
@@ -28,8 +30,8 @@ use umbra_gl::glow::{self, HasContext};
 use umbra_gl::program::{link_program, uniform, ShaderSource};
 use umbra_gl::scene::flat_normal;
 use umbra_gl::{
-    create_method, read_rgba8, BlendState, Camera, Classification, DepthConvention, FrameParams, FrameTarget, GlError,
-    GlState, HeadlessContext, Image, Renderer, RgbaImage, SceneGpu, SceneId, ShadowMethod, StencilFace, VolumeFrame,
+    create_method, read_rgba8, BlendState, Camera, Classification, DepthConvention, FrameParams, FrameTarget, GlState,
+    HeadlessContext, Image, Renderer, RgbaImage, SceneGpu, StencilFace,
 };
 
 type Error = Box<dyn std::error::Error>;
@@ -67,42 +69,6 @@ void main() {
     o_lit = vec4(u_light_bit / 255.0);
 }
 ";
-
-/// Wraps a counting method so that `draw_frame` leaves the stencil count and adds no light:
-/// its lighting test becomes NEVER (nothing drawn, nothing written); the host lights.
-struct CountOnly<'a>(&'a mut dyn ShadowMethod);
-
-impl ShadowMethod for CountOnly<'_> {
-    fn name(&self) -> &'static str {
-        self.0.name()
-    }
-    fn stages(&self) -> &'static [&'static str] {
-        self.0.stages()
-    }
-    fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
-        self.0.prepare(gl, scene)
-    }
-    fn prepared_scene(&self) -> Option<SceneId> {
-        self.0.prepared_scene()
-    }
-    fn draw_volumes(
-        &mut self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        frame: &mut VolumeFrame<'_>,
-    ) -> Result<(), GlError> {
-        self.0.draw_volumes(gl, scene, frame)
-    }
-    fn classification(&self) -> Classification {
-        Classification::StencilTest { func: glow::NEVER, reference: 0, value_mask: 0 }
-    }
-    fn gpu_bytes(&self) -> usize {
-        self.0.gpu_bytes()
-    }
-    fn destroy(&mut self, gl: &glow::Context) {
-        self.0.destroy(gl)
-    }
-}
 
 /// What the host produced: its colour image, per-pixel light bits (bit i = lit by light i),
 /// and the frame it drew (camera, size, lights, convention).
@@ -151,22 +117,6 @@ pub fn draw_host_frame(gl: &glow::Context, method_name: &str) -> Result<HostFram
     let scene = SceneGpu::upload(gl, mesh.clone())?;
     let mut renderer = Renderer::new(gl)?;
     let mut method = create_method(method_name)?;
-    let light_test = match method.classification() {
-        Classification::StencilZero => StencilFace {
-            func: glow::EQUAL,
-            reference: 0,
-            value_mask: 0xFF,
-            write_mask: 0xFF,
-            // One light per pixel even where the soup has coplanar duplicates.
-            depth_pass: glow::INCR_WRAP,
-            ..StencilFace::KEEP
-        },
-        Classification::StencilTest { func, reference, value_mask } => {
-            StencilFace { func, reference, value_mask, write_mask: 0, ..StencilFace::KEEP }
-        }
-        Classification::Shader => return Err(format!("{method_name} does not classify in the stencil").into()),
-    };
-
     let ambient_prog = link_program(
         gl,
         "host ambient",
@@ -187,7 +137,7 @@ pub fn draw_host_frame(gl: &glow::Context, method_name: &str) -> Result<HostFram
         let vbo = gl.create_buffer()?;
         let ibo = gl.create_buffer()?;
         let nbo = gl.create_buffer()?;
-        // Reason: the host's VAO stays bound for all its draws (draw_frame restores it).
+        // Reason: the host's VAO stays bound for all its draws (count_shadows restores it).
         gl.bind_vertex_array(Some(vao));
         gl.bind_buffer(glow::ARRAY_BUFFER, Some(vbo));
         gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, as_bytes(&mesh.positions), glow::STATIC_DRAW);
@@ -235,19 +185,39 @@ pub fn draw_host_frame(gl: &glow::Context, method_name: &str) -> Result<HostFram
 
         let mut result: Result<(), Error> = Ok(());
         for (i, &light) in p.lights.iter().enumerate() {
-            // 2. umbra: this light's stencil count. Colour draw buffers off, so its pass 1
-            // and colour clear leave the host's colour alone.
-            gl.draw_buffers(&[glow::NONE, glow::NONE]);
-            let one = FrameParams { lights: vec![light], ..p.clone() };
+            // 2. umbra: this light's stencil count on the host's framebuffer (stencil only).
             let target = FrameTarget { framebuffer: Some(fbo) };
-            if let Err(e) = renderer.draw_frame(gl, &scene, &mut CountOnly(method.as_mut()), &one, target, None) {
-                result = Err(e.into());
-                break;
-            }
+            let classification = match renderer.count_shadows(gl, &scene, method.as_mut(), &p, light, target) {
+                Ok(c) => c,
+                Err(e) => {
+                    result = Err(e.into());
+                    break;
+                }
+            };
+            let light_test = match classification {
+                // Lit where the count is 0; the first lit fragment bumps it to 1, so a coplanar
+                // duplicate triangle (common in soups) cannot add the light twice.
+                Classification::StencilZero => StencilFace {
+                    func: glow::EQUAL,
+                    reference: 0,
+                    value_mask: 0xFF,
+                    write_mask: 0xFF,
+                    depth_pass: glow::INCR_WRAP,
+                    ..StencilFace::KEEP
+                },
+                // The method's own stencil encoding: test it, write nothing.
+                Classification::StencilTest { func, reference, value_mask } => {
+                    StencilFace { func, reference, value_mask, write_mask: 0, ..StencilFace::KEEP }
+                }
+                // count_shadows resolves shader-classified methods (shadow maps) into the
+                // stencil and reports StencilZero for them; Shader is never returned.
+                Classification::Shader => {
+                    result = Err("count_shadows returned Classification::Shader".into());
+                    break;
+                }
+            };
             // 3. Host lighting where lit: the surface pass 1 left (EQUAL, no depth writes),
             // the method's stencil test, added onto what is there (alpha kept).
-            // Reason: colour and lit bits receive this light.
-            gl.draw_buffers(&both);
             GlState {
                 depth_test: true,
                 depth_func: glow::EQUAL,
@@ -260,14 +230,13 @@ pub fn draw_host_frame(gl: &glow::Context, method_name: &str) -> Result<HostFram
                 ..GlState::default()
             }
             .apply(gl);
-            // draw_frame restored the host's bindings (program, VAO, framebuffer, viewport).
+            // count_shadows restored the host's bindings (program, VAO, framebuffer, viewport,
+            // draw buffers untouched).
             gl.use_program(Some(light_prog));
             gl.uniform_matrix_4_f32_slice(uniform(gl, light_prog, "u_clip_from_world").as_ref(), false, &clip);
             gl.uniform_4_f32_slice(uniform(gl, light_prog, "u_light").as_ref(), &light);
             gl.uniform_3_f32_slice(uniform(gl, light_prog, "u_light_color").as_ref(), &p.light_color);
             gl.uniform_1_f32(uniform(gl, light_prog, "u_light_bit").as_ref(), (1u32 << i) as f32);
-            // Reason: draw_frame restores SSBO binding 0 too; re-bound to be explicit.
-            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 0, Some(nbo));
             gl.draw_elements(glow::TRIANGLES, count, glow::UNSIGNED_INT, 0);
         }
         let images = result.map(|()| {

@@ -1,5 +1,5 @@
 //! Pinhole camera with an INFINITE far plane (Everitt & Kilgard 2002, "Practical and Robust
-//! Stenciled Shadow Volumes", §"infinite view frustum"; used by paper 003 [MHE*03] to keep
+//! Stenciled Shadow Volumes", §"infinite view frustum"; used by paper 003 \[MHE*03\] to keep
 //! the caps at infinity unclipped), in one of two depth conventions ([`DepthConvention`]).
 //!
 //! Standard (OpenGL's default clip convention, -w <= z <= w, depth = z_ndc / 2 + 1 / 2):
@@ -104,10 +104,15 @@ impl DepthConvention {
 /// Eye, target, up (world space), vertical field of view in degrees, near plane distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Eye position (world space).
     pub eye: [f64; 3],
+    /// The point looked at (world space).
     pub target: [f64; 3],
+    /// Up direction (world space; need not be unit length or orthogonal to the view).
     pub up: [f64; 3],
+    /// Vertical field of view in degrees, in (0, 180).
     pub fov_y_degrees: f64,
+    /// Near plane distance (> 0); the far plane is at infinity.
     pub near: f64,
 }
 
@@ -119,8 +124,27 @@ impl Default for Camera {
 
 impl Camera {
     /// A camera at `eye` looking at `target`, +Y up, 60 degrees, near 0.05.
-    pub fn look_at(eye: [f64; 3], target: [f64; 3]) -> Self {
-        Self { eye, target, ..Self::default() }
+    ///
+    /// Takes anything that converts into `[f64; 3]`: plain arrays, `mint::Point3<f64>` /
+    /// `mint::Vector3<f64>` (mint's own `From` impls) or glam's `DVec3`, so a host can pass its
+    /// own math types without umbra depending on them.
+    pub fn look_at(eye: impl Into<[f64; 3]>, target: impl Into<[f64; 3]>) -> Self {
+        Self { eye: eye.into(), target: target.into(), ..Self::default() }
+    }
+
+    /// This camera with up direction `up` (arrays, mint or glam vectors as in
+    /// [`Camera::look_at`]).
+    pub fn with_up(self, up: impl Into<[f64; 3]>) -> Self {
+        Self { up: up.into(), ..self }
+    }
+
+    /// [`Camera::clip_from_world_in`] as plain column-major columns (`m[column][row]`), the
+    /// layout of `mint::ColumnMatrix4<f64>` (which converts from it) and of glUniformMatrix4
+    /// with `transpose = false`: the matrix a host's vertex shader must use for its depth
+    /// when umbra counts shadows against it ([`crate::Renderer::count_shadows`]), after
+    /// rounding to f32 exactly as [`to_f32_cols`] does.
+    pub fn clip_from_world_cols(&self, aspect: f64, convention: DepthConvention) -> [[f64; 4]; 4] {
+        self.clip_from_world_in(aspect, convention).to_cols_array_2d()
     }
 
     /// Rejects a camera that defines no view: eye == target, up parallel to the view

@@ -13,6 +13,13 @@
 //! (they share the process-wide EGL display, which is therefore never terminated; each
 //! context is destroyed on drop). Creating a second context on the same thread makes the
 //! new one current; [`HeadlessContext::make_current`] switches back.
+//!
+//! # A window system's context
+//! For a context made by a window system library (glutin, SDL, ...): [`from_loader`] loads
+//! glow and [`GlExtra`] through its `get_proc_address` (the one `unsafe` step: the context
+//! must be current), and the safe helpers [`renderer_string`], [`blit_to_default_framebuffer`]
+//! and [`ImageFramebuffer`] cover what a viewer does with GL besides umbra's renderer, so
+//! that its own code needs no `unsafe` GL calls (umbra-view's `glue.rs`).
 
 use std::ffi::c_void;
 use std::marker::PhantomData;
@@ -51,6 +58,7 @@ pub enum GlApi {
 /// How to create a [`HeadlessContext`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ContextOptions {
+    /// Which client API and version to create (default [`GlApi::Gl45Core`]).
     pub api: GlApi,
     /// Create a KHR_debug context and record GL errors through a synchronous callback
     /// ([`HeadlessContext::take_gl_errors`]). Default: on in debug builds.
@@ -67,25 +75,73 @@ impl Default for ContextOptions {
 #[derive(Debug, thiserror::Error)]
 pub enum ContextError {
     #[error("libEGL.so.1 not found ({detail}): {INSTALL_HINT}")]
-    LibraryNotFound { detail: String },
+    /// libEGL could not be loaded.
+    LibraryNotFound {
+        /// The loader's message.
+        detail: String,
+    },
     #[error("no usable headless EGL platform: {detail}. Mesa's surfaceless platform needs libegl-mesa0 \
              (EGL_MESA_platform_surfaceless); the device platform needs EGL_EXT_platform_device; {INSTALL_HINT}")]
-    NoPlatform { detail: String },
+    /// Neither the surfaceless nor the device platform gave a display.
+    NoPlatform {
+        /// What each platform answered.
+        detail: String,
+    },
     #[error("eglInitialize failed on the {platform} platform: {detail}; {INSTALL_HINT}")]
-    Initialize { platform: &'static str, detail: String },
+    /// eglInitialize failed.
+    Initialize {
+        /// The EGL platform tried ("surfaceless" or "device").
+        platform: &'static str,
+        /// The EGL error.
+        detail: String,
+    },
     #[error("the EGL display ({platform}) lacks {extension}: {why}; a current Mesa (libegl-mesa0) offers it")]
-    MissingExtension { platform: &'static str, extension: &'static str, why: &'static str },
+    /// The display lacks an EGL extension the context needs.
+    MissingExtension {
+        /// The EGL platform of the display.
+        platform: &'static str,
+        /// The missing extension's name.
+        extension: &'static str,
+        /// What it is needed for.
+        why: &'static str,
+    },
     #[error("eglBindAPI({api}) failed: {detail}; the EGL vendor library does not offer this client API ({INSTALL_HINT})")]
-    BindApi { api: &'static str, detail: String },
+    /// eglBindAPI failed for the wanted client API.
+    BindApi {
+        /// "OpenGL" or "OpenGL ES".
+        api: &'static str,
+        /// The EGL error.
+        detail: String,
+    },
     #[error("no EGL config with {wanted} and EGL_KHR_no_config_context is not offered; {INSTALL_HINT}")]
-    NoConfig { wanted: &'static str },
+    /// No EGL config matches and config-less contexts are not offered.
+    NoConfig {
+        /// The attributes asked for.
+        wanted: &'static str,
+    },
     #[error("could not create an {what} context: {detail}. Mesa's llvmpipe offers OpenGL 4.5 core and ES 3.2 \
              (libgl1-mesa-dri); a GPU driver without them can be bypassed with LIBGL_ALWAYS_SOFTWARE=1")]
-    CreateContext { what: &'static str, detail: String },
+    /// eglCreateContext failed.
+    CreateContext {
+        /// The context asked for (e.g. "OpenGL 4.5 core").
+        what: &'static str,
+        /// The EGL error.
+        detail: String,
+    },
     #[error("eglMakeCurrent (surfaceless) failed: {detail}")]
-    MakeCurrent { detail: String },
+    /// eglMakeCurrent failed.
+    MakeCurrent {
+        /// The EGL error.
+        detail: String,
+    },
     #[error("the created context reports version {version:?}, but {wanted} is required")]
-    WrongVersion { version: String, wanted: &'static str },
+    /// The context was created but reports a version below the one required.
+    WrongVersion {
+        /// GL_VERSION as reported.
+        version: String,
+        /// The version required.
+        wanted: &'static str,
+    },
 }
 
 /// The EGL library, loaded once per process (`RTLD_NODELETE`: it is never unloaded).
@@ -239,6 +295,8 @@ impl HeadlessContext {
         Self::with_options(ContextOptions { api: GlApi::Gles3, ..ContextOptions::default() })
     }
 
+    /// A context with these options: the client API (GL 4.5 core or GLES 3) and whether
+    /// GL errors are recorded through KHR_debug.
     pub fn with_options(options: ContextOptions) -> Result<Self, ContextError> {
         let egl = egl_instance()?;
         let shared = shared_display(egl)?;
@@ -382,8 +440,8 @@ impl HeadlessContext {
 
     /// `GL_RENDERER`, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
     pub fn renderer_string(&self) -> String {
-        // SAFETY: context current on this thread (it is !Send and made current at creation).
-        unsafe { self.gl.get_parameter_string(glow::RENDERER) }
+        // The context is current on this thread (it is !Send and made current at creation).
+        renderer_string(&self.gl)
     }
 
     /// `GL_VERSION`.
@@ -397,6 +455,7 @@ impl HeadlessContext {
         self.platform
     }
 
+    /// The client API of the context.
     pub fn api(&self) -> GlApi {
         self.api
     }
@@ -417,5 +476,144 @@ impl Drop for HeadlessContext {
             let _ = self.egl.make_current(self.display, None, None, None);
         }
         let _ = self.egl.destroy_context(self.display, self.context);
+    }
+}
+
+// ---- GL for a context made by a window system (glutin, SDL, ...) ----------------------------
+//
+// umbra's rule is `unsafe` only in umbra-gl: a viewer that creates its context with a window
+// system library uses these instead of raw glow calls of its own.
+
+/// Loads glow and umbra's [`GlExtra`] for a context created elsewhere (a window system's),
+/// through that system's `get_proc_address`. Entry points the loader does not know must be
+/// returned as null.
+///
+/// # Safety
+/// The context the loader belongs to must be current on this thread now and whenever the
+/// returned `glow::Context` (or the [`GlExtra`]) is used, and `loader` must return that
+/// context's entry points (a pointer for a name must be the function of that name). These are
+/// the contract of `glow::Context::from_loader_function_cstr`; every umbra function that takes
+/// a `&glow::Context` relies on them.
+pub unsafe fn from_loader(mut loader: impl FnMut(&std::ffi::CStr) -> *const c_void) -> (glow::Context, GlExtra) {
+    // SAFETY: the caller's contract (context current, loader of that context).
+    let gl = unsafe { glow::Context::from_loader_function_cstr(&mut loader) };
+    let extra = GlExtra::load(|name| match std::ffi::CString::new(name) {
+        Ok(c) => loader(&c),
+        Err(_) => std::ptr::null(),
+    });
+    (gl, extra)
+}
+
+/// `GL_RENDERER` of the current context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+pub fn renderer_string(gl: &glow::Context) -> String {
+    // SAFETY: a plain query on the current context (the contract of every `&glow::Context`
+    // umbra is given).
+    unsafe { gl.get_parameter_string(glow::RENDERER) }
+}
+
+/// Copies colour attachment 0 of `from` (`width x height`, from the origin) to the default
+/// framebuffer's back buffer at the same place, upside down when `flip` (for images stored
+/// top row first). GL state it leaves: both framebuffer bindings at the default framebuffer
+/// (0), SCISSOR_TEST disabled (a blit obeys the scissor box), and `from`'s read buffer
+/// COLOR_ATTACHMENT0 (framebuffer-object state).
+pub fn blit_to_default_framebuffer(gl: &glow::Context, from: glow::Framebuffer, width: u32, height: u32, flip: bool) {
+    let (w, h) = (width as i32, height as i32);
+    let (y0, y1) = if flip { (h, 0) } else { (0, h) };
+    // SAFETY: binds and a blit between existing framebuffers of the current context.
+    unsafe {
+        gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(from));
+        // Reason: the image is in colour attachment 0 (framebuffer-object state).
+        gl.read_buffer(glow::COLOR_ATTACHMENT0);
+        gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
+        // Reason: a blit obeys the scissor test; the whole rectangle must be copied.
+        gl.disable(glow::SCISSOR_TEST);
+        gl.blit_framebuffer(0, 0, w, h, 0, y0, w, y1, glow::COLOR_BUFFER_BIT, glow::NEAREST);
+        // Reason: leave the window bound for reads (screenshots) and for the next frame.
+        gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+    }
+}
+
+/// An RGBA8 texture with a framebuffer around it: a CPU image put on the GPU so that it can
+/// be shown with [`blit_to_default_framebuffer`] (e.g. a viewer's shadow-mask view). Delete
+/// with [`ImageFramebuffer::destroy`].
+pub struct ImageFramebuffer {
+    texture: glow::Texture,
+    framebuffer: glow::Framebuffer,
+    width: u32,
+    height: u32,
+}
+
+impl ImageFramebuffer {
+    /// A `width x height` image, contents undefined until [`ImageFramebuffer::upload`].
+    /// Uses direct state access: no binding changes.
+    pub fn new(gl: &glow::Context, width: u32, height: u32) -> Result<Self, crate::GlError> {
+        let create = |what: &'static str| move |detail: String| crate::GlError::Create { what, detail };
+        // SAFETY: DSA object creation on the current context; no bindings change.
+        unsafe {
+            let texture = gl.create_named_texture(glow::TEXTURE_2D).map_err(create("texture"))?;
+            gl.texture_storage_2d(texture, 1, glow::RGBA8, width as i32, height as i32);
+            let framebuffer = match gl.create_named_framebuffer() {
+                Ok(f) => f,
+                Err(e) => {
+                    gl.delete_texture(texture);
+                    return Err(create("framebuffer")(e));
+                }
+            };
+            gl.named_framebuffer_texture(Some(framebuffer), glow::COLOR_ATTACHMENT0, Some(texture), 0);
+            Ok(Self { texture, framebuffer, width, height })
+        }
+    }
+
+    /// `(width, height)`.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// The framebuffer (colour attachment 0 = the image, bottom row first as GL stores it).
+    pub fn framebuffer(&self) -> glow::Framebuffer {
+        self.framebuffer
+    }
+
+    /// Uploads `image` (top row first; stored as given, so row 0 lands at the texture's
+    /// bottom: blit with `flip`). Err unless its size is the image framebuffer's. GL state:
+    /// UNPACK_ALIGNMENT is set to 1 and restored; the PIXEL_UNPACK_BUFFER binding is left
+    /// unbound (client memory upload).
+    pub fn upload(&self, gl: &glow::Context, image: &crate::RgbaImage) -> Result<(), crate::GlError> {
+        if (image.width, image.height) != (self.width, self.height) {
+            return Err(crate::GlError::InvalidParams(format!(
+                "image {}x{} uploaded into an image framebuffer of {}x{}",
+                image.width, image.height, self.width, self.height
+            )));
+        }
+        let bytes: Vec<u8> = image.pixels.iter().flatten().copied().collect();
+        // SAFETY: the texture holds width x height RGBA8 texels, exactly `bytes` with unpack
+        // alignment 1 from client memory.
+        unsafe {
+            let align = gl.get_parameter_i32(glow::UNPACK_ALIGNMENT);
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            gl.bind_buffer(glow::PIXEL_UNPACK_BUFFER, None);
+            gl.texture_sub_image_2d(
+                self.texture,
+                0,
+                0,
+                0,
+                self.width as i32,
+                self.height as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelUnpackData::Slice(Some(&bytes)),
+            );
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, align);
+        }
+        Ok(())
+    }
+
+    /// Deletes the texture and framebuffer.
+    pub fn destroy(self, gl: &glow::Context) {
+        // SAFETY: our own objects, not used afterwards.
+        unsafe {
+            gl.delete_framebuffer(self.framebuffer);
+            gl.delete_texture(self.texture);
+        }
     }
 }

@@ -8,29 +8,78 @@ use std::sync::{Arc, Mutex};
 pub enum GlError {
     /// A shader did not compile; `name` is the `.glsl` file it came from.
     #[error("GLSL compile error in {name} ({stage}):\n{log}")]
-    Compile { name: String, stage: &'static str, log: String },
+    Compile {
+        /// The shader's file name.
+        name: String,
+        /// "vertex", "fragment", ...
+        stage: &'static str,
+        /// The compiler's info log.
+        log: String,
+    },
     /// A program did not link.
     #[error("GLSL link error in program {name}:\n{log}")]
-    Link { name: String, log: String },
+    Link {
+        /// The program's name.
+        name: String,
+        /// The linker's info log.
+        log: String,
+    },
     /// The GL reported errors (KHR_debug messages of type ERROR / severity HIGH, or
     /// `glGetError` codes) during or before the operation.
     #[error("GL reported {} error(s) during {during}: {}", messages.len(), messages.join("; "))]
-    Gl { during: &'static str, messages: Vec<String> },
+    Gl {
+        /// The operation during which they were recorded ("frame", "readback", ...).
+        during: &'static str,
+        /// One line per recorded error.
+        messages: Vec<String>,
+    },
     /// `glCheckFramebufferStatus` was not COMPLETE.
     #[error("framebuffer incomplete: status 0x{status:04X} ({what})")]
-    Framebuffer { status: u32, what: &'static str },
+    Framebuffer {
+        /// The status glCheckFramebufferStatus returned.
+        status: u32,
+        /// Which framebuffer.
+        what: &'static str,
+    },
+    /// The driver refused to allocate storage (`GL_OUT_OF_MEMORY`): `what` names the buffer
+    /// or texture, `bytes` its size. Nothing of the failed allocation is left behind and the
+    /// context stays usable (`tests/gl_failures.rs`).
+    #[error("out of GPU memory allocating {what} ({bytes} bytes): {}", messages.join("; "))]
+    OutOfMemory {
+        /// The buffer or texture being allocated.
+        what: String,
+        /// Its size in bytes.
+        bytes: usize,
+        /// The GL error messages recorded.
+        messages: Vec<String>,
+    },
     /// Creating a GL object failed (glow returns a String).
     #[error("could not create GL {what}: {detail}")]
-    Create { what: &'static str, detail: String },
+    Create {
+        /// The kind of object ("buffer", "program", ...).
+        what: &'static str,
+        /// glow's message.
+        detail: String,
+    },
     /// Parameters the renderer cannot use (zero size, light index out of range, ...).
     #[error("invalid parameters: {0}")]
     InvalidParams(String),
     /// A shadow method needs something the context does not offer.
     #[error("shadow method {method} is unsupported here: {reason}")]
-    Unsupported { method: &'static str, reason: String },
+    Unsupported {
+        /// The method's registry name.
+        method: &'static str,
+        /// What is missing.
+        reason: String,
+    },
     /// Writing a PNG failed.
     #[error("could not write PNG {path}: {detail}")]
-    Png { path: String, detail: String },
+    Png {
+        /// The file written.
+        path: String,
+        /// The I/O or encoder error.
+        detail: String,
+    },
 }
 
 /// Shared, thread-safe list of GL error messages, filled by the synchronous KHR_debug
@@ -41,6 +90,7 @@ pub enum GlError {
 pub struct GlErrorLog(Arc<Mutex<Vec<String>>>);
 
 impl GlErrorLog {
+    /// An empty list.
     pub fn new() -> Self {
         Self::default()
     }

@@ -63,12 +63,15 @@ impl GlExtra {
         }
     }
 
+    /// Whether glClipControl was loaded (needed for [`crate::DepthConvention::ReversedZ`]).
     pub fn has_clip_control(&self) -> bool {
         self.clip_control.is_some()
     }
+    /// Whether glMultiDrawArraysIndirect and glMultiDrawElementsIndirect were loaded.
     pub fn has_multi_draw_indirect(&self) -> bool {
         self.multi_draw_arrays_indirect.is_some() && self.multi_draw_elements_indirect.is_some()
     }
+    /// Whether the `*IndirectCount` variants (GL 4.6 / ARB_indirect_parameters) were loaded.
     pub fn has_multi_draw_indirect_count(&self) -> bool {
         self.multi_draw_arrays_indirect_count.is_some() && self.multi_draw_elements_indirect_count.is_some()
     }

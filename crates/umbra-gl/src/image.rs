@@ -7,8 +7,11 @@ use crate::error::GlError;
 /// A `width x height` image, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image<T> {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height` pixels, row-major, top row first.
     pub pixels: Vec<T>,
 }
 
@@ -26,6 +29,7 @@ pub type StencilImage = Image<u8>;
 pub type LitMaskImage = Image<u8>;
 
 impl<T: Copy> Image<T> {
+    /// A `width x height` image with every pixel `fill`.
     pub fn new(width: u32, height: u32, fill: T) -> Self {
         Self { width, height, pixels: vec![fill; width as usize * height as usize] }
     }

@@ -7,15 +7,20 @@ use crate::error::GlError;
 /// One shader stage's source: GL stage enum, file name (for errors), text.
 #[derive(Clone, Copy, Debug)]
 pub struct ShaderSource<'a> {
+    /// GL stage enum (`glow::VERTEX_SHADER`, ...).
     pub stage: u32,
+    /// File name, for error messages.
     pub name: &'a str,
+    /// GLSL text (with `#version`).
     pub source: &'a str,
 }
 
 impl<'a> ShaderSource<'a> {
+    /// A vertex shader.
     pub fn vertex(name: &'a str, source: &'a str) -> Self {
         Self { stage: glow::VERTEX_SHADER, name, source }
     }
+    /// A fragment shader.
     pub fn fragment(name: &'a str, source: &'a str) -> Self {
         Self { stage: glow::FRAGMENT_SHADER, name, source }
     }

@@ -17,28 +17,44 @@
 //! with float reversed-Z against d^2 / (n * 2^24) with 24-bit standard depth. The standard
 //! convention stays available (and needs no glClipControl).
 //!
-//! Runs on a caller's `glow::Context` ([`Renderer::draw_frame`] into any framebuffer with a
-//! depth-stencil attachment with 8 stencil bits) or into the renderer's own [`RenderTarget`]
-//! with readback ([`Renderer::render`]). In both cases the state listed in [`crate::saved`]
-//! (every [`GlState`] field, program, vertex array, framebuffer bindings, viewport, scissor and
-//! rasterizer-discard enables, SSBO binding 0, clip control, depth range) is restored after the
-//! frame. Not restored: what a shadow method binds besides program/vertex array (its own
-//! buffer or texture bindings; cpu-silhouette uses direct state access and binds none); the
-//! draw/read buffer selection of the framebuffer drawn into.
+//! Runs on a caller's `glow::Context`, three ways:
+//! * [`Renderer::render`]: the whole frame into the renderer's own [`RenderTarget`], with
+//!   readback;
+//! * [`Renderer::draw_frame`]: the whole frame (umbra's own depth pass included) into a
+//!   caller's framebuffer with a depth-stencil attachment with 8 stencil bits;
+//! * inside a caller's renderer, light by light: [`Renderer::count_shadows`] counts one light's
+//!   volumes into the stencil of a framebuffer whose depth the caller drew (depth and colour
+//!   untouched) and returns what "lit" means there; the caller's lighting pass tests it, or
+//!   [`Renderer::add_light`] runs umbra's.
+//!
+//! Every entry point restores the state listed in `saved.rs` (every [`GlState`] field,
+//! program, vertex array, framebuffer bindings, viewport, scissor and rasterizer-discard
+//! enables, SSBO binding 0, clip control, depth range) and what a shadow method may bind on
+//! top (SSBO bindings 1-7, ARRAY / COPY_READ / DRAW_INDIRECT buffer bindings, PATCH_VERTICES,
+//! the active texture unit and unit 0's 2D and cube-map textures). Not restored: the
+//! draw/read buffer selection of a framebuffer [`Renderer::render`] or
+//! [`Renderer::draw_frame`] draws into (count_shadows and add_light never change it).
+//!
+//! Code layout: [`Renderer::render`] / [`Renderer::draw_frame`] run `passes`, which calls
+//! `depth_pass` once and `volume_pass` + `lighting_pass` per light; count_shadows runs
+//! `volume_pass` alone (plus, for shader-classified methods, a resolve of the method's
+//! `umbra_lit` into the stencil), add_light `lighting_pass` alone.
 
 use std::collections::HashMap;
 use std::sync::OnceLock;
 
+use glam::DMat4;
 use glow::HasContext;
 use umbra_geom::Light;
 
 use crate::camera::{to_f32_cols, Camera, DepthConvention};
+use crate::counter::{Counter, FloatCounter};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
 use crate::extra::GlExtra;
 use crate::image::{LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::saved::SavedState;
+use crate::saved::{buffer, SavedState};
 use crate::scene::{SceneGpu, NORMALS_BINDING};
 use crate::state::{BlendState, GlState, StencilFace};
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
@@ -50,9 +66,12 @@ const LIGHTING_FRAG: &str = include_str!("shaders/lighting.frag.glsl");
 /// For which lights a per-light image is read back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightCapture {
+    /// No light.
     #[default]
     None,
+    /// Only the light with this index in [`FrameParams::lights`].
     Light(usize),
+    /// Every light.
     AllLights,
 }
 
@@ -76,8 +95,11 @@ pub type LitMaskCapture = LightCapture;
 /// Extra images [`Renderer::render`] reads back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CaptureFlags {
+    /// Read back the world position per pixel ([`FrameImages::world_pos`]).
     pub world_pos: bool,
+    /// Read back the triangle id per pixel ([`FrameImages::triangle_id`]).
     pub triangle_id: bool,
+    /// Read back the stencil after these lights' volume passes ([`FrameImages::stencil`]).
     pub stencil: StencilCapture,
     /// The renderer's final per-pixel decision "lit by this light" ([`LitMask`]): what the
     /// image shows, for every [`Classification`]. Own target only ([`Renderer::render`]).
@@ -87,8 +109,11 @@ pub struct CaptureFlags {
 /// Everything that defines one frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameParams {
+    /// The camera (infinite far plane).
     pub camera: Camera,
+    /// Frame width in pixels.
     pub width: u32,
+    /// Frame height in pixels.
     pub height: u32,
     /// Homogeneous lights: w = 1 point, w = 0 directional (light comes FROM xyz).
     pub lights: Vec<Light>,
@@ -100,17 +125,22 @@ pub struct FrameParams {
     pub ambient: f32,
     /// Surface colour (all surfaces).
     pub albedo: [f32; 3],
-    /// Blinn-Phong specular strength and exponent.
+    /// Blinn-Phong specular strength.
     pub specular: f32,
+    /// Blinn-Phong specular exponent.
     pub shininess: f32,
     /// Clear colour (RGBA, 0..1).
     pub background: [f32; 4],
+    /// Which extra images [`Renderer::render`] reads back.
     pub capture: CaptureFlags,
     /// Depth convention of the frame (default [`DepthConvention::ReversedZ`]). It also picks
     /// the depth format of the renderer's own target; with [`Renderer::draw_frame`] the
     /// caller's framebuffer is drawn in it (reversed-Z is correct with any depth format but
     /// gains its precision only with a float one).
     pub depth_convention: DepthConvention,
+    /// The shadow-volume counter ([`crate::counter`]): the 8-bit stencil (default; wraps at
+    /// 256) or an f32 count resolved into the stencil, for methods that count in the stencil.
+    pub counter: Counter,
 }
 
 impl Default for FrameParams {
@@ -131,6 +161,7 @@ impl Default for FrameParams {
             background: [0.10, 0.12, 0.16, 1.0],
             capture: CaptureFlags::default(),
             depth_convention: DepthConvention::default(),
+            counter: Counter::default(),
         }
     }
 }
@@ -138,7 +169,9 @@ impl Default for FrameParams {
 /// Per-light stencil mask after the volume pass.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StencilMask {
+    /// Index of the light in [`FrameParams::lights`].
     pub light: usize,
+    /// Its stencil, top row first.
     pub image: StencilImage,
 }
 
@@ -147,15 +180,20 @@ pub struct StencilMask {
 /// triangle faces the light), 0 elsewhere (shadowed, facing away, background).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LitMask {
+    /// Index of the light in [`FrameParams::lights`].
     pub light: usize,
+    /// Its lit mask (1 lit, 0 not), top row first.
     pub image: LitMaskImage,
 }
 
 /// What [`Renderer::render`] reads back; all images top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameImages {
+    /// The final colour.
     pub rgba: RgbaImage,
+    /// World position per pixel, when captured.
     pub world_pos: Option<WorldPosImage>,
+    /// Triangle id per pixel ([`crate::NO_TRIANGLE`] on background), when captured.
     pub triangle_id: Option<TriangleIdImage>,
     /// In light order, one per captured light.
     pub stencil: Vec<StencilMask>,
@@ -218,7 +256,128 @@ impl LightingProgram {
 /// depth convention is [`FrameParams::depth_convention`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameTarget {
+    /// The caller's framebuffer; None = the default framebuffer.
     pub framebuffer: Option<glow::Framebuffer>,
+}
+
+/// What the passes of one frame share, derived once from its [`FrameParams`] and target.
+struct PassView {
+    /// Camera clip space from world space in the frame's depth convention.
+    clip_from_world: DMat4,
+    /// The same, as f32 columns for the shaders.
+    clip_f32: [f32; 16],
+    eye: [f64; 3],
+    convention: DepthConvention,
+    /// The framebuffer drawn into (None = default framebuffer).
+    fb: Option<glow::Framebuffer>,
+    width: i32,
+    height: i32,
+}
+
+impl PassView {
+    fn new(params: &FrameParams, fb: Option<glow::Framebuffer>) -> Self {
+        let convention = params.depth_convention;
+        let aspect = params.width as f64 / params.height as f64;
+        let clip_from_world = params.camera.clip_from_world_in(aspect, convention);
+        Self {
+            clip_f32: to_f32_cols(&clip_from_world),
+            clip_from_world,
+            eye: params.camera.eye,
+            convention,
+            fb,
+            width: params.width as i32,
+            height: params.height as i32,
+        }
+    }
+
+    /// Binds the frame's framebuffer for drawing and sets the viewport to the whole frame.
+    fn bind_target(&self, gl: &glow::Context) {
+        // SAFETY: binding the frame's framebuffer and setting the viewport.
+        unsafe {
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, self.fb);
+            gl.viewport(0, 0, self.width, self.height);
+        }
+    }
+}
+
+/// Bindings a shadow method may change on the context beyond [`SavedState`]'s list (its
+/// storage buffers, vertex and indirect buffers, patch size, the shadow map's texture unit),
+/// saved and restored around every call that runs a method on a caller's context.
+/// (Belongs with [`SavedState`] in `saved.rs`; kept here until that file is extended.)
+struct MethodBindings {
+    /// SHADER_STORAGE_BUFFER indexed bindings 1.. (binding 0 is in SavedState): buffer,
+    /// offset, size.
+    ssbo: Vec<(u32, i64, i64)>,
+    array_buffer: u32,
+    copy_read_buffer: u32,
+    draw_indirect_buffer: u32,
+    patch_vertices: i32,
+    active_texture: u32,
+    /// Unit 0 (the shadow map's MAP_UNIT, the wide counter's unit): 2D and cube-map textures.
+    texture_2d: u32,
+    texture_cube: u32,
+}
+
+/// Indexed storage-buffer bindings saved: 0 (in SavedState) up to this, exclusive; the
+/// methods use 1-5.
+const SAVED_SSBO_BINDINGS: u32 = 8;
+
+impl MethodBindings {
+    fn capture(gl: &glow::Context) -> Self {
+        // SAFETY: glGet* queries of core state on the current context; the active texture
+        // unit is switched to 0 for the two texture queries and set back.
+        unsafe {
+            let ssbo = (1..SAVED_SSBO_BINDINGS)
+                .map(|i| {
+                    (
+                        gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, i) as u32,
+                        gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, i),
+                        gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, i),
+                    )
+                })
+                .collect();
+            let active_texture = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;
+            gl.active_texture(glow::TEXTURE0);
+            let texture_2d = gl.get_parameter_i32(glow::TEXTURE_BINDING_2D) as u32;
+            let texture_cube = gl.get_parameter_i32(glow::TEXTURE_BINDING_CUBE_MAP) as u32;
+            gl.active_texture(active_texture);
+            Self {
+                ssbo,
+                array_buffer: gl.get_parameter_i32(glow::ARRAY_BUFFER_BINDING) as u32,
+                copy_read_buffer: gl.get_parameter_i32(glow::COPY_READ_BUFFER_BINDING) as u32,
+                draw_indirect_buffer: gl.get_parameter_i32(glow::DRAW_INDIRECT_BUFFER_BINDING) as u32,
+                patch_vertices: gl.get_parameter_i32(glow::PATCH_VERTICES),
+                active_texture,
+                texture_2d,
+                texture_cube,
+            }
+        }
+    }
+
+    fn restore(&self, gl: &glow::Context) {
+        let texture = |name: u32| std::num::NonZeroU32::new(name).map(glow::NativeTexture);
+        // SAFETY: re-binding names that were bound before (still alive: umbra deletes none of
+        // the caller's objects) and a patch size GL reported.
+        unsafe {
+            for (i, &(name, offset, size)) in (1..).zip(&self.ssbo) {
+                match buffer(name) {
+                    // A range binding with size 0 means the whole buffer was bound.
+                    Some(b) if size > 0 => {
+                        gl.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, i, Some(b), offset as i32, size as i32)
+                    }
+                    other => gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i, other),
+                }
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, buffer(self.array_buffer));
+            gl.bind_buffer(glow::COPY_READ_BUFFER, buffer(self.copy_read_buffer));
+            gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, buffer(self.draw_indirect_buffer));
+            gl.patch_parameter_i32(glow::PATCH_VERTICES, self.patch_vertices);
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, texture(self.texture_2d));
+            gl.bind_texture(glow::TEXTURE_CUBE_MAP, texture(self.texture_cube));
+            gl.active_texture(self.active_texture);
+        }
+    }
 }
 
 /// The shadow-volume renderer. Holds programs and (for [`Renderer::render`]) an offscreen
@@ -231,6 +390,8 @@ pub struct Renderer {
     error_log: Option<GlErrorLog>,
     /// glClipControl (for [`DepthConvention::ReversedZ`]).
     extra: GlExtra,
+    /// The wide counter's resources, made on the first [`Counter::Float32`] frame.
+    counter: Option<FloatCounter>,
 }
 
 /// Entry points through EGL when the current context is an EGL context (then
@@ -251,17 +412,9 @@ fn extra_from_current_egl() -> GlExtra {
 
 /// Checks parameters before any GL call.
 fn validate(params: &FrameParams) -> Result<(), GlError> {
-    params.camera.validate()?;
-    if params.width == 0 || params.height == 0 {
-        return Err(GlError::InvalidParams(format!("frame size {}x{}", params.width, params.height)));
-    }
+    validate_size(params)?;
     for (i, l) in params.lights.iter().enumerate() {
-        if l.iter().any(|v| !v.is_finite()) || !(l[3] == 0.0 || l[3] == 1.0) {
-            return Err(GlError::InvalidParams(format!("light {i} = {l:?}: expected finite xyz and w = 0 or 1")));
-        }
-        if l[3] == 0.0 && l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0 {
-            return Err(GlError::InvalidParams(format!("light {i} is directional with a zero direction")));
-        }
+        validate_light(i, l)?;
     }
     for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
         if let LightCapture::Light(i) = capture {
@@ -270,9 +423,78 @@ fn validate(params: &FrameParams) -> Result<(), GlError> {
             }
         }
     }
+    validate_shading(params)
+}
+
+/// Camera and frame size.
+fn validate_size(params: &FrameParams) -> Result<(), GlError> {
+    params.camera.validate()?;
+    if params.width == 0 || params.height == 0 {
+        return Err(GlError::InvalidParams(format!("frame size {}x{}", params.width, params.height)));
+    }
+    Ok(())
+}
+
+/// Camera, frame size and one light (for the host API, which takes the light apart).
+fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
+    validate_size(params)?;
+    validate_light(0, light)
+}
+
+/// Light `i`: finite, w = 0 or 1, a directional light has a direction.
+fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
+    if l.iter().any(|v| !v.is_finite()) || !(l[3] == 0.0 || l[3] == 1.0) {
+        return Err(GlError::InvalidParams(format!("light {i} = {l:?}: expected finite xyz and w = 0 or 1")));
+    }
+    if l[3] == 0.0 && l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0 {
+        return Err(GlError::InvalidParams(format!("light {i} is directional with a zero direction")));
+    }
+    Ok(())
+}
+
+/// Colours and shading parameters are finite.
+fn validate_shading(params: &FrameParams) -> Result<(), GlError> {
     let scalars = [params.ambient, params.specular, params.shininess];
     if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite()) {
         return Err(GlError::InvalidParams("non-finite colour or shading parameter".into()));
+    }
+    Ok(())
+}
+
+/// The bound draw framebuffer (`fb`, as the error names it) is complete and has a stencil
+/// buffer of at least 8 bits.
+fn check_stencil_target(gl: &glow::Context, fb: Option<glow::Framebuffer>) -> Result<(), GlError> {
+    // The default framebuffer names its stencil buffer STENCIL, a framebuffer object
+    // STENCIL_ATTACHMENT (a DEPTH_STENCIL attachment answers for both).
+    let attachment = if fb.is_some() { glow::STENCIL_ATTACHMENT } else { glow::STENCIL };
+    // SAFETY: queries of the bound draw framebuffer; the size is only queried when an image
+    // is attached (otherwise the query is an error).
+    let (status, kind, bits) = unsafe {
+        let status = gl.check_framebuffer_status(glow::DRAW_FRAMEBUFFER);
+        let kind = gl.get_framebuffer_attachment_parameter_i32(
+            glow::DRAW_FRAMEBUFFER,
+            attachment,
+            glow::FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+        ) as u32;
+        let bits = if status == glow::FRAMEBUFFER_COMPLETE && kind != glow::NONE {
+            gl.get_framebuffer_attachment_parameter_i32(
+                glow::DRAW_FRAMEBUFFER,
+                attachment,
+                glow::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE,
+            )
+        } else {
+            0
+        };
+        (status, kind, bits)
+    };
+    if status != glow::FRAMEBUFFER_COMPLETE {
+        return Err(GlError::Framebuffer { status, what: "the caller's framebuffer (FrameTarget)" });
+    }
+    if kind == glow::NONE || bits < 8 {
+        return Err(GlError::InvalidParams(format!(
+            "the target framebuffer ({}) has {bits} stencil bits; shadow volumes need at least 8",
+            if fb.is_some() { "a framebuffer object" } else { "the default framebuffer" }
+        )));
     }
     Ok(())
 }
@@ -307,7 +529,7 @@ impl Renderer {
         };
         let mut lighting = HashMap::new();
         lighting.insert("", LightingProgram::new(gl, None)?);
-        Ok(Self { depth, lighting, target: None, error_log: None, extra: extra_from_current_egl() })
+        Ok(Self { depth, lighting, target: None, error_log: None, extra: extra_from_current_egl(), counter: None })
     }
 
     /// Uses these entry points (glClipControl) instead of the ones found at [`Renderer::new`],
@@ -411,7 +633,8 @@ impl Renderer {
     /// buffer 0, depth (to the convention's far value) and stencil, and leaves the depth
     /// buffer in `params.depth_convention`. glClipControl and glDepthRange are set for the
     /// frame and restored afterwards. `params.capture` is ignored except the stencil capture,
-    /// which reads the caller's stencil (returned per captured light).
+    /// which reads the caller's stencil (returned per captured light). A renderer that draws
+    /// its own depth and lighting uses [`Renderer::count_shadows`] instead.
     pub fn draw_frame(
         &mut self,
         gl: &glow::Context,
@@ -427,6 +650,261 @@ impl Renderer {
         Ok(captured.stencil)
     }
 
+    /// Counts `light`'s shadow volumes into the stencil of a caller's framebuffer whose depth
+    /// already holds the caller's scene — umbra inside someone else's renderer (issue 9 §1):
+    /// no clear of colour or depth, no depth pass of umbra's own.
+    ///
+    /// Returns what "lit" means in the stencil afterwards, for the caller's lighting pass:
+    /// [`Classification::StencilZero`] (lit where the stencil is 0) or
+    /// [`Classification::StencilTest`] (lit where that `glStencilFunc` passes). Methods that
+    /// classify in a shader ([`Classification::Shader`], the shadow maps) are resolved into the
+    /// stencil here — 0 where the method's `umbra_lit` holds on the caller's visible surface,
+    /// 1 elsewhere (also where no surface was drawn) — and report `StencilZero`. Either way,
+    /// "lit" here is the classification only: like umbra's own lighting, the caller's shader
+    /// must also require that the side of the triangle it sees faces the light (a surface
+    /// seen from the side turned away from the light is unlit whatever the stencil holds;
+    /// the volumes decide only for the lit side).
+    ///
+    /// Uses from `params`: `camera`, `width`, `height`, `zpass`, `depth_convention` (and the
+    /// stencil counter choice); not `lights`, colours, `capture`. `light` is homogeneous
+    /// (w = 1 point, w = 0 directional, coming from xyz): a `[f32; 4]`, or anything that
+    /// converts into one (`mint::Vector4<f32>`, glam's `Vec4`).
+    ///
+    /// **Invariance requirement.** z-fail counting compares the volumes, whose caps are the
+    /// scene's own triangles, with the depth buffer; the caller's depth must therefore be
+    /// bit-identical to what umbra would draw: the same positions as `scene`, transformed by
+    /// exactly `params.camera.clip_from_world_in(width / height, depth_convention)` converted
+    /// with [`crate::camera::to_f32_cols`] (or [`Camera::clip_from_world_cols`] rounded to
+    /// f32), in a vertex shader computing
+    /// `gl_Position = u_clip_from_world * vec4(position, 1.0)` with `invariant gl_Position`,
+    /// rendered with glClipControl(LOWER_LEFT, [`DepthConvention::clip_depth_mode`]) and
+    /// glDepthRange(0, 1), and the depth cleared to [`DepthConvention::far_depth`]. Other
+    /// transforms give wrong counts along every silhouette and cap.
+    ///
+    /// **Framebuffer** (`target`, None = default framebuffer): `params.width x height`, with
+    /// a stencil attachment of at least 8 bits (checked: [`GlError::InvalidParams`]); complete
+    /// (checked: [`GlError::Framebuffer`]).
+    ///
+    /// **Framebuffer contents touched**: the stencil only — cleared to 0 and counted (its
+    /// whole area: scissor is off during the call). Depth and every colour attachment are
+    /// left as they were (the volumes draw with depth writes and colour writes off; a shadow
+    /// map renders into its own texture). With `params.counter` wide counting, umbra's own
+    /// counting target is drawn and the stencil written by its resolve.
+    ///
+    /// **GL state**: saved before and restored after, exactly: every [`GlState`] field
+    /// (depth test/func/write/clamp, stencil test, both stencil faces' func/ref/masks/ops,
+    /// colour mask, cull enable/face, front face, blend enable/func/equation, polygon
+    /// offset), the current program, the vertex array, the draw and read framebuffers, the
+    /// viewport, SCISSOR_TEST and RASTERIZER_DISCARD, glClipControl's origin and depth mode,
+    /// glDepthRange, the generic SHADER_STORAGE_BUFFER binding and the indexed bindings
+    /// 0-7 (buffer, offset, size), the ARRAY_BUFFER, COPY_READ_BUFFER and DRAW_INDIRECT_BUFFER
+    /// bindings, PATCH_VERTICES, the active texture unit and unit 0's 2D and cube-map
+    /// textures. Not restored (nothing of the caller's is involved): objects the method owns
+    /// and what is bound inside them.
+    pub fn count_shadows(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        light: impl Into<Light>,
+        target: FrameTarget,
+    ) -> Result<Classification, GlError> {
+        let light = light.into();
+        validate_view(params, &light)?;
+        self.check_convention(params.depth_convention)?;
+        let saved = SavedState::capture(gl);
+        let bindings = MethodBindings::capture(gl);
+        let result = self.count_on(gl, scene, method, params, light, target.framebuffer);
+        bindings.restore(gl);
+        saved.restore(gl, &self.extra);
+        let checked = self.check_errors(gl, "count_shadows");
+        let classification = result?;
+        checked.map(|()| classification)
+    }
+
+    /// Adds `light`'s diffuse + specular to draw buffer 0 of a caller's framebuffer with
+    /// umbra's own lighting shader, where [`Renderer::count_shadows`] (called just before,
+    /// for the same light, method, scene and view) left "lit" — for hosts that do not want
+    /// to write their own lighting pass. Two-sided Lambert + Blinn-Phong with
+    /// `params.light_color`, `albedo`, `specular`, `shininess`; depth func EQUAL against the
+    /// caller's depth (the invariance requirement of `count_shadows` holds here too), no
+    /// depth writes, additive blending (ONE, ONE), alpha not written.
+    ///
+    /// **Framebuffer contents touched**: draw buffer 0 (colour added), draw buffer 3 if the
+    /// framebuffer has one (umbra's lit-mask output, 1 or 0 where shaded), and for
+    /// [`Classification::StencilZero`] / shader-classified methods the stencil (incremented
+    /// where shaded, so a coplanar duplicate triangle cannot add the light twice). Depth is
+    /// not written. **GL state**: as [`Renderer::count_shadows`], all restored.
+    pub fn add_light(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        light: impl Into<Light>,
+        target: FrameTarget,
+    ) -> Result<(), GlError> {
+        let light = light.into();
+        validate_view(params, &light)?;
+        validate_shading(params)?;
+        self.check_convention(params.depth_convention)?;
+        if method.prepared_scene() != Some(scene.id()) {
+            return Err(GlError::InvalidParams(format!(
+                "add_light: method {} has not counted this scene's shadows: call count_shadows first",
+                method.name()
+            )));
+        }
+        let saved = SavedState::capture(gl);
+        let bindings = MethodBindings::capture(gl);
+        let result = self.light_on(gl, scene, method, params, light, target.framebuffer);
+        bindings.restore(gl);
+        saved.restore(gl, &self.extra);
+        let checked = self.check_errors(gl, "add_light");
+        result.and(checked)
+    }
+
+    /// The body of [`Renderer::count_shadows`] (state saved by the caller).
+    fn count_on(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        light: Light,
+        fb: Option<glow::Framebuffer>,
+    ) -> Result<Classification, GlError> {
+        let view = PassView::new(params, fb);
+        view.bind_target(gl);
+        check_stencil_target(gl, fb)?;
+        if method.prepared_scene() != Some(scene.id()) {
+            method.prepare(gl, scene)?;
+        }
+        // SAFETY: plain enables (restored by the caller's SavedState).
+        unsafe {
+            // Reason: the stencil clear and the counting must cover the whole frame (a clear
+            // obeys the scissor box), and nothing may be discarded before rasterization.
+            gl.disable(glow::SCISSOR_TEST);
+            gl.disable(glow::RASTERIZER_DISCARD);
+        }
+        self.set_depth_convention(gl, view.convention)?;
+        let mut hook = None;
+        self.volume_pass(gl, scene, method, params, &view, light, 0, &mut hook)?;
+        match method.classification() {
+            Classification::Shader => {
+                self.shader_lit_to_stencil(gl, scene, method, params, &view, light)?;
+                Ok(Classification::StencilZero)
+            }
+            other => Ok(other),
+        }
+    }
+
+    /// The body of [`Renderer::add_light`] (state saved by the caller).
+    fn light_on(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        light: Light,
+        fb: Option<glow::Framebuffer>,
+    ) -> Result<(), GlError> {
+        let view = PassView::new(params, fb);
+        view.bind_target(gl);
+        check_stencil_target(gl, fb)?;
+        // SAFETY: plain enables (restored by the caller's SavedState).
+        unsafe {
+            // Reason: light the whole frame, as count_shadows counted it.
+            gl.disable(glow::SCISSOR_TEST);
+            gl.disable(glow::RASTERIZER_DISCARD);
+        }
+        self.set_depth_convention(gl, view.convention)?;
+        let mut hook = None;
+        self.lighting_pass(gl, scene, method, params, &view, None, None, light, 0, &mut hook)?;
+        Ok(())
+    }
+
+    /// For a shader-classified method after its volume pass (its map of this light drawn):
+    /// the stencil becomes 0 where `umbra_lit` holds on the visible surface, 1 elsewhere.
+    /// Draws the scene with umbra's lighting program for the method (which discards where
+    /// `umbra_lit` is false) and writes nothing but the stencil.
+    fn shader_lit_to_stencil(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        view: &PassView,
+        light: Light,
+    ) -> Result<(), GlError> {
+        // Reason: the stencil clear obeys the stencil write mask; default = all bits.
+        GlState::default().apply(gl);
+        view.bind_target(gl);
+        // SAFETY: clears the stencil of the bound draw framebuffer to 1 = "not lit".
+        unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[1]) };
+        let write_zero = StencilFace {
+            // Reason: every fragment that survives the shader's umbra_lit test marks its
+            // pixel lit (0); the depth test below keeps only the visible surface.
+            func: glow::ALWAYS,
+            reference: 0,
+            value_mask: 0xFF,
+            write_mask: 0xFF,
+            stencil_fail: glow::KEEP,
+            depth_fail: glow::KEEP,
+            depth_pass: glow::REPLACE,
+        };
+        GlState {
+            // Reason: only the surface the caller's depth holds (bit-identical depths, see
+            // count_shadows' invariance requirement).
+            depth_test: true,
+            depth_func: glow::EQUAL,
+            // Reason: the caller's depth is final and must stay untouched.
+            depth_write: false,
+            // Reason: same clipping as the caller's scene pass.
+            depth_clamp: false,
+            stencil_test: true,
+            stencil_front: write_zero,
+            stencil_back: write_zero,
+            // Reason: no colour output at all (the caller's colour stays untouched).
+            color_write: [false; 4],
+            // Reason: two-sided surfaces.
+            cull_face: None,
+            front_face: glow::CCW,
+            blend: None,
+            polygon_offset: None,
+        }
+        .apply(gl);
+        let p = self.lighting_program(gl, method)?;
+        let program = p.program;
+        // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader
+        // (only the ones umbra_lit and the vertex stage read matter: no colour is written).
+        unsafe {
+            gl.use_program(Some(program));
+            gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &view.clip_f32);
+            gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
+            gl.uniform_3_f32_slice(p.u_eye.as_ref(), &view.eye.map(|v| v as f32));
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
+            gl.bind_vertex_array(Some(scene.vertex_array()));
+        }
+        let frame = VolumeFrame {
+            clip_from_world: view.clip_from_world,
+            eye: view.eye,
+            light,
+            light_index: 0,
+            zpass: params.zpass,
+            width: params.width,
+            height: params.height,
+            target_framebuffer: view.fb,
+            depth_convention: view.convention,
+            counter: Counter::Stencil8,
+            source: method.name(),
+            hook: None,
+        };
+        method.bind_lighting(gl, program, &frame)?;
+        scene.draw_triangles(gl);
+        Ok(())
+    }
+
     /// Saves the caller's state, draws, restores, then fails on recorded GL errors.
     #[allow(clippy::too_many_arguments)]
     fn frame_on(
@@ -440,19 +918,26 @@ impl Renderer {
         hook: Option<&mut dyn StageHook>,
         captured: &mut Captured,
     ) -> Result<(), GlError> {
-        if !self.supports(params.depth_convention) {
-            return Err(GlError::InvalidParams(format!(
-                "depth convention {:?} needs glClipControl (GL 4.5 / ARB_clip_control), which this renderer has not \
-                 loaded: give it one with Renderer::with_extra(GlExtra::load(..)) or use DepthConvention::Standard",
-                params.depth_convention
-            )));
-        }
+        self.check_convention(params.depth_convention)?;
         let saved = SavedState::capture(gl);
+        let bindings = MethodBindings::capture(gl);
         let result = self.passes(gl, scene, method, params, fb, own, hook, captured);
+        bindings.restore(gl);
         saved.restore(gl, &self.extra);
         // A GL error is a failure even if the passes returned Ok.
         let checked = self.check_errors(gl, "frame");
         result.and(checked)
+    }
+
+    /// Err unless frames in `convention` can be drawn ([`Renderer::supports`]).
+    fn check_convention(&self, convention: DepthConvention) -> Result<(), GlError> {
+        if self.supports(convention) {
+            return Ok(());
+        }
+        Err(GlError::InvalidParams(format!(
+            "depth convention {convention:?} needs glClipControl (GL 4.5 / ARB_clip_control), which this renderer has \
+             not loaded: give it one with Renderer::with_extra(GlExtra::load(..)) or use DepthConvention::Standard"
+        )))
     }
 
     /// Drains the debug log and glGetError; Err if anything was recorded.
@@ -512,6 +997,7 @@ impl Renderer {
         Ok(())
     }
 
+    /// The whole frame: depth + ambient once, then per light volumes and lighting.
     #[allow(clippy::too_many_arguments)]
     fn passes(
         &mut self,
@@ -527,26 +1013,48 @@ impl Renderer {
         if method.prepared_scene() != Some(scene.id()) {
             method.prepare(gl, scene)?;
         }
-        let convention = params.depth_convention;
-        self.set_depth_convention(gl, convention)?;
-        let aspect = params.width as f64 / params.height as f64;
-        let clip_from_world = params.camera.clip_from_world_in(aspect, convention);
-        let clip_f32 = to_f32_cols(&clip_from_world);
-        let eye = params.camera.eye;
-        let (w, h) = (params.width as i32, params.height as i32);
-        let bind_target = |gl: &glow::Context| {
-            // SAFETY: binding the frame's framebuffer and setting the viewport.
-            unsafe {
-                gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, fb);
-                gl.viewport(0, 0, w, h);
+        self.set_depth_convention(gl, params.depth_convention)?;
+        let view = PassView::new(params, fb);
+        self.depth_pass(gl, scene, params, &view, own, &mut hook);
+        for (light_index, &light) in params.lights.iter().enumerate() {
+            self.volume_pass(gl, scene, method, params, &view, light, light_index, &mut hook)?;
+            if params.capture.stencil.includes(light_index) {
+                captured
+                    .stencil
+                    .push(StencilMask { light: light_index, image: read_stencil(gl, fb, params.width, params.height) });
             }
-        };
+            // Lit mask of this light: own target only, cleared right before its lighting pass.
+            let lit_mask = own.filter(|t| t.attachments().lit_mask && params.capture.lit_mask.includes(light_index));
+            let image = self.lighting_pass(gl, scene, method, params, &view, own, lit_mask, light, light_index, &mut hook)?;
+            if let Some(image) = image {
+                captured.lit_masks.push(LitMask { light: light_index, image });
+            }
+        }
+        if let Some(t) = own {
+            t.set_draw_buffers(gl, TargetPass::Depth);
+        }
+        mark(&mut hook, gl, "end", None);
+        Ok(())
+    }
 
-        mark(&mut hook, gl, "depth", None);
+    /// Pass 1, once per frame: clears colour (to `params.background`), depth (to the
+    /// convention's far value) and stencil (to 0) of `view`'s framebuffer, then draws the
+    /// scene's depth + ambient (+ world position and triangle id into `own`'s attachments).
+    fn depth_pass(
+        &self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        params: &FrameParams,
+        view: &PassView,
+        own: Option<&RenderTarget>,
+        hook: &mut Option<&mut dyn StageHook>,
+    ) {
+        let convention = view.convention;
+        mark(hook, gl, "depth", None);
         // Reason: glClear* obeys the colour/depth/stencil write masks; GL's default state has
         // all of them on (and blending/tests do not affect clears).
         GlState::default().apply(gl);
-        bind_target(gl);
+        view.bind_target(gl);
         // SAFETY: disabling enables that would restrict clears and draws (restored by the
         // caller's SavedState), then clearing the bound framebuffer.
         unsafe {
@@ -595,163 +1103,220 @@ impl Renderer {
         // SAFETY: our program and the scene's VAO; uniforms match the shader declarations.
         unsafe {
             gl.use_program(Some(self.depth.program));
-            gl.uniform_matrix_4_f32_slice(self.depth.u_clip_from_world.as_ref(), false, &clip_f32);
+            gl.uniform_matrix_4_f32_slice(self.depth.u_clip_from_world.as_ref(), false, &view.clip_f32);
             gl.uniform_3_f32_slice(self.depth.u_ambient_color.as_ref(), &ambient);
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }
         scene.draw_triangles(gl);
+    }
 
-        for (light_index, &light) in params.lights.iter().enumerate() {
-            // ---- Pass 2: shadow volumes into a cleared stencil.
-            mark(&mut hook, gl, "volumes", Some(light_index));
-            // Reason: the stencil clear obeys the stencil write mask; default = all bits.
-            GlState::default().apply(gl);
-            bind_target(gl);
-            // SAFETY: clears the stencil of the bound draw framebuffer.
-            unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[0]) };
-            {
-                let mut frame = VolumeFrame {
-                    clip_from_world,
-                    eye,
-                    light,
-                    light_index,
-                    zpass: params.zpass,
-                    width: params.width,
-                    height: params.height,
-                    target_framebuffer: fb,
-                    depth_convention: convention,
-                    source: method.name(),
-                    // Re-borrow with a shorter trait-object lifetime (an Option blocks the
-                    // automatic coercion).
-                    hook: match hook.as_mut() {
-                        Some(h) => Some(&mut **h as &mut dyn StageHook),
-                        None => None,
-                    },
-                };
-                method.draw_volumes(gl, scene, &mut frame)?;
+    /// Pass 2, one light: clears the stencil of `view`'s framebuffer to 0 and lets `method`
+    /// mark it (its volumes, z-fail or z-pass per `params.zpass`, against the depth already
+    /// in the framebuffer), then binds `view`'s framebuffer and viewport again and re-sets the
+    /// depth convention (a method may have bound its own framebuffer or changed clip control).
+    /// Leaves the GL state as the method left it, apart from those.
+    #[allow(clippy::too_many_arguments)]
+    fn volume_pass(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        view: &PassView,
+        light: Light,
+        light_index: usize,
+        hook: &mut Option<&mut dyn StageHook>,
+    ) -> Result<(), GlError> {
+        // ---- Pass 2: shadow volumes into a cleared stencil.
+        mark(hook, gl, "volumes", Some(light_index));
+        // Reason: the stencil clear obeys the stencil write mask; default = all bits.
+        GlState::default().apply(gl);
+        view.bind_target(gl);
+        // SAFETY: clears the stencil of the bound draw framebuffer.
+        unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[0]) };
+        // The wide counter (crate::counter) serves the methods that count in the stencil: they
+        // draw into its framebuffer, the resolve writes the stencil they would have written.
+        let counter = match (params.counter, method.classification()) {
+            (Counter::Float32, Classification::StencilZero) => Counter::Float32,
+            _ => Counter::Stencil8,
+        };
+        let mut target = view.fb;
+        if counter == Counter::Float32 {
+            if self.counter.is_none() {
+                self.counter = Some(FloatCounter::new(gl)?);
             }
-            // The method may have bound other framebuffers (shadow maps) or changed the clip
-            // control for its own depth pass: re-bind ours, re-set the convention.
-            bind_target(gl);
-            self.set_depth_convention(gl, convention)?;
-            if params.capture.stencil.includes(light_index) {
-                captured
-                    .stencil
-                    .push(StencilMask { light: light_index, image: read_stencil(gl, fb, params.width, params.height) });
+            if let Some(c) = self.counter.as_mut() {
+                target = Some(c.begin(gl, view.fb, params.width, params.height)?);
             }
-            // Lit mask of this light: own target only, cleared right before its lighting pass.
-            let lit_mask = own.filter(|t| t.attachments().lit_mask && params.capture.lit_mask.includes(light_index));
-            if let Some(t) = lit_mask {
-                // Reason: the clear obeys the colour write mask, which the method may have
-                // turned off; GL's default state has it on.
-                GlState::default().apply(gl);
-                t.clear_lit_mask(gl);
-            }
-
-            // ---- Pass 3: lighting where lit.
-            mark(&mut hook, gl, "lighting", Some(light_index));
-            let classification = method.classification();
-            let one_per_pixel = StencilFace {
-                // Reason: lit where the count is 0 (or, for Shader classification, where no
-                // fragment of this light has been shaded yet: the method leaves the cleared 0).
-                func: glow::EQUAL,
-                reference: 0,
-                value_mask: 0xFF,
-                write_mask: 0xFF,
-                stencil_fail: glow::KEEP,
-                depth_fail: glow::KEEP,
-                // Reason: the first fragment shaded at a pixel bumps the stencil to 1, so a
-                // coplanar duplicate triangle at the same depth (common in soups) cannot add
-                // this light a second time. The stencil is cleared before the next light.
-                depth_pass: glow::INCR_WRAP,
-            };
-            let stencil_face = match classification {
-                Classification::StencilZero | Classification::Shader => one_per_pixel,
-                Classification::StencilTest { func, reference, value_mask } => StencilFace {
-                    // Reason: the method's own "lit" test; its stencil encoding is unknown to
-                    // us, so nothing is written (coplanar duplicates may add light twice).
-                    func,
-                    reference,
-                    value_mask,
-                    write_mask: 0,
-                    stencil_fail: glow::KEEP,
-                    depth_fail: glow::KEEP,
-                    depth_pass: glow::KEEP,
+        }
+        {
+            let mut frame = VolumeFrame {
+                clip_from_world: view.clip_from_world,
+                eye: view.eye,
+                light,
+                light_index,
+                zpass: params.zpass,
+                width: params.width,
+                height: params.height,
+                target_framebuffer: target,
+                depth_convention: view.convention,
+                counter,
+                source: method.name(),
+                // Re-borrow with a shorter trait-object lifetime (an Option blocks the
+                // automatic coercion).
+                hook: match hook.as_mut() {
+                    Some(h) => Some(&mut **h as &mut dyn StageHook),
+                    None => None,
                 },
             };
-            if let Some(t) = own {
-                // Colour (and the lit mask when captured): pass 3 must not touch world
-                // position / triangle id.
-                t.set_draw_buffers(gl, TargetPass::Lighting { lit_mask: lit_mask.is_some() });
+            // Reason: light caps of casters the camera's near plane cuts are clipped at that
+            // plane before they are pushed to the far plane (methods/shared/depth.glsl): the
+            // counting methods' volume shaders write gl_ClipDistance[0] (a positive constant
+            // for everything but light caps). Not for Classification::Shader methods (shadow
+            // maps draw their own depth pass without clip distances), not on OpenGL ES (none).
+            let near_clip = method.classification() != Classification::Shader && !gl.version().is_embedded;
+            if near_clip {
+                // SAFETY: enabling a core capability on the current context.
+                unsafe { gl.enable(glow::CLIP_DISTANCE0) };
             }
-            GlState {
-                // Reason: shade exactly the surface pass 1 left visible: the same invariant
-                // vertex shader gives bit-identical depths, EQUAL selects them (in either depth
-                // convention).
-                depth_test: true,
-                depth_func: glow::EQUAL,
-                // Reason: depth is final after pass 1.
-                depth_write: false,
-                // Reason: same clipping as pass 1, or depths could differ near the near plane.
-                depth_clamp: false,
-                stencil_test: true,
-                stencil_front: stencil_face,
-                stencil_back: stencil_face,
-                // Reason: alpha keeps pass 1's coverage value 1.
-                color_write: [true, true, true, false],
-                // Reason: two-sided surfaces, as in pass 1.
-                cull_face: None,
-                front_face: glow::CCW,
-                // Reason: each light adds its diffuse + specular onto ambient + earlier lights.
-                // On the R8 lit mask (draw buffer 3) the same blend is min(1, dst + src) with
-                // src in {0, 1}: an OR, so a second fragment of a pixel cannot clear the bit.
-                blend: Some(BlendState::ADDITIVE),
-                polygon_offset: None,
+            let drawn = method.draw_volumes(gl, scene, &mut frame);
+            if near_clip {
+                // SAFETY: as above; off again whatever the method returned.
+                unsafe { gl.disable(glow::CLIP_DISTANCE0) };
             }
-            .apply(gl);
-            let p = self.lighting_program(gl, method)?;
-            // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader.
-            unsafe {
-                gl.use_program(Some(p.program));
-                gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &clip_f32);
-                gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
-                gl.uniform_3_f32_slice(p.u_light_color.as_ref(), &params.light_color);
-                gl.uniform_3_f32_slice(p.u_eye.as_ref(), &eye.map(|v| v as f32));
-                gl.uniform_3_f32_slice(p.u_albedo.as_ref(), &params.albedo);
-                gl.uniform_1_f32(p.u_specular.as_ref(), params.specular);
-                gl.uniform_1_f32(p.u_shininess.as_ref(), params.shininess);
-                gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
-                gl.bind_vertex_array(Some(scene.vertex_array()));
-            }
-            if classification == Classification::Shader {
-                let program = p.program;
-                let frame = VolumeFrame {
-                    clip_from_world,
-                    eye,
-                    light,
-                    light_index,
-                    zpass: params.zpass,
-                    width: params.width,
-                    height: params.height,
-                    target_framebuffer: fb,
-                    depth_convention: convention,
-                    source: method.name(),
-                    hook: None,
-                };
-                method.bind_lighting(gl, program, &frame)?;
-            }
-            scene.draw_triangles(gl);
-            if let Some(t) = lit_mask {
-                if let Some(image) = t.read_lit_mask(gl) {
-                    captured.lit_masks.push(LitMask { light: light_index, image });
-                }
-            }
+            drawn?;
         }
-        if let Some(t) = own {
-            t.set_draw_buffers(gl, TargetPass::Depth);
+        if let (Counter::Float32, Some(c)) = (counter, self.counter.as_ref()) {
+            c.resolve(gl, view.fb, params.width, params.height)?;
         }
-        mark(&mut hook, gl, "end", None);
+        // The method may have bound other framebuffers (shadow maps) or changed the clip
+        // control for its own depth pass: re-bind ours, re-set the convention.
+        view.bind_target(gl);
+        self.set_depth_convention(gl, view.convention)?;
         Ok(())
+    }
+
+    /// Pass 3, one light: adds its diffuse + specular where `method`'s classification says
+    /// "lit" (the stencil after [`Renderer::volume_pass`], or the method's shader) on the
+    /// surfaces whose depth is in the framebuffer (depth EQUAL, no depth writes, additive
+    /// blending). With `lit_mask` (a target with a lit-mask attachment) clears that mask
+    /// first, writes this light's decision into it and returns it read back.
+    #[allow(clippy::too_many_arguments)]
+    fn lighting_pass(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        view: &PassView,
+        own: Option<&RenderTarget>,
+        lit_mask: Option<&RenderTarget>,
+        light: Light,
+        light_index: usize,
+        hook: &mut Option<&mut dyn StageHook>,
+    ) -> Result<Option<LitMaskImage>, GlError> {
+        if let Some(t) = lit_mask {
+            // Reason: the clear obeys the colour write mask, which the method may have
+            // turned off; GL's default state has it on.
+            GlState::default().apply(gl);
+            t.clear_lit_mask(gl);
+        }
+
+        // ---- Pass 3: lighting where lit.
+        mark(hook, gl, "lighting", Some(light_index));
+        let classification = method.classification();
+        let one_per_pixel = StencilFace {
+            // Reason: lit where the count is 0 (or, for Shader classification, where no
+            // fragment of this light has been shaded yet: the method leaves the cleared 0).
+            func: glow::EQUAL,
+            reference: 0,
+            value_mask: 0xFF,
+            write_mask: 0xFF,
+            stencil_fail: glow::KEEP,
+            depth_fail: glow::KEEP,
+            // Reason: the first fragment shaded at a pixel bumps the stencil to 1, so a
+            // coplanar duplicate triangle at the same depth (common in soups) cannot add
+            // this light a second time. The stencil is cleared before the next light.
+            depth_pass: glow::INCR_WRAP,
+        };
+        let stencil_face = match classification {
+            Classification::StencilZero | Classification::Shader => one_per_pixel,
+            Classification::StencilTest { func, reference, value_mask } => StencilFace {
+                // Reason: the method's own "lit" test; its stencil encoding is unknown to
+                // us, so nothing is written (coplanar duplicates may add light twice).
+                func,
+                reference,
+                value_mask,
+                write_mask: 0,
+                stencil_fail: glow::KEEP,
+                depth_fail: glow::KEEP,
+                depth_pass: glow::KEEP,
+            },
+        };
+        if let Some(t) = own {
+            // Colour (and the lit mask when captured): pass 3 must not touch world
+            // position / triangle id.
+            t.set_draw_buffers(gl, TargetPass::Lighting { lit_mask: lit_mask.is_some() });
+        }
+        GlState {
+            // Reason: shade exactly the surface pass 1 left visible: the same invariant
+            // vertex shader gives bit-identical depths, EQUAL selects them (in either depth
+            // convention).
+            depth_test: true,
+            depth_func: glow::EQUAL,
+            // Reason: depth is final after pass 1.
+            depth_write: false,
+            // Reason: same clipping as pass 1, or depths could differ near the near plane.
+            depth_clamp: false,
+            stencil_test: true,
+            stencil_front: stencil_face,
+            stencil_back: stencil_face,
+            // Reason: alpha keeps pass 1's coverage value 1.
+            color_write: [true, true, true, false],
+            // Reason: two-sided surfaces, as in pass 1.
+            cull_face: None,
+            front_face: glow::CCW,
+            // Reason: each light adds its diffuse + specular onto ambient + earlier lights.
+            // On the R8 lit mask (draw buffer 3) the same blend is min(1, dst + src) with
+            // src in {0, 1}: an OR, so a second fragment of a pixel cannot clear the bit.
+            blend: Some(BlendState::ADDITIVE),
+            polygon_offset: None,
+        }
+        .apply(gl);
+        let p = self.lighting_program(gl, method)?;
+        // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader.
+        unsafe {
+            gl.use_program(Some(p.program));
+            gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &view.clip_f32);
+            gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
+            gl.uniform_3_f32_slice(p.u_light_color.as_ref(), &params.light_color);
+            gl.uniform_3_f32_slice(p.u_eye.as_ref(), &view.eye.map(|v| v as f32));
+            gl.uniform_3_f32_slice(p.u_albedo.as_ref(), &params.albedo);
+            gl.uniform_1_f32(p.u_specular.as_ref(), params.specular);
+            gl.uniform_1_f32(p.u_shininess.as_ref(), params.shininess);
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
+            gl.bind_vertex_array(Some(scene.vertex_array()));
+        }
+        if classification == Classification::Shader {
+            let program = p.program;
+            let frame = VolumeFrame {
+                clip_from_world: view.clip_from_world,
+                eye: view.eye,
+                light,
+                light_index,
+                zpass: params.zpass,
+                width: params.width,
+                height: params.height,
+                target_framebuffer: view.fb,
+                depth_convention: view.convention,
+                counter: Counter::Stencil8,
+                source: method.name(),
+                hook: None,
+            };
+            method.bind_lighting(gl, program, &frame)?;
+        }
+        scene.draw_triangles(gl);
+        Ok(lit_mask.and_then(|t| t.read_lit_mask(gl)))
     }
 
     /// Deletes programs and the offscreen target.
@@ -765,6 +1330,9 @@ impl Renderer {
         }
         if let Some(t) = self.target.take() {
             t.destroy(gl);
+        }
+        if let Some(c) = self.counter.take() {
+            c.destroy(gl);
         }
     }
 }

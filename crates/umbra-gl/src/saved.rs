@@ -2,7 +2,8 @@
 //! may run on somebody else's context).
 //!
 //! Restored exactly: every [`GlState`] field, the current program, vertex array, draw and
-//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, the generic and indexed
+//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, CLIP_DISTANCE0 (desktop GL;
+//! the volume pass enables it for the near-plane clip of light caps), the generic and indexed
 //! (binding 0) SHADER_STORAGE_BUFFER bindings, glDepthRange, and glClipControl's origin and
 //! depth mode (when the renderer has glClipControl; without it the renderer never changes
 //! them).
@@ -39,6 +40,8 @@ pub(crate) struct SavedState {
     viewport: [i32; 4],
     scissor_test: bool,
     rasterizer_discard: bool,
+    /// GL_CLIP_DISTANCE0; None on OpenGL ES (no clip distances in ES 3.x core).
+    clip_distance0: Option<bool>,
     ssbo_generic: u32,
     ssbo_indexed: u32,
     ssbo_offset: i64,
@@ -65,6 +68,7 @@ impl SavedState {
                 viewport,
                 scissor_test: gl.is_enabled(glow::SCISSOR_TEST),
                 rasterizer_discard: gl.is_enabled(glow::RASTERIZER_DISCARD),
+                clip_distance0: (!gl.version().is_embedded).then(|| gl.is_enabled(glow::CLIP_DISTANCE0)),
                 ssbo_generic: gl.get_parameter_i32(glow::SHADER_STORAGE_BUFFER_BINDING) as u32,
                 ssbo_indexed: gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, NORMALS_BINDING) as u32,
                 ssbo_offset: gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, NORMALS_BINDING),
@@ -92,6 +96,13 @@ impl SavedState {
             let [x, y, w, h] = self.viewport;
             gl.viewport(x, y, w, h);
             gl.depth_range_f32(self.depth_range[0], self.depth_range[1]);
+            if let Some(on) = self.clip_distance0 {
+                if on {
+                    gl.enable(glow::CLIP_DISTANCE0)
+                } else {
+                    gl.disable(glow::CLIP_DISTANCE0)
+                }
+            }
             for (cap, on) in [(glow::SCISSOR_TEST, self.scissor_test), (glow::RASTERIZER_DISCARD, self.rasterizer_discard)] {
                 if on {
                     gl.enable(cap)

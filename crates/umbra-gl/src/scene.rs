@@ -5,7 +5,12 @@
 //! `gl_PrimitiveID` == index into `WeldedMesh::triangles` (the triangle id the renderer
 //! writes to the id attachment and the ray-traced oracle receives).
 //!
-//! GL state touched: none besides creating objects (direct state access, no bindings change).
+//! GL state touched: none besides creating objects (direct state access, no bindings change);
+//! `DEBUG_OUTPUT` is switched off during each upload and restored ([`crate::gpu_buffer`]).
+//!
+//! A buffer the driver refuses (`GL_OUT_OF_MEMORY`, e.g. llvmpipe's malloc failing) is a
+//! [`GlError::OutOfMemory`] naming the buffer; nothing is left behind and the context stays
+//! usable (`tests/gl_failures.rs` provokes it for real).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -14,6 +19,7 @@ use glow::HasContext;
 use umbra_geom::{Aabb, EdgeAdjacency, WeldedMesh};
 
 use crate::error::GlError;
+use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
 
 /// Identifies one uploaded scene (unique per process), so a method knows whether it has
 /// prepared for it.
@@ -61,7 +67,9 @@ fn as_bytes<T: Copy>(v: &[T]) -> &[u8] {
 }
 
 pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlError> {
-    i32::try_from(bytes).map_err(|_| GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)")))
+    i32::try_from(bytes).map_err(|_| {
+        GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)"))
+    })
 }
 
 /// Bounds of the vertices the triangles use (what [`SceneGpu::bounds`] reports); `None`
@@ -87,7 +95,10 @@ impl SceneGpu {
         }
         let index_count = mesh.triangles.len() * 3;
         if i32::try_from(index_count).is_err() {
-            return Err(GlError::InvalidParams(format!("{} triangles exceed one glDrawElements call", mesh.triangles.len())));
+            return Err(GlError::InvalidParams(format!(
+                "{} triangles exceed one glDrawElements call",
+                mesh.triangles.len()
+            )));
         }
         let normals: Vec<[f32; 4]> = mesh
             .triangles
@@ -104,20 +115,43 @@ impl SceneGpu {
             checked_size(b.len(), what)?;
         }
         let bounds = triangle_bounds(&mesh);
-        // SAFETY: DSA object creation and uploads on the current context; slices outlive the calls.
+        // Each store is checked right after its upload (crate::gpu_buffer): a refusal is this
+        // call's OutOfMemory, and the buffers already made are deleted.
+        // An empty mesh still gets (empty) buffers so every draw path stays uniform;
+        // glNamedBufferData with size 0 is legal.
+        let mut buffers = Vec::with_capacity(3);
+        for (bytes, what) in [
+            (pos_bytes, "the scene's position buffer"),
+            (idx_bytes, "the scene's index buffer"),
+            (nrm_bytes, "the scene's normal buffer"),
+        ] {
+            match buffer_with_data(gl, BufferApi::Dsa, BufferData::Bytes(bytes), glow::STATIC_DRAW, what) {
+                Ok(b) => buffers.push(b),
+                Err(e) => {
+                    for b in buffers {
+                        // SAFETY: buffers created just above, never handed out.
+                        unsafe { gl.delete_buffer(b) };
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        let (positions, indices, normals_buf) = (buffers[0], buffers[1], buffers[2]);
+        // SAFETY: DSA object creation and vertex-array set-up on the current context; the
+        // buffers are deleted if the vertex array cannot be created.
         unsafe {
-            let create = |what| gl.create_named_buffer().map_err(|detail| GlError::Create { what, detail });
-            let positions = create("position buffer")?;
-            let indices = create("index buffer")?;
-            let normals_buf = create("normal buffer")?;
-            // An empty mesh still gets (empty) buffers so every draw path stays uniform;
-            // glNamedBufferData with size 0 is legal.
-            gl.named_buffer_data_u8_slice(positions, pos_bytes, glow::STATIC_DRAW);
-            gl.named_buffer_data_u8_slice(indices, idx_bytes, glow::STATIC_DRAW);
-            gl.named_buffer_data_u8_slice(normals_buf, nrm_bytes, glow::STATIC_DRAW);
-            let vao = gl
-                .create_named_vertex_array()
-                .map_err(|detail| GlError::Create { what: "vertex array", detail })?;
+            let delete = |buffers: &[glow::Buffer]| {
+                for &b in buffers {
+                    gl.delete_buffer(b);
+                }
+            };
+            let vao = match gl.create_named_vertex_array() {
+                Ok(v) => v,
+                Err(detail) => {
+                    delete(&buffers);
+                    return Err(GlError::Create { what: "vertex array", detail });
+                }
+            };
             gl.vertex_array_vertex_buffer(vao, 0, Some(positions), 0, 12);
             gl.vertex_array_attrib_format_f32(vao, POSITION_LOCATION, 3, glow::FLOAT, false, 0);
             gl.vertex_array_attrib_binding_f32(vao, POSITION_LOCATION, 0);
@@ -137,6 +171,7 @@ impl SceneGpu {
         }
     }
 
+    /// This upload's identity (methods prepare per scene id).
     pub fn id(&self) -> SceneId {
         self.id
     }
@@ -151,10 +186,12 @@ impl SceneGpu {
         self.adjacency.get_or_init(|| Arc::new(EdgeAdjacency::build(&self.mesh)))
     }
 
+    /// Bounds of the triangles' vertices; None for an empty mesh.
     pub fn bounds(&self) -> Option<Aabb> {
         self.bounds
     }
 
+    /// Number of triangles (after welding).
     pub fn triangle_count(&self) -> usize {
         self.mesh.triangles.len()
     }

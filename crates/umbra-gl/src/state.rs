@@ -15,12 +15,19 @@ use crate::camera::DepthConvention;
 /// One face's stencil function and operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StencilFace {
+    /// glStencilFuncSeparate: comparison (ALWAYS, EQUAL, ...).
     pub func: u32,
+    /// glStencilFuncSeparate: reference value.
     pub reference: i32,
+    /// glStencilFuncSeparate: mask ANDed with reference and stored value before comparing.
     pub value_mask: u32,
+    /// glStencilMaskSeparate: bits the operations may write.
     pub write_mask: u32,
+    /// glStencilOpSeparate: operation when the stencil test fails.
     pub stencil_fail: u32,
+    /// glStencilOpSeparate: operation when the stencil test passes and the depth test fails.
     pub depth_fail: u32,
+    /// glStencilOpSeparate: operation when both tests pass.
     pub depth_pass: u32,
 }
 
@@ -40,11 +47,17 @@ impl StencilFace {
 /// Blend function and equation (same for every draw buffer).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BlendState {
+    /// glBlendFuncSeparate: source factor of the colour channels.
     pub src_rgb: u32,
+    /// glBlendFuncSeparate: destination factor of the colour channels.
     pub dst_rgb: u32,
+    /// glBlendFuncSeparate: source factor of alpha.
     pub src_alpha: u32,
+    /// glBlendFuncSeparate: destination factor of alpha.
     pub dst_alpha: u32,
+    /// glBlendEquationSeparate: equation of the colour channels.
     pub equation_rgb: u32,
+    /// glBlendEquationSeparate: equation of alpha.
     pub equation_alpha: u32,
 }
 
@@ -63,18 +76,27 @@ impl BlendState {
 /// The complete fixed-function state of one draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GlState {
+    /// GL_DEPTH_TEST.
     pub depth_test: bool,
+    /// glDepthFunc.
     pub depth_func: u32,
+    /// glDepthMask.
     pub depth_write: bool,
     /// GL_DEPTH_CLAMP: no near/far clipping, depths clamped to the depth range instead.
     pub depth_clamp: bool,
+    /// GL_STENCIL_TEST.
     pub stencil_test: bool,
+    /// Stencil function and operations of front faces.
     pub stencil_front: StencilFace,
+    /// Stencil function and operations of back faces.
     pub stencil_back: StencilFace,
+    /// glColorMask (R, G, B, A), all draw buffers.
     pub color_write: [bool; 4],
     /// `Some(face)` enables GL_CULL_FACE with glCullFace(face).
     pub cull_face: Option<u32>,
+    /// glFrontFace (CCW or CW).
     pub front_face: u32,
+    /// `Some(blend)` enables GL_BLEND with that function and equation.
     pub blend: Option<BlendState>,
     /// `Some((factor, units))` enables POLYGON_OFFSET_FILL.
     pub polygon_offset: Option<(f32, f32)>,
@@ -203,7 +225,10 @@ impl GlState {
                     equation_alpha: u(glow::BLEND_EQUATION_ALPHA),
                 }),
                 polygon_offset: gl.is_enabled(glow::POLYGON_OFFSET_FILL).then(|| {
-                    (gl.get_parameter_f32(glow::POLYGON_OFFSET_FACTOR), gl.get_parameter_f32(glow::POLYGON_OFFSET_UNITS))
+                    (
+                        gl.get_parameter_f32(glow::POLYGON_OFFSET_FACTOR),
+                        gl.get_parameter_f32(glow::POLYGON_OFFSET_UNITS),
+                    )
                 }),
             }
         }
@@ -285,6 +310,62 @@ impl GlState {
     }
 }
 
+/// The depth function that passes exactly where `nearer` fails (LESS -> GEQUAL,
+/// GREATER -> LEQUAL, and so on): a stencil op's "depth fail" as a depth test that passes.
+pub fn depth_func_complement(nearer: u32) -> u32 {
+    match nearer {
+        glow::LESS => glow::GEQUAL,
+        glow::GEQUAL => glow::LESS,
+        glow::GREATER => glow::LEQUAL,
+        glow::LEQUAL => glow::GREATER,
+        glow::EQUAL => glow::NOTEQUAL,
+        glow::NOTEQUAL => glow::EQUAL,
+        glow::ALWAYS => glow::NEVER,
+        _ => glow::ALWAYS,
+    }
+}
+
+impl GlState {
+    /// The counting state of the wide (Float32) counter ([`crate::counter`]): the same count
+    /// as [`GlState::shadow_volume_for`], accumulated by additive blending of the volume
+    /// fragment shaders' `o_count` (+1 front face, -1 back face) into an R32F colour buffer
+    /// instead of INCR_WRAP / DECR_WRAP into 8 stencil bits. Exact for |count| < 2^24.
+    /// Per-field reasons are written next to each choice.
+    pub fn shadow_volume_float_for(zpass: bool, convention: DepthConvention) -> GlState {
+        let stencil = Self::shadow_volume_for(zpass, convention);
+        GlState {
+            // Reason: the stencil ops ran on "depth pass" (z-pass) or "depth fail" (z-fail); a
+            // blend only runs where the depth test passes, so z-fail tests the complement.
+            depth_test: true,
+            // Reason: z-pass counts faces strictly nearer than the sample (the convention's
+            // nearer: LESS / GREATER), z-fail the others (GEQUAL / LEQUAL). A light cap pushed
+            // to the far plane (depth 1, resp. 0) fails LESS everywhere, background included,
+            // so z-fail counted it everywhere; with the complement GEQUAL (1 >= anything, resp.
+            // 0 <= anything) it passes everywhere: the same, consistent, count.
+            depth_func: if zpass { convention.nearer() } else { depth_func_complement(convention.nearer()) },
+            // Reason: the volumes are invisible; the copied scene depth stays intact.
+            depth_write: false,
+            // Reason: the stencil test is not used: the blend does the counting, every
+            // fragment counts (the counter's framebuffer may have no stencil at all).
+            stencil_test: false,
+            stencil_front: StencilFace::KEEP,
+            stencil_back: StencilFace::KEEP,
+            // Reason: the count lives in the red channel of the R32F buffer only.
+            color_write: [true, false, false, false],
+            // Reason: dst + src (z-pass: front +1, back -1) or dst - src (z-fail, reverse
+            // subtract: back +1, front -1), factors ONE: an exact integer sum in f32.
+            blend: Some(BlendState {
+                equation_rgb: if zpass { glow::FUNC_ADD } else { glow::FUNC_REVERSE_SUBTRACT },
+                equation_alpha: if zpass { glow::FUNC_ADD } else { glow::FUNC_REVERSE_SUBTRACT },
+                ..BlendState::ADDITIVE
+            }),
+            // Reason (depth clamp on, no culling, CCW front, no polygon offset): as in the
+            // stencil state, see shadow_volume_for.
+            ..stencil
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -299,6 +380,29 @@ mod tests {
             assert_eq!(reversed.depth_func, glow::GREATER);
             // Nothing else differs.
             assert_eq!(GlState { depth_func: glow::LESS, ..reversed }, standard);
+        }
+    }
+
+    #[test]
+    fn float_count_state_tests_where_the_stencil_op_ran() {
+        use glow::{FUNC_ADD, FUNC_REVERSE_SUBTRACT, GEQUAL, GREATER, LEQUAL, LESS};
+        for (zpass, convention, func, equation) in [
+            (true, DepthConvention::Standard, LESS, FUNC_ADD),
+            (true, DepthConvention::ReversedZ, GREATER, FUNC_ADD),
+            (false, DepthConvention::Standard, GEQUAL, FUNC_REVERSE_SUBTRACT),
+            (false, DepthConvention::ReversedZ, LEQUAL, FUNC_REVERSE_SUBTRACT),
+        ] {
+            let f = GlState::shadow_volume_float_for(zpass, convention);
+            let s = GlState::shadow_volume_for(zpass, convention);
+            assert_eq!(f.depth_func, func, "zpass {zpass} {convention:?}");
+            let blend = f.blend.expect("blending counts");
+            assert_eq!((blend.equation_rgb, blend.src_rgb, blend.dst_rgb), (equation, glow::ONE, glow::ONE));
+            assert!(!f.stencil_test && !f.depth_write && f.depth_clamp && f.depth_test);
+            assert_eq!(f.color_write, [true, false, false, false]);
+            assert_eq!((f.cull_face, f.front_face, f.polygon_offset), (s.cull_face, s.front_face, s.polygon_offset));
+        }
+        for func in [glow::LESS, glow::LEQUAL, glow::GREATER, glow::GEQUAL, glow::EQUAL, glow::NOTEQUAL] {
+            assert_eq!(depth_func_complement(depth_func_complement(func)), func);
         }
     }
 }

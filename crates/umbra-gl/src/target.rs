@@ -9,6 +9,10 @@
 //! * DEPTH_STENCIL_ATTACHMENT: DEPTH24_STENCIL8, or DEPTH32F_STENCIL8 with
 //!   [`Attachments::float_depth`] (reversed-Z, see [`crate::DepthConvention`]).
 //!
+//! Every texture's storage is checked when allocated: one the driver refuses is
+//! [`GlError::OutOfMemory`] naming the attachment, nothing is left behind (no object, no
+//! pending GL error) and the context stays usable (`tests/gl_failures.rs`).
+//!
 //! Fragment output location i goes to draw buffer i; [`TargetPass`] selects which attachments
 //! a pass writes. Readbacks return TOP-row-first images (glReadPixels delivers the bottom row
 //! first).
@@ -24,7 +28,9 @@ pub const NO_TRIANGLE: u32 = u32::MAX;
 /// Which optional attachments a [`RenderTarget`] has, and its depth format.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Attachments {
+    /// RGBA32F world position at COLOR_ATTACHMENT1 (fragment output location 1).
     pub world_pos: bool,
+    /// R32UI triangle id at COLOR_ATTACHMENT2 (fragment output location 2).
     pub triangle_id: bool,
     /// R8 lit mask at COLOR_ATTACHMENT3 (fragment output location 3).
     pub lit_mask: bool,
@@ -50,7 +56,10 @@ pub enum TargetPass {
     Depth,
     /// Pass 3: colour only (location 0), plus the lit mask (location 3) when `lit_mask` and
     /// present. Locations 1 and 2 keep pass 1's values.
-    Lighting { lit_mask: bool },
+    Lighting {
+        /// Also write the lit mask (location 3).
+        lit_mask: bool,
+    },
 }
 
 /// An offscreen framebuffer of fixed size.
@@ -77,28 +86,44 @@ impl RenderTarget {
         // SAFETY: DSA creation of textures and a framebuffer on the current context; every
         // object is either stored in the result or deleted on the error path.
         unsafe {
-            let tex = |format: u32| -> Result<glow::Texture, GlError> {
-                let t = gl
-                    .create_named_texture(glow::TEXTURE_2D)
-                    .map_err(|detail| GlError::Create { what: "texture", detail })?;
-                gl.texture_storage_2d(t, 1, format, width as i32, height as i32);
-                Ok(t)
+            let fbo =
+                gl.create_named_framebuffer().map_err(|detail| GlError::Create { what: "framebuffer", detail })?;
+            // Every texture made so far, deleted (with the framebuffer) if a later one fails.
+            let mut made = Vec::with_capacity(5);
+            let mut all = || -> Result<_, GlError> {
+                let mut tex = |format: u32, bytes_per_pixel: usize, name: &str| {
+                    texture_storage(gl, &mut made, width, height, format, bytes_per_pixel, name)
+                };
+                let color = tex(glow::RGBA8, 4, "RGBA8 colour")?;
+                // Reason for float depth: see crate::camera (reversed-Z keeps ~24 significant
+                // bits of near / distance only in floating point). D32F_S8 takes 8 bytes per
+                // pixel (32-bit depth, 8-bit stencil, 24 unused), D24S8 4.
+                let depth_stencil = if attachments.float_depth {
+                    tex(glow::DEPTH32F_STENCIL8, 8, "DEPTH32F_STENCIL8 depth-stencil")?
+                } else {
+                    tex(glow::DEPTH24_STENCIL8, 4, "DEPTH24_STENCIL8 depth-stencil")?
+                };
+                let world_pos =
+                    if attachments.world_pos { Some(tex(glow::RGBA32F, 16, "RGBA32F world-position")?) } else { None };
+                let triangle_id =
+                    if attachments.triangle_id { Some(tex(glow::R32UI, 4, "R32UI triangle-id")?) } else { None };
+                // R8 (normalized), not R8UI: the lighting pass blends additively into every
+                // draw buffer, and on a normalized buffer min(1, dst + src) with src in {0, 1}
+                // is a logical OR — so two fragments of one pixel (coplanar duplicates under
+                // Classification::StencilTest) can only set the bit, never clear it.
+                let lit_mask = if attachments.lit_mask { Some(tex(glow::R8, 1, "R8 lit-mask")?) } else { None };
+                Ok((color, depth_stencil, world_pos, triangle_id, lit_mask))
             };
-            let fbo = gl
-                .create_named_framebuffer()
-                .map_err(|detail| GlError::Create { what: "framebuffer", detail })?;
-            let color = tex(glow::RGBA8)?;
-            // Reason for float depth: see crate::camera (reversed-Z keeps ~24 significant bits
-            // of near / distance only in floating point).
-            let depth_format = if attachments.float_depth { glow::DEPTH32F_STENCIL8 } else { glow::DEPTH24_STENCIL8 };
-            let depth_stencil = tex(depth_format)?;
-            let world_pos = if attachments.world_pos { Some(tex(glow::RGBA32F)?) } else { None };
-            let triangle_id = if attachments.triangle_id { Some(tex(glow::R32UI)?) } else { None };
-            // R8 (normalized), not R8UI: the lighting pass blends additively into every draw
-            // buffer, and on a normalized buffer min(1, dst + src) with src in {0, 1} is a
-            // logical OR — so two fragments of one pixel (coplanar duplicates under
-            // Classification::StencilTest) can only set the bit, never clear it.
-            let lit_mask = if attachments.lit_mask { Some(tex(glow::R8)?) } else { None };
+            let (color, depth_stencil, world_pos, triangle_id, lit_mask) = match all() {
+                Ok(t) => t,
+                Err(e) => {
+                    for t in made {
+                        gl.delete_texture(t);
+                    }
+                    gl.delete_framebuffer(fbo);
+                    return Err(e);
+                }
+            };
             gl.named_framebuffer_texture(Some(fbo), glow::COLOR_ATTACHMENT0, Some(color), 0);
             gl.named_framebuffer_texture(Some(fbo), glow::DEPTH_STENCIL_ATTACHMENT, Some(depth_stencil), 0);
             if let Some(t) = world_pos {
@@ -110,7 +135,8 @@ impl RenderTarget {
             if let Some(t) = lit_mask {
                 gl.named_framebuffer_texture(Some(fbo), glow::COLOR_ATTACHMENT3, Some(t), 0);
             }
-            let target = Self { width, height, attachments, fbo, color, depth_stencil, world_pos, triangle_id, lit_mask };
+            let target =
+                Self { width, height, attachments, fbo, color, depth_stencil, world_pos, triangle_id, lit_mask };
             target.set_draw_buffers(gl, TargetPass::Depth);
             let status = gl.check_named_framebuffer_status(Some(fbo), glow::DRAW_FRAMEBUFFER);
             if status != glow::FRAMEBUFFER_COMPLETE {
@@ -124,15 +150,19 @@ impl RenderTarget {
         }
     }
 
+    /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
+    /// Height in pixels.
     pub fn height(&self) -> u32 {
         self.height
     }
+    /// Which attachments it has.
     pub fn attachments(&self) -> Attachments {
         self.attachments
     }
+    /// The framebuffer object (e.g. for [`crate::FrameTarget`]).
     pub fn framebuffer(&self) -> glow::Framebuffer {
         self.fbo
     }
@@ -188,13 +218,24 @@ impl RenderTarget {
         }
     }
 
+    /// Reads the colour attachment (top row first).
     pub fn read_rgba(&self, gl: &glow::Context) -> RgbaImage {
         read_rgba8(gl, Some(self.fbo), glow::COLOR_ATTACHMENT0, self.width, self.height)
     }
 
+    /// Reads the world positions; None without that attachment.
     pub fn read_world_pos(&self, gl: &glow::Context) -> Option<WorldPosImage> {
         self.attachments.world_pos.then(|| {
-            let bytes = read_bytes(gl, Some(self.fbo), glow::COLOR_ATTACHMENT1, self.width, self.height, glow::RGBA, glow::FLOAT, 16);
+            let bytes = read_bytes(
+                gl,
+                Some(self.fbo),
+                glow::COLOR_ATTACHMENT1,
+                self.width,
+                self.height,
+                glow::RGBA,
+                glow::FLOAT,
+                16,
+            );
             let px = bytes
                 .chunks_exact(16)
                 .map(|c| [0, 1, 2, 3].map(|i| f32::from_ne_bytes([c[4 * i], c[4 * i + 1], c[4 * i + 2], c[4 * i + 3]])))
@@ -203,10 +244,19 @@ impl RenderTarget {
         })
     }
 
+    /// Reads the triangle ids; None without that attachment.
     pub fn read_triangle_ids(&self, gl: &glow::Context) -> Option<TriangleIdImage> {
         self.attachments.triangle_id.then(|| {
-            let bytes =
-                read_bytes(gl, Some(self.fbo), glow::COLOR_ATTACHMENT2, self.width, self.height, glow::RED_INTEGER, glow::UNSIGNED_INT, 4);
+            let bytes = read_bytes(
+                gl,
+                Some(self.fbo),
+                glow::COLOR_ATTACHMENT2,
+                self.width,
+                self.height,
+                glow::RED_INTEGER,
+                glow::UNSIGNED_INT,
+                4,
+            );
             let px = bytes.chunks_exact(4).map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]])).collect();
             Image::from_bottom_up(self.width, self.height, px)
         })
@@ -215,12 +265,21 @@ impl RenderTarget {
     /// The lit mask as 0 / 1 per pixel (the R8 value 1.0 reads back as 255).
     pub fn read_lit_mask(&self, gl: &glow::Context) -> Option<LitMaskImage> {
         self.attachments.lit_mask.then(|| {
-            let bytes =
-                read_bytes(gl, Some(self.fbo), glow::COLOR_ATTACHMENT3, self.width, self.height, glow::RED, glow::UNSIGNED_BYTE, 1);
+            let bytes = read_bytes(
+                gl,
+                Some(self.fbo),
+                glow::COLOR_ATTACHMENT3,
+                self.width,
+                self.height,
+                glow::RED,
+                glow::UNSIGNED_BYTE,
+                1,
+            );
             Image::from_bottom_up(self.width, self.height, bytes.into_iter().map(|v| u8::from(v != 0)).collect())
         })
     }
 
+    /// Reads the stencil (top row first).
     pub fn read_stencil(&self, gl: &glow::Context) -> StencilImage {
         read_stencil(gl, Some(self.fbo), self.width, self.height)
     }
@@ -230,16 +289,62 @@ impl RenderTarget {
         // SAFETY: objects owned by this target, not used afterwards.
         unsafe {
             gl.delete_framebuffer(self.fbo);
-            for t in [Some(self.color), Some(self.depth_stencil), self.world_pos, self.triangle_id, self.lit_mask].into_iter().flatten() {
+            for t in [Some(self.color), Some(self.depth_stencil), self.world_pos, self.triangle_id, self.lit_mask]
+                .into_iter()
+                .flatten()
+            {
                 gl.delete_texture(t);
             }
         }
     }
 }
 
+/// Creates a `width x height` texture of `format` (one level) into `made`, its storage
+/// allocation checked ([`crate::gpu_buffer::checked_allocation`]): a refusal is
+/// [`GlError::OutOfMemory`] naming the attachment, with the texture deleted and no GL error
+/// left pending.
+fn texture_storage(
+    gl: &glow::Context,
+    made: &mut Vec<glow::Texture>,
+    width: u32,
+    height: u32,
+    format: u32,
+    bytes_per_pixel: usize,
+    name: &str,
+) -> Result<glow::Texture, GlError> {
+    // SAFETY: texture creation on the current context; stored in `made` (the caller deletes
+    // it on a later failure) or deleted right here.
+    let t = unsafe { gl.create_named_texture(glow::TEXTURE_2D) }
+        .map_err(|detail| GlError::Create { what: "texture", detail })?;
+    let bytes = width as usize * height as usize * bytes_per_pixel;
+    let what = format!("the {width}x{height} {name} attachment of the render target");
+    // SAFETY: immutable storage of our own new texture; width and height are within
+    // GL_MAX_RENDERBUFFER_SIZE (checked by RenderTarget::new), so they fit an i32.
+    let result = crate::gpu_buffer::checked_allocation(gl, &what, bytes, || unsafe {
+        gl.texture_storage_2d(t, 1, format, width as i32, height as i32)
+    });
+    match result {
+        Ok(()) => {
+            made.push(t);
+            Ok(t)
+        }
+        Err(e) => {
+            // SAFETY: our own texture, never handed out.
+            unsafe { gl.delete_texture(t) };
+            Err(e)
+        }
+    }
+}
+
 /// Reads `width x height` RGBA8 pixels from `read_buffer` (e.g. COLOR_ATTACHMENT0, or BACK
 /// for the default framebuffer) of `framebuffer` (None = default), top row first.
-pub fn read_rgba8(gl: &glow::Context, framebuffer: Option<glow::Framebuffer>, read_buffer: u32, width: u32, height: u32) -> RgbaImage {
+pub fn read_rgba8(
+    gl: &glow::Context,
+    framebuffer: Option<glow::Framebuffer>,
+    read_buffer: u32,
+    width: u32,
+    height: u32,
+) -> RgbaImage {
     let bytes = read_bytes(gl, framebuffer, read_buffer, width, height, glow::RGBA, glow::UNSIGNED_BYTE, 4);
     let px = bytes.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
     Image::from_bottom_up(width, height, px)
@@ -247,7 +352,12 @@ pub fn read_rgba8(gl: &glow::Context, framebuffer: Option<glow::Framebuffer>, re
 
 /// Reads the stencil of `framebuffer` (None = default) with GL_STENCIL_INDEX, one u8 per
 /// pixel, top row first. Works on any framebuffer with a stencil attachment.
-pub fn read_stencil(gl: &glow::Context, framebuffer: Option<glow::Framebuffer>, width: u32, height: u32) -> StencilImage {
+pub fn read_stencil(
+    gl: &glow::Context,
+    framebuffer: Option<glow::Framebuffer>,
+    width: u32,
+    height: u32,
+) -> StencilImage {
     let bytes = read_bytes(gl, framebuffer, glow::NONE, width, height, glow::STENCIL_INDEX, glow::UNSIGNED_BYTE, 1);
     Image::from_bottom_up(width, height, bytes)
 }

@@ -10,6 +10,7 @@ use crate::methods::{StageHook, StageMark};
 /// Duration of one stage: from its mark to the next mark.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StageTiming {
+    /// The stage's starting mark.
     pub mark: StageMark,
     /// GPU time between the two timestamps, nanoseconds.
     pub gpu_ns: u64,
@@ -32,6 +33,7 @@ pub struct TimestampHook {
 }
 
 impl TimestampHook {
+    /// No marks yet, no per-stage glFinish.
     pub fn new() -> Self {
         Self::default()
     }

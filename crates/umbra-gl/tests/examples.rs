@@ -79,7 +79,7 @@ fn band(bits: &Image<u8>) -> Vec<bool> {
 fn host_renderer_gets_umbras_exact_shadows_for_two_lights() {
     let ctx = context();
     let gl = ctx.gl();
-    for method_name in ["cpu-silhouette", "vs-silhouette"] {
+    for method_name in ["cpu-silhouette", "vs-silhouette", "shadow-map-cube:1024"] {
         let host = host_renderer::draw_host_frame(gl, method_name).expect("host frame");
         let p = &host.params;
         assert_eq!(p.lights.len(), 2);

@@ -4,10 +4,19 @@
 //! itself: copying a finished frame to the window (glBlitFramebuffer) and showing an image
 //! (the shadow-mask view) through a texture.
 //!
-//! This is the one file of umbra-view with `unsafe`: creating a GL context and surface for a
-//! native window, loading GL entry points, and raw GL calls are unsafe in glutin and glow.
+//! `unsafe` here is only what glutin's API makes unsafe by contract, each call site marked
+//! `#[allow(unsafe_code)]` under the crate's `#![deny(unsafe_code)]`:
+//! * `create_context` and `create_window_surface` take a raw window handle, which glutin
+//!   cannot check: the window must outlive the context and surface (it does: [`GlWindow`]'s
+//!   field order drops them first);
+//! * loading GL for that context ([`umbra_gl::context::from_loader`]): the loader must be the
+//!   current context's, which glutin's display gives only while the context is current.
+//!
+//! Every GL call the viewer makes itself goes through umbra-gl's safe helpers
+//! ([`umbra_gl::context::renderer_string`], [`umbra_gl::context::blit_to_default_framebuffer`],
+//! [`umbra_gl::context::ImageFramebuffer`]), so the GL layer keeps all raw GL `unsafe` (the
+//! project's rule).
 
-use std::ffi::CString;
 use std::num::NonZeroU32;
 
 use glutin::config::{Config, ConfigTemplateBuilder, GlConfig};
@@ -17,7 +26,8 @@ use glutin::context::{
 use glutin::display::{GetGlDisplay, GlDisplay};
 use glutin::surface::{GlSurface, Surface, SwapInterval, WindowSurface};
 use glutin_winit::{DisplayBuilder, GlWindow as _};
-use umbra_gl::glow::{self, HasContext};
+use umbra_gl::context::{blit_to_default_framebuffer, from_loader, renderer_string, ImageFramebuffer};
+use umbra_gl::glow;
 use umbra_gl::{GlExtra, RgbaImage};
 use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
@@ -73,23 +83,24 @@ pub fn create(
         .build(Some(handle));
     // SAFETY: the handle belongs to `window`, which outlives the context (GlWindow's field
     // order drops the context first).
+    #[allow(unsafe_code)]
     let not_current = unsafe { display.create_context(&config, &context_attributes) }
         .map_err(|e| window_err("no OpenGL 4.5 core context (umbra needs GL 4.5; Mesa's llvmpipe provides it)", e))?;
     let surface_attributes =
         window.build_surface_attributes(Default::default()).map_err(|e| window_err("window surface attributes", e))?;
     // SAFETY: as above, the surface is dropped before the window.
+    #[allow(unsafe_code)]
     let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
         .map_err(|e| window_err("window surface", e))?;
     let context = not_current.make_current(&surface).map_err(|e| window_err("make the context current", e))?;
     let interval = if vsync { SwapInterval::Wait(NonZeroU32::MIN) } else { SwapInterval::DontWait };
     // Not every platform lets the interval be chosen; the default is fine then.
     let _ = surface.set_swap_interval(&context, interval);
-    // SAFETY: the context is current on this thread; the loader returns its entry points.
-    let gl = unsafe { glow::Context::from_loader_function_cstr(|name| display.get_proc_address(name)) };
-    let extra = GlExtra::load(|name| match CString::new(name) {
-        Ok(c) => display.get_proc_address(&c),
-        Err(_) => std::ptr::null(),
-    });
+    // SAFETY: the context was just made current on this thread and stays current for the
+    // GlWindow's life (the viewer makes no other context current); the display's
+    // get_proc_address returns that context's entry points.
+    #[allow(unsafe_code)]
+    let (gl, extra) = unsafe { from_loader(|name| display.get_proc_address(name)) };
     Ok(GlWindow { gl, extra, surface, context, window })
 }
 
@@ -107,92 +118,49 @@ impl GlWindow {
 
     /// The GL_RENDERER string.
     pub fn renderer_string(&self) -> String {
-        // SAFETY: a plain query on the current context.
-        unsafe { self.gl.get_parameter_string(glow::RENDERER) }
+        renderer_string(&self.gl)
     }
 
     /// Copies colour attachment 0 of `from` (`width x height`) to the window's back buffer,
     /// `flip` = upside down (for images stored top row first). Leaves both framebuffer
     /// bindings at the window (0).
     pub fn blit_to_window(&self, from: glow::Framebuffer, width: u32, height: u32, flip: bool) {
-        let (w, h) = (width as i32, height as i32);
-        let (y0, y1) = if flip { (h, 0) } else { (0, h) };
-        // SAFETY: binds and a blit between existing framebuffers of the current context.
-        unsafe {
-            let gl = &self.gl;
-            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(from));
-            // Reason: the frame is in colour attachment 0 (framebuffer-object state).
-            gl.read_buffer(glow::COLOR_ATTACHMENT0);
-            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, None);
-            // Reason: a blit obeys the scissor test (off in GL's default state, which
-            // umbra's renderer restores after each frame; made sure here).
-            gl.disable(glow::SCISSOR_TEST);
-            gl.blit_framebuffer(0, 0, w, h, 0, y0, w, y1, glow::COLOR_BUFFER_BIT, glow::NEAREST);
-            // Reason: leave the window bound for reads (screenshot) and for the next frame.
-            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
-        }
+        // Reason (inside): the frame is in colour attachment 0; the scissor test is disabled
+        // for the blit (umbra's renderer restores GL's default, off, after each frame anyway).
+        blit_to_default_framebuffer(&self.gl, from, width, height, flip);
     }
 }
 
 /// A texture + framebuffer pair that shows a CPU image in the window (the mask view).
 pub struct ImageView {
-    texture: glow::Texture,
-    framebuffer: glow::Framebuffer,
-    width: u32,
-    height: u32,
+    image: ImageFramebuffer,
 }
 
 impl ImageView {
+    /// A `width x height` view.
     pub fn new(gl: &glow::Context, width: u32, height: u32) -> Result<Self, ViewError> {
-        // SAFETY: DSA creation on the current context; no bindings change.
-        unsafe {
-            let texture = gl.create_named_texture(glow::TEXTURE_2D).map_err(|e| window_err("mask texture", e))?;
-            gl.texture_storage_2d(texture, 1, glow::RGBA8, width as i32, height as i32);
-            let framebuffer = gl.create_named_framebuffer().map_err(|e| window_err("mask framebuffer", e))?;
-            gl.named_framebuffer_texture(Some(framebuffer), glow::COLOR_ATTACHMENT0, Some(texture), 0);
-            Ok(Self { texture, framebuffer, width, height })
-        }
+        let image = ImageFramebuffer::new(gl, width, height).map_err(|e| window_err("mask image", e))?;
+        Ok(Self { image })
     }
 
+    /// `(width, height)`.
     pub fn size(&self) -> (u32, u32) {
-        (self.width, self.height)
+        self.image.size()
     }
 
-    /// Uploads `image` (its size must be the view's) and copies it to the window.
+    /// Uploads `image` (its size must be the view's, else nothing is shown) and copies it to
+    /// the window.
     pub fn show(&self, win: &GlWindow, image: &RgbaImage) {
-        if (image.width, image.height) != (self.width, self.height) {
+        if self.image.upload(&win.gl, image).is_err() {
             return;
         }
-        let bytes: Vec<u8> = image.pixels.iter().flatten().copied().collect();
-        // SAFETY: the texture holds width x height RGBA8 texels, exactly `bytes`; unpack state
-        // set for tightly packed client memory (and restored).
-        unsafe {
-            let gl = &win.gl;
-            let align = gl.get_parameter_i32(glow::UNPACK_ALIGNMENT);
-            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-            gl.bind_buffer(glow::PIXEL_UNPACK_BUFFER, None);
-            gl.texture_sub_image_2d(
-                self.texture,
-                0,
-                0,
-                0,
-                self.width as i32,
-                self.height as i32,
-                glow::RGBA,
-                glow::UNSIGNED_BYTE,
-                glow::PixelUnpackData::Slice(Some(&bytes)),
-            );
-            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, align);
-        }
+        let (w, h) = self.image.size();
         // Top row first in memory = bottom row of the texture: flip while copying.
-        win.blit_to_window(self.framebuffer, self.width, self.height, true);
+        win.blit_to_window(self.image.framebuffer(), w, h, true);
     }
 
+    /// Deletes the GL objects.
     pub fn destroy(self, gl: &glow::Context) {
-        // SAFETY: our own objects, not used afterwards.
-        unsafe {
-            gl.delete_framebuffer(self.framebuffer);
-            gl.delete_texture(self.texture);
-        }
+        self.image.destroy(gl);
     }
 }

@@ -26,6 +26,9 @@
 //! connect) [`run`] returns [`ViewError::NoDisplay`], which suggests `umbra render`.
 
 #![warn(missing_docs)]
+// `unsafe` belongs to umbra-gl (the GL layer); the only exceptions are glutin's
+// constructors in glue.rs, each marked `#[allow(unsafe_code)]` (why: glue.rs's module doc).
+#![deny(unsafe_code)]
 
 use std::path::PathBuf;
 use std::sync::Arc;

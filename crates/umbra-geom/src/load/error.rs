@@ -32,49 +32,120 @@ pub enum LoadError {
     /// The file could not be opened or read.
     #[error("{file}: cannot read file (byte offset 0): {source}")]
     Io {
+        /// The file name the caller gave.
         file: String,
+        /// The I/O error.
         #[source]
         source: std::io::Error,
     },
     /// The extension names no supported format.
     #[error("{file}: unknown mesh format {extension:?} (byte offset 0); supported: .obj .ply .stl .gltf .glb, optionally .gz")]
-    UnknownFormat { file: String, extension: String },
+    UnknownFormat {
+        /// The file name the caller gave.
+        file: String,
+        /// The extension found.
+        extension: String,
+    },
     /// The gzip stream is corrupt.
     #[error("{file}: gzip decompression failed at decompressed byte offset {offset}: {message}")]
-    Decompress { file: String, offset: u64, message: String },
+    Decompress {
+        /// The file name the caller gave.
+        file: String,
+        /// Byte offset in the decompressed stream.
+        offset: u64,
+        /// What is wrong.
+        message: String,
+    },
     /// The (decompressed) input is larger than `LoadOptions::max_input_bytes`.
     #[error("{file}: input exceeds the limit of {limit} bytes (at byte offset {limit}); raise LoadOptions::max_input_bytes to load it")]
-    InputTooLarge { file: String, limit: u64 },
+    InputTooLarge {
+        /// The file name the caller gave.
+        file: String,
+        /// The limit in bytes.
+        limit: u64,
+    },
     /// The file ends before the data its header or syntax promises.
     #[error("{file}: {location}: file truncated: {what}")]
-    Truncated { file: String, location: Location, what: String },
+    Truncated {
+        /// The file name the caller gave.
+        file: String,
+        /// Where in the file (line or byte offset).
+        location: Location,
+        /// What was expected or found.
+        what: String,
+    },
     /// A vertex index refers to a vertex that does not exist.
     #[error("{file}: {location}: vertex index {index} out of range (the file has {count} vertices)")]
-    IndexOutOfRange { file: String, location: Location, index: i64, count: u64 },
+    IndexOutOfRange {
+        /// The file name the caller gave.
+        file: String,
+        /// Where in the file (line or byte offset).
+        location: Location,
+        /// The index as written in the file.
+        index: i64,
+        /// Vertices the file has.
+        count: u64,
+    },
     /// A coordinate is NaN or infinite.
     #[error("{file}: {location}: coordinate is not finite ({value})")]
-    NonFinite { file: String, location: Location, value: String },
+    NonFinite {
+        /// The file name the caller gave.
+        file: String,
+        /// Where in the file (line or byte offset).
+        location: Location,
+        /// The value as written.
+        value: String,
+    },
     /// A number or token could not be parsed, or a structure is invalid.
     #[error("{file}: {location}: {message}")]
-    Malformed { file: String, location: Location, message: String },
+    Malformed {
+        /// The file name the caller gave.
+        file: String,
+        /// Where in the file (line or byte offset).
+        location: Location,
+        /// What is wrong.
+        message: String,
+    },
     /// A header claims more elements than the rest of the file can possibly hold
     /// (checked before allocating anything for them).
     #[error("{file}: {location}: header claims {claimed} {what} but only {available} bytes remain, enough for at most {max_possible}")]
     TooManyElements {
+        /// The file name the caller gave.
         file: String,
+        /// Where in the file (line or byte offset).
         location: Location,
+        /// The kind of element.
         what: String,
+        /// How many the header claims.
         claimed: u64,
+        /// Bytes left in the file.
         available: u64,
+        /// How many elements those bytes could hold at most.
         max_possible: u64,
     },
     /// The mesh a small file expands to (glTF nodes instancing one mesh many times) would
     /// exceed `LoadOptions::max_input_bytes` bytes of positions, normals and triangles.
     #[error("{file}: {location}: the loaded mesh would hold {bytes} bytes (positions, normals, triangles), over the limit of {limit} bytes; raise LoadOptions::max_input_bytes to load it")]
-    OutputTooLarge { file: String, location: Location, bytes: u64, limit: u64 },
+    OutputTooLarge {
+        /// The file name the caller gave.
+        file: String,
+        /// Where in the file (line or byte offset).
+        location: Location,
+        /// Bytes the mesh would need.
+        bytes: u64,
+        /// The limit in bytes.
+        limit: u64,
+    },
     /// The file uses a feature this loader does not implement (e.g. a required glTF extension).
     #[error("{file}: {location}: unsupported: {what}")]
-    Unsupported { file: String, location: Location, what: String },
+    Unsupported {
+        /// The file name the caller gave.
+        file: String,
+        /// Where in the file (line or byte offset).
+        location: Location,
+        /// What was expected or found.
+        what: String,
+    },
 }
 
 impl LoadError {

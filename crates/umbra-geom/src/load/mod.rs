@@ -49,8 +49,11 @@ impl Default for LoadOptions {
 /// A supported mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
+    /// Wavefront OBJ (`.obj`).
     Obj,
+    /// Stanford PLY (`.ply`), ASCII or binary.
     Ply,
+    /// STL (`.stl`), ASCII or binary.
     Stl,
     /// glTF 2.0 JSON (`.gltf`); buffers as data URIs or files next to it.
     Gltf,
@@ -75,6 +78,7 @@ impl Format {
 /// A loaded mesh together with non-fatal warnings.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Loaded {
+    /// The mesh as loaded (a soup: not welded).
     pub mesh: Mesh,
     /// Human-readable notes about skipped content, each naming the file.
     pub warnings: Vec<String>,

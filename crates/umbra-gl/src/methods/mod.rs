@@ -12,7 +12,12 @@
 //! 2. [`ShadowMethod::draw_volumes`] — the method applies its own [`crate::GlState`] for every
 //!    draw (for counting methods [`VolumeFrame::shadow_volume_state`]), may bind its own
 //!    programs, vertex arrays, buffers, and even other framebuffers/viewports (shadow maps);
-//!    the renderer re-binds its target, program and vertex array afterwards;
+//!    the renderer re-binds its target, program and vertex array afterwards. With the wide
+//!    counter ([`crate::counter::Counter::Float32`], `StencilZero` methods only) the bound
+//!    target is the counter's framebuffer, the state blends the fragment shader's
+//!    `o_count` (+1 front face, -1 back face, location 0) instead of counting in the stencil,
+//!    and the renderer resolves the count into the stencil afterwards: every counting
+//!    method's volume fragment shader writes `o_count`;
 //! 3. the lighting pass, restricted by [`ShadowMethod::classification`] and by the facing of
 //!    the seen side towards the light (see [`Classification`]).
 //!
@@ -23,6 +28,7 @@ use glam::DMat4;
 use umbra_geom::Light;
 
 use crate::camera::DepthConvention;
+use crate::counter::Counter;
 use crate::error::GlError;
 use crate::scene::{SceneGpu, SceneId};
 
@@ -53,7 +59,14 @@ pub enum Classification {
     /// Lit where the stencil is 0 (counting methods; glStencilFunc(EQUAL, 0, 0xFF)).
     StencilZero,
     /// Lit where `glStencilFunc(func, reference, value_mask)` passes.
-    StencilTest { func: u32, reference: i32, value_mask: u32 },
+    StencilTest {
+        /// glStencilFunc's comparison (`glow::EQUAL`, ...).
+        func: u32,
+        /// glStencilFunc's reference value.
+        reference: i32,
+        /// glStencilFunc's mask.
+        value_mask: u32,
+    },
     /// Lit where the method's GLSL `bool umbra_lit(vec3 world_pos)` returns true
     /// ([`ShadowMethod::lighting_glsl`]); resources bound in [`ShadowMethod::bind_lighting`].
     Shader,
@@ -64,6 +77,7 @@ pub enum Classification {
 pub struct StageMark {
     /// Name of the method (or "renderer" for the renderer's own passes).
     pub source: &'static str,
+    /// The stage that starts ("depth", "volumes", "lighting", a method's own stage, "end").
     pub label: &'static str,
     /// Light index, `None` for per-frame stages.
     pub light: Option<usize>,
@@ -71,6 +85,7 @@ pub struct StageMark {
 
 /// Receives stage boundaries (e.g. to issue glQueryCounter(GL_TIMESTAMP)).
 pub trait StageHook {
+    /// Called at every stage boundary, on the frame's context.
     fn mark(&mut self, gl: &glow::Context, mark: StageMark);
 }
 
@@ -89,16 +104,22 @@ pub struct VolumeFrame<'a> {
     pub eye: [f64; 3],
     /// The light (w = 1 point, w = 0 directional).
     pub light: Light,
+    /// Index of the light in the frame (0 for [`crate::Renderer::count_shadows`]).
     pub light_index: usize,
     /// z-pass counting instead of z-fail (no caps needed).
     pub zpass: bool,
     /// Size of the render target in pixels.
     pub width: u32,
+    /// Height of the render target in pixels.
     pub height: u32,
     /// The framebuffer the frame renders into (None = default framebuffer): a method that
     /// renders elsewhere (shadow maps) must bind this one back before drawing to the stencil.
     pub target_framebuffer: Option<glow::Framebuffer>,
     pub(crate) depth_convention: DepthConvention,
+    /// The counter of this volume pass ([`crate::counter`]): [`Counter::Float32`] only for
+    /// [`Classification::StencilZero`] methods when the frame asks for it; then
+    /// `target_framebuffer` is the counter's framebuffer.
+    pub(crate) counter: Counter,
     pub(crate) source: &'static str,
     pub(crate) hook: Option<&'a mut dyn StageHook>,
 }
@@ -128,11 +149,21 @@ impl VolumeFrame<'_> {
         self.depth_convention.far_clip_z()
     }
 
-    /// The GL state of a counting stencil pass (z-fail or z-pass per [`VolumeFrame::zpass`])
-    /// for this frame's depth convention ([`crate::GlState::shadow_volume_for`]: depth func
-    /// LESS under Standard, GREATER under ReversedZ). Counting methods apply exactly this.
+    /// The GL state of a counting pass (z-fail or z-pass per [`VolumeFrame::zpass`]) for this
+    /// frame's depth convention and counter. [`Counter::Stencil8`]:
+    /// [`crate::GlState::shadow_volume_for`] (depth func LESS under Standard, GREATER under
+    /// ReversedZ, INCR_WRAP / DECR_WRAP); [`Counter::Float32`]:
+    /// [`crate::GlState::shadow_volume_float_for`] (the fragment shader's `o_count` blended
+    /// into the counter's R32F buffer). Counting methods apply exactly this, and their volume
+    /// fragment shaders write `layout(location = 0) out float o_count = gl_FrontFacing ? 1.0 :
+    /// -1.0`.
     pub fn shadow_volume_state(&self) -> crate::GlState {
-        crate::GlState::shadow_volume_for(self.zpass, self.depth_convention)
+        self.counter.shadow_volume_state(self.zpass, self.depth_convention)
+    }
+
+    /// The counter of this volume pass.
+    pub fn counter(&self) -> Counter {
+        self.counter
     }
 
     /// `clip_from_world` as column-major f32 for glUniformMatrix4fv.
@@ -191,6 +222,7 @@ pub trait ShadowMethod {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("unknown shadow method {name:?}; known methods: {}", method_names().join(", "))]
 pub struct UnknownMethod {
+    /// The name asked for.
     pub name: String,
 }
 

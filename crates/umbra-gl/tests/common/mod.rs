@@ -10,8 +10,8 @@ use std::sync::Arc;
 use umbra_geom::scene::{ground_plane, uv_sphere};
 use umbra_geom::{weld::weld, Mesh, WeldedMesh};
 use umbra_gl::{
-    create_method, Camera, CaptureFlags, ContextOptions, FrameImages, FrameParams, GlApi, HeadlessContext, LightCapture,
-    Renderer, RgbaImage, SceneGpu,
+    create_method, Camera, CaptureFlags, ContextOptions, FrameImages, FrameParams, GlApi, HeadlessContext,
+    LightCapture, Renderer, RgbaImage, SceneGpu,
 };
 
 pub const SPHERE_CENTER: [f64; 3] = [0.0, 2.0, 0.0];
@@ -160,7 +160,13 @@ impl<'a> PixelChecks<'a> {
             }
         }
         let note = write_failure_images(self.ctx, self.test, self.image, &diff);
-        panic!("{}: {} check(s) failed on {}:\n  {}\n{note}", self.test, self.failures.len(), self.ctx.renderer_string(), self.failures.join("\n  "));
+        panic!(
+            "{}: {} check(s) failed on {}:\n  {}\n{note}",
+            self.test,
+            self.failures.len(),
+            self.ctx.renderer_string(),
+            self.failures.join("\n  ")
+        );
     }
 }
 
@@ -201,7 +207,13 @@ pub fn expected_lit(p: &FrameParams, world: [f64; 3], normal: [f64; 3], light: [
 /// f64 from the f32 vertices; `None` when the camera or the light is within `1e-3` (cosine)
 /// of the triangle's plane, where the GPU's gl_FrontFacing / f32 shading may decide either
 /// way.
-pub fn seen_side_faces_light(mesh: &WeldedMesh, id: u32, world: [f64; 3], eye: [f64; 3], light: [f32; 4]) -> Option<bool> {
+pub fn seen_side_faces_light(
+    mesh: &WeldedMesh,
+    id: u32,
+    world: [f64; 3],
+    eye: [f64; 3],
+    light: [f32; 4],
+) -> Option<bool> {
     let t = mesh.triangles[id as usize];
     let [a, b, c] = t.map(|i| mesh.positions[i as usize].map(f64::from));
     let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];

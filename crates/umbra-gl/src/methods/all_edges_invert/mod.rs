@@ -47,6 +47,7 @@ use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::{GlState, StencilFace};
 
+/// Registry name.
 pub const NAME: &str = "all-edges-invert";
 
 const MULTIPLICITY: &str = include_str!("../shared/multiplicity.glsl");
@@ -62,6 +63,7 @@ pub const MASK: u32 = 0b1101;
 /// Shader-storage binding points of the scene's positions and triangles during the draw
 /// (unbound afterwards); away from the lighting pass's normals (binding 0).
 pub const POSITIONS_BINDING: u32 = 2;
+/// Shader-storage binding point of the scene's triangles during the draw.
 pub const TRIANGLES_BINDING: u32 = 3;
 
 /// Vertices per scene triangle: 3 side quads, light cap and (point lights) dark cap.
@@ -95,7 +97,9 @@ pub fn stencil_after(events: impl IntoIterator<Item = DepthOutcome>) -> u8 {
 /// The depth test's outcome for one volume fragment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DepthOutcome {
+    /// The volume fragment is nearer than the stored depth.
     Pass,
+    /// The volume fragment is behind the stored depth.
     Fail,
 }
 
@@ -167,6 +171,7 @@ pub struct AllEdgesInvert {
 }
 
 impl AllEdgesInvert {
+    /// Unprepared; programs and buffers are made by `prepare`.
     pub fn new() -> Self {
         Self::default()
     }
@@ -239,8 +244,10 @@ impl ShadowMethod for AllEdgesInvert {
             })?;
         frame.mark(gl, "volumes");
         // The depth convention comes from the frame (LESS now, GREATER if reversed); the
-        // stencil scheme is paper 002's own, see volume_state.
-        volume_state(frame.shadow_volume_state().depth_func).apply(gl);
+        // stencil scheme is paper 002's own, see volume_state. Always the stencil counting
+        // state's depth func: this method never uses the wide counter (its classification is
+        // not StencilZero).
+        volume_state(crate::GlState::shadow_volume_for(frame.zpass, frame.depth_convention()).depth_func).apply(gl);
         if count == 0 {
             return Ok(());
         }

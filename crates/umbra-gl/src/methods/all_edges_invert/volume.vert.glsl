@@ -69,5 +69,7 @@ void main() {
         world = umbra_extrude(k == 21 ? p0 : (k == 22 ? p2 : p1), u_light);
     }
     vec4 clip = u_clip_from_world * world;
+    // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
+    UMBRA_NEAR_CLIP(push_to_far ? umbra_near_distance(clip) : 1.0);
     gl_Position = push_to_far ? umbra_push_to_far(clip) : clip;
 }

@@ -33,6 +33,7 @@ use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{checked_size, SceneGpu, SceneId};
 
+/// Registry name.
 pub const NAME: &str = "cpu-silhouette";
 
 const VERT: &str = include_str!("volume.vert.glsl");
@@ -110,6 +111,7 @@ impl Pod for f32 {}
 impl Pod for u32 {}
 
 impl CpuSilhouette {
+    /// Unprepared; buffers are made by `prepare`.
     pub fn new() -> Self {
         Self::default()
     }

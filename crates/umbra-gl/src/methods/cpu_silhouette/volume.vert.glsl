@@ -56,6 +56,8 @@ void main() {
     }
     // One multiplication for every mode: equal world vectors give equal clip positions.
     vec4 clip = u_clip_from_world * world;
+    // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
+    UMBRA_NEAR_CLIP(u_mode == MODE_LIGHT_CAPS ? umbra_near_distance(clip) : 1.0);
     if (u_mode == MODE_LIGHT_CAPS) {
         clip = umbra_push_to_far(clip); // paper 003, Eq. 6
     }

@@ -20,12 +20,16 @@ vec3 umbra_position(uint i) {
 }
 
 void main() {
+    // Light caps are clipped at the near plane below; the rest never (shared/depth.glsl).
+    UMBRA_NEAR_CLIP(1.0);
     uint c = uint(gl_VertexID) / u_vertices_per_cap;
     uint v = uint(gl_VertexID) % u_vertices_per_cap;
     uint k = v < 3u ? v : 5u - v;
     vec3 p = umbra_position(caps[3u * c + k]);
     if (v < 3u) {
-        gl_Position = umbra_push_to_far(u_clip_from_world * vec4(p, 1.0));
+        vec4 clip = u_clip_from_world * vec4(p, 1.0);
+        UMBRA_NEAR_CLIP(umbra_near_distance(clip));
+        gl_Position = umbra_push_to_far(clip);
     } else {
         gl_Position = u_clip_from_world * umbra_extrude(p, u_light);
     }

@@ -34,6 +34,7 @@ use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{checked_size, SceneGpu, SceneId};
 
+/// Registry name.
 pub const NAME: &str = "cs-silhouette";
 
 const MULTIPLICITY: &str = include_str!("../shared/multiplicity.glsl");
@@ -70,16 +71,20 @@ pub const EDGE_RECORD_BYTES: usize = 16;
 /// Sizes of the GPU buffers the method owns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Layout {
+    /// Unique edges.
     pub edges: usize,
     /// Σk: opposite vertices over all edges = worst-case side quads.
     pub opposites: usize,
+    /// Triangles (one cap record each).
     pub triangles: usize,
 }
 
 impl Layout {
+    /// Bytes of the edge buffer.
     pub fn edge_bytes(&self) -> usize {
         EDGE_RECORD_BYTES * self.edges
     }
+    /// Bytes of the opposite-vertex buffer (one u32 each).
     pub fn opposite_bytes(&self) -> usize {
         4 * self.opposites
     }
@@ -87,6 +92,7 @@ impl Layout {
     pub fn quad_bytes(&self) -> usize {
         QUAD_RECORD_BYTES * self.opposites
     }
+    /// Bytes of the cap buffer (worst case: every triangle).
     pub fn cap_bytes(&self) -> usize {
         CAP_RECORD_BYTES * self.triangles
     }
@@ -141,6 +147,7 @@ fn compute_source(body: &str) -> String {
 }
 
 impl CsSilhouette {
+    /// Unprepared; programs and buffers are made by `prepare`.
     pub fn new() -> Self {
         Self::default()
     }

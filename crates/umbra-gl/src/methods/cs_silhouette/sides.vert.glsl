@@ -22,6 +22,8 @@ vec3 umbra_position(uint i) {
 }
 
 void main() {
+    // Never clipped: only light caps are clipped at the near plane (shared/depth.glsl).
+    gl_ClipDistance[0] = 1.0;
     uint q = uint(gl_VertexID) / 6u;
     uint v = uint(gl_VertexID) % 6u;
     uvec2 xy = quads[q];

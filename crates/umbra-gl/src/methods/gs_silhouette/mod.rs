@@ -41,7 +41,9 @@ use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{checked_size, SceneGpu, SceneId};
 
+/// Registry name.
 pub const NAME: &str = "gs-silhouette";
+/// Registry name of the three-edges-per-invocation variant.
 pub const NAME_3EDGE: &str = "gs-silhouette-3edge";
 
 /// Shader-storage binding of the element buffer (u32 per slot).

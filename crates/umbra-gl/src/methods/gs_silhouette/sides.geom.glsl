@@ -63,12 +63,16 @@ void main() {
     vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
     int copies = abs(m);
     for (int c = 0; c < copies; ++c) {
+        gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q1;
         EmitVertex();
+        gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q2;
         EmitVertex();
+        gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q0;
         EmitVertex();
+        gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q3;
         EmitVertex();
         EndPrimitive();

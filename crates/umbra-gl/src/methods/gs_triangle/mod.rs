@@ -23,6 +23,7 @@ use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::GlState;
 
+/// Registry name.
 pub const NAME: &str = "gs-triangle";
 
 const MULTIPLICITY: &str = include_str!("../shared/multiplicity.glsl");
@@ -51,6 +52,7 @@ pub struct GsTriangle {
 }
 
 impl GsTriangle {
+    /// Unprepared; the program is made by `prepare`.
     pub fn new() -> Self {
         Self::default()
     }

@@ -35,6 +35,8 @@ invariant gl_Position;
 
 void umbra_emit(vec4 world, bool push_to_far) {
     vec4 clip = u_clip_from_world * world;
+    // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
+    UMBRA_NEAR_CLIP(push_to_far ? umbra_near_distance(clip) : 1.0);
     gl_Position = push_to_far ? umbra_push_to_far(clip) : clip;
     EmitVertex();
 }

@@ -7,14 +7,17 @@ use crate::error::GlError;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::scene::{SceneGpu, SceneId};
 
+/// Registry name.
 pub const NAME: &str = "none";
 
+/// The `none` method: no volumes, everything lit.
 #[derive(Debug, Default)]
 pub struct NoShadows {
     prepared: Option<SceneId>,
 }
 
 impl NoShadows {
+    /// A fresh instance.
     pub fn new() -> Self {
         Self::default()
     }

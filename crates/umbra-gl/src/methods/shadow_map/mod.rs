@@ -37,8 +37,9 @@
 //!
 //! Names: `shadow-map-cube:RES[+pcf]` with RES texels per side (any positive integer; a RES above
 //! GL_MAX_CUBE_MAP_TEXTURE_SIZE / GL_MAX_TEXTURE_SIZE fails in `prepare` with a clear
-//! [`GlError::Unsupported`], and GL_OUT_OF_MEMORY while allocating is caught and reported the
-//! same way: the context stays usable). [`ShadowMapConfig`] carries bias and PCF options.
+//! [`GlError::Unsupported`], and GL_OUT_OF_MEMORY while allocating is caught and reported as
+//! [`GlError::OutOfMemory`] — llvmpipe refuses a texture above its size limit, e.g. a 16384 cube —
+//! leaving nothing behind: the context stays usable, `tests/gl_failures.rs`). [`ShadowMapConfig`] carries bias and PCF options.
 //!
 //! Once per mesh: programs, scene bounds. Textures and framebuffers are allocated on first use
 //! per light kind and kept. Per light per frame: clear + depth render (stage "shadow-map");
@@ -60,6 +61,7 @@ use crate::state::{GlState, StencilFace};
 pub const PREFIX: &str = "shadow-map-cube";
 /// The registered (listed) members: 1K and 2K per face.
 pub const NAME_1024: &str = "shadow-map-cube:1024";
+/// 2048 texels per face.
 pub const NAME_2048: &str = "shadow-map-cube:2048";
 
 /// Texture unit of the map in the lighting pass (`layout(binding = 0)` in lit.glsl).
@@ -94,6 +96,7 @@ pub struct ShadowMapConfig {
     pub bias_slope: f32,
     /// 3 x 3 percentage-closer filtering, majority vote.
     pub pcf: bool,
+    /// Layered (one draw) or six passes.
     pub faces: FacePasses,
 }
 
@@ -320,12 +323,13 @@ impl ShadowMapCube {
         ShadowMapConfig::from_name(name).map(Self::new)
     }
 
+    /// The configuration it was made with.
     pub fn config(&self) -> &ShadowMapConfig {
         &self.config
     }
 
     /// Allocates `RES x RES` depth32F storage (6 faces for a cube) and its framebuffers;
-    /// GL_OUT_OF_MEMORY becomes [`GlError::Unsupported`] and leaves nothing behind.
+    /// GL_OUT_OF_MEMORY becomes [`GlError::OutOfMemory`] and leaves nothing behind.
     fn allocate(&self, gl: &glow::Context, cube: bool) -> Result<DepthMap, GlError> {
         let res = i32::try_from(self.config.resolution)
             .map_err(|_| GlError::InvalidParams(format!("{}: resolution too large", self.name)))?;
@@ -349,12 +353,17 @@ impl ShadowMapCube {
             if !errors.is_empty() {
                 gl.delete_texture(texture);
                 let what = if cube { format!("6 x {res}^2") } else { format!("{res}^2") };
-                let oom = errors.iter().any(|e| e.contains("OUT_OF_MEMORY"));
+                if errors.iter().any(|e| e.contains("OUT_OF_MEMORY")) {
+                    return Err(GlError::OutOfMemory {
+                        what: format!("the {what} depth32F shadow map of {}", self.name),
+                        bytes,
+                        messages: errors,
+                    });
+                }
                 return Err(GlError::Unsupported {
                     method: self.name,
                     reason: format!(
-                        "{} allocating a {what} depth32F shadow map ({:.0} MiB): {}",
-                        if oom { "out of GPU memory" } else { "GL error" },
+                        "GL error allocating a {what} depth32F shadow map ({:.0} MiB): {}",
                         bytes as f64 / (1024.0 * 1024.0),
                         errors.join("; ")
                     ),

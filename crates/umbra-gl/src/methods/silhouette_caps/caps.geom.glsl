@@ -35,20 +35,30 @@ void main() {
     vec3 c2 = o > 0 ? p2 : p1;
 
     // Light cap: the triangle facing the light, at the far plane (z-fail counts it always).
-    gl_Position = umbra_push_to_far(umbra_clip_from_world_point(u_clip_from_world, vec4(p0, 1.0)));
+    // Clipped at the near plane before the push (shared/depth.glsl).
+    vec4 l0 = umbra_clip_from_world_point(u_clip_from_world, vec4(p0, 1.0));
+    vec4 l1 = umbra_clip_from_world_point(u_clip_from_world, vec4(c1, 1.0));
+    vec4 l2 = umbra_clip_from_world_point(u_clip_from_world, vec4(c2, 1.0));
+    UMBRA_NEAR_CLIP(umbra_near_distance(l0));
+    gl_Position = umbra_push_to_far(l0);
     EmitVertex();
-    gl_Position = umbra_push_to_far(umbra_clip_from_world_point(u_clip_from_world, vec4(c1, 1.0)));
+    UMBRA_NEAR_CLIP(umbra_near_distance(l1));
+    gl_Position = umbra_push_to_far(l1);
     EmitVertex();
-    gl_Position = umbra_push_to_far(umbra_clip_from_world_point(u_clip_from_world, vec4(c2, 1.0)));
+    UMBRA_NEAR_CLIP(umbra_near_distance(l2));
+    gl_Position = umbra_push_to_far(l2);
     EmitVertex();
     EndPrimitive();
 
     if (u_light.w != 0.0) {
         // Dark cap at infinity, reversed winding (outward = away from the light).
+        UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(p0, u_light));
         EmitVertex();
+        UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(c2, u_light));
         EmitVertex();
+        UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(c1, u_light));
         EmitVertex();
         EndPrimitive();

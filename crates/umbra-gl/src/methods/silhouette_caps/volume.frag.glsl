@@ -1,7 +1,14 @@
 // Fragment shader of the GPU silhouette methods' volume passes (ts-silhouette, gs-silhouette,
 // silhouette caps). Stencil-only counting pass (paper 001 Section 2; Everitt & Kilgard 2002
 // z-fail, Heidmann 1991 z-pass): the stencil operations do the counting and colour writes are
-// masked off, so there is nothing to compute. Prepended: "#version 450 core".
+// masked off, so there is nothing to compute but
+// the wide counter's o_count. Prepended: "#version 450 core".
+
+// The wide counter (src/counter.rs): +1 for a front face, -1 for a back face, summed by
+// blending into an R32F buffer under Counter::Float32; under Counter::Stencil8 the colour
+// write mask is off and this output is ignored.
+layout(location = 0) out float o_count;
 
 void main() {
+    o_count = gl_FrontFacing ? 1.0 : -1.0;
 }

@@ -42,7 +42,9 @@ use crate::scene::{checked_size, SceneGpu, SceneId};
 
 use patches::{choose_capacity, ts_capacity_limit, EdgePatches, MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL};
 
+/// Registry name.
 pub const NAME: &str = "ts-silhouette";
+/// Registry name of the three-edges-per-patch variant.
 pub const NAME_3EDGE: &str = "ts-silhouette-3edge";
 
 const SIDES_VERT: &str = include_str!("sides.vert.glsl");

@@ -23,6 +23,8 @@ layout(quads, fractional_odd_spacing, cw) in;
 patch in vec4 p_corner[4];
 
 void main() {
+    // Never clipped: only light caps are clipped at the near plane (shared/depth.glsl).
+    gl_ClipDistance[0] = 1.0;
     int a = int(round(gl_TessCoord.x * gl_TessLevelInner[0]));
     int b = int(round(gl_TessCoord.y));
     int id = 2 * a + b;

@@ -18,5 +18,8 @@ invariant gl_Position;
 void main() {
     vec3 t = gl_TessCoord;
     int i = (t.x >= t.y && t.x >= t.z) ? 0 : (t.y >= t.z ? 1 : 2);
-    gl_Position = umbra_push_to_far(u_clip_from_world * vec4(c_world[i], 1.0));
+    vec4 clip = u_clip_from_world * vec4(c_world[i], 1.0);
+    // Clipped at the near plane before the push (shared/depth.glsl).
+    UMBRA_NEAR_CLIP(umbra_near_distance(clip));
+    gl_Position = umbra_push_to_far(clip);
 }

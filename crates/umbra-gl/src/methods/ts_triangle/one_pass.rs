@@ -30,6 +30,7 @@ use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 
+/// Registry name.
 pub const NAME: &str = "ts-triangle-1pass";
 
 const TESC: &str = include_str!("one_pass.tesc.glsl");
@@ -75,6 +76,7 @@ impl TsTriangle1Pass {
         Self { fragment_depth, ..Self::default() }
     }
 
+    /// Which fragment depths this instance writes.
     pub fn fragment_depth(&self) -> FragmentDepth {
         self.fragment_depth
     }

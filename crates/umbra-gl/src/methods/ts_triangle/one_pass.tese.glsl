@@ -50,6 +50,9 @@ flat out dvec4 e_side_plane[3];
 invariant gl_Position;
 
 void main() {
+    // Not clipped here: its light cap shares vertices with sides; side_depth.frag.glsl
+    // handles the near-plane cut of the cap per fragment (shared/depth.glsl).
+    UMBRA_NEAR_CLIP(1.0);
     int k = int(round(gl_TessCoord.x * 5.0));
     bool top = gl_TessCoord.y >= 0.5;
     // Point index per column (see the table above): bottom row A A A A B B, top row B B C C C C.

@@ -38,12 +38,23 @@ flat in dvec4 e_side_plane[3];
 uniform float u_far_clip_z;
 uniform float u_edge_on_depth;
 
+// The wide counter (src/counter.rs): +1 for a front face, -1 for a back face, summed by
+// blending into an R32F buffer under Counter::Float32; under Counter::Stencil8 the colour
+// write mask is off and this output is ignored.
+layout(location = 0) out float o_count;
+
 void main() {
+    o_count = gl_FrontFacing ? 1.0 : -1.0;
 #if defined(UMBRA_CAPS_TO_FAR) || defined(UMBRA_CANONICAL_SIDES)
     bool cap = e_corner.x != 0.0 && e_corner.y != 0.0 && e_corner.z != 0.0;
     float depth = gl_FragCoord.z;
 #ifdef UMBRA_CAPS_TO_FAR
-    if (cap) {
+    // A light cap in front of the camera's near plane (its depth clamped to the near value:
+    // 0 standard, 1 reversed-Z) belongs to a caster the scene pass cut away there, so samples
+    // behind it are visible: it keeps its near depth and passes the test, i.e. it is not
+    // counted (shared/depth.glsl, near-plane cut). Elsewhere it goes to the far plane.
+    bool before_near = u_far_clip_z == 1.0 ? gl_FragCoord.z <= 0.0 : gl_FragCoord.z >= 1.0;
+    if (cap && !before_near) {
         depth = u_far_clip_z;
     }
 #endif

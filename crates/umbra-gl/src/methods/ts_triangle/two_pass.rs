@@ -25,6 +25,7 @@ use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 
+/// Registry name.
 pub const NAME: &str = "ts-triangle";
 
 const TESC: &str = include_str!("two_pass.tesc.glsl");

@@ -35,6 +35,8 @@ uniform vec4 u_light;
 invariant gl_Position;
 
 void main() {
+    // Never clipped: only light caps are clipped at the near plane (shared/depth.glsl).
+    UMBRA_NEAR_CLIP(1.0);
     vec3 t = gl_TessCoord;
     float c = t.x * t.y * t.z;
     int i = (t.x >= t.y && t.x >= t.z) ? 0 : (t.y >= t.z ? 1 : 2);

@@ -22,6 +22,8 @@ uniform int u_cap_vertices;
 invariant gl_Position;
 
 void main() {
+    // Near-plane clip of light caps (shared/depth.glsl); every other vertex: never clipped.
+    UMBRA_NEAR_CLIP(1.0);
     int r = gl_VertexID / u_cap_vertices;
     int v = gl_VertexID - u_cap_vertices * r;
     UmbraTriangleRecord rec = umbra_triangle_record(r);
@@ -47,7 +49,9 @@ void main() {
     vec3 p = k == 0 ? p0 : (k == 1 ? p1 : p2);
     if (v < 3) {
         // Alg. 2, lines 8-9 / Eq. 6: (V_x, V_y, V_w, V_w) through umbra_push_to_far.
-        gl_Position = umbra_push_to_far(u_clip_from_world * vec4(p, 1.0));
+        vec4 clip = u_clip_from_world * vec4(p, 1.0);
+        UMBRA_NEAR_CLIP(umbra_near_distance(clip));
+        gl_Position = umbra_push_to_far(clip);
     } else {
         gl_Position = u_clip_from_world * umbra_extrude(p, u_light);
     }

@@ -52,6 +52,7 @@ use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::GlState;
 
+/// Registry name.
 pub const NAME: &str = "vs-silhouette";
 
 const MULTIPLICITY: &str = include_str!("../shared/multiplicity.glsl");
@@ -202,6 +203,7 @@ pub fn plan_portable_layout(adj: &EdgeAdjacency, triangles: usize) -> Layout {
 pub struct VolumeDraw {
     /// Column-major clip-from-world matrix (infinite far plane).
     pub clip_from_world: [f32; 16],
+    /// The light (w = 1 point, w = 0 directional).
     pub light: Light,
     /// z-pass: no caps.
     pub zpass: bool,
@@ -403,6 +405,7 @@ fn as_bytes(v: &[[f32; 4]]) -> &[u8] {
 }
 
 impl VsSilhouette {
+    /// Unprepared; programs and buffers are made by `prepare`.
     pub fn new() -> Self {
         Self::default()
     }

@@ -38,6 +38,8 @@ const int UMBRA_ID_CW[6] = int[6](0, 1, 3, 0, 3, 2);
 const int UMBRA_ID_CW_SPLIT[6] = int[6](1, 2, 0, 1, 3, 2);
 
 void main() {
+    // Never clipped: only light caps are clipped at the near plane (shared/depth.glsl).
+    UMBRA_NEAR_CLIP(1.0);
     int per_record = 6 * UMBRA_MAX_MULT;
     int r = gl_VertexID / per_record;          // record of this instance
     int within = gl_VertexID - per_record * r;

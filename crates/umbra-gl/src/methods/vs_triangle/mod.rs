@@ -34,6 +34,7 @@ use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::GlState;
 
+/// Registry name.
 pub const NAME: &str = "vs-triangle";
 
 const MULTIPLICITY: &str = include_str!("../shared/multiplicity.glsl");
@@ -45,6 +46,7 @@ const FRAG: &str = include_str!("volume.frag.glsl");
 /// drawn (unbound again afterwards). Away from [`crate::scene::NORMALS_BINDING`] (0), which
 /// the lighting pass uses.
 pub const POSITIONS_BINDING: u32 = 2;
+/// Shader-storage binding point of the scene's triangles while the volumes are drawn.
 pub const TRIANGLES_BINDING: u32 = 3;
 
 /// Vertices per scene triangle: 3 side quads (18), light cap (3), dark cap (3).
@@ -82,6 +84,7 @@ pub struct VsTriangle {
 }
 
 impl VsTriangle {
+    /// Unprepared; the program is made by `prepare`.
     pub fn new() -> Self {
         Self::default()
     }

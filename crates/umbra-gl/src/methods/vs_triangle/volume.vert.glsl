@@ -58,6 +58,7 @@ vec3 umbra_fetch(uint v) {
 }
 
 void main() {
+    UMBRA_NEAR_CLIP(1.0);
     int t = gl_VertexID / u_vertices_per_triangle;
     int k = gl_VertexID - t * u_vertices_per_triangle;
     uint first = 3u * uint(t);
@@ -106,5 +107,7 @@ void main() {
         world = umbra_extrude(p, u_light);
     }
     vec4 clip = u_clip_from_world * world;
+    // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
+    UMBRA_NEAR_CLIP(push_to_far ? umbra_near_distance(clip) : 1.0);
     gl_Position = push_to_far ? umbra_push_to_far(clip) : clip;
 }
