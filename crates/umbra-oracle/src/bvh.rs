@@ -238,6 +238,30 @@ impl Bvh {
         (exact, grown && !shrunk)
     }
 
+    /// Calls `found(triangle, [ab, bc, ca])` for every triangle but `ignore_triangle` whose
+    /// edges the segment `origin + t direction`, `t_min < t < t_max`, passes within `margin`
+    /// of ([`ShearedRay::near_edges`]), in the fixed traversal order.
+    pub fn near_edges(
+        &self,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        t_min: f64,
+        t_max: f64,
+        ignore_triangle: u32,
+        margin: f64,
+        mut found: impl FnMut(u32, [bool; 3]),
+    ) {
+        self.traverse(origin, direction, t_min, t_max, margin, |bvh, i, ray, _t_far| {
+            if bvh.ids[i] != ignore_triangle {
+                let [a, b, c] = bvh.vertices[i];
+                if let Some(edges) = ray.near_edges(a, b, c, t_min, t_max, margin) {
+                    found(bvh.ids[i], edges);
+                }
+            }
+            None
+        });
+    }
+
     /// Closest-hit query over `t_min < t < t_max`. Among hits at exactly equal `t` (a ray through
     /// a shared edge) the one met first in the fixed traversal order wins, deterministically.
     pub fn intersect(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64) -> Option<Hit> {

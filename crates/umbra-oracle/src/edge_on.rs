@@ -94,6 +94,43 @@ fn face_distance(eye: [f64; 3], n: [f64; 3], h_signed: f64, a: [f64; 3], b: [f64
     segment_distance(eye, a, b).min(ray_distance(eye, a, da)).min(ray_distance(eye, b, db))
 }
 
+/// Whether edge `e` of `adjacency` casts a side face for `light` in some exact method: a
+/// silhouette, i.e. a non-zero sum of its opposite vertices' sides of the plane (light, a, b)
+/// (001 Alg. 3, here in f64), or a zero term (undecided). The per-triangle methods draw faces
+/// on every edge, but on a non-silhouette edge two opposite faces cancel exactly (they are
+/// drawn from the same endpoints).
+pub fn casts_side(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, e: usize, light: Light) -> bool {
+    let pos = |k: u32| mesh.positions[k as usize].map(f64::from);
+    let [ia, ib] = adjacency.edges[e];
+    let (a, b) = (pos(ia), pos(ib));
+    let towards = if light[3] != 0.0 {
+        sub([0, 1, 2].map(|k| f64::from(light[k]) / f64::from(light[3])), a)
+    } else {
+        [0, 1, 2].map(|k| f64::from(light[k]))
+    };
+    let edge_normal = cross(sub(b, a), towards);
+    let (mut m, mut undecided) = (0i64, false);
+    for &o in adjacency.opposites(e) {
+        let side = dot(edge_normal, sub(pos(o), a));
+        undecided |= side == 0.0;
+        m += if side > 0.0 { 1 } else if side < 0.0 { -1 } else { 0 };
+    }
+    m != 0 || undecided
+}
+
+/// The edges (vertex pairs, smaller index first) that cast a side face for `light`
+/// ([`casts_side`]).
+pub fn side_casting_edges(mesh: &WeldedMesh, light: Light) -> std::collections::HashSet<[u32; 2]> {
+    let adjacency = EdgeAdjacency::build(mesh);
+    (0..adjacency.len())
+        .filter(|&e| casts_side(mesh, &adjacency, e, light))
+        .map(|e| {
+            let [a, b] = adjacency.edges[e];
+            [a.min(b), a.max(b)]
+        })
+        .collect()
+}
+
 /// Marks, in `band` (row-major, top row first, `width * height`), the pixels an almost
 /// edge-on side face of some triangle edge may cover (module doc). Returns the number of such
 /// faces. `is_sample(i)` says whether pixel `i` holds a sample (background is never band).
@@ -123,27 +160,11 @@ pub fn mark_edge_on(
     let mut slivers = 0;
     let adjacency = EdgeAdjacency::build(mesh);
     let pos = |k: u32| mesh.positions[k as usize].map(f64::from);
-    let light_point = (light[3] != 0.0).then(|| [0, 1, 2].map(|k| f64::from(light[k]) / f64::from(light[3])));
     for e in 0..adjacency.len() {
         let [ia, ib] = adjacency.edges[e];
         let (a, b) = (pos(ia), pos(ib));
-        // Only edges that cast a side face for some exact method: silhouettes, i.e. a
-        // non-zero sum of the opposite vertices' sides of the plane (light, a, b) (001 Alg. 3,
-        // here in f64), or a zero term (undecided). The per-triangle methods draw faces on
-        // every edge, but on a non-silhouette edge two opposite faces cancel exactly (they
-        // are drawn from the same endpoints), sliver or not.
-        let towards = match light_point {
-            Some(l) => sub(l, a),
-            None => light.map(f64::from)[..3].try_into().unwrap_or([0.0; 3]),
-        };
-        let edge_normal = cross(sub(b, a), towards);
-        let (mut m, mut undecided) = (0i64, false);
-        for &o in adjacency.opposites(e) {
-            let side = dot(edge_normal, sub(pos(o), a));
-            undecided |= side == 0.0;
-            m += if side > 0.0 { 1 } else if side < 0.0 { -1 } else { 0 };
-        }
-        if m == 0 && !undecided {
+        // Only edges that cast a side face for some exact method (sliver or not).
+        if !casts_side(mesh, &adjacency, e, light) {
             continue;
         }
         {

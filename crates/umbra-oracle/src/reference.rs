@@ -40,6 +40,8 @@
 //! * `eps` is a *distance*, [`segment_epsilon`] = `1e-5` of the scene's scale.
 //! * Background neighbours do not count as a class for the band.
 
+use std::collections::HashSet;
+
 use rayon::prelude::*;
 use umbra_geom::{Light, WeldedMesh};
 
@@ -251,6 +253,9 @@ pub fn reference_in_view(
 
     let eps = segment_epsilon(&mesh.positions);
     let shading = Shading::new(light, eye);
+    // The edges that cast a side face for this light, for the *touching* part of the band
+    // (with the view only: its margin is the depth test's).
+    let casting = view.map(|_| crate::edge_on::side_casting_edges(mesh, light));
     let mut class = vec![SampleClass::Background; pixels];
     let mut grazing = vec![false; pixels];
     if width > 0 {
@@ -265,7 +270,7 @@ pub fn reference_in_view(
                     if t == u32::MAX {
                         continue;
                     }
-                    let (c, g) = classify(mesh, bvh, eps, &shading, view, t, samples.world_pos[start + x]);
+                    let (c, g) = classify(mesh, bvh, eps, &shading, view, casting.as_ref(), t, samples.world_pos[start + x]);
                     class_row[x] = c;
                     let snapped = view.is_some_and(|v| {
                         let tri = mesh.triangles[t as usize].map(|k| to_f64(mesh.positions[k as usize]));
@@ -343,12 +348,14 @@ fn to_f64(p: [f32; 3]) -> [f64; 3] {
 }
 
 /// Class and grazing flag of one sample at `world_pos` on triangle `triangle` (in range).
+#[allow(clippy::too_many_arguments)]
 fn classify(
     mesh: &WeldedMesh,
     bvh: &Bvh,
     eps: f64,
     shading: &Shading,
     view: Option<&RasterView>,
+    casting: Option<&HashSet<[u32; 2]>>,
     triangle: u32,
     world_pos: [f32; 3],
 ) -> (SampleClass, bool) {
@@ -415,6 +422,29 @@ fn classify(
     let Some((dir, t_min, t_max)) = segment(s) else {
         return (SampleClass::Lit, grazing);
     };
+    // Touching: an edge that casts a side face for this light lies within the margin of S
+    // itself (an occluder resting on S's surface, a T-junction, a silhouette edge shared with
+    // T). Its side face passes within the margin of S, and the depth test cannot order S and
+    // that face, whatever the probes below say: moving S along its own surface need not
+    // change the reference's answer while the face's depth still decides the method's count.
+    // Found on Conference: a floor sample 1.3e-4 from the top edge of a table's side face
+    // lying in the floor's plane, 1,960 units from the eye (4 depth steps = 0.28 units).
+    // Edges that cast nothing (shared by coplanar neighbours, interior edges of flat
+    // occluders) are not band.
+    let touching = casting.is_some_and(|casting| {
+        let len = dot(dir, dir).sqrt();
+        let mut any = false;
+        if len > 0.0 {
+            bvh.near_edges(s, dir, -margin / len, margin / len, triangle, 2.0 * margin, |t, near| {
+                let tri = mesh.triangles[t as usize];
+                for k in 0..3 {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    any |= near[k] && casting.contains(&[a.min(b), a.max(b)]);
+                }
+            });
+        }
+        any
+    });
     // The exact answer, and whether some occluder's edge passes near the segment without one
     // occluder being hit robustly (the margin doubled: distances in the watertight test's
     // sheared plane are up to sqrt 3 longer than perpendicular ones). The margin stays a world
@@ -454,7 +484,7 @@ fn classify(
             })
         })
     };
-    (if occluded { SampleClass::Shadowed } else { SampleClass::Lit }, grazing || uncertain || within_eps)
+    (if occluded { SampleClass::Shadowed } else { SampleClass::Lit }, grazing || touching || uncertain || within_eps)
 }
 
 /// Band: a non-background sample whose 3x3 neighbourhood (itself included, clipped at the

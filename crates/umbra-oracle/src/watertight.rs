@@ -172,6 +172,33 @@ impl ShearedRay {
     }
 }
 
+impl ShearedRay {
+    /// Which edges of the triangle the ray passes within `margin` of (a world distance, as in
+    /// [`ShearedRay::intersect_near`]), at a `t` in `(t_min, t_max)` where it meets the grown
+    /// triangle's plane: `[ab, bc, ca]`, or `None` when it passes none (or the triangle is
+    /// degenerate or edge-on to the ray).
+    pub fn near_edges(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64, margin: f64) -> Option<[bool; 3]> {
+        let Sheared { u, v, w, xy: [[ax, ay], [bx, by], [cx, cy]], z } = self.shear(a, b, c);
+        let det = u + v + w;
+        if det == 0.0 || det.is_nan() {
+            return None;
+        }
+        let mu = margin * (cx - bx).hypot(cy - by);
+        let mv = margin * (ax - cx).hypot(ay - cy);
+        let mw = margin * (bx - ax).hypot(by - ay);
+        let grown = (u >= -mu && v >= -mv && w >= -mw) || (u <= mu && v <= mv && w <= mw);
+        if !grown {
+            return None;
+        }
+        let t = (u * z[0] + v * z[1] + w * z[2]) / det;
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        let near = [w.abs() <= mw, u.abs() <= mu, v.abs() <= mv];
+        near.iter().any(|&n| n).then_some(near)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -565,3 +565,55 @@ fn side_face_seen_edge_on_marks_its_line() {
     assert_eq!(faces, 0);
     assert!(band.iter().all(|&b| !b));
 }
+
+/// A ground triangle at y = 0 and, under it, a vertical quad x = 1, y in [-1, 0], whose top
+/// edge lies in the ground's plane (a T-junction: an object's face meeting a floor). Point
+/// light (0, 10, 0) above: the quad's top edge is open, so it casts a side face, down and
+/// away from the light, passing through the ground's plane along that edge. The sample
+/// (1 + delta, 0, 0.3) on the ground is lit (nothing above it); seen from (0, 20, 5) with near
+/// plane `near` at its own pixel of a 64x64 view: (class, band).
+fn t_junction_sample(delta: f32, near: f64, flat_neighbour: bool) -> (SampleClass, bool) {
+    use umbra_oracle::{reference_in_view, RasterView};
+    let mut scene = Scene::new();
+    let ground = scene.add([[-3.0, 0.0, -3.0], [-3.0, 0.0, 3.0], [3.0, 0.0, -3.0]]);
+    scene.add([[3.0, 0.0, -3.0], [-3.0, 0.0, 3.0], [3.0, 0.0, 3.0]]);
+    if flat_neighbour {
+        // Instead of the vertical quad: a ground-level quad sharing the edge x = 1 with
+        // another coplanar one. Their shared edge casts nothing.
+        scene.add([[1.0, 0.0, -2.0], [1.0, 0.0, 2.0], [0.0, 0.0, 0.0]]);
+        scene.add([[1.0, 0.0, 2.0], [1.0, 0.0, -2.0], [2.0, 0.0, 0.0]]);
+    } else {
+        scene.add([[1.0, 0.0, -2.0], [1.0, -1.0, -2.0], [1.0, -1.0, 2.0]]);
+        scene.add([[1.0, 0.0, -2.0], [1.0, -1.0, 2.0], [1.0, 0.0, 2.0]]);
+    }
+    let mesh = scene.mesh();
+    let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
+    let eye = [0.0f32, 20.0, 5.0];
+    let clip_from_world = clip_from_world_looking(eye.map(f64::from), [0.0, 0.0, 0.0], 60.0, 1.0, near);
+    let s = [1.0 + delta, 0.0, 0.3];
+    let m = &clip_from_world;
+    let row = |r: usize| m[r] * f64::from(s[0]) + m[4 + r] * f64::from(s[1]) + m[8 + r] * f64::from(s[2]) + m[12 + r];
+    let (px, py) = (((row(0) / row(3) + 1.0) * 32.0) as usize, ((1.0 - row(1) / row(3)) * 32.0) as usize);
+    let mut pos = vec![[0.0f32; 3]; 64 * 64];
+    let mut tri = vec![BG; 64 * 64];
+    pos[py * 64 + px] = s;
+    // The sample lies on the first ground triangle (x + z <= 0 ... no: pick by the diagonal).
+    tri[py * 64 + px] = if s[0] + s[2] <= 0.0 { ground } else { ground + 1 };
+    let samples = Samples { width: 64, height: 64, world_pos: &pos, triangle: &tri };
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world })).unwrap();
+    (r.class[py * 64 + px], r.band[py * 64 + px])
+}
+
+#[test]
+fn sample_touching_a_side_casting_edge_within_a_depth_step_is_band() {
+    // 1e-3 from the T-junction's edge; 4 depth steps at ~20.6 units are 1e-2 units with a 0.01
+    // near plane: the side face through the edge cannot be ordered against the sample.
+    assert_eq!(t_junction_sample(1e-3, 0.01, false), (SampleClass::Lit, true));
+    // With a 1.0 near plane (1e-4 units) it can: a plain sample.
+    assert_eq!(t_junction_sample(1e-3, 1.0, false), (SampleClass::Lit, false));
+    // Half a unit away: plain, whatever the near plane.
+    assert_eq!(t_junction_sample(0.5, 0.01, false), (SampleClass::Lit, false));
+    // The same distance from an edge shared by two coplanar triangles facing the light: that
+    // edge casts no side face, so the sample is plain.
+    assert_eq!(t_junction_sample(1e-3, 0.01, true), (SampleClass::Lit, false));
+}
