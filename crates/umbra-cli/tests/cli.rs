@@ -199,6 +199,20 @@ fn verify_json_contract_and_exit_status() {
     assert!(nm > 500 && nm <= ns, "none: {none}");
     // `none` is measured, never failed: exit status 0.
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // "counter": which count the method used (--counter, default auto: stencil8 when the
+    // winding bound proves 8 bits exact, as on the default scene); "none" for methods that
+    // classify in their shader (shadow maps).
+    assert_eq!(cpu["counter"], "stencil8", "{cpu}");
+    let o = umbra(&[
+        "verify", "--size", "160x120", "--method", "cpu-silhouette,shadow-map-cube:1024", "--counter", "float32", "--json",
+    ]);
+    let v = json(&o);
+    assert_eq!(v[0]["counter"], "float32", "{v}");
+    assert_eq!(v[0]["mismatches_outside_band"], 0, "{v}");
+    assert_eq!(v[1]["counter"], "none", "{v}");
+    let o = umbra(&["verify", "--size", "160x120", "--counter", "int9"]);
+    assert_eq!(o.status.code(), Some(2), "a bad --counter is a usage error");
+    assert!(stderr(&o).contains("int9"), "{}", stderr(&o));
 }
 
 #[test]
