@@ -118,6 +118,10 @@ pub struct ViewWindowArgs {
     /// Start in the shadow-mask view (V toggles it): white = lit by every light, black = by none.
     #[arg(long)]
     pub mask: bool,
+    /// Shadow-volume counter, as for `render`: `stencil8`, `float32` or `auto` (decided once,
+    /// for the initial lights: float32 when a sound bound of the count reaches 256).
+    #[arg(long, default_value = "auto")]
+    pub counter: String,
 }
 
 #[derive(Args, Debug)]

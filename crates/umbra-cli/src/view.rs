@@ -18,6 +18,7 @@ pub fn run(a: &ViewWindowArgs) -> Result<(), CliError> {
         return Ok(());
     }
     crate::methods::parse_methods(method, "--method")?;
+    let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
     let mut flags = a.view.clone();
     if let Some(scene) = &a.scene_arg {
         flags.scene = scene.clone();
@@ -27,9 +28,14 @@ pub fn run(a: &ViewWindowArgs) -> Result<(), CliError> {
     if welded.triangles.is_empty() {
         return Err(CliError::Other(format!("scene {:?} has no triangles to draw", view.scene_spec)));
     }
+    let mut params = crate::session::frame_params_for(&view, umbra_gl::scene::triangle_bounds(&welded));
+    // As `render`: the counter for the initial lights (moving a light in the window keeps it).
+    let decision = crate::methods::choose_counter(choice, &welded.positions, &welded.triangles, &params.lights)?;
+    crate::methods::report_counter(&decision);
+    params.counter = decision.counter;
     let config = umbra_view::ViewerConfig {
         scene_name: view.scene_spec.clone(),
-        params: crate::session::frame_params_for(&view, umbra_gl::scene::triangle_bounds(&welded)),
+        params,
         mesh: welded,
         method: method.to_string(),
         script: a.script.as_ref().map(PathBuf::from),

@@ -14,6 +14,11 @@
 //! black = lit by no light) is checked the same way: black exactly where the reference is
 //! background or shadowed.
 //!
+//! The shadow-volume wireframe (F in the window; `wireframe on` in a script) changes the
+//! screenshot along lines — some pixels, far fewer than all, only darkened — and `--counter
+//! float32` gives the same screenshot as the default counter on this scene (both count
+//! exactly; fewer than 256 overlapping volumes).
+//!
 //! Skipped, with a message, when `xvfb-run` is not installed (`.ci/run` installs it).
 
 use std::path::{Path, PathBuf};
@@ -185,4 +190,69 @@ fn view_rejects_a_bad_script_naming_file_and_line() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains(&format!("{}:2:", script.display())), "{err}");
+}
+
+#[test]
+fn view_wireframe_toggle_and_counter_flag_under_xvfb() {
+    if !has_xvfb_run() {
+        eprintln!("SKIPPED: xvfb-run not installed (apt-get install xvfb); umbra view needs a display");
+        return;
+    }
+    let dir = out_dir();
+    let plain = dir.join("wire-off.path");
+    let wired = dir.join("wire-on.path");
+    let poses = "eye 7 5 8 target 0 1 0\neye 5.5 4 6 target 0.2 0.9 0\n";
+    std::fs::write(&plain, poses).expect("script");
+    // Toggled on for the second (last) pose only.
+    std::fs::write(&wired, "eye 7 5 8 target 0 1 0\nwireframe on\neye 5.5 4 6 target 0.2 0.9 0\n").expect("script");
+    let (off_png, on_png, float_png) = (dir.join("wire-off.png"), dir.join("wire-on.png"), dir.join("float32.png"));
+    view_screenshot(&plain, &off_png, &["--method", "cpu-silhouette", "--counter", "stencil8"]);
+    view_screenshot(&wired, &on_png, &["--method", "cpu-silhouette", "--counter", "stencil8"]);
+    view_screenshot(&plain, &float_png, &["--method", "cpu-silhouette", "--counter", "float32"]);
+    let (off, on, float) = (read_png(&off_png), read_png(&on_png), read_png(&float_png));
+    assert_eq!((on.width, on.height), (off.width, off.height));
+    let total = off.rgba.len();
+    let mut changed = 0;
+    for (a, b) in off.rgba.iter().zip(&on.rgba) {
+        if a != b {
+            changed += 1;
+            assert!(b[0] <= a[0] && b[1] <= a[1] && b[2] <= a[2], "the wireframe only darkens: {a:?} -> {b:?}");
+        }
+    }
+    println!("wireframe changed {changed} of {total} pixels");
+    assert!(changed > 100, "the wireframe changed only {changed} pixels");
+    assert!(changed < total / 3, "the wireframe changed {changed} of {total} pixels: not lines");
+    let float_differs = off.rgba.iter().zip(&float.rgba).filter(|(a, b)| a != b).count();
+    assert_eq!(float_differs, 0, "--counter float32 and stencil8 screenshots differ in {float_differs} pixels");
+}
+
+#[test]
+fn view_rejects_a_bad_counter_as_a_usage_error() {
+    // Checked before any window is opened: no display needed.
+    let out = Command::new(UMBRA)
+        .args(["view", "default", "--counter", "int16"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("umbra view");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--counter") && err.contains("int16"), "{err}");
+}
+
+#[test]
+fn view_rejects_a_bad_wireframe_toggle_naming_file_and_line() {
+    let dir = out_dir();
+    let script = dir.join("bad-toggle.path");
+    std::fs::write(&script, "eye 1 2 3 target 0 0 0\nwireframe maybe\neye 1 2 4 target 0 0 0\n").expect("script");
+    let out = Command::new(UMBRA)
+        .args(["view", "default", "--script"])
+        .arg(&script)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("umbra view");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{}:2:", script.display())) && err.contains("wireframe"), "{err}");
 }

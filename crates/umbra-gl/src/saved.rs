@@ -49,6 +49,10 @@ pub(crate) struct SavedState {
     clip_origin: u32,
     clip_depth_mode: u32,
     depth_range: [f32; 2],
+    /// glPolygonMode (front and back are the same in core GL); None on OpenGL ES (no polygon
+    /// mode there).
+    polygon_mode: Option<u32>,
+    blend_color: [f32; 4],
 }
 
 impl SavedState {
@@ -59,6 +63,14 @@ impl SavedState {
             gl.get_parameter_i32_slice(glow::VIEWPORT, &mut viewport);
             let mut depth_range = [0.0; 2];
             gl.get_parameter_f32_slice(glow::DEPTH_RANGE, &mut depth_range);
+            // GL_POLYGON_MODE answers two values (front, back) on some drivers, one on others.
+            let mut polygon_mode = [glow::FILL as i32; 2];
+            let is_embedded = gl.version().is_embedded;
+            if !is_embedded {
+                gl.get_parameter_i32_slice(glow::POLYGON_MODE, &mut polygon_mode);
+            }
+            let mut blend_color = [0.0; 4];
+            gl.get_parameter_f32_slice(glow::BLEND_COLOR, &mut blend_color);
             Self {
                 state: GlState::capture(gl),
                 program: gl.get_parameter_i32(glow::CURRENT_PROGRAM) as u32,
@@ -76,6 +88,8 @@ impl SavedState {
                 clip_origin: gl.get_parameter_i32(glow::CLIP_ORIGIN) as u32,
                 clip_depth_mode: gl.get_parameter_i32(glow::CLIP_DEPTH_MODE) as u32,
                 depth_range,
+                polygon_mode: (!is_embedded).then_some(polygon_mode[0] as u32),
+                blend_color,
             }
         }
     }
@@ -96,6 +110,11 @@ impl SavedState {
             let [x, y, w, h] = self.viewport;
             gl.viewport(x, y, w, h);
             gl.depth_range_f32(self.depth_range[0], self.depth_range[1]);
+            if let Some(mode) = self.polygon_mode {
+                gl.polygon_mode(glow::FRONT_AND_BACK, mode);
+            }
+            let [r, g, b, a] = self.blend_color;
+            gl.blend_color(r, g, b, a);
             if let Some(on) = self.clip_distance0 {
                 if on {
                     gl.enable(glow::CLIP_DISTANCE0)

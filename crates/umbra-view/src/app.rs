@@ -33,6 +33,9 @@ const ORBIT_PER_PIXEL: f64 = 0.005;
 const FLY_PER_SECOND: f64 = 0.25;
 /// One arrow-key press moves a light by this fraction of the scene diagonal.
 const LIGHT_STEP: f64 = 0.02;
+/// The wireframe's tint: the frame's colour times this where a volume edge passes (a red
+/// line on light surfaces, darker on dark ones).
+const WIREFRAME_TINT: [f32; 3] = [1.0, 0.2, 0.2];
 /// The title is rewritten at most this often.
 const TITLE_EVERY: Duration = Duration::from_millis(250);
 
@@ -68,6 +71,8 @@ struct App {
     lights: Vec<Light>,
     selected_light: usize,
     show_mask: bool,
+    /// Draw the selected light's shadow volumes as a wireframe over the shaded view (F).
+    wireframe: bool,
     input: Input,
     diagonal: f64,
     frame_ms: Option<f64>,
@@ -96,6 +101,7 @@ pub fn run(config: ViewerConfig, script: Option<Vec<Pose>>) -> Result<ViewSummar
         summary: ViewSummary::default(),
         selected_light: 0,
         show_mask,
+        wireframe: false,
         input: Input::default(),
         diagonal,
         frame_ms: None,
@@ -247,6 +253,10 @@ impl App {
                 self.set_method(next);
             }
             KeyCode::KeyV => self.show_mask = !self.show_mask,
+            KeyCode::KeyF => {
+                self.wireframe = !self.wireframe;
+                self.status = None;
+            }
             KeyCode::Tab if !self.lights.is_empty() => {
                 self.selected_light = (self.selected_light + 1) % self.lights.len()
             }
@@ -311,6 +321,7 @@ impl App {
         if let Some(p) = pose {
             self.rig.eye = p.eye;
             self.rig.target = p.target;
+            self.wireframe = p.wireframe;
         }
         let last_pose = self.script.as_ref().is_none_or(|s| self.script_pos + 1 >= s.len());
 
@@ -351,9 +362,31 @@ impl App {
             }
             let Some(t) = r.target.as_ref() else { return Ok(false) };
             let fb = t.framebuffer();
-            r.renderer
-                .draw_frame(gl, &r.scene, r.method.as_mut(), &params, FrameTarget { framebuffer: Some(fb) }, None)
-                .map(|_| r.win.blit_to_window(fb, w, h, false))
+            let target = FrameTarget { framebuffer: Some(fb) };
+            r.renderer.draw_frame(gl, &r.scene, r.method.as_mut(), &params, target, None).and_then(|_| {
+                let light = params.lights.get(self.selected_light).copied();
+                match light.filter(|_| self.wireframe) {
+                    // Over the finished frame, against its depth (the volumes' own test).
+                    Some(l) => match r.renderer.draw_volume_wireframe(
+                        gl,
+                        &r.scene,
+                        r.method.as_mut(),
+                        &params,
+                        l,
+                        target,
+                        WIREFRAME_TINT,
+                    ) {
+                        // A shadow map has no volumes: say so, keep drawing the frame.
+                        Err(umbra_gl::GlError::Unsupported { method, .. }) => {
+                            self.status = Some(format!("{method} has no shadow volumes to show"));
+                            Ok(())
+                        }
+                        other => other,
+                    },
+                    None => Ok(()),
+                }
+                .map(|()| r.win.blit_to_window(fb, w, h, false))
+            })
         };
         if let Err(e) = drawn {
             let initial = method_names().iter().position(|&n| n == self.config.method).unwrap_or(0);
@@ -410,6 +443,7 @@ impl App {
             lights: self.lights.len(),
             selected_light: self.selected_light,
             mask_view: self.show_mask,
+            wireframe: self.wireframe,
             status: self.status.as_deref(),
         });
         r.win.window.set_title(&title);

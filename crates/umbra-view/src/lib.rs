@@ -11,14 +11,16 @@
 //! keys move it horizontally and PageUp/PageDown vertically, Tab selects the next light;
 //! number keys 1-9 and 0 pick methods 1-10 of [`umbra_gl::method_names`], M cycles through
 //! all of them; V toggles the shadow-mask view (white = lit by every light, black = by none);
-//! Escape quits.
+//! F toggles the selected light's shadow-volume wireframe over the shaded view
+//! ([`umbra_gl::Renderer::draw_volume_wireframe`]; shadow maps have no volumes); Escape quits.
 //!
 //! The overlay (frame time, method, triangles, silhouette edges, selected light) is the
 //! window title: egui_glow, the maintained GL back end of egui, is built on glow 0.17 in its
 //! newest release (0.37) and umbra is on glow 0.18, and the two `glow::Context` types do not
 //! mix; see [`overlay`].
 //!
-//! Testing hooks: [`ViewerConfig::script`] (one camera pose per frame, [`script`]) and
+//! Testing hooks: [`ViewerConfig::script`] (one camera pose per frame and wireframe
+//! toggles, [`script`]) and
 //! [`ViewerConfig::screenshot`] (after the last pose, the window's back buffer is written to a
 //! PNG and the viewer exits).
 //!
@@ -49,7 +51,8 @@ pub struct ViewerConfig {
     pub scene_name: String,
     /// The welded scene (see `umbra_geom::weld::weld`).
     pub mesh: Arc<WeldedMesh>,
-    /// Initial camera, lights, shading, z-pass and depth convention. `width` and `height`
+    /// Initial camera, lights, shading, z-pass, depth convention and shadow-volume counter
+    /// ([`FrameParams::counter`], used by every frame). `width` and `height`
     /// are the window's initial inner size; frames follow the window's size.
     pub params: FrameParams,
     /// Initial shadow method (a name from [`umbra_gl::method_names`]).

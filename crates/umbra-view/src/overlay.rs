@@ -34,6 +34,8 @@ pub struct OverlayInfo<'a> {
     pub selected_light: usize,
     /// Whether the shadow-mask view is on.
     pub mask_view: bool,
+    /// Whether the selected light's shadow-volume wireframe is drawn (F).
+    pub wireframe: bool,
     /// Last problem worth showing (e.g. a method that failed and was switched back).
     pub status: Option<&'a str>,
 }
@@ -52,6 +54,10 @@ pub fn title(i: &OverlayInfo<'_>) -> String {
     );
     if i.mask_view {
         s.push_str(" | shadow mask");
+    }
+    if i.wireframe {
+        // The wireframe is drawn over the shaded view only (see app.rs).
+        s.push_str(if i.mask_view { " | wireframe (shaded view only)" } else { " | volume wireframe" });
     }
     if let Some(status) = i.status {
         s.push_str(" | ");
@@ -79,6 +85,7 @@ mod tests {
             lights: 2,
             selected_light: 1,
             mask_view: false,
+            wireframe: false,
             status: None,
         }
     }
@@ -103,6 +110,13 @@ mod tests {
         });
         assert!(t.contains("| - |") && t.contains("- silhouette edges"), "{t}");
         assert!(t.ends_with("| shadow mask | x failed"), "{t}");
+    }
+
+    #[test]
+    fn title_says_when_the_wireframe_is_on() {
+        assert!(title(&OverlayInfo { wireframe: true, ..info() }).ends_with("| volume wireframe"));
+        let both = title(&OverlayInfo { wireframe: true, mask_view: true, ..info() });
+        assert!(both.ends_with("| shadow mask | wireframe (shaded view only)"), "{both}");
     }
 
     #[test]

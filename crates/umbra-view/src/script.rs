@@ -4,6 +4,10 @@
 //! `eye x y z target x y z`; numbers separated by whitespace and/or commas; `#` starts a
 //! comment; blank lines are ignored. Unlike `umbra bench`, nothing is interpolated: line k is
 //! frame k, so the last line is exactly the view a screenshot shows.
+//!
+//! Toggles: a line `wireframe on` or `wireframe off` sets the shadow-volume wireframe (the
+//! viewer's F key) for the poses that follow it (off until the first such line). A script
+//! must hold at least one pose.
 
 use std::path::Path;
 
@@ -16,6 +20,9 @@ pub struct Pose {
     pub eye: [f64; 3],
     /// Point the camera looks at.
     pub target: [f64; 3],
+    /// Whether the current light's shadow-volume wireframe is drawn in this frame (the last
+    /// `wireframe on|off` line before the pose; off without one).
+    pub wireframe: bool,
 }
 
 fn script_error(file: &str, line: usize, message: impl Into<String>) -> ViewError {
@@ -25,10 +32,26 @@ fn script_error(file: &str, line: usize, message: impl Into<String>) -> ViewErro
 /// Parses script text; `file` names it in errors (`file:line: message`).
 pub fn parse(text: &str, file: &str) -> Result<Vec<Pose>, ViewError> {
     let mut poses = Vec::new();
+    let mut wireframe = false;
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
         let content = raw.split('#').next().unwrap_or("").trim();
         if content.is_empty() {
+            continue;
+        }
+        let words: Vec<&str> = content.split_whitespace().collect();
+        if words.first().is_some_and(|w| w.eq_ignore_ascii_case("wireframe")) {
+            wireframe = match words.get(1..) {
+                Some([v]) if v.eq_ignore_ascii_case("on") => true,
+                Some([v]) if v.eq_ignore_ascii_case("off") => false,
+                _ => {
+                    return Err(script_error(
+                        file,
+                        line,
+                        format!("expected `wireframe on` or `wireframe off`, found {content:?}"),
+                    ))
+                }
+            };
             continue;
         }
         let fields: Vec<&str> = content
@@ -50,7 +73,7 @@ pub fn parse(text: &str, file: &str) -> Result<Vec<Pose>, ViewError> {
                 .filter(|x| x.is_finite())
                 .ok_or_else(|| script_error(file, line, format!("{field:?} is not a finite number")))?;
         }
-        let pose = Pose { eye: [v[0], v[1], v[2]], target: [v[3], v[4], v[5]] };
+        let pose = Pose { eye: [v[0], v[1], v[2]], target: [v[3], v[4], v[5]], wireframe };
         if pose.eye == pose.target {
             return Err(script_error(file, line, "the eye and the target must differ"));
         }
@@ -80,8 +103,8 @@ mod tests {
         assert_eq!(
             p,
             vec![
-                Pose { eye: [1.0, 2.0, 3.0], target: [0.0; 3] },
-                Pose { eye: [4.0, 5.0, 6.0], target: [0.0, 1.0, 0.0] }
+                Pose { eye: [1.0, 2.0, 3.0], target: [0.0; 3], wireframe: false },
+                Pose { eye: [4.0, 5.0, 6.0], target: [0.0, 1.0, 0.0], wireframe: false }
             ]
         );
     }
@@ -108,6 +131,22 @@ mod tests {
     #[test]
     fn eye_equal_to_target_is_an_error() {
         assert!(parse("1 1 1 1 1 1", "a").expect_err("degenerate").to_string().contains("a:1:"));
+    }
+
+    #[test]
+    fn wireframe_toggles_apply_to_the_following_poses() {
+        let text = "1 1 1 0 0 0\nwireframe on\n2 2 2 0 0 0\n3 3 3 0 0 0\nWireframe Off # done\n4 4 4 0 0 0\n";
+        let p = parse(text, "t").expect("valid");
+        assert_eq!(p.iter().map(|p| p.wireframe).collect::<Vec<_>>(), [false, true, true, false]);
+    }
+
+    #[test]
+    fn bad_wireframe_toggle_names_file_and_line() {
+        let err = parse("1 1 1 0 0 0\nwireframe yes\n", "w.path").expect_err("bad toggle");
+        assert!(err.to_string().starts_with("w.path:2:"), "{err}");
+        assert!(parse("wireframe\n1 1 1 0 0 0\n", "w").is_err());
+        // Only toggles, no pose.
+        assert!(parse("wireframe on\n", "w").is_err());
     }
 
     #[test]

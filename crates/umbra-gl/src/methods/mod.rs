@@ -120,6 +120,9 @@ pub struct VolumeFrame<'a> {
     /// [`Classification::StencilZero`] methods when the frame asks for it; then
     /// `target_framebuffer` is the counter's framebuffer.
     pub(crate) counter: Counter,
+    /// Replaces the counting state for every draw of the pass (the renderer's volume wireframe:
+    /// lines, colour, no stencil), `None` normally.
+    pub(crate) state_override: Option<crate::GlState>,
     pub(crate) source: &'static str,
     pub(crate) hook: Option<&'a mut dyn StageHook>,
 }
@@ -158,6 +161,9 @@ impl VolumeFrame<'_> {
     /// fragment shaders write `layout(location = 0) out float o_count = gl_FrontFacing ? 1.0 :
     /// -1.0`.
     pub fn shadow_volume_state(&self) -> crate::GlState {
+        if let Some(state) = self.state_override {
+            return state;
+        }
         self.counter.shadow_volume_state(self.zpass, self.depth_convention)
     }
 
