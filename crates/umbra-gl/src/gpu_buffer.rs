@@ -25,7 +25,6 @@ pub(crate) enum BufferApi {
     /// Bind-to-edit (`glBindBuffer(target)` + `glBufferData`, GL ES 3.0): the buffer stays
     /// bound to `target` afterwards (for `ELEMENT_ARRAY_BUFFER` that is the bound vertex
     /// array's state: the caller chooses the target knowingly, as with raw GL).
-    #[allow(dead_code, reason = "for vs-silhouette's GL ES path (bind-to-edit); unit-tested here")]
     Bind(u32),
 }
 
@@ -35,7 +34,6 @@ pub(crate) enum BufferData<'a> {
     /// A copy of these bytes.
     Bytes(&'a [u8]),
     /// This many bytes, contents undefined (filled by the GPU or later sub-data uploads).
-    #[allow(dead_code, reason = "for the methods' GPU-written and streamed buffers; unit-tested here")]
     Size(usize),
 }
 
@@ -167,7 +165,8 @@ pub(crate) fn buffer_with_data(
 #[cfg(test)]
 mod tests {
     //! Through a real headless context: the refusal itself is provoked for real by
-    //! `tests/gl_failures.rs` (through `SceneGpu::upload`, which uses [`buffer_store`]); here
+    //! `tests/gl_failures.rs` (through `SceneGpu::upload` and ts-silhouette's `prepare`, which
+    //! use [`buffer_store`]); here
     //! the classification, the cleanup and the bind-to-edit path.
 
     use super::*;

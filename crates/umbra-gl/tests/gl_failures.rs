@@ -1,9 +1,9 @@
 //! GL failures leave the process usable (issue 8, Section 3, last bullet): a shadow-map
 //! resolution above `GL_MAX_CUBE_MAP_TEXTURE_SIZE` and storage the driver refuses
-//! (`GL_OUT_OF_MEMORY`, provoked for real: a scene buffer, a shadow map, a render target) give
-//! typed errors, never a panic or an abort, and afterwards the SAME context and [`Renderer`]
-//! draw a normal frame whose PNG bytes equal those of the same frame drawn before the failure
-//! and on a fresh context.
+//! (`GL_OUT_OF_MEMORY`, provoked for real: a scene buffer, a method's buffer, a shadow map, a
+//! render target) give typed errors, never a panic or an abort, and afterwards the SAME
+//! context and [`Renderer`] draw a normal frame whose PNG bytes equal those of the same frame
+//! drawn before the failure and on a fresh context.
 //!
 //! How the driver is made to refuse, without allocating gigabytes on a shared machine:
 //! * texture: llvmpipe checks a texture's total size against its resource limit
@@ -19,6 +19,9 @@
 //!   `calloc`ed so never resident): llvmpipe's malloc fails and Mesa reports
 //!   `GL_OUT_OF_MEMORY in glNamedBufferData`. The limit makes even a driver that did allocate
 //!   fail instead of eating memory, so the same child also runs the texture case under it;
+//! * a method's own buffer, in `prepare`: the same limit, with a headroom of 1.5 x the size
+//!   of `ts-silhouette`'s extended vertex buffer (72 MB, over 6 M unused positions placed
+//!   before the scene's own): the CPU copy the method builds fits, llvmpipe's copy does not;
 //! * sizes GL cannot take at all (a `GLsizeiptr` near `isize::MAX`): umbra never passes them
 //!   (`checked_size`: more than 2 GiB per buffer is `InvalidParams` before any GL call, tested
 //!   with 2.2 GB of `calloc`ed, never resident, positions); what the driver itself does with
@@ -35,7 +38,7 @@ use glow::HasContext;
 use std::path::PathBuf;
 use std::sync::Arc;
 use umbra_geom::WeldedMesh;
-use umbra_gl::{create_method, FrameParams, GlError, HeadlessContext, Renderer, SceneGpu};
+use umbra_gl::{create_method, FrameParams, GlError, HeadlessContext, Renderer, SceneGpu, ShadowMethod};
 
 /// Methods drawn as "a normal frame" before and after each failure: a stencil method and the
 /// shadow-map family that fails in the texture case.
@@ -169,10 +172,15 @@ const HEADROOM: u64 = 256 << 20;
 /// Runs `f` with the process's address space limited to its current size + [`HEADROOM`], then
 /// restores the previous limit. Only ever called in a child process (see the module doc).
 fn with_address_space_limit<T>(f: impl FnOnce() -> T) -> T {
+    with_address_space_headroom(HEADROOM, f)
+}
+
+/// [`with_address_space_limit`] with `headroom` bytes above the current size.
+fn with_address_space_headroom<T>(headroom: u64, f: impl FnOnce() -> T) -> T {
     let mut old = RLimit { cur: 0, max: 0 };
     // SAFETY: getrlimit/setrlimit of libc (linked by std) with a valid struct rlimit.
     assert_eq!(unsafe { getrlimit(RLIMIT_AS, &mut old) }, 0, "getrlimit");
-    let limited = RLimit { cur: (status_kib("VmSize") * 1024 + HEADROOM).min(old.max), max: old.max };
+    let limited = RLimit { cur: (status_kib("VmSize") * 1024 + headroom).min(old.max), max: old.max };
     // SAFETY: as above; lowering the soft limit is always allowed.
     assert_eq!(unsafe { setrlimit(RLIMIT_AS, &limited) }, 0, "setrlimit");
     let out = f();
@@ -191,6 +199,22 @@ fn scene_with_unused_vertices(extra: usize) -> Arc<WeldedMesh> {
     Arc::new(WeldedMesh {
         positions,
         triangles: base.triangles.clone(),
+        source_triangle: base.source_triangle.clone(),
+        degenerate_triangles: base.degenerate_triangles,
+    })
+}
+
+/// The sphere scene after `extra` unused vertices at the origin (its triangles' indices
+/// shifted by `extra`): what is sized by the highest index used, such as ts-silhouette's
+/// extended vertex buffer, covers the unused vertices too. `calloc`ed as above.
+fn scene_after_unused_vertices(extra: usize) -> Arc<WeldedMesh> {
+    let base = sphere_over_ground();
+    let mut positions = vec![[0f32; 3]; extra + base.positions.len()];
+    positions[extra..].copy_from_slice(&base.positions);
+    let shift = u32::try_from(extra).expect("extra fits u32 indices");
+    Arc::new(WeldedMesh {
+        positions,
+        triangles: base.triangles.iter().map(|t| t.map(|i| i + shift)).collect(),
         source_triangle: base.source_triangle.clone(),
         degenerate_triangles: base.degenerate_triangles,
     })
@@ -423,5 +447,83 @@ fn child_render_target_out_of_memory() {
     let after = normal_frames(&ctx, &mut renderer, "target-after");
     renderer.destroy(gl);
     assert_same_pngs("GL_OUT_OF_MEMORY on the render target", &before, &after, &fresh_frames("target-fresh"));
+    println!("{CHILD_DONE}");
+}
+
+/// A method's own buffer the driver refuses, in `prepare`: `ts-silhouette`'s extended vertex
+/// buffer (`12 · (V + K)` bytes: every welded position up to the highest one used, then the
+/// count vertices) for the sphere scene after 6 M unused positions, 72 MB. The CPU builds that array itself
+/// before uploading it, so the headroom (1.5 x its size) lets the CPU copy be allocated and
+/// refuses llvmpipe's second copy. `prepare` returns `OutOfMemory` naming the buffer, the
+/// method does not count itself prepared, no GL error is left, and the SAME method instance
+/// then prepares and draws the normal scene exactly as a fresh instance on a fresh context.
+#[test]
+fn a_method_buffer_the_driver_refuses_fails_prepare_and_the_method_stays_usable() {
+    run_in_child("child_method_buffer_out_of_memory");
+}
+
+/// PNG bytes of one frame of `method` (an existing instance) over the sphere scene.
+fn method_frame(ctx: &HeadlessContext, renderer: &mut Renderer, method: &mut dyn ShadowMethod, tag: &str) -> Vec<u8> {
+    let gl = ctx.gl();
+    let scene = SceneGpu::upload(gl, sphere_over_ground()).unwrap_or_else(|e| panic!("{tag}: upload: {e}"));
+    let images = renderer
+        .render(gl, &scene, method, &frame(), None)
+        .unwrap_or_else(|e| panic!("{tag}: {}: the frame failed: {e}", method.name()));
+    scene.destroy(gl);
+    let path = out_dir().join(format!("{tag}.png"));
+    images.rgba.save_png(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+#[ignore = "helper: run in a child process by a_method_buffer_the_driver_refuses_fails_prepare_and_the_method_stays_usable"]
+fn child_method_buffer_out_of_memory() {
+    if !is_child("child_method_buffer_out_of_memory") {
+        return;
+    }
+    const NAME: &str = "ts-silhouette";
+    let ctx = context();
+    let gl = ctx.gl();
+    let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
+    let mut method = create_method(NAME).expect("method");
+    // prepared once for the normal scene: programs linked, caps ready (nothing left to
+    // allocate in the limited prepare but the patches)
+    let before = method_frame(&ctx, &mut renderer, method.as_mut(), "method-oom-before");
+
+    let big = SceneGpu::upload(gl, scene_after_unused_vertices(6_000_000)).expect("the big scene itself fits");
+    big.adjacency(); // built outside the limit: only the patches are allocated under it
+    let vertex_bytes = 12 * big.mesh().positions.len(); // + 12 K count vertices
+    let headroom = (vertex_bytes + vertex_bytes / 2) as u64;
+    let rss = status_kib("VmRSS");
+    let result = with_address_space_headroom(headroom, || method.prepare(gl, &big));
+    let grown = status_kib("VmRSS").saturating_sub(rss);
+    println!("{NAME} prepare with {headroom} bytes of headroom: {result:?}; resident memory grew by {grown} KiB");
+    match result {
+        Err(GlError::OutOfMemory { what, bytes, messages }) => {
+            assert!(what.contains("ts-silhouette vertex buffer"), "{what}");
+            assert!(bytes > vertex_bytes && (bytes - vertex_bytes).is_multiple_of(12), "{bytes} bytes");
+            assert!(messages.iter().any(|m| m.contains("GL_OUT_OF_MEMORY")), "{messages:?}");
+        }
+        Err(e) => panic!("{NAME} prepare: expected OutOfMemory, got {e}"),
+        Ok(()) => panic!("{NAME} prepare: a second {vertex_bytes}-byte copy fit in {headroom} bytes of headroom"),
+    }
+    assert_eq!(method.prepared_scene(), None, "the failed prepare counts as prepared");
+    assert!(grown < 32 * 1024, "the failed prepare left {grown} KiB resident");
+    assert!(ctx.take_gl_errors().is_empty(), "the failed prepare left GL errors behind");
+    big.destroy(gl);
+
+    let after = method_frame(&ctx, &mut renderer, method.as_mut(), "method-oom-after");
+    method.destroy(gl);
+    renderer.destroy(gl);
+    let fresh_ctx = context();
+    let mut fresh_renderer =
+        Renderer::new(fresh_ctx.gl()).expect("renderer").with_error_log(fresh_ctx.error_log().cloned());
+    let mut fresh_method = create_method(NAME).expect("method");
+    let fresh = method_frame(&fresh_ctx, &mut fresh_renderer, fresh_method.as_mut(), "method-oom-fresh");
+    fresh_method.destroy(fresh_ctx.gl());
+    fresh_renderer.destroy(fresh_ctx.gl());
+    assert!(distinct_colours(&before) > 3, "{NAME}: the frame is (nearly) uniform");
+    assert!(after == before, "{NAME}: the frame after the failed prepare differs from the one before it");
+    assert!(after == fresh, "{NAME}: the frame after the failed prepare differs from a fresh context's");
     println!("{CHILD_DONE}");
 }

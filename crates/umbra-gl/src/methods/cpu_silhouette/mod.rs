@@ -29,9 +29,10 @@ use glow::HasContext;
 use umbra_geom::silhouette::{extract_indexed, has_dark_caps, IndexedVolume, TriangleSlots};
 
 use crate::error::GlError;
+use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::scene::{checked_size, SceneGpu, SceneId};
+use crate::scene::{SceneGpu, SceneId};
 
 /// Registry name.
 pub const NAME: &str = "cpu-silhouette";
@@ -54,18 +55,23 @@ struct StreamBuffer {
 
 impl StreamBuffer {
     /// Orphans the buffer (a fresh store, so the driver never waits for the GPU to finish
-    /// reading last frame's data) and uploads `data` at offset 0.
+    /// reading last frame's data) and uploads `data` at offset 0. A store the driver refuses
+    /// is [`GlError::OutOfMemory`] ([`buffer_store`]); the capacity is then 0 (GL leaves a
+    /// refused store empty), so the next frame specifies a new one again.
     fn upload(&mut self, gl: &glow::Context, data: &[u8], what: &'static str) -> Result<(), GlError> {
         if data.len() > self.capacity {
             self.capacity = data.len().max(self.capacity + self.capacity / 2);
         }
-        let capacity = checked_size(self.capacity, what)?;
-        // SAFETY: our own buffer; data.len() <= capacity.
-        unsafe {
-            gl.named_buffer_data_size(self.buffer, capacity, glow::STREAM_DRAW);
-            if !data.is_empty() {
-                gl.named_buffer_sub_data_u8_slice(self.buffer, 0, data);
-            }
+        if let Err(e) =
+            buffer_store(gl, self.buffer, BufferApi::Dsa, BufferData::Size(self.capacity), glow::STREAM_DRAW, what)
+        {
+            self.capacity = 0;
+            return Err(e);
+        }
+        if !data.is_empty() {
+            // SAFETY: our own buffer, whose store has just been specified with
+            // capacity >= data.len() bytes.
+            unsafe { gl.named_buffer_sub_data_u8_slice(self.buffer, 0, data) };
         }
         Ok(())
     }

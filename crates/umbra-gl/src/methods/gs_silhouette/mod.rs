@@ -32,6 +32,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
+use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::silhouette_caps::{fragment_source, with_prelude, SilhouetteCaps, THREE_EDGE_DEFINE};
 use crate::methods::ts_silhouette::patches::{
     choose_capacity, gs_capacity_limit, EdgePatches, MIN_MAX_GEOMETRY_OUTPUT_VERTICES,
@@ -205,7 +206,7 @@ fn upload(gl: &glow::Context, p: &EdgePatches) -> Result<Buffers, GlError> {
     let patch_count = i32::try_from(p.patch_count())
         .map_err(|_| GlError::InvalidParams(format!("{} edge patches exceed one draw call", p.patch_count())))?;
     // SAFETY: DSA creation and static uploads on the current context; every object created
-    // here is deleted if a later creation fails.
+    // here is deleted if a later creation or store fails.
     unsafe {
         let vertices = gl
             .create_named_buffer()
@@ -227,8 +228,31 @@ fn upload(gl: &glow::Context, p: &EdgePatches) -> Result<Buffers, GlError> {
         };
         // Static: built once per mesh, read by every frame. A zero-size store cannot be bound
         // as a storage buffer: an empty mesh gets 4 bytes (never read, no points are drawn).
-        gl.named_buffer_data_u8_slice(vertices, non_empty(vertex_bytes), glow::STATIC_DRAW);
-        gl.named_buffer_data_u8_slice(elements, non_empty(element_bytes), glow::STATIC_DRAW);
+        // A store the driver refuses is GlError::OutOfMemory: nothing of ours is left behind.
+        let stores = buffer_store(
+            gl,
+            vertices,
+            BufferApi::Dsa,
+            BufferData::Bytes(non_empty(vertex_bytes)),
+            glow::STATIC_DRAW,
+            "gs-silhouette vertex buffer",
+        )
+        .and_then(|()| {
+            buffer_store(
+                gl,
+                elements,
+                BufferApi::Dsa,
+                BufferData::Bytes(non_empty(element_bytes)),
+                glow::STATIC_DRAW,
+                "gs-silhouette element buffer",
+            )
+        });
+        if let Err(e) = stores {
+            gl.delete_vertex_array(vao);
+            gl.delete_buffer(vertices);
+            gl.delete_buffer(elements);
+            return Err(e);
+        }
         Ok(Buffers { vao, vertices, elements, patch_count, bytes: p.bytes() })
     }
 }

@@ -35,6 +35,7 @@ use glow::HasContext;
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::GlError;
+use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::silhouette_caps::{fragment_source, variant_defines, with_prelude, SilhouetteCaps};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
@@ -182,7 +183,7 @@ fn upload(gl: &glow::Context, p: &EdgePatches) -> Result<Buffers, GlError> {
     let index_count = i32::try_from(p.elements.len())
         .map_err(|_| GlError::InvalidParams(format!("{} patch indices exceed one draw call", p.elements.len())))?;
     // SAFETY: DSA creation and static uploads on the current context; every object created
-    // here is deleted if a later creation fails.
+    // here is deleted if a later creation or store fails.
     unsafe {
         let vertices = gl
             .create_named_buffer()
@@ -203,8 +204,31 @@ fn upload(gl: &glow::Context, p: &EdgePatches) -> Result<Buffers, GlError> {
             }
         };
         // Static: built once per mesh, read by every frame.
-        gl.named_buffer_data_u8_slice(vertices, vertex_bytes, glow::STATIC_DRAW);
-        gl.named_buffer_data_u8_slice(elements, element_bytes, glow::STATIC_DRAW);
+        // A store the driver refuses is GlError::OutOfMemory: nothing of ours is left behind.
+        let stores = buffer_store(
+            gl,
+            vertices,
+            BufferApi::Dsa,
+            BufferData::Bytes(vertex_bytes),
+            glow::STATIC_DRAW,
+            "ts-silhouette vertex buffer",
+        )
+        .and_then(|()| {
+            buffer_store(
+                gl,
+                elements,
+                BufferApi::Dsa,
+                BufferData::Bytes(element_bytes),
+                glow::STATIC_DRAW,
+                "ts-silhouette element buffer",
+            )
+        });
+        if let Err(e) = stores {
+            gl.delete_vertex_array(vao);
+            gl.delete_buffer(vertices);
+            gl.delete_buffer(elements);
+            return Err(e);
+        }
         // Attribute 0: vec3 (position, or count in x), tightly packed.
         gl.vertex_array_vertex_buffer(vao, 0, Some(vertices), 0, patches::VERTEX_BYTES as i32);
         gl.vertex_array_attrib_format_f32(vao, 0, 3, glow::FLOAT, false, 0);

@@ -47,6 +47,7 @@ use umbra_geom::sides_data::{
 use umbra_geom::{EdgeAdjacency, Light, WeldedMesh};
 
 use crate::error::GlError;
+use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -286,10 +287,16 @@ impl RecordArrays {
         // call; every attribute of instance i reads inside record per_instance * i + j <
         // records (main) or inside the last `rest` records (remainder).
         unsafe {
-            let buffer = gl.create_buffer().map_err(|detail| GlError::Create { what, detail })?;
-            gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
-            // STATIC_DRAW: uploaded once per mesh, read by every frame.
-            gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+            // STATIC_DRAW: uploaded once per mesh, read by every frame. Left bound to
+            // GL_ARRAY_BUFFER, which the vertex_attrib_pointer calls below read; a store the
+            // driver refuses is GlError::OutOfMemory and leaves no buffer behind.
+            let buffer = buffer_with_data(
+                gl,
+                BufferApi::Bind(glow::ARRAY_BUFFER),
+                BufferData::Bytes(bytes),
+                glow::STATIC_DRAW,
+                what,
+            )?;
             let vao_for = |sets: usize, base: usize| -> Result<glow::VertexArray, GlError> {
                 let vao = gl.create_vertex_array().map_err(|detail| GlError::Create { what, detail })?;
                 gl.bind_vertex_array(Some(vao));
