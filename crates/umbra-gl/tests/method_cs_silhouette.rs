@@ -3,6 +3,8 @@
 //!   from the indirect commands), for every light kind, many lights per frame (counter reset);
 //! * the stencil equals cpu-silhouette's value for value, including non-manifold edges with
 //!   multiplicities far above 3 bits (a 40-page book: |m| up to 40);
+//! * an edge with 100,000 opposites (split into records: llvmpipe ends shader loops at 65,535
+//!   iterations) emits exactly cpu-silhouette's quads and stencil;
 //! * the worst case Σ|m| = Σk fills the output buffer exactly, without overflow;
 //! * gpu_bytes is the documented formula.
 
@@ -13,7 +15,7 @@ use std::sync::Arc;
 use common::*;
 use umbra_geom::silhouette::{extract, VolumeGeometry};
 use umbra_geom::{weld::weld, EdgeAdjacency, Mesh, WeldedMesh};
-use umbra_gl::methods::cs_silhouette::CsSilhouette;
+use umbra_gl::methods::cs_silhouette::{CsSilhouette, MAX_OPPOSITES_PER_RECORD};
 use umbra_gl::{
     Camera, FrameParams, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilCapture, StencilImage,
 };
@@ -211,4 +213,41 @@ fn worst_case_output_fills_the_buffer_exactly() {
     let expected = 16 * adj.len() + 12 * adj.opposites.len() + 12 * mesh.triangles.len() + 32;
     assert_eq!(cs.gpu_bytes, expected);
     assert_eq!(cpu.stencil.len(), 1);
+}
+
+/// The 100,000-page book of umbra-verify's stencil_wrap (one spine edge with 100,000
+/// opposites, |m| = 100,000 under a light from above): the compute pass must emit exactly
+/// cpu-silhouette's side quads and caps.
+#[test]
+fn spine_with_100k_opposites_counts_equal_cpu() {
+    const PAGES: usize = 100_000;
+    let ctx = context();
+    let mut m = Mesh { positions: vec![[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]], ..Mesh::default() };
+    for i in 0..PAGES {
+        let a = (-10.0 + 20.0 * (i as f64 + 0.5) / PAGES as f64).to_radians();
+        let r = [1.0f64, 0.8, 0.6, 0.4][i % 4];
+        m.positions.push([(r * a.cos()) as f32, (r * a.sin()) as f32, 0.0]);
+        m.triangles.push([0, 1, 2 + i as u32]);
+    }
+    m.append(&umbra_geom::scene::ground_plane([0.0, -2.0, 0.0], 10.0));
+    let mesh = Arc::new(weld(&m));
+    let light = [0.0, 1.0, 0.0, 0.0];
+    let p =
+        params(Camera { eye: [0.37, -1.0, 2.5], target: [0.45, -2.0, 0.0], ..default_camera() }, vec![light], 64, 48);
+    let cs = render_cs(&ctx, &mesh, &p);
+    let (sides, caps) = cs.counts.expect("prepared");
+    let (cpu_sides, cpu_caps) = cpu_counts(&mesh, light, false);
+    assert_eq!(sides, cpu_sides, "side vertices (llvmpipe ends a shader loop at 65,535 iterations)");
+    assert_eq!(caps, cpu_caps, "cap vertices");
+    // The spine is split into ceil(100,000 / MAX_OPPOSITES_PER_RECORD) records: gpu_bytes
+    // counts 16 bytes per record.
+    let adj = EdgeAdjacency::build(&mesh);
+    let extra = (PAGES as u32).div_ceil(MAX_OPPOSITES_PER_RECORD) as usize - 1;
+    assert!(extra > 0, "the spine must be split");
+    let expected = 16 * (adj.len() + extra) + 12 * adj.opposites.len() + 12 * mesh.triangles.len() + 32;
+    assert_eq!(cs.gpu_bytes, expected);
+    // And the stencil, value for value (both wrap the same way at 8 bits).
+    let cpu = render_cpu(&ctx, &mesh, &p);
+    assert!(cpu.stencil[0].pixels.iter().any(|&v| v != 0), "the shadow is in view");
+    assert_same_stencil(&ctx, "cs_spine_100k", &cpu.stencil[0], &cs.stencil[0]);
 }

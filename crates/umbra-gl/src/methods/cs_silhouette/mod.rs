@@ -6,8 +6,15 @@
 //! `multiplicity.glsl`), sides extruded with Eq. 2, caps oriented by the same test; light caps
 //! pushed to the far plane (paper 003, Eq. 6) with the infinite far plane.
 //!
-//! Once per mesh ([`ShadowMethod::prepare`]): per edge `(A, B, first opposite, count)` and the
-//! opposite-vertex list (CSR) in shader-storage buffers; output buffers sized for the worst
+//! Once per mesh ([`ShadowMethod::prepare`]): per edge record `(A, B, first opposite, count)` and
+//! the opposite-vertex list (CSR) in shader-storage buffers. An edge with more than
+//! [`MAX_OPPOSITES_PER_RECORD`] opposites is split into several records over consecutive
+//! ranges of its opposites: llvmpipe (Mesa gallivm, `LP_MAX_TGSI_LOOP_ITERATIONS`) silently
+//! ends every shader loop after 65,535 iterations, so one invocation looping over a spine of
+//! 100,000 pages counted only 65,535 of them. Each record's partial multiplicity `m_r` emits
+//! `|m_r|` quads with its own sign; the stencil counts are additive, so the sides of all the
+//! records of an edge count exactly `m = Σ m_r` (opposite-signed quads of the same edge cancel;
+//! `Σ|m_r| <= Σk` keeps the worst-case sizing). Output buffers sized for the worst
 //! case: one 8-byte quad record per opposite vertex (`|m| <= k`, so `Σ|m| <= Σk`) and one
 //! 12-byte cap record per triangle; two 16-byte `DrawArraysIndirectCommand`s. The scene's own
 //! position and index buffers are read as shader storage (not copied).
@@ -16,9 +23,9 @@
 //! 1. `glMemoryBarrier(SHADER_STORAGE | BUFFER_UPDATE)`, then the two commands reset to
 //!    `{count 0, 1 instance}` with glNamedBufferSubData (see [`CsSilhouette::draw_volumes`]
 //!    for why each barrier bit is there);
-//! 2. "silhouette": `sides.comp.glsl`, one invocation per edge, writes `|m|` quad records
+//! 2. "silhouette": `sides.comp.glsl`, one invocation per edge record, writes `|m|` quad records
 //!    `(X, Y)` (the quad `Y X X∞ Y∞`, X/Y = A/B swapped for `m < 0`) compacted with an atomic
-//!    counter: the sides command's vertex count, reserved once per workgroup;
+//!    counter: the sides command's vertex count, one atomicAdd per record with m != 0;
 //! 3. "cap-orientation" (z-fail only): `caps.comp.glsl`, one invocation per triangle, writes
 //!    the cap's three vertex indices wound to face the light, compacted the same way;
 //! 4. `glMemoryBarrier(COMMAND | SHADER_STORAGE)`;
@@ -30,6 +37,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
+use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{checked_size, SceneGpu, SceneId};
@@ -44,6 +52,11 @@ const CAPS_COMP: &str = include_str!("caps.comp.glsl");
 const SIDES_VERT: &str = include_str!("sides.vert.glsl");
 const CAPS_VERT: &str = include_str!("caps.vert.glsl");
 const FRAG: &str = include_str!("volume.frag.glsl");
+
+/// Most opposites one compute invocation loops over (one edge record). The multiplicity loop
+/// and the quad-writing loop together stay below llvmpipe's 65,535 iterations per shader
+/// loop (even if the limit were shared by both loops of an invocation).
+pub const MAX_OPPOSITES_PER_RECORD: u32 = 16_384;
 
 /// `local_size_x` of both compute shaders.
 const WORKGROUP: u32 = 256;
@@ -73,6 +86,9 @@ pub const EDGE_RECORD_BYTES: usize = 16;
 pub struct Layout {
     /// Unique edges.
     pub edges: usize,
+    /// Edge records: `edges` plus the extra records of edges split at
+    /// [`MAX_OPPOSITES_PER_RECORD`] opposites.
+    pub records: usize,
     /// Σk: opposite vertices over all edges = worst-case side quads.
     pub opposites: usize,
     /// Triangles (one cap record each).
@@ -80,9 +96,9 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// Bytes of the edge buffer.
+    /// Bytes of the edge-record buffer.
     pub fn edge_bytes(&self) -> usize {
-        EDGE_RECORD_BYTES * self.edges
+        EDGE_RECORD_BYTES * self.records
     }
     /// Bytes of the opposite-vertex buffer (one u32 each).
     pub fn opposite_bytes(&self) -> usize {
@@ -275,7 +291,25 @@ impl ShadowMethod for CsSilhouette {
         }
         let max_groups = max_groups.clamp(1, i32::MAX) as u32;
 
-        let layout = Layout { edges: adj.len(), opposites: adj.opposites.len(), triangles: mesh.triangles.len() };
+        let mut edge_words = Vec::with_capacity(4 * adj.len());
+        for (e, &[a, b]) in adj.edges.iter().enumerate() {
+            let (mut start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
+            // At least one record per edge (an edge without opposites contributes nothing).
+            loop {
+                let n = (end - start).min(MAX_OPPOSITES_PER_RECORD);
+                edge_words.extend_from_slice(&[a, b, start, n]);
+                start += n;
+                if start >= end {
+                    break;
+                }
+            }
+        }
+        let layout = Layout {
+            edges: adj.len(),
+            records: edge_words.len() / 4,
+            opposites: adj.opposites.len(),
+            triangles: mesh.triangles.len(),
+        };
         // 6 vertices per worst-case quad and per cap must fit one indirect draw's count.
         if u32::try_from(6 * layout.opposites.max(layout.triangles)).is_err() {
             return Err(GlError::InvalidParams(format!(
@@ -283,15 +317,10 @@ impl ShadowMethod for CsSilhouette {
                 layout.opposites, layout.triangles
             )));
         }
-        let mut edge_words = Vec::with_capacity(4 * adj.len());
-        for (e, &[a, b]) in adj.edges.iter().enumerate() {
-            let start = adj.opposite_start[e];
-            edge_words.extend_from_slice(&[a, b, start, adj.opposite_start[e + 1] - start]);
-        }
         checked_size(layout.edge_bytes(), "cs-silhouette edge buffer")?;
         checked_size(layout.opposite_bytes(), "cs-silhouette opposite buffer")?;
-        let quad_bytes = checked_size(layout.quad_bytes(), "cs-silhouette quad buffer")?;
-        let cap_bytes = checked_size(layout.cap_bytes(), "cs-silhouette cap buffer")?;
+        checked_size(layout.quad_bytes(), "cs-silhouette quad buffer")?;
+        checked_size(layout.cap_bytes(), "cs-silhouette cap buffer")?;
 
         let programs = Self::link_all(gl)?;
         // SAFETY: DSA object creation and uploads on the current context; every object is
@@ -335,13 +364,30 @@ impl ShadowMethod for CsSilhouette {
             };
             let [edges, opposites, quads, caps, commands] =
                 [buffers[0], buffers[1], buffers[2], buffers[3], buffers[4]];
-            // Read-only inputs: STATIC_DRAW (uploaded once, read by every frame).
-            gl.named_buffer_data_u8_slice(edges, u32_bytes(&edge_words), glow::STATIC_DRAW);
-            gl.named_buffer_data_u8_slice(opposites, u32_bytes(&adj.opposites), glow::STATIC_DRAW);
-            // Written and read by the GPU every frame: DYNAMIC_COPY.
-            gl.named_buffer_data_size(quads, quad_bytes, glow::DYNAMIC_COPY);
-            gl.named_buffer_data_size(caps, cap_bytes, glow::DYNAMIC_COPY);
-            gl.named_buffer_data_size(commands, (2 * COMMAND_BYTES) as i32, glow::DYNAMIC_COPY);
+            // Checked stores: a refused allocation (GL_OUT_OF_MEMORY) is this call's typed
+            // error, never an empty buffer counted as ready.
+            let stores = [
+                // Read-only inputs: STATIC_DRAW (uploaded once, read by every frame).
+                (edges, BufferData::Bytes(u32_bytes(&edge_words)), glow::STATIC_DRAW, "cs-silhouette edges"),
+                (opposites, BufferData::Bytes(u32_bytes(&adj.opposites)), glow::STATIC_DRAW, "cs-silhouette opposites"),
+                // Written and read by the GPU every frame: DYNAMIC_COPY.
+                (quads, BufferData::Size(layout.quad_bytes()), glow::DYNAMIC_COPY, "cs-silhouette quads"),
+                (caps, BufferData::Size(layout.cap_bytes()), glow::DYNAMIC_COPY, "cs-silhouette caps"),
+                (commands, BufferData::Size(2 * COMMAND_BYTES), glow::DYNAMIC_COPY, "cs-silhouette commands"),
+            ];
+            let stored = stores
+                .into_iter()
+                .try_for_each(|(b, data, usage, what)| buffer_store(gl, b, BufferApi::Dsa, data, usage, what));
+            if let Err(e) = stored {
+                for b in buffers {
+                    gl.delete_buffer(b);
+                }
+                gl.delete_vertex_array(empty_vao);
+                for p in programs.all() {
+                    gl.delete_program(p);
+                }
+                return Err(e);
+            }
             self.gpu = Some(Gpu { programs, empty_vao, edges, opposites, quads, caps, commands, layout, max_groups });
         }
         self.prepared = Some(scene.id());
@@ -392,7 +438,7 @@ impl ShadowMethod for CsSilhouette {
                 // Compute stage: multiplicity per edge and compaction (sides.comp.glsl).
                 gl.use_program(Some(p.sides_comp));
                 gl.uniform_4_f32_slice(uniform(gl, p.sides_comp, "u_light").as_ref(), &light);
-                gl.uniform_1_u32(uniform(gl, p.sides_comp, "u_edge_count").as_ref(), l.edges as u32);
+                gl.uniform_1_u32(uniform(gl, p.sides_comp, "u_edge_count").as_ref(), l.records as u32);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, EDGES, Some(g.edges));
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, OPPOSITES, Some(g.opposites));
                 gl.bind_buffer_range(
@@ -403,7 +449,7 @@ impl ShadowMethod for CsSilhouette {
                     COMMAND_BYTES as i32,
                 );
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUADS, Some(g.quads));
-                Self::dispatch(gl, p.sides_comp, "u_first_edge", l.edges, g.max_groups);
+                Self::dispatch(gl, p.sides_comp, "u_first_edge", l.records, g.max_groups);
             }
         }
         frame.mark(gl, "cap-orientation");

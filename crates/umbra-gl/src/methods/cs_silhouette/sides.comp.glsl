@@ -5,7 +5,13 @@
 // vertex shader that draws the result (sides.vert.glsl). Any multiplicity: an edge with
 // multiplicity m writes |m| quad records (no 3-bit packing as in the authors' version).
 //
-// One invocation per edge. Compaction: an edge with m != 0 (a small fraction of all edges)
+// One invocation per edge record: an edge with more than MAX_OPPOSITES_PER_RECORD (mod.rs)
+// opposites is split into records over consecutive ranges of its opposites, because llvmpipe
+// ends every shader loop after 65,535 iterations (Mesa gallivm LP_MAX_TGSI_LOOP_ITERATIONS):
+// a 100,000-page spine looped here in one invocation counted 65,535 pages. A record emits the
+// quads of its partial multiplicity with its own sign; the stencil counts of an edge's records
+// add up to its multiplicity (opposite-signed quads of one edge cancel).
+// Compaction: a record with m != 0 (a small fraction of all edges)
 // reserves its |m| slots with one atomicAdd on the indirect draw command's vertex count (the
 // atomic counter, 6 vertices per quad) and writes its quads there. No shared memory and no
 // barrier(): a workgroup-level reservation (shared-memory sum, one atomic per workgroup,
@@ -19,7 +25,8 @@ layout(local_size_x = 256) in;
 
 // Welded positions, tightly packed vec3 (the scene's vertex buffer): 3 floats per vertex.
 layout(std430, binding = 1) readonly buffer Positions { float positions[]; };
-// Per edge: (A, B, first opposite, opposite count), A < B in umbra_greater order.
+// Per edge record: (A, B, first opposite, opposite count <= MAX_OPPOSITES_PER_RECORD),
+// A < B in umbra_greater order.
 layout(std430, binding = 2) readonly buffer Edges { uvec4 edges[]; };
 layout(std430, binding = 3) readonly buffer Opposites { uint opposites[]; };
 // DrawArraysIndirectCommand of the sides draw; `count` (vertices) is the atomic counter.
@@ -35,7 +42,7 @@ layout(std430, binding = 5) writeonly buffer Quads { uvec2 quads[]; };
 
 uniform vec4 u_light;
 uniform uint u_first_edge;  // several dispatches when the edges exceed one dispatch's groups
-uniform uint u_edge_count;
+uniform uint u_edge_count;  // edge records
 
 vec3 umbra_position(uint i) {
     return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
