@@ -275,6 +275,27 @@ struct PassView {
 }
 
 impl PassView {
+    /// The [`VolumeFrame`] a method gets for `light` in this view: drawn into the view's
+    /// framebuffer, 8-bit stencil counting, no state override, no hook (the volume pass sets
+    /// those it needs).
+    fn volume_frame(&self, params: &FrameParams, light: Light, light_index: usize, source: &'static str) -> VolumeFrame<'static> {
+        VolumeFrame {
+            clip_from_world: self.clip_from_world,
+            eye: self.eye,
+            light,
+            light_index,
+            zpass: params.zpass,
+            width: params.width,
+            height: params.height,
+            target_framebuffer: self.fb,
+            depth_convention: self.convention,
+            counter: Counter::Stencil8,
+            state_override: None,
+            source,
+            hook: None,
+        }
+    }
+
     fn new(params: &FrameParams, fb: Option<glow::Framebuffer>) -> Self {
         let convention = params.depth_convention;
         let aspect = params.width as f64 / params.height as f64;
@@ -888,21 +909,7 @@ impl Renderer {
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }
-        let frame = VolumeFrame {
-            clip_from_world: view.clip_from_world,
-            eye: view.eye,
-            light,
-            light_index: 0,
-            zpass: params.zpass,
-            width: params.width,
-            height: params.height,
-            target_framebuffer: view.fb,
-            depth_convention: view.convention,
-            counter: Counter::Stencil8,
-            state_override: None,
-            source: method.name(),
-            hook: None,
-        };
+        let frame = view.volume_frame(params, light, 0, method.name());
         method.bind_lighting(gl, program, &frame)?;
         scene.draw_triangles(gl);
         Ok(())
@@ -1154,24 +1161,16 @@ impl Renderer {
         }
         {
             let mut frame = VolumeFrame {
-                clip_from_world: view.clip_from_world,
-                eye: view.eye,
-                light,
-                light_index,
-                zpass: params.zpass,
-                width: params.width,
-                height: params.height,
                 target_framebuffer: target,
-                depth_convention: view.convention,
                 counter,
                 state_override: self.volume_state_override,
-                source: method.name(),
                 // Re-borrow with a shorter trait-object lifetime (an Option blocks the
                 // automatic coercion).
                 hook: match hook.as_mut() {
                     Some(h) => Some(&mut **h as &mut dyn StageHook),
                     None => None,
                 },
+                ..view.volume_frame(params, light, light_index, method.name())
             };
             // Reason: light caps of casters the camera's near plane cuts are clipped at that
             // plane before they are pushed to the far plane (methods/shared/depth.glsl): the
@@ -1303,21 +1302,7 @@ impl Renderer {
         }
         if classification == Classification::Shader {
             let program = p.program;
-            let frame = VolumeFrame {
-                clip_from_world: view.clip_from_world,
-                eye: view.eye,
-                light,
-                light_index,
-                zpass: params.zpass,
-                width: params.width,
-                height: params.height,
-                target_framebuffer: view.fb,
-                depth_convention: view.convention,
-                counter: Counter::Stencil8,
-                state_override: None,
-                source: method.name(),
-                hook: None,
-            };
+            let frame = view.volume_frame(params, light, light_index, method.name());
             method.bind_lighting(gl, program, &frame)?;
         }
         scene.draw_triangles(gl);

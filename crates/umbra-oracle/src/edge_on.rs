@@ -133,9 +133,13 @@ pub fn side_casting_edges(mesh: &WeldedMesh, light: Light) -> std::collections::
 
 /// Marks, in `band` (row-major, top row first, `width * height`), the pixels an almost
 /// edge-on side face of some triangle edge may cover (module doc). Returns the number of such
-/// faces. `is_sample(i)` says whether pixel `i` holds a sample (background is never band).
+/// faces. `casting` are the edges that cast a side face for `light`
+/// ([`side_casting_edges`]); `is_sample(i)` says whether pixel `i` holds a sample (background
+/// is never band).
+#[allow(clippy::too_many_arguments)]
 pub fn mark_edge_on(
     mesh: &WeldedMesh,
+    casting: &std::collections::HashSet<[u32; 2]>,
     light: Light,
     eye: [f64; 3],
     view: &RasterView,
@@ -158,15 +162,11 @@ pub fn mark_edge_on(
     let pixel_angle = 2.0 / (f64::from(height) * f_y);
     let (w, h) = (f64::from(width), f64::from(height));
     let mut slivers = 0;
-    let adjacency = EdgeAdjacency::build(mesh);
     let pos = |k: u32| mesh.positions[k as usize].map(f64::from);
-    for e in 0..adjacency.len() {
-        let [ia, ib] = adjacency.edges[e];
+    // Only edges that cast a side face for some exact method (sliver or not). The marks are
+    // an OR, so the set's iteration order does not matter.
+    for &[ia, ib] in casting {
         let (a, b) = (pos(ia), pos(ib));
-        // Only edges that cast a side face for some exact method (sliver or not).
-        if !casts_side(mesh, &adjacency, e, light) {
-            continue;
-        }
         {
             let (da, db) = face(a, b, light);
             // The face's plane: through a, b and the directions to infinity.

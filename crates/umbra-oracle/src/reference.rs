@@ -253,8 +253,8 @@ pub fn reference_in_view(
 
     let eps = segment_epsilon(&mesh.positions);
     let shading = Shading::new(light, eye);
-    // The edges that cast a side face for this light, for the *touching* part of the band
-    // (with the view only: its margin is the depth test's).
+    // The edges that cast a side face for this light (one edge adjacency per reference), for
+    // the *touching* and *edge-on* parts of the band (with the view only).
     let casting = view.map(|_| crate::edge_on::side_casting_edges(mesh, light));
     let mut class = vec![SampleClass::Background; pixels];
     let mut grazing = vec![false; pixels];
@@ -281,9 +281,9 @@ pub fn reference_in_view(
             });
     }
     let mut band = boundary_band(width, height, &class, &grazing);
-    if let Some(v) = view {
+    if let (Some(v), Some(casting)) = (view, casting.as_ref()) {
         let eye = eye.map(f64::from);
-        crate::edge_on::mark_edge_on(mesh, light, eye, v, width, height, &mut band, |i| class[i] != SampleClass::Background);
+        crate::edge_on::mark_edge_on(mesh, casting, light, eye, v, width, height, &mut band, |i| class[i] != SampleClass::Background);
     }
     Ok(Reference { width, height, class, band })
 }

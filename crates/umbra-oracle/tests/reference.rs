@@ -514,7 +514,7 @@ fn sample_lit_only_by_the_epsilon_is_band() {
 
 #[test]
 fn side_face_seen_edge_on_marks_its_line() {
-    use umbra_oracle::edge_on::{mark_edge_on, EDGE_ON_PIXELS};
+    use umbra_oracle::edge_on::{mark_edge_on, side_casting_edges, EDGE_ON_PIXELS};
     use umbra_oracle::RasterView;
     // The square occluder's edge x = 1 (y = 1) and the light (0, 10, 0) span the plane
     // x = 1 - (y - 1) / 9. An eye in that plane sees the edge's side face edge-on: its image
@@ -527,7 +527,8 @@ fn side_face_seen_edge_on_marks_its_line() {
         let clip_from_world = clip_from_world_looking(eye, [1.0, 0.0, 0.0], 60.0, 1.0, 0.1);
         let view = RasterView { clip_from_world };
         let mut band = vec![false; 64 * 64];
-        let faces = mark_edge_on(&mesh, light, eye, &view, 64, 64, &mut band, |_| true);
+        let casting = side_casting_edges(&mesh, light);
+        let faces = mark_edge_on(&mesh, &casting, light, eye, &view, 64, 64, &mut band, |_| true);
         (faces, band, clip_from_world)
     };
     let in_plane = [1.0 - 19.0 / 9.0, 20.0, 5.0];
