@@ -58,6 +58,12 @@ pub struct ViewArgs {
     /// Use z-pass stencil counting instead of z-fail (wrong when the camera is inside a shadow).
     #[arg(long)]
     pub zpass: bool,
+    /// How shadow volumes count: `zfail` (always: Carmack's reverse, caps at infinity),
+    /// `zpass` (always: wrong when the camera is inside a shadow volume) or `auto` (z-pass for
+    /// each light whose volumes provably leave the eye out, z-fail for the others; exact, and
+    /// faster: no caps, volumes clipped to the scene). `--zpass` is `--zmode zpass`.
+    #[arg(long, default_value = "auto")]
+    pub zmode: String,
     /// Largest accepted input file in bytes, after decompression.
     #[arg(long)]
     pub max_input_bytes: Option<u64>,
@@ -223,6 +229,12 @@ pub struct BenchArgs {
     /// z-pass stencil counting instead of z-fail.
     #[arg(long)]
     pub zpass: bool,
+    /// How shadow volumes count: `zfail` (always: Carmack's reverse, caps at infinity),
+    /// `zpass` (always: wrong when the camera is inside a shadow volume) or `auto` (z-pass for
+    /// each light whose volumes provably leave the eye out, z-fail for the others; exact, and
+    /// faster: no caps, volumes clipped to the scene). `--zpass` is `--zmode zpass`.
+    #[arg(long, default_value = "auto")]
+    pub zmode: String,
     /// Shadow-volume counter: `stencil8` (the 8-bit stencil; wraps when 256 or more
     /// triangles lie between a sample and the light), `float32` (an exact f32 count resolved
     /// into the stencil) or `auto` (float32 only when a sound bound of that count reaches 256).
@@ -236,6 +248,11 @@ pub struct BenchArgs {
     /// Test hook: print the interleaving order to stderr (`bench-order warmup|frame ROUND METHOD`).
     #[arg(long, hide = true)]
     pub trace_order: bool,
+    /// Print one line per drawn frame to stderr as it finishes
+    /// (`umbra bench: LABEL warmup|frame ROUND METHOD MS ms`), so a long run's partial
+    /// results survive in a log when it is stopped.
+    #[arg(long)]
+    pub log: bool,
 }
 
 /// Flags of `umbra export` (see crate::export).

@@ -113,10 +113,14 @@ pub struct MeasureOptions {
     pub stage_every: usize,
     pub fov: f64,
     pub zpass: bool,
+    /// `--zmode auto`: z-pass where provably exact.
+    pub auto_zpass: bool,
     /// `--counter` (resolved per scene and lights in [`measure`]).
     pub counter: crate::methods::CounterChoice,
     pub sm: SmOptions,
     pub trace_order: bool,
+    /// `--log`: one stderr line per drawn frame.
+    pub log: bool,
     pub progress_label: String,
 }
 
@@ -133,6 +137,9 @@ pub struct MethodStats {
     /// The counter the method's volume pass used ("stencil8", "float32", or "none" for a
     /// method that does not count in the stencil).
     pub counter: String,
+    /// Measured frames' lights counted z-pass, and all measured frames' lights.
+    pub zpass_lights: usize,
+    pub lights: usize,
 }
 
 impl MethodStats {
@@ -300,6 +307,7 @@ pub fn measure(
         width: o.width,
         height: o.height,
         zpass: o.zpass,
+        auto_zpass: o.auto_zpass,
     };
     let mut s = Session::new(&view)?;
     let mut params = s.frame_params(&view);
@@ -348,6 +356,10 @@ pub fn measure(
             continue;
         }
         let frame_ms = timings.iter().map(|t| t.cpu_ns).sum::<u64>() as f64 / 1e6;
+        if o.log {
+            let kind = if slot.warmup { "warmup" } else { "frame" };
+            eprintln!("umbra bench: {} {kind} {} {} {frame_ms:.1} ms", o.progress_label, slot.round, st.method);
+        }
         let stage_round = o.stage_every > 0 && (slot.warmup || slot.round % o.stage_every == 0);
         if stage_round {
             let drawn = s.renderer.draw_frame(gl, &s.scene, method, &params, fb, Some(&mut stage_hook));
@@ -368,6 +380,8 @@ pub fn measure(
         }
         if !slot.warmup {
             st.frame_ms.push(frame_ms);
+            st.zpass_lights += s.renderer.last_zpass().iter().filter(|z| **z).count();
+            st.lights += params.lights.len();
         }
     }
     progress.done();
@@ -396,6 +410,8 @@ pub struct JsonRow {
     pub triangles: usize,
     /// "stencil8", "float32", or "none" (the method does not count in the stencil).
     pub counter: String,
+    /// Share of the measured frames' lights counted z-pass (`--zmode`), 0 to 1.
+    pub zpass_share: f64,
     pub width: u32,
     pub height: u32,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -427,6 +443,7 @@ pub fn json_rows(
             scene: scene.to_string(),
             triangles: m.triangles,
             counter: s.counter.clone(),
+            zpass_share: if s.lights == 0 { 0.0 } else { s.zpass_lights as f64 / s.lights as f64 },
             width,
             height,
             run: run.map(str::to_string),
@@ -553,10 +570,12 @@ pub fn measure_options(
         warmup: a.warmup.unwrap_or(2),
         stage_every: a.stage_every.unwrap_or(stage_every_default),
         fov: a.fov,
-        zpass: a.zpass,
+        zpass: crate::config::parse_zmode(&a.zmode, a.zpass)?.0,
+        auto_zpass: crate::config::parse_zmode(&a.zmode, a.zpass)?.1,
         counter: crate::methods::CounterChoice::parse(&a.counter, "--counter")?,
         sm: SmOptions::from_args(&a.sm)?,
         trace_order: a.trace_order,
+        log: a.log,
         progress_label: label.to_string(),
     })
 }

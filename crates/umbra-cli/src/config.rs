@@ -118,7 +118,21 @@ pub struct ViewConfig {
     pub lights: Vec<Light>,
     pub width: u32,
     pub height: u32,
+    /// z-pass for every light (`--zpass`, `--zmode zpass`).
     pub zpass: bool,
+    /// z-pass where provably exact (`--zmode auto`, the default).
+    pub auto_zpass: bool,
+}
+
+/// `--zmode` (and `--zpass`, its older spelling of `zpass`) as (force z-pass, auto z-pass).
+pub fn parse_zmode(zmode: &str, zpass: bool) -> Result<(bool, bool), CliError> {
+    match (zmode.trim(), zpass) {
+        ("auto", false) => Ok((false, true)),
+        ("zfail", false) => Ok((false, false)),
+        ("zpass", _) | ("auto", true) => Ok((true, false)),
+        ("zfail", true) => Err(bad("--zmode", "zfail contradicts --zpass")),
+        (other, _) => Err(bad("--zmode", format!("expected zfail, zpass or auto, got {other:?}"))),
+    }
 }
 
 /// How a scene is framed by default: interiors (the papers' scenes, any file) are seen and
@@ -206,7 +220,8 @@ impl ViewConfig {
             return Err(bad("--eye", "the eye and the target must differ"));
         }
         let lights = if explicit_lights.is_empty() { vec![default_light(&bounds, framing)] } else { explicit_lights };
-        Ok(ViewConfig { scene_spec: a.scene.clone(), mesh, camera, lights, width, height, zpass: a.zpass })
+        let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
+        Ok(ViewConfig { scene_spec: a.scene.clone(), mesh, camera, lights, width, height, zpass, auto_zpass })
     }
 }
 

@@ -510,6 +510,7 @@ pub fn run(a: &ExportArgs) -> Result<(), CliError> {
         size: "1280x720".into(),
         ground: a.ground,
         zpass: false,
+        zmode: "auto".into(),
         max_input_bytes: a.max_input_bytes,
     };
     let view = ViewConfig::from_args(&flags)?;
@@ -544,6 +545,7 @@ mod tests {
             size: "64x64".into(),
             ground: true,
             zpass: false,
+            zmode: "auto".into(),
             max_input_bytes: None,
         };
         build_export(&ViewConfig::from_args(&flags).expect("box"), true).expect("export")

@@ -67,6 +67,7 @@ pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> 
         height: view.height,
         lights: view.lights.clone(),
         zpass: view.zpass,
+        auto_zpass: view.auto_zpass,
         ..FrameParams::default()
     }
 }

@@ -18,6 +18,8 @@ struct JsonRow<'a> {
     method: &'a str,
     /// "stencil8" or "float32" for methods that count in the stencil, "none" for the others.
     counter: &'a str,
+    /// Per light: counted z-pass (`--zmode`; auto chooses it where provably exact).
+    zpass: Vec<bool>,
     samples: u64,
     shadowed_reference: u64,
     mismatches: u64,
@@ -73,6 +75,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
         let mut method = crate::methods::make_method(name, &sm, "--method")?;
         let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
         let counter = crate::methods::counter_label(method.as_ref(), params.counter);
+        let zpass = s.renderer.last_zpass().to_vec();
         method.destroy(gl);
         let report = report.map_err(|e| CliError::Other(e.to_string()))?;
         if let Some(base) = &a.diff {
@@ -93,14 +96,15 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             }
         }
         all_passed &= report.passed();
-        rows.push((report, reference.total_ms(), counter));
+        rows.push((report, reference.total_ms(), counter, zpass));
     }
     if a.json {
         let json: Vec<JsonRow> = rows
             .iter()
-            .map(|(r, reference_ms, counter)| JsonRow {
+            .map(|(r, reference_ms, counter, zpass)| JsonRow {
                 method: &r.method,
                 counter,
+                zpass: zpass.clone(),
                 samples: r.metrics.samples,
                 shadowed_reference: r.metrics.shadowed_reference,
                 mismatches: r.metrics.mismatches,
@@ -126,7 +130,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             "{:<24} {:>9} {:>9} {:>10} {:>9} {:>9} {:>13} {:>10}  verdict",
             "method", "samples", "shadowed", "mismatch", "band", "band mis", "outside band", "render ms"
         );
-        for (r, _, _) in &rows {
+        for (r, _, _, _) in &rows {
             let m = &r.metrics;
             let verdict = match (r.must_be_exact, r.passed()) {
                 (false, _) => "measured",

@@ -86,6 +86,7 @@
 #![warn(missing_docs)]
 
 pub mod adjacency;
+pub mod clearance;
 pub mod load;
 pub mod mesh;
 pub mod multiplicity;

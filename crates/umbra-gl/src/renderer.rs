@@ -119,8 +119,17 @@ pub struct FrameParams {
     pub lights: Vec<Light>,
     /// Colour (and intensity) of every light.
     pub light_color: [f32; 3],
-    /// z-pass counting instead of z-fail (wrong when the camera is inside a shadow volume).
+    /// z-pass counting instead of z-fail for every light, whatever the eye's position (wrong
+    /// when the camera is inside a shadow volume).
     pub zpass: bool,
+    /// z-pass counting for each light whose volumes provably leave the eye out
+    /// ([`umbra_geom::clearance`]: no triangle meets the hull of the eye, the near-plane
+    /// rectangle and the light), z-fail for the others. Exact like z-fail (the same count at
+    /// every visible sample) and cheaper: no caps, and the volumes are clipped to the box
+    /// around the scene and the eye instead of running to infinity. Counting methods
+    /// ([`Classification::StencilZero`]) only. Default on. [`Renderer::last_zpass`] tells
+    /// which lights of the last frame counted z-pass.
+    pub auto_zpass: bool,
     /// Ambient factor: pass 1 writes `albedo * ambient`.
     pub ambient: f32,
     /// Surface colour (all surfaces).
@@ -154,6 +163,7 @@ impl Default for FrameParams {
             lights: Vec::new(),
             light_color: [1.0; 3],
             zpass: false,
+            auto_zpass: true,
             ambient: 0.15,
             albedo: [0.8; 3],
             specular: 0.25,
@@ -415,6 +425,58 @@ pub struct Renderer {
     counter: Option<FloatCounter>,
     /// Set only during [`Renderer::draw_volume_wireframe`]: the state every volume draw takes.
     volume_state_override: Option<GlState>,
+    /// The uniform block `UmbraSceneClip` (methods/shared/depth.glsl): six clip-space planes.
+    scene_clip: Option<glow::Buffer>,
+    /// Per light of the last volume passes: counted z-pass ([`Renderer::last_zpass`]).
+    last_zpass: Vec<bool>,
+}
+
+/// Binding point of the uniform block `UmbraSceneClip` (methods/shared/depth.glsl).
+pub const SCENE_CLIP_BINDING: u32 = 14;
+
+/// The box the z-pass volumes are clipped to: the scene's triangles and the eye, enlarged by
+/// 1 % of its diagonal (plus 1e-6 of its largest coordinate) so that rounding at its planes
+/// lies far from every sample. As six world planes `(n, d)`, `n . X + d W >= 0` inside.
+fn scene_clip_box(bounds: umbra_geom::Aabb, eye: [f64; 3]) -> [[f64; 4]; 6] {
+    let mut lo = bounds.min.map(f64::from);
+    let mut hi = bounds.max.map(f64::from);
+    for a in 0..3 {
+        lo[a] = lo[a].min(eye[a]);
+        hi[a] = hi[a].max(eye[a]);
+    }
+    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
+    let big = lo.iter().chain(hi.iter()).fold(0.0f64, |m, c| m.max(c.abs()));
+    let margin = 0.01 * diag + 1e-6 * big + 1e-6;
+    [
+        [1.0, 0.0, 0.0, -(lo[0] - margin)],
+        [0.0, 1.0, 0.0, -(lo[1] - margin)],
+        [0.0, 0.0, 1.0, -(lo[2] - margin)],
+        [-1.0, 0.0, 0.0, hi[0] + margin],
+        [0.0, -1.0, 0.0, hi[1] + margin],
+        [0.0, 0.0, -1.0, hi[2] + margin],
+    ]
+}
+
+/// The eye and the corners of the near-plane rectangle (pushed 2 % outwards from its centre),
+/// world space: the points whose hull with the light must be clear for z-pass.
+fn near_pyramid_points(clip_from_world: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
+    let world_from_clip = clip_from_world.inverse();
+    // Near plane in NDC: z = -1 (standard, [-1, 1] depth), z = 1 (reversed-Z, ZERO_TO_ONE).
+    let z = match convention {
+        DepthConvention::Standard => -1.0,
+        DepthConvention::ReversedZ => 1.0,
+    };
+    let corners: Vec<[f64; 3]> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .map(|&(x, y)| {
+            let p = world_from_clip * glam::DVec4::new(x, y, z, 1.0);
+            [p.x / p.w, p.y / p.w, p.z / p.w]
+        })
+        .collect();
+    let mid: [f64; 3] = std::array::from_fn(|a| corners.iter().map(|c| c[a]).sum::<f64>() / 4.0);
+    let mut points = vec![eye];
+    points.extend(corners.iter().map(|c| std::array::from_fn(|a| mid[a] + 1.02 * (c[a] - mid[a]))));
+    points
 }
 
 /// Entry points through EGL when the current context is an EGL context (then
@@ -552,7 +614,7 @@ impl Renderer {
         };
         let mut lighting = HashMap::new();
         lighting.insert("", LightingProgram::new(gl, None)?);
-        Ok(Self { depth, lighting, target: None, error_log: None, extra: extra_from_current_egl(), counter: None, volume_state_override: None })
+        Ok(Self { depth, lighting, target: None, error_log: None, extra: extra_from_current_egl(), counter: None, volume_state_override: None, scene_clip: None, last_zpass: Vec::new() })
     }
 
     /// Uses these entry points (glClipControl) instead of the ones found at [`Renderer::new`],
@@ -1120,6 +1182,48 @@ impl Renderer {
         scene.draw_triangles(gl);
     }
 
+    /// Uploads the scene box planes in `view`'s clip space to the `UmbraSceneClip` block, binds
+    /// it at [`SCENE_CLIP_BINDING`] and, with `enable`, turns GL_CLIP_DISTANCE1..6 on.
+    fn bind_scene_clip(
+        &mut self,
+        gl: &glow::Context,
+        view: &PassView,
+        bounds: Option<umbra_geom::Aabb>,
+        enable: bool,
+    ) -> Result<(), GlError> {
+        let buffer = match self.scene_clip {
+            Some(b) => b,
+            None => {
+                // SAFETY: creating a buffer name on the current context.
+                let b = unsafe { gl.create_named_buffer() }
+                    .map_err(|detail| GlError::Create { what: "scene clip uniform block", detail })?;
+                self.scene_clip = Some(b);
+                b
+            }
+        };
+        let mut data = [0f32; 24];
+        if let (Some(bounds), true) = (bounds, enable) {
+            // A world plane p (p . (X, W) >= 0 inside) in clip space: (clip_from_world)^-T p.
+            let clip_from_plane = view.clip_from_world.inverse().transpose();
+            for (i, p) in scene_clip_box(bounds, view.eye).iter().enumerate() {
+                let q = clip_from_plane * glam::DVec4::from_array(*p);
+                data[4 * i..4 * i + 4].copy_from_slice(&q.to_array().map(|c| c as f32));
+            }
+        }
+        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_ne_bytes()).collect();
+        // SAFETY: 96 bytes into our own buffer; binding it to an indexed uniform block point.
+        unsafe {
+            gl.named_buffer_data_u8_slice(buffer, &bytes, glow::DYNAMIC_DRAW);
+            gl.bind_buffer_base(glow::UNIFORM_BUFFER, SCENE_CLIP_BINDING, Some(buffer));
+            if enable {
+                for i in 1..7 {
+                    gl.enable(glow::CLIP_DISTANCE0 + i);
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Pass 2, one light: clears the stencil of `view`'s framebuffer to 0 and lets `method`
     /// mark it (its volumes, z-fail or z-pass per `params.zpass`, against the depth already
     /// in the framebuffer), then binds `view`'s framebuffer and viewport again and re-sets the
@@ -1159,8 +1263,20 @@ impl Renderer {
                 target = Some(c.begin(gl, view.fb, params.width, params.height)?);
             }
         }
+        // z-pass where it is exact (umbra_geom::clearance), z-fail elsewhere.
+        let counting = method.classification() == Classification::StencilZero;
+        let zpass = params.zpass
+            || (params.auto_zpass && counting && {
+                let points = near_pyramid_points(&view.clip_from_world, view.eye, view.convention);
+                scene.clearance().is_clear(scene.mesh(), &points, light)
+            });
+        if self.last_zpass.len() <= light_index {
+            self.last_zpass.resize(light_index + 1, false);
+        }
+        self.last_zpass[light_index] = zpass;
         {
             let mut frame = VolumeFrame {
+                zpass,
                 target_framebuffer: target,
                 counter,
                 state_override: self.volume_state_override,
@@ -1182,10 +1298,24 @@ impl Renderer {
                 // SAFETY: enabling a core capability on the current context.
                 unsafe { gl.enable(glow::CLIP_DISTANCE0) };
             }
+            // Reason: z-pass counts only crossings between the eye and the sample, inside the
+            // scene box, so the volumes are clipped to it (GL_CLIP_DISTANCE1..6, planes in the
+            // UmbraSceneClip block, methods/shared/depth.glsl): their parts beyond the scene cost
+            // fill and binning and count nothing. The block is bound for every counting pass
+            // (the shaders read it whether or not the planes are enabled).
+            let scene_clip = near_clip && zpass && scene.bounds().is_some();
+            if near_clip {
+                self.bind_scene_clip(gl, view, scene.bounds(), scene_clip)?;
+            }
             let drawn = method.draw_volumes(gl, scene, &mut frame);
             if near_clip {
                 // SAFETY: as above; off again whatever the method returned.
-                unsafe { gl.disable(glow::CLIP_DISTANCE0) };
+                unsafe {
+                    gl.disable(glow::CLIP_DISTANCE0);
+                    for i in 1..7 {
+                        gl.disable(glow::CLIP_DISTANCE0 + i);
+                    }
+                }
             }
             drawn?;
         }
@@ -1324,6 +1454,17 @@ impl Renderer {
         if let Some(c) = self.counter.take() {
             c.destroy(gl);
         }
+        if let Some(b) = self.scene_clip.take() {
+            // SAFETY: our own buffer.
+            unsafe { gl.delete_buffer(b) };
+        }
+    }
+
+    /// Per light of the last frame (or [`Renderer::count_shadows`] call: one entry), whether
+    /// its volumes were counted z-pass (forced by [`FrameParams::zpass`], or chosen by
+    /// [`FrameParams::auto_zpass`]) rather than z-fail.
+    pub fn last_zpass(&self) -> &[bool] {
+        &self.last_zpass
     }
 
     /// Draws `method`'s shadow volumes for `light` as a tinted wireframe over a frame already

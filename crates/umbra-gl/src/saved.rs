@@ -2,8 +2,9 @@
 //! may run on somebody else's context).
 //!
 //! Restored exactly: every [`GlState`] field, the current program, vertex array, draw and
-//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, CLIP_DISTANCE0 (desktop GL;
-//! the volume pass enables it for the near-plane clip of light caps), the generic and indexed
+//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, CLIP_DISTANCE0..6 (desktop
+//! GL; the volume pass enables 0 for the near-plane clip of light caps and 1..6 for the z-pass
+//! scene box), the uniform buffer at SCENE_CLIP_BINDING and the generic one, the generic and indexed
 //! (binding 0) SHADER_STORAGE_BUFFER bindings, glDepthRange, and glClipControl's origin and
 //! depth mode (when the renderer has glClipControl; without it the renderer never changes
 //! them).
@@ -13,6 +14,7 @@ use std::num::NonZeroU32;
 use glow::HasContext;
 
 use crate::extra::GlExtra;
+use crate::renderer::SCENE_CLIP_BINDING;
 use crate::scene::NORMALS_BINDING;
 use crate::state::GlState;
 
@@ -42,6 +44,11 @@ pub(crate) struct SavedState {
     rasterizer_discard: bool,
     /// GL_CLIP_DISTANCE0; None on OpenGL ES (no clip distances in ES 3.x core).
     clip_distance0: Option<bool>,
+    /// GL_CLIP_DISTANCE1..6 (the z-pass scene box clip); None on OpenGL ES.
+    clip_distances: Option<[bool; 6]>,
+    /// Uniform buffer at SCENE_CLIP_BINDING (name, start, size) and the generic binding.
+    ubo_indexed: (u32, i64, i64),
+    ubo_generic: u32,
     ssbo_generic: u32,
     ssbo_indexed: u32,
     ssbo_offset: i64,
@@ -81,6 +88,14 @@ impl SavedState {
                 scissor_test: gl.is_enabled(glow::SCISSOR_TEST),
                 rasterizer_discard: gl.is_enabled(glow::RASTERIZER_DISCARD),
                 clip_distance0: (!gl.version().is_embedded).then(|| gl.is_enabled(glow::CLIP_DISTANCE0)),
+                clip_distances: (!gl.version().is_embedded)
+                    .then(|| std::array::from_fn(|i| gl.is_enabled(glow::CLIP_DISTANCE0 + 1 + i as u32))),
+                ubo_indexed: (
+                    gl.get_parameter_indexed_i32(glow::UNIFORM_BUFFER_BINDING, SCENE_CLIP_BINDING) as u32,
+                    gl.get_parameter_indexed_i64(glow::UNIFORM_BUFFER_START, SCENE_CLIP_BINDING),
+                    gl.get_parameter_indexed_i64(glow::UNIFORM_BUFFER_SIZE, SCENE_CLIP_BINDING),
+                ),
+                ubo_generic: gl.get_parameter_i32(glow::UNIFORM_BUFFER_BINDING) as u32,
                 ssbo_generic: gl.get_parameter_i32(glow::SHADER_STORAGE_BUFFER_BINDING) as u32,
                 ssbo_indexed: gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, NORMALS_BINDING) as u32,
                 ssbo_offset: gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, NORMALS_BINDING),
@@ -141,6 +156,24 @@ impl SavedState {
                 other => gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, other),
             }
             gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, buffer(self.ssbo_generic));
+            if let Some(on) = self.clip_distances {
+                for (i, on) in on.iter().enumerate() {
+                    let cap = glow::CLIP_DISTANCE0 + 1 + i as u32;
+                    if *on {
+                        gl.enable(cap)
+                    } else {
+                        gl.disable(cap)
+                    }
+                }
+            }
+            let (ubo, start, size) = self.ubo_indexed;
+            match buffer(ubo) {
+                Some(b) if size > 0 => {
+                    gl.bind_buffer_range(glow::UNIFORM_BUFFER, SCENE_CLIP_BINDING, Some(b), start as i32, size as i32)
+                }
+                other => gl.bind_buffer_base(glow::UNIFORM_BUFFER, SCENE_CLIP_BINDING, other),
+            }
+            gl.bind_buffer(glow::UNIFORM_BUFFER, buffer(self.ubo_generic));
         }
     }
 }

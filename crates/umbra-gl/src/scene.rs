@@ -16,6 +16,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use glow::HasContext;
+use umbra_geom::clearance::ClearanceIndex;
 use umbra_geom::{Aabb, EdgeAdjacency, WeldedMesh};
 
 use crate::error::GlError;
@@ -37,6 +38,7 @@ pub struct SceneGpu {
     id: SceneId,
     mesh: Arc<WeldedMesh>,
     adjacency: OnceLock<Arc<EdgeAdjacency>>,
+    clearance: OnceLock<Arc<ClearanceIndex>>,
     bounds: Option<Aabb>,
     vao: glow::VertexArray,
     positions: glow::Buffer,
@@ -162,6 +164,7 @@ impl SceneGpu {
                 gpu_bytes: pos_bytes.len() + idx_bytes.len() + nrm_bytes.len(),
                 mesh,
                 adjacency: OnceLock::new(),
+                clearance: OnceLock::new(),
                 bounds,
                 vao,
                 positions,
@@ -184,6 +187,13 @@ impl SceneGpu {
     /// Edge adjacency, built on first use (once per mesh) and shared by every method.
     pub fn adjacency(&self) -> &Arc<EdgeAdjacency> {
         self.adjacency.get_or_init(|| Arc::new(EdgeAdjacency::build(&self.mesh)))
+    }
+
+    /// The z-pass clearance index ([`umbra_geom::clearance`]), built on first use (once per
+    /// mesh): the renderer asks it, per light and frame, whether the eye is outside every
+    /// shadow volume.
+    pub fn clearance(&self) -> &Arc<ClearanceIndex> {
+        self.clearance.get_or_init(|| Arc::new(ClearanceIndex::build(&self.mesh)))
     }
 
     /// Bounds of the triangles' vertices; None for an empty mesh.

@@ -62,4 +62,5 @@ void main() {
         clip = umbra_push_to_far(clip); // paper 003, Eq. 6
     }
     gl_Position = clip;
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

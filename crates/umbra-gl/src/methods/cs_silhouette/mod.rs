@@ -195,7 +195,7 @@ impl CsSilhouette {
         let mut done: Vec<glow::Program> = Vec::new();
         let sides_comp_src = compute_source(SIDES_COMP);
         let caps_comp_src = compute_source(CAPS_COMP);
-        let sides_vert_src = format!("#version 450 core\n{MULTIPLICITY}\n{SIDES_VERT}");
+        let sides_vert_src = format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{SIDES_VERT}");
         let caps_vert_src = format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{CAPS_VERT}");
         let specs: [(&str, Vec<ShaderSource<'_>>); 4] = [
             (

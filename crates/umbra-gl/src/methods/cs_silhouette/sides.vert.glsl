@@ -1,7 +1,7 @@
 // cs-silhouette: draws the side quads the compute pass (sides.comp.glsl) compacted, with
 // glDrawArraysIndirect (vertex count written by the compute shader: no CPU round trip).
 // Paper 001, Section 2.2: a quad per unit of multiplicity, extruded to infinity with Eq. 2
-// (umbra_extrude from the shared multiplicity.glsl). Prepended: "#version 450 core",
+// (umbra_extrude from the shared multiplicity.glsl). Prepended: "#version 450 core", shared/depth.glsl (UMBRA_SCENE_CLIP),
 // multiplicity.glsl.
 //
 // No vertex attributes: quad q = gl_VertexID / 6 reads its record (X, Y) and the positions
@@ -36,4 +36,5 @@ void main() {
     } else {
         gl_Position = u_clip_from_world * vec4(p, 1.0);
     }
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

@@ -65,15 +65,19 @@ void main() {
     for (int c = 0; c < copies; ++c) {
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q1;
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q2;
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q0;
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q3;
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         EndPrimitive();
     }

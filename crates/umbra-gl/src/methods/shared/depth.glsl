@@ -43,3 +43,33 @@ float umbra_near_distance(vec4 clip) {
 #else
 #define UMBRA_NEAR_CLIP(d) gl_ClipDistance[0] = (d)
 #endif
+
+// The scene box clip of z-pass volumes (renderer.rs, volume_pass; umbra_geom::clearance).
+// z-pass counts only the volume faces on the segment from the eye to a visible sample. When
+// the eye is clear of every volume (the only case the renderer counts z-pass in, unless the
+// caller forces it), both ends of that segment lie in the box B around the scene's triangles
+// and the eye (enlarged by a margin), and B is convex, so the whole segment does: clipping
+// the volumes to B removes no counted crossing. What it removes is the volumes' parts beyond
+// the scene, out to infinity, which on a CPU rasteriser cost as much as the rest (long thin
+// side quads binned into every tile they cross: -33 % sides time on the Sponza fly-through).
+// u_scene_planes are B's six planes in clip space ((clip_from_world)^-T times the world
+// plane), so dot(plane, gl_Position) is the world distance to the plane scaled by the vertex's
+// homogeneous w (positive inside), exactly linear as GL interpolates clip distances. The
+// renderer binds the block at UMBRA_SCENE_CLIP_BINDING for every counting method's volume
+// pass and enables GL_CLIP_DISTANCE1..6 only for a z-pass light; under z-fail (faces BEHIND
+// the sample count, out to infinity) the distances are written and ignored.
+#ifdef GL_ES
+#define UMBRA_SCENE_CLIP(clip)
+#else
+layout(std140, binding = 14) uniform UmbraSceneClip {
+    vec4 u_scene_planes[6];
+};
+// Constant indices: gl_ClipDistance is implicitly sized, so a loop index is not allowed.
+#define UMBRA_SCENE_CLIP(clip) \
+    gl_ClipDistance[1] = dot(u_scene_planes[0], (clip)); \
+    gl_ClipDistance[2] = dot(u_scene_planes[1], (clip)); \
+    gl_ClipDistance[3] = dot(u_scene_planes[2], (clip)); \
+    gl_ClipDistance[4] = dot(u_scene_planes[3], (clip)); \
+    gl_ClipDistance[5] = dot(u_scene_planes[4], (clip)); \
+    gl_ClipDistance[6] = dot(u_scene_planes[5], (clip))
+#endif

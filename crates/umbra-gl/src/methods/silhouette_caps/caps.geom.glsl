@@ -41,12 +41,15 @@ void main() {
     vec4 l2 = umbra_clip_from_world_point(u_clip_from_world, vec4(c2, 1.0));
     UMBRA_NEAR_CLIP(umbra_near_distance(l0));
     gl_Position = umbra_push_to_far(l0);
+    UMBRA_SCENE_CLIP(gl_Position);
     EmitVertex();
     UMBRA_NEAR_CLIP(umbra_near_distance(l1));
     gl_Position = umbra_push_to_far(l1);
+    UMBRA_SCENE_CLIP(gl_Position);
     EmitVertex();
     UMBRA_NEAR_CLIP(umbra_near_distance(l2));
     gl_Position = umbra_push_to_far(l2);
+    UMBRA_SCENE_CLIP(gl_Position);
     EmitVertex();
     EndPrimitive();
 
@@ -54,12 +57,15 @@ void main() {
         // Dark cap at infinity, reversed winding (outward = away from the light).
         UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(p0, u_light));
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(c2, u_light));
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(c1, u_light));
+        UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
         EndPrimitive();
     }

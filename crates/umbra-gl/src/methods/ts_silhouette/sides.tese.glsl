@@ -31,4 +31,5 @@ void main() {
     int t = (id % 2) ^ ((id / 4) % 2);
     int l = ((id + 2) / 4) % 2;
     gl_Position = p_corner[t + 2 * l];
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

@@ -22,4 +22,5 @@ void main() {
     // Clipped at the near plane before the push (shared/depth.glsl).
     UMBRA_NEAR_CLIP(umbra_near_distance(clip));
     gl_Position = umbra_push_to_far(clip);
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

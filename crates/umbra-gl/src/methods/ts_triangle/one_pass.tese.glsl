@@ -63,4 +63,5 @@ void main() {
     gl_Position = u_clip_from_world * world;
     e_corner = vec3(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
     e_side_plane = tc_side_plane;
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

@@ -87,4 +87,5 @@ void main() {
     } else {
         gl_Position = u_clip_from_world * umbra_extrude(id == 2 ? a : b, u_light);
     }
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

@@ -110,4 +110,5 @@ void main() {
     // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
     UMBRA_NEAR_CLIP(push_to_far ? umbra_near_distance(clip) : 1.0);
     gl_Position = push_to_far ? umbra_push_to_far(clip) : clip;
+    UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }
