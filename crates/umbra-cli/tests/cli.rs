@@ -232,6 +232,35 @@ fn verify_zpass_with_camera_in_shadow_fails_with_status_1() {
 }
 
 #[test]
+fn verify_zmode_contract() {
+    // "zpass" per light: auto (the default) counts z-pass where the eye is provably outside
+    // every volume (the default view), z-fail where it is inside one, and both are exact.
+    let o = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--json"]);
+    let v = json(&o);
+    assert_eq!(v[0]["zpass"], serde_json::json!([true]), "{v}");
+    assert_eq!(v[0]["mismatches_outside_band"], 0, "{v}");
+    let shadowed = ["--eye", "-2.2,0.2,0.3", "--target", "3,0,3", "--light", "-2.2,8,0.3"];
+    let o = umbra(&[&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--json"][..], &shadowed[..]].concat());
+    let v = json(&o);
+    assert_eq!(v[0]["zpass"], serde_json::json!([false]), "{v}");
+    assert_eq!(v[0]["mismatches_outside_band"], 0, "{v}");
+    // --zmode zfail never, --zmode zpass (like --zpass) always.
+    let o = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--zmode", "zfail", "--json"]);
+    assert_eq!(json(&o)[0]["zpass"], serde_json::json!([false]));
+    let o = umbra(
+        &[&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--zmode", "zpass", "--json"][..], &shadowed[..]]
+            .concat(),
+    );
+    assert_eq!(o.status.code(), Some(1), "forced z-pass with the eye in shadow is wrong: {}", stdout(&o));
+    // Bad values and contradictions are usage errors naming the flag.
+    for bad in [&["--zmode", "zmaybe"][..], &["--zmode", "zfail", "--zpass"][..]] {
+        let o = umbra(&[&["verify", "--size", "160x120"][..], bad].concat());
+        assert_eq!(o.status.code(), Some(2), "{bad:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--zmode"), "{}", stderr(&o));
+    }
+}
+
+#[test]
 fn verify_writes_diff_image() {
     let d = tmp("diff.png");
     let _ = std::fs::remove_file(&d);

@@ -1215,9 +1215,13 @@ impl Renderer {
         unsafe {
             gl.named_buffer_data_u8_slice(buffer, &bytes, glow::DYNAMIC_DRAW);
             gl.bind_buffer_base(glow::UNIFORM_BUFFER, SCENE_CLIP_BINDING, Some(buffer));
-            if enable {
-                for i in 1..7 {
+            // Reason: planes 1..6 clip only a z-pass pass; under z-fail the shaders still
+            // write them, so a plane a host left enabled must be off (7: never written).
+            for i in 1..8 {
+                if enable && i < 7 {
                     gl.enable(glow::CLIP_DISTANCE0 + i);
+                } else {
+                    gl.disable(glow::CLIP_DISTANCE0 + i);
                 }
             }
         }
@@ -1302,8 +1306,10 @@ impl Renderer {
             // scene box, so the volumes are clipped to it (GL_CLIP_DISTANCE1..6, planes in the
             // UmbraSceneClip block, methods/shared/depth.glsl): their parts beyond the scene cost
             // fill and binning and count nothing. The block is bound for every counting pass
-            // (the shaders read it whether or not the planes are enabled).
-            let scene_clip = near_clip && zpass && scene.bounds().is_some();
+            // (the shaders read it whether or not the planes are enabled). Counting methods only:
+            // paper 002's all-edges-invert (parity, StencilTest) changed on 433 of 76,800 pixels
+            // of tests/render.rs's z-pass case with the clip, so it keeps its unclipped volumes.
+            let scene_clip = near_clip && zpass && counting && scene.bounds().is_some();
             if near_clip {
                 self.bind_scene_clip(gl, view, scene.bounds(), scene_clip)?;
             }

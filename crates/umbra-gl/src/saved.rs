@@ -44,8 +44,9 @@ pub(crate) struct SavedState {
     rasterizer_discard: bool,
     /// GL_CLIP_DISTANCE0; None on OpenGL ES (no clip distances in ES 3.x core).
     clip_distance0: Option<bool>,
-    /// GL_CLIP_DISTANCE1..6 (the z-pass scene box clip); None on OpenGL ES.
-    clip_distances: Option<[bool; 6]>,
+    /// GL_CLIP_DISTANCE1..7 (1..6: the z-pass scene box clip; the volume pass turns 7 off);
+    /// None on OpenGL ES.
+    clip_distances: Option<[bool; 7]>,
     /// Uniform buffer at SCENE_CLIP_BINDING (name, start, size) and the generic binding.
     ubo_indexed: (u32, i64, i64),
     ubo_generic: u32,

@@ -221,6 +221,11 @@ impl Host {
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffers[1]));
             gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, Some(extra));
             gl.bind_buffer(glow::COPY_READ_BUFFER, Some(self.buffers[0]));
+            // The z-pass scene box: uniform block binding 14 and clip distances 1..7.
+            gl.bind_buffer_range(glow::UNIFORM_BUFFER, 14, Some(extra), 0, 128);
+            gl.bind_buffer(glow::UNIFORM_BUFFER, Some(self.buffers[1]));
+            gl.enable(glow::CLIP_DISTANCE3);
+            gl.enable(glow::CLIP_DISTANCE7);
             gl.active_texture(glow::TEXTURE0);
             gl.bind_texture(glow::TEXTURE_2D, Some(self.texture));
             gl.active_texture(glow::TEXTURE3);
@@ -235,6 +240,8 @@ impl Host {
         unsafe {
             gl.disable(glow::SCISSOR_TEST);
             gl.disable(glow::RASTERIZER_DISCARD);
+            gl.disable(glow::CLIP_DISTANCE3);
+            gl.disable(glow::CLIP_DISTANCE7);
             gl.depth_range_f64(0.0, 1.0);
             ctx.extra().clip_control(glow::LOWER_LEFT, glow::NEGATIVE_ONE_TO_ONE);
         }
@@ -333,6 +340,7 @@ fn query_state(gl: &glow::Context) -> Vec<(String, Vec<i64>)> {
             ("DRAW_INDIRECT_BUFFER_BINDING", glow::DRAW_INDIRECT_BUFFER_BINDING, 1),
             ("COPY_READ_BUFFER_BINDING", glow::COPY_READ_BUFFER_BINDING, 1),
             ("SHADER_STORAGE_BUFFER_BINDING", glow::SHADER_STORAGE_BUFFER_BINDING, 1),
+            ("UNIFORM_BUFFER_BINDING", glow::UNIFORM_BUFFER_BINDING, 1),
             ("DRAW_BUFFER0", glow::DRAW_BUFFER0, 1),
             ("DRAW_BUFFER3", glow::DRAW_BUFFER3, 1),
         ];
@@ -355,6 +363,17 @@ fn query_state(gl: &glow::Context) -> Vec<(String, Vec<i64>)> {
                     gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, i),
                 ],
             ));
+        }
+        out.push((
+            "UNIFORM_BUFFER_BINDING[14]".into(),
+            vec![
+                i64::from(gl.get_parameter_indexed_i32(glow::UNIFORM_BUFFER_BINDING, 14)),
+                gl.get_parameter_indexed_i64(glow::UNIFORM_BUFFER_START, 14),
+                gl.get_parameter_indexed_i64(glow::UNIFORM_BUFFER_SIZE, 14),
+            ],
+        ));
+        for i in 0..8 {
+            out.push((format!("CLIP_DISTANCE{i}"), vec![i64::from(gl.is_enabled(glow::CLIP_DISTANCE0 + i))]));
         }
         // Unit 0's textures (the shadow map's unit), queried through the active unit.
         let active = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;

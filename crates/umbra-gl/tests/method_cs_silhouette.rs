@@ -152,6 +152,8 @@ fn stencil_and_counts_equal_cpu_silhouette() {
             // All lights in one frame: the commands are reset and the buffers reused per light.
             let mut p = params(camera, lights.to_vec(), 256, 192);
             p.zpass = zpass;
+            // z-fail when asked for, not auto z-pass (auto_zpass.rs tests the choice).
+            p.auto_zpass = false;
             let cpu = render_cpu(&ctx, &mesh, &p);
             let cs = render_cs(&ctx, &mesh, &p);
             assert_eq!(cs.stencil.len(), lights.len());

@@ -77,6 +77,8 @@ fn render_stencils(
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let mut p = params(camera(), LIGHTS.to_vec(), 320, 240);
     p.zpass = zpass;
+    // z-fail when asked for, not auto z-pass (auto_zpass.rs tests the choice).
+    p.auto_zpass = false;
     p.capture.stencil = StencilCapture::AllLights;
     let images =
         r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));

@@ -43,6 +43,8 @@ fn params(eye: [f64; 3], target: [f64; 3], light: Light, zpass: bool) -> FramePa
         height: 150,
         lights: vec![light],
         zpass,
+        // z-fail when asked for, not auto z-pass (auto_zpass.rs tests the choice).
+        auto_zpass: false,
         ..FrameParams::default()
     }
 }

@@ -1,0 +1,107 @@
+//! `FrameParams::auto_zpass`: z-pass for the lights whose volumes provably leave the eye out
+//! (umbra_geom::clearance), with the volumes clipped to the scene box; z-fail for the others.
+//! Whatever it chooses, every counting method must give the z-fail image, byte for byte, and
+//! the z-fail count on every visible sample.
+
+mod common;
+
+use std::sync::Arc;
+
+use common::*;
+use umbra_geom::WeldedMesh;
+use umbra_gl::{create_method, Camera, FrameImages, FrameParams, HeadlessContext, Renderer, SceneGpu, NO_TRIANGLE};
+
+/// Renders once; returns the images and which lights counted z-pass.
+fn render(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, method: &str, p: &FrameParams) -> (FrameImages, Vec<bool>) {
+    let gl = ctx.gl();
+    let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
+    let mut m = create_method(method).expect("registered method");
+    let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
+    let out = r.render(gl, &scene, m.as_mut(), p, None).unwrap_or_else(|e| panic!("render with {method}: {e}"));
+    let zpass = r.last_zpass().to_vec();
+    m.destroy(gl);
+    r.destroy(gl);
+    scene.destroy(gl);
+    (out, zpass)
+}
+
+/// Counts of visible samples (a triangle id) that differ between two stencil captures.
+fn visible_count_differences(a: &FrameImages, b: &FrameImages, light: usize) -> usize {
+    let ids = a.triangle_id.as_ref().expect("ids captured");
+    let sa = &a.stencil.iter().find(|s| s.light == light).expect("stencil").image;
+    let sb = &b.stencil.iter().find(|s| s.light == light).expect("stencil").image;
+    let mut n = 0;
+    for y in 0..ids.height {
+        for x in 0..ids.width {
+            if ids.get(x, y) != Some(NO_TRIANGLE) && sa.get(x, y) != sb.get(x, y) {
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
+fn zfail(p: &FrameParams) -> FrameParams {
+    FrameParams { zpass: false, auto_zpass: false, ..p.clone() }
+}
+
+#[test]
+fn auto_zpass_is_chosen_when_the_eye_is_clear_and_equals_zfail() {
+    let ctx = context();
+    let mesh = sphere_over_ground();
+    // The eye above and beside the scene; a point light and a directional light. The sphere's
+    // volumes run below the ground, out of the scene box: the clip is exercised.
+    let p = params(default_camera(), vec![POINT_LIGHT, [0.4, 1.0, -0.3, 0.0]], 320, 240);
+    assert!(p.auto_zpass, "auto z-pass is the default");
+    for method in counting_methods() {
+        let (auto, zpass) = render(&ctx, &mesh, method, &p);
+        assert_eq!(zpass, vec![true, true], "{method}: the eye is clear of both lights' volumes");
+        let (reference, zpass) = render(&ctx, &mesh, method, &zfail(&p));
+        assert_eq!(zpass, vec![false, false], "{method}: z-fail asked for");
+        assert_same_image(&ctx, &format!("auto_zpass_clear_{method}"), &reference.rgba, &auto.rgba);
+        for light in 0..2 {
+            assert_eq!(visible_count_differences(&auto, &reference, light), 0, "{method}: light {light} counts differ");
+        }
+    }
+}
+
+#[test]
+fn auto_zpass_falls_back_to_zfail_with_the_eye_in_shadow() {
+    let ctx = context();
+    let mesh = sphere_over_ground();
+    // The eye under the sphere: inside the point light's volume, so z-pass would be wrong
+    // (render.rs: camera_inside_the_shadow_volume_is_wrong_with_zpass).
+    let eye = Camera { eye: [0.0, 0.3, 0.0], target: [0.8, 0.0, 0.3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let p = params(eye, vec![POINT_LIGHT], 320, 240);
+    for method in counting_methods() {
+        let (auto, zpass) = render(&ctx, &mesh, method, &p);
+        assert_eq!(zpass, vec![false], "{method}: the eye is in the shadow");
+        let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
+        assert_same_image(&ctx, &format!("auto_zpass_shadowed_{method}"), &reference.rgba, &auto.rgba);
+        // And forcing z-pass here really is wrong: the fallback matters.
+        let (forced, zpass) = render(&ctx, &mesh, method, &FrameParams { zpass: true, ..p.clone() });
+        assert_eq!(zpass, vec![true]);
+        assert_ne!(visible_count_differences(&forced, &reference, 0), 0, "{method}: forced z-pass should be wrong here");
+    }
+}
+
+/// The eye clear of one light and in the shadow of the other: chosen per light.
+#[test]
+fn auto_zpass_is_chosen_per_light() {
+    let ctx = context();
+    let mesh = sphere_over_ground();
+    // Eye just under the sphere's south side; the point light straight above the sphere
+    // shadows it, a low directional light from the north-east does not reach it through
+    // the sphere.
+    let eye = Camera { eye: [0.0, 0.3, 0.0], target: [0.8, 0.0, 0.3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let p = params(eye, vec![POINT_LIGHT, [1.0, 0.3, -1.0, 0.0]], 320, 240);
+    for method in ["cpu-silhouette", "gs-silhouette"] {
+        let (auto, zpass) = render(&ctx, &mesh, method, &p);
+        assert_eq!(zpass, vec![false, true], "{method}");
+        let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
+        assert_same_image(&ctx, &format!("auto_zpass_per_light_{method}"), &reference.rgba, &auto.rgba);
+        for light in 0..2 {
+            assert_eq!(visible_count_differences(&auto, &reference, light), 0, "{method}: light {light}");
+        }
+    }
+}
