@@ -28,6 +28,14 @@
 //!   a face plane of `H` skips its whole cluster;
 //! * a triangle with a non-finite vertex blocks (its volume is unknown).
 //!
+//! [`ClearanceIndex::near_winding`] extends this to an eye in shadow: if every triangle that
+//! meets `H` is crossed — strictly inside, by a margin — by the segment from EACH of the points
+//! to the light, the whole pyramid lies inside those triangles' volumes (a triangle's volume is
+//! convex, the pyramid is the hull of the points) and no volume face crosses it, so every entry
+//! point has the same `W0` = the number of such triangles, and z-pass with the count starting
+//! at `W0` (the stencil cleared to `W0`) equals z-fail. Any other triangle meeting `H` means
+//! "unknown" (None): z-fail.
+//!
 //! Answering "not clear" wrongly only costs speed (the renderer falls back to z-fail); answering
 //! "clear" wrongly would cost exactness, which is why every approximation errs the first way.
 
@@ -52,6 +60,33 @@ fn cross(a: V3, b: V3) -> V3 {
 }
 fn norm(a: V3) -> f64 {
     dot(a, a).sqrt()
+}
+
+/// Relative margin of [`crosses_strictly`]: barycentric coordinates and the segment parameter
+/// must clear 0 and 1 by this much.
+pub const CROSSING_MARGIN: f64 = 1e-6;
+
+/// Whether the segment `a -> b` crosses triangle `t` strictly inside, with
+/// [`CROSSING_MARGIN`] to the triangle's edges and to the segment's ends (Moller-Trumbore in
+/// f64). A degenerate (zero-area or edge-on) triangle never does.
+pub fn crosses_strictly(a: V3, b: V3, t: [V3; 3]) -> bool {
+    let dir = sub(b, a);
+    let e1 = sub(t[1], t[0]);
+    let e2 = sub(t[2], t[0]);
+    let pv = cross(dir, e2);
+    let det = dot(e1, pv);
+    // Edge-on or degenerate, relative to the sizes involved.
+    if !(det.abs() > 1e-9 * norm(dir) * norm(e1) * norm(e2)) {
+        return false;
+    }
+    let inv = 1.0 / det;
+    let tv = sub(a, t[0]);
+    let u = dot(tv, pv) * inv;
+    let qv = cross(tv, e1);
+    let v = dot(dir, qv) * inv;
+    let s = dot(e2, qv) * inv;
+    let m = CROSSING_MARGIN;
+    u > m && v > m && u + v < 1.0 - m && s > m && s < 1.0 - m
 }
 
 /// Per-mesh data of the clearance test: one box per cluster of [`CLUSTER`] triangles.
@@ -240,16 +275,24 @@ impl ClearanceIndex {
     /// swept towards the light (`+xyz`) beyond the scene's bounds. `true` proves that z-pass
     /// counts every visible sample exactly as z-fail does; `false` may be conservative.
     pub fn is_clear(&self, mesh: &WeldedMesh, points: &[[f64; 3]], light: Light) -> bool {
+        self.near_winding(mesh, points, light) == Some(0)
+    }
+
+    /// The count `W0` every point of the hull of `points` (the eye and the near-plane corners)
+    /// has — the number of triangles between it and the light — when it is provably the same
+    /// for all of them (see the module doc); `Some(0)` is [`ClearanceIndex::is_clear`]. None:
+    /// unknown (some volume face may cross the pyramid, or bad input).
+    pub fn near_winding(&self, mesh: &WeldedMesh, points: &[[f64; 3]], light: Light) -> Option<u32> {
         if mesh.triangles.len() != self.triangles || points.is_empty() {
-            return false;
+            return None;
         }
         let Some(bounds) = self.bounds else {
             // No finite vertex: either no triangle (no volume) or only unknown ones.
-            return self.triangles == 0;
+            return (self.triangles == 0).then_some(0);
         };
         let l = light.map(f64::from);
         if !l.iter().all(|c| c.is_finite()) || points.iter().flatten().any(|c| !c.is_finite()) {
-            return false;
+            return None;
         }
         let (blo, bhi) = (bounds.min.map(f64::from), bounds.max.map(f64::from));
         let diag = norm(sub(bhi, blo));
@@ -258,26 +301,31 @@ impl ClearanceIndex {
             far = far.max(norm(sub(*p, blo))).max(norm(sub(*p, bhi)));
         }
         let mut hull_points: Vec<V3> = points.to_vec();
+        // The far end of each point's segment towards the light.
+        let mut ends: Vec<V3> = Vec::with_capacity(points.len());
         if l[3] != 0.0 {
             let light_pos = [l[0] / l[3], l[1] / l[3], l[2] / l[3]];
             far = far.max(norm(sub(light_pos, blo))).max(norm(sub(light_pos, bhi)));
             hull_points.push(light_pos);
+            ends.extend(points.iter().map(|_| light_pos));
         } else {
             let len = norm([l[0], l[1], l[2]]);
             if !(len > 0.0) {
-                return false;
+                return None;
             }
             // Far enough that the swept points lie beyond every triangle.
             let reach = 2.0 * (far + diag) + 1.0;
             let d = [l[0] / len * reach, l[1] / len * reach, l[2] / len * reach];
             for p in points {
                 hull_points.push([p[0] + d[0], p[1] + d[1], p[2] + d[2]]);
+                ends.push([p[0] + d[0], p[1] + d[1], p[2] + d[2]]);
             }
             far += reach;
         }
         let margin = MARGIN * (far + diag).max(1e-30);
         let hull = Hull::new(hull_points, margin);
         let p = &mesh.positions;
+        let mut winding = 0u32;
         for (c, (lo, hi)) in self.boxes.iter().enumerate() {
             if hull.box_apart(*lo, *hi) {
                 continue;
@@ -289,15 +337,21 @@ impl ClearanceIndex {
                 for (k, &i) in t.iter().enumerate() {
                     match p.get(i as usize) {
                         Some(q) if q.iter().all(|c| c.is_finite()) => v[k] = q.map(f64::from),
-                        _ => return false,
+                        _ => return None,
                     }
                 }
-                if !hull.triangle_apart(v) {
-                    return false;
+                if hull.triangle_apart(v) {
+                    continue;
+                }
+                // Meets the hull: fine only if every point's segment crosses it strictly.
+                if points.iter().zip(&ends).all(|(a, b)| crosses_strictly(*a, *b, v)) {
+                    winding = winding.checked_add(1)?;
+                } else {
+                    return None;
                 }
             }
         }
-        true
+        Some(winding)
     }
 }
 
@@ -384,12 +438,71 @@ mod tests {
         assert!(!clear(&[FLOOR, nan], [0.0, 5.0, 0.0, 1.0]));
     }
 
+    fn winding(tris: &[[[f32; 3]; 3]], light: Light) -> Option<u32> {
+        let m = mesh(tris);
+        ClearanceIndex::build(&m).near_winding(&m, &near_points(), light)
+    }
+
+    #[test]
+    fn eye_inside_a_shadow_has_its_winding() {
+        // One big roof triangle above the eye, light above it: the whole pyramid is behind it.
+        let roof = [[-5.0, 2.0, -5.0], [5.0, 2.0, -5.0], [0.0, 2.0, 5.0]];
+        assert_eq!(winding(&[FLOOR, roof], [0.0, 5.0, 0.0, 1.0]), Some(1));
+        // A slab (two stacked roofs): 2.
+        let lower = roof.map(|p| [p[0], 1.5, p[2]]);
+        assert_eq!(winding(&[FLOOR, roof, lower], [0.0, 5.0, 0.0, 1.0]), Some(2));
+        // A directional light from above: the same.
+        assert_eq!(winding(&[FLOOR, roof, lower], [0.0, 1.0, 0.0, 0.0]), Some(2));
+        assert!(!clear(&[FLOOR, roof], [0.0, 5.0, 0.0, 1.0]));
+    }
+
+    #[test]
+    fn shadow_edge_across_the_pyramid_is_unknown() {
+        // A roof whose edge x = 0 (seen from the light) runs through the pyramid: part of the
+        // near rectangle is in its shadow, part is not.
+        let roof = [[0.0, 2.0, -5.0], [5.0, 2.0, -5.0], [0.0, 2.0, 5.0]];
+        assert_eq!(winding(&[FLOOR, roof], [0.0, 5.0, 0.0, 1.0]), None);
+        // Two roof halves sharing the diagonal through the pyramid: each covers only part.
+        let other = [[0.0, 2.0, -5.0], [-5.0, 2.0, 5.0], [0.0, 2.0, 5.0]];
+        assert_eq!(winding(&[FLOOR, roof, other], [0.0, 5.0, 0.0, 1.0]), None);
+    }
+
+    #[test]
+    fn crossing_is_strict() {
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(crosses_strictly([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], t));
+        // Through an edge, a vertex, ending on the plane, edge-on: not strict.
+        assert!(!crosses_strictly([0.5, 0.0, -1.0], [0.5, 0.0, 1.0], t));
+        assert!(!crosses_strictly([0.0, 0.0, -1.0], [0.0, 0.0, 1.0], t));
+        assert!(!crosses_strictly([0.2, 0.2, -1.0], [0.2, 0.2, 0.0], t));
+        assert!(!crosses_strictly([-1.0, 0.2, 0.0], [2.0, 0.2, 0.0], t));
+        // A zero-area triangle: never.
+        assert!(!crosses_strictly([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [[0.0; 3], [1.0, 1.0, 0.0], [2.0, 2.0, 0.0]]));
+    }
+
     #[test]
     fn empty_mesh_is_clear_and_a_foreign_mesh_is_not() {
         assert!(clear(&[], [0.0, 5.0, 0.0, 1.0]));
         let a = mesh(&[FLOOR]);
         let b = mesh(&[FLOOR, FLOOR]);
         assert!(!ClearanceIndex::build(&a).is_clear(&b, &near_points(), [0.0, 5.0, 0.0, 1.0]));
+    }
+
+    /// Segment-triangle crossing without margins (closed barycentric range).
+    fn crosses_loosely(a: V3, b: V3, t: [V3; 3]) -> bool {
+        let dir = sub(b, a);
+        let (e1, e2) = (sub(t[1], t[0]), sub(t[2], t[0]));
+        let pv = cross(dir, e2);
+        let det = dot(e1, pv);
+        if det == 0.0 {
+            return false;
+        }
+        let tv = sub(a, t[0]);
+        let u = dot(tv, pv) / det;
+        let qv = cross(tv, e1);
+        let v = dot(dir, qv) / det;
+        let s = dot(e2, qv) / det;
+        u >= 0.0 && v >= 0.0 && u + v <= 1.0 && (0.0..=1.0).contains(&s)
     }
 
     /// Soundness against brute force: whenever the test says clear, no sampled point of any
@@ -410,7 +523,7 @@ mod tests {
         // A tiny tolerance finds every face despite rounding (with 0, faces whose fourth
         // coplanar point rounds to the other side are missed and "inside" overcounts).
         let hull = Hull::new(points, 1e-12);
-        let (mut said_clear, mut said_blocked) = (0, 0);
+        let (mut said_clear, mut said_blocked, mut said_inside) = (0, 0, 0);
         for _ in 0..3000 {
             // Centres around the segment from the eye to the light, so both answers occur.
             let r = rnd() * 1.2 - 0.1;
@@ -428,6 +541,21 @@ mod tests {
                 })
             });
             let is_clear = clear(&[t], light);
+            // near_winding's W0: every sampled point of the pyramid crosses exactly W0
+            // triangles (here 0 or 1) on its way to the light.
+            if let Some(w0) = winding(&[t], light) {
+                said_inside += w0;
+                let pts = near_points();
+                for _ in 0..20 {
+                    let mut wts: Vec<f64> = pts.iter().map(|_| rnd()).collect();
+                    let sum: f64 = wts.iter().sum();
+                    wts.iter_mut().for_each(|w| *w /= sum);
+                    let x: V3 = std::array::from_fn(|k| pts.iter().zip(&wts).map(|(p, w)| p[k] * w).sum());
+                    let tv = t.map(|q| q.map(f64::from));
+                    let crossed = u32::from(crosses_loosely(x, [0.3, 3.0, -1.0], tv));
+                    assert_eq!(crossed, w0, "point {x:?} of the pyramid, triangle {t:?}");
+                }
+            }
             assert!(!(inside && is_clear), "triangle {t:?} has a point inside the hull but was called clear");
             if is_clear {
                 said_clear += 1;
@@ -437,5 +565,6 @@ mod tests {
         }
         // The test must exercise both answers.
         assert!(said_clear > 300 && said_blocked > 300, "clear {said_clear}, blocked {said_blocked}");
+        assert!(said_inside > 10, "W0 = 1 (pyramid inside the triangle's volume) {said_inside} times");
     }
 }

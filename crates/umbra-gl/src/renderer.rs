@@ -1247,17 +1247,38 @@ impl Renderer {
     ) -> Result<(), GlError> {
         // ---- Pass 2: shadow volumes into a cleared stencil.
         mark(hook, gl, "volumes", Some(light_index));
-        // Reason: the stencil clear obeys the stencil write mask; default = all bits.
-        GlState::default().apply(gl);
-        view.bind_target(gl);
-        // SAFETY: clears the stencil of the bound draw framebuffer.
-        unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[0]) };
         // The wide counter (crate::counter) serves the methods that count in the stencil: they
         // draw into its framebuffer, the resolve writes the stencil they would have written.
         let counter = match (params.counter, method.classification()) {
             (Counter::Float32, Classification::StencilZero) => Counter::Float32,
             _ => Counter::Stencil8,
         };
+        // z-pass where it is exact (umbra_geom::clearance), z-fail elsewhere. With the eye's
+        // near pyramid inside W0 volumes and crossed by none of their faces, z-pass counts
+        // W(p) - W0, so the stencil starts at W0 (8-bit stencil only; the wide counter starts
+        // at 0, so there W0 > 0 keeps z-fail).
+        let counting = method.classification() == Classification::StencilZero;
+        let (zpass, start) = if params.zpass {
+            (true, 0)
+        } else if params.auto_zpass && counting {
+            let points = near_pyramid_points(&view.clip_from_world, view.eye, view.convention);
+            match scene.clearance().near_winding(scene.mesh(), &points, light) {
+                Some(0) => (true, 0),
+                Some(w0) if counter == Counter::Stencil8 => (true, (w0 % 256) as i32),
+                _ => (false, 0),
+            }
+        } else {
+            (false, 0)
+        };
+        if self.last_zpass.len() <= light_index {
+            self.last_zpass.resize(light_index + 1, false);
+        }
+        self.last_zpass[light_index] = zpass;
+        // Reason: the stencil clear obeys the stencil write mask; default = all bits.
+        GlState::default().apply(gl);
+        view.bind_target(gl);
+        // SAFETY: clears the stencil of the bound draw framebuffer (to 0, or W0 as above).
+        unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[start]) };
         let mut target = view.fb;
         if counter == Counter::Float32 {
             if self.counter.is_none() {
@@ -1267,17 +1288,6 @@ impl Renderer {
                 target = Some(c.begin(gl, view.fb, params.width, params.height)?);
             }
         }
-        // z-pass where it is exact (umbra_geom::clearance), z-fail elsewhere.
-        let counting = method.classification() == Classification::StencilZero;
-        let zpass = params.zpass
-            || (params.auto_zpass && counting && {
-                let points = near_pyramid_points(&view.clip_from_world, view.eye, view.convention);
-                scene.clearance().is_clear(scene.mesh(), &points, light)
-            });
-        if self.last_zpass.len() <= light_index {
-            self.last_zpass.resize(light_index + 1, false);
-        }
-        self.last_zpass[light_index] = zpass;
         {
             let mut frame = VolumeFrame {
                 zpass,

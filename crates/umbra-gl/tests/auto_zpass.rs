@@ -66,22 +66,62 @@ fn auto_zpass_is_chosen_when_the_eye_is_clear_and_equals_zfail() {
 }
 
 #[test]
-fn auto_zpass_falls_back_to_zfail_with_the_eye_in_shadow() {
+fn auto_zpass_with_the_eye_in_shadow_equals_zfail() {
     let ctx = context();
     let mesh = sphere_over_ground();
-    // The eye under the sphere: inside the point light's volume, so z-pass would be wrong
-    // (render.rs: camera_inside_the_shadow_volume_is_wrong_with_zpass).
+    // The eye under the sphere: inside the point light's volume, where plain z-pass is wrong
+    // (render.rs: camera_inside_the_shadow_volume_is_wrong_with_zpass). Auto counts z-pass
+    // from W0 when every near-pyramid ray crosses the same sphere triangles, z-fail otherwise:
+    // either way the z-fail image.
     let eye = Camera { eye: [0.0, 0.3, 0.0], target: [0.8, 0.0, 0.3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
     let p = params(eye, vec![POINT_LIGHT], 320, 240);
     for method in counting_methods() {
-        let (auto, zpass) = render(&ctx, &mesh, method, &p);
-        assert_eq!(zpass, vec![false], "{method}: the eye is in the shadow");
+        let (auto, _) = render(&ctx, &mesh, method, &p);
         let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
         assert_same_image(&ctx, &format!("auto_zpass_shadowed_{method}"), &reference.rgba, &auto.rgba);
-        // And forcing z-pass here really is wrong: the fallback matters.
+        assert_eq!(visible_count_differences(&auto, &reference, 0), 0, "{method}");
+        // And plain z-pass really is wrong here.
         let (forced, zpass) = render(&ctx, &mesh, method, &FrameParams { zpass: true, ..p.clone() });
         assert_eq!(zpass, vec![true]);
         assert_ne!(visible_count_differences(&forced, &reference, 0), 0, "{method}: forced z-pass should be wrong here");
+    }
+}
+
+/// Ground (y = 0) and a square roof at y = 2 over [-3, 3]^2, split along its x = z diagonal.
+fn roof_over_ground() -> Arc<WeldedMesh> {
+    let mut mesh = umbra_geom::scene::ground_plane([0.0, 2.0, 0.0], 3.0);
+    mesh.append(&umbra_geom::scene::ground_plane([0.0, 0.0, 0.0], 10.0));
+    Arc::new(umbra_geom::weld::weld(&mesh))
+}
+
+#[test]
+fn auto_zpass_under_a_roof_starts_from_its_winding() {
+    let ctx = context();
+    let mesh = roof_over_ground();
+    // Under the middle of one roof triangle, the light straight above it: the whole near
+    // pyramid lies in that triangle's volume (W0 = 1), so z-pass counts from a stencil
+    // cleared to 1. The camera sees shadowed ground under the roof and lit ground beyond it.
+    let eye = Camera { eye: [1.5, 0.5, -1.5], target: [5.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let p = params(eye, vec![[1.5, 6.0, -1.5, 1.0]], 320, 240);
+    for method in counting_methods() {
+        let (auto, zpass) = render(&ctx, &mesh, method, &p);
+        assert_eq!(zpass, vec![true], "{method}: the pyramid is inside exactly one volume");
+        let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
+        assert_same_image(&ctx, &format!("auto_zpass_roof_{method}"), &reference.rgba, &auto.rgba);
+        assert_eq!(visible_count_differences(&auto, &reference, 0), 0, "{method}");
+        // Without the start value (plain z-pass) every visible count is off by one.
+        let (forced, _) = render(&ctx, &mesh, method, &FrameParams { zpass: true, ..p.clone() });
+        assert_ne!(visible_count_differences(&forced, &reference, 0), 0, "{method}: plain z-pass should be wrong");
+    }
+    // Under the roof's diagonal, the two triangles' shared edge runs through the pyramid's
+    // shadow: the start value is unknown, so z-fail.
+    let eye = Camera { eye: [0.0, 0.5, 0.0], target: [5.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let p = params(eye, vec![[0.0, 6.0, 0.0, 1.0]], 320, 240);
+    for method in ["cpu-silhouette", "vs-silhouette"] {
+        let (auto, zpass) = render(&ctx, &mesh, method, &p);
+        assert_eq!(zpass, vec![false], "{method}: a shadow edge crosses the pyramid");
+        let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
+        assert_same_image(&ctx, &format!("auto_zpass_roof_edge_{method}"), &reference.rgba, &auto.rgba);
     }
 }
 
