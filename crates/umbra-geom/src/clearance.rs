@@ -28,18 +28,23 @@
 //!   a face plane of `H` skips its whole cluster;
 //! * a triangle with a non-finite vertex blocks (its volume is unknown).
 //!
-//! [`ClearanceIndex::near_winding`] extends this to an eye in shadow: if every triangle that
-//! meets `H` is crossed — strictly inside, by a margin — by the segment from EACH of the points
-//! to the light, the whole pyramid lies inside those triangles' volumes (a triangle's volume is
-//! convex, the pyramid is the hull of the points) and no volume face crosses it, so every entry
-//! point has the same `W0` = the number of such triangles, and z-pass with the count starting
-//! at `W0` (the stencil cleared to `W0`) equals z-fail. Any other triangle meeting `H` means
-//! "unknown" (None): z-fail.
+//! [`ClearanceIndex::near_winding`] extends this to an eye in shadow. `W(x)`, as the point `x`
+//! moves through the pyramid, changes only where the segment from `x` to the light passes an
+//! edge with a nonzero multiplicity (paper 001, Alg. 3: across an edge of multiplicity 0 the
+//! segment leaves one triangle and enters another) or where `x` itself passes a triangle. So
+//! `W` is one constant `W0` over the whole pyramid when no triangle meets the pyramid itself
+//! and every triangle meeting `H` is either crossed strictly — barycentric and segment margins
+//! of [`CROSSING_MARGIN`] — by the segments from EACH point to the light (then none of its edges
+//! meets the cone), or has no edge of nonzero multiplicity meeting `H` (the latter only for
+//! volumes without faces on edges of multiplicity 0: the caller passes the adjacency). `W0` is then the number
+//! of triangles the eye's segment crosses, counted where every crossing is unambiguous (strictly
+//! in or strictly out), and z-pass with the count starting at `W0` (the stencil cleared to `W0`)
+//! equals z-fail. Anything else is "unknown" (None): z-fail.
 //!
 //! Answering "not clear" wrongly only costs speed (the renderer falls back to z-fail); answering
 //! "clear" wrongly would cost exactness, which is why every approximation errs the first way.
 
-use crate::{Aabb, Light, WeldedMesh};
+use crate::{Aabb, EdgeAdjacency, Light, WeldedMesh};
 
 /// Triangles per cluster.
 pub const CLUSTER: usize = 32;
@@ -70,14 +75,20 @@ pub const CROSSING_MARGIN: f64 = 1e-6;
 /// [`CROSSING_MARGIN`] to the triangle's edges and to the segment's ends (Moller-Trumbore in
 /// f64). A degenerate (zero-area or edge-on) triangle never does.
 pub fn crosses_strictly(a: V3, b: V3, t: [V3; 3]) -> bool {
+    crossing(a, b, t) == Some(true)
+}
+
+/// Whether the segment `a -> b` crosses triangle `t`: `Some(true)` strictly inside, `Some(false)`
+/// strictly outside (a barycentric coordinate or the segment parameter beyond the range by
+/// [`CROSSING_MARGIN`]), `None` when it cannot tell (near an edge, an end, or edge-on).
+pub fn crossing(a: V3, b: V3, t: [V3; 3]) -> Option<bool> {
     let dir = sub(b, a);
     let e1 = sub(t[1], t[0]);
     let e2 = sub(t[2], t[0]);
     let pv = cross(dir, e2);
     let det = dot(e1, pv);
-    // Edge-on or degenerate, relative to the sizes involved.
     if !(det.abs() > 1e-9 * norm(dir) * norm(e1) * norm(e2)) {
-        return false;
+        return None;
     }
     let inv = 1.0 / det;
     let tv = sub(a, t[0]);
@@ -86,7 +97,13 @@ pub fn crosses_strictly(a: V3, b: V3, t: [V3; 3]) -> bool {
     let v = dot(dir, qv) * inv;
     let s = dot(e2, qv) * inv;
     let m = CROSSING_MARGIN;
-    u > m && v > m && u + v < 1.0 - m && s > m && s < 1.0 - m
+    if u > m && v > m && u + v < 1.0 - m && s > m && s < 1.0 - m {
+        Some(true)
+    } else if u < -m || v < -m || u + v > 1.0 + m || s < -m || s > 1.0 + m {
+        Some(false)
+    } else {
+        None
+    }
 }
 
 /// Per-mesh data of the clearance test: one box per cluster of [`CLUSTER`] triangles.
@@ -274,15 +291,21 @@ impl ClearanceIndex {
     /// for a point light (w != 0) its position, for a directional light (w = 0) every point
     /// swept towards the light (`+xyz`) beyond the scene's bounds. `true` proves that z-pass
     /// counts every visible sample exactly as z-fail does; `false` may be conservative.
-    pub fn is_clear(&self, mesh: &WeldedMesh, points: &[[f64; 3]], light: Light) -> bool {
-        self.near_winding(mesh, points, light) == Some(0)
+    pub fn is_clear(&self, mesh: &WeldedMesh, adjacency: Option<&EdgeAdjacency>, points: &[[f64; 3]], light: Light) -> bool {
+        self.near_winding(mesh, adjacency, points, light) == Some(0)
     }
 
     /// The count `W0` every point of the hull of `points` (the eye and the near-plane corners)
     /// has — the number of triangles between it and the light — when it is provably the same
     /// for all of them (see the module doc); `Some(0)` is [`ClearanceIndex::is_clear`]. None:
     /// unknown (some volume face may cross the pyramid, or bad input).
-    pub fn near_winding(&self, mesh: &WeldedMesh, points: &[[f64; 3]], light: Light) -> Option<u32> {
+    pub fn near_winding(
+        &self,
+        mesh: &WeldedMesh,
+        adjacency: Option<&EdgeAdjacency>,
+        points: &[[f64; 3]],
+        light: Light,
+    ) -> Option<u32> {
         if mesh.triangles.len() != self.triangles || points.is_empty() {
             return None;
         }
@@ -324,8 +347,11 @@ impl ClearanceIndex {
         }
         let margin = MARGIN * (far + diag).max(1e-30);
         let hull = Hull::new(hull_points, margin);
+        let pyramid = Hull::new(points.to_vec(), margin);
         let p = &mesh.positions;
-        let mut winding = 0u32;
+        // Per point: triangles its segment crosses strictly, and whether any was ambiguous.
+        let mut crossed = vec![0u32; points.len()];
+        let mut ambiguous = vec![false; points.len()];
         for (c, (lo, hi)) in self.boxes.iter().enumerate() {
             if hull.box_apart(*lo, *hi) {
                 continue;
@@ -343,15 +369,46 @@ impl ClearanceIndex {
                 if hull.triangle_apart(v) {
                     continue;
                 }
-                // Meets the hull: fine only if every point's segment crosses it strictly.
-                if points.iter().zip(&ends).all(|(a, b)| crosses_strictly(*a, *b, v)) {
-                    winding = winding.checked_add(1)?;
-                } else {
+                // A triangle in the pyramid itself: the eye's own position changes W.
+                if !pyramid.triangle_apart(v) {
                     return None;
+                }
+                let mut all = true;
+                for (k, (a, b)) in points.iter().zip(&ends).enumerate() {
+                    match crossing(*a, *b, v) {
+                        Some(true) => crossed[k] = crossed[k].checked_add(1)?,
+                        Some(false) => all = false,
+                        None => {
+                            ambiguous[k] = true;
+                            all = false;
+                        }
+                    }
+                }
+                if all {
+                    continue;
+                }
+                // Partly crossed: fine only when none of its edges of nonzero multiplicity
+                // meets the hull (a degenerate triangle a, b, b tests the segment), and only
+                // for volumes without faces on edges of multiplicity 0 (adjacency given).
+                let adjacency = adjacency?;
+                for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+                    let (a, b) = (t[i], t[j]);
+                    if hull.triangle_apart([v[i], v[j], v[j]]) {
+                        continue;
+                    }
+                    let key = (a.min(b), a.max(b));
+                    let e = adjacency.edges.binary_search_by_key(&key, |e| (e[0].min(e[1]), e[0].max(e[1]))).ok()?;
+                    let opposites = adjacency.opposites(e);
+                    if crate::multiplicity::edge_multiplicity(p, adjacency.edges[e], opposites, light) != 0 {
+                        return None;
+                    }
                 }
             }
         }
-        Some(winding)
+        // W0 from the points whose crossings were all unambiguous; they must agree.
+        let mut unambiguous = crossed.iter().zip(&ambiguous).filter(|(_, a)| !**a).map(|(c, _)| *c);
+        let w0 = unambiguous.next()?;
+        unambiguous.all(|c| c == w0).then_some(w0)
     }
 }
 
@@ -378,7 +435,7 @@ mod tests {
 
     fn clear(tris: &[[[f32; 3]; 3]], light: Light) -> bool {
         let m = mesh(tris);
-        ClearanceIndex::build(&m).is_clear(&m, &near_points(), light)
+        ClearanceIndex::build(&m).is_clear(&m, Some(&EdgeAdjacency::build(&m)), &near_points(), light)
     }
 
     const FLOOR: [[f32; 3]; 3] = [[-5.0, -2.0, -5.0], [5.0, -2.0, -5.0], [0.0, -2.0, 5.0]];
@@ -440,7 +497,42 @@ mod tests {
 
     fn winding(tris: &[[[f32; 3]; 3]], light: Light) -> Option<u32> {
         let m = mesh(tris);
-        ClearanceIndex::build(&m).near_winding(&m, &near_points(), light)
+        ClearanceIndex::build(&m).near_winding(&m, Some(&EdgeAdjacency::build(&m)), &near_points(), light)
+    }
+
+    /// A welded mesh from shared vertices.
+    fn welded(positions: Vec<[f32; 3]>, triangles: Vec<[u32; 3]>) -> WeldedMesh {
+        let n = triangles.len();
+        WeldedMesh { positions, triangles, source_triangle: (0..n as u32).collect(), degenerate_triangles: 0 }
+    }
+
+    #[test]
+    fn shared_edge_of_multiplicity_zero_across_the_pyramid_keeps_w0() {
+        // A welded roof square split along x = z, consistently wound (both halves face down,
+        // away from... whichever: the same way): its diagonal has multiplicity 0, so W = 1 on
+        // both sides and across it. Soup halves (unwelded: open edges) stay unknown.
+        let roof = welded(
+            vec![[-5.0, 2.0, -5.0], [5.0, 2.0, -5.0], [5.0, 2.0, 5.0], [-5.0, 2.0, 5.0]],
+            vec![[0, 3, 2], [0, 2, 1]],
+        );
+        let light = [0.0, 5.0, 0.0, 1.0];
+        let adjacency = EdgeAdjacency::build(&roof);
+        let index = ClearanceIndex::build(&roof);
+        // The diagonal runs through the eye's pyramid when the eye is at the origin.
+        assert_eq!(index.near_winding(&roof, Some(&adjacency), &near_points(), light), Some(1));
+        // Without adjacency (per-triangle volumes: faces on every edge) the same is unknown.
+        assert_eq!(index.near_winding(&roof, None, &near_points(), light), None);
+        // The roof's outer edge (open: multiplicity != 0) across the pyramid: unknown.
+        let edge = welded(
+            vec![[0.0, 2.0, -5.0], [5.0, 2.0, -5.0], [5.0, 2.0, 5.0], [0.0, 2.0, 5.0]],
+            vec![[0, 3, 2], [0, 2, 1]],
+        );
+        let (a, i) = (EdgeAdjacency::build(&edge), ClearanceIndex::build(&edge));
+        assert_eq!(i.near_winding(&edge, Some(&a), &near_points(), light), None);
+        // A triangle inside the pyramid itself: unknown.
+        let inside = welded(vec![[-0.01, -0.01, -0.05], [0.01, -0.01, -0.05], [0.0, 0.01, -0.05]], vec![[0, 1, 2]]);
+        let (a, i) = (EdgeAdjacency::build(&inside), ClearanceIndex::build(&inside));
+        assert_eq!(i.near_winding(&inside, Some(&a), &near_points(), light), None);
     }
 
     #[test]
@@ -476,6 +568,10 @@ mod tests {
         assert!(!crosses_strictly([0.0, 0.0, -1.0], [0.0, 0.0, 1.0], t));
         assert!(!crosses_strictly([0.2, 0.2, -1.0], [0.2, 0.2, 0.0], t));
         assert!(!crosses_strictly([-1.0, 0.2, 0.0], [2.0, 0.2, 0.0], t));
+        // Clearly outside; near an edge: unknown, not "outside".
+        assert_eq!(crossing([2.0, 0.2, -1.0], [2.0, 0.2, 1.0], t), Some(false));
+        assert_eq!(crossing([0.2, 0.2, 0.5], [0.2, 0.2, 1.0], t), Some(false));
+        assert_eq!(crossing([0.5, 1e-9, -1.0], [0.5, 1e-9, 1.0], t), None);
         // A zero-area triangle: never.
         assert!(!crosses_strictly([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [[0.0; 3], [1.0, 1.0, 0.0], [2.0, 2.0, 0.0]]));
     }
@@ -485,7 +581,7 @@ mod tests {
         assert!(clear(&[], [0.0, 5.0, 0.0, 1.0]));
         let a = mesh(&[FLOOR]);
         let b = mesh(&[FLOOR, FLOOR]);
-        assert!(!ClearanceIndex::build(&a).is_clear(&b, &near_points(), [0.0, 5.0, 0.0, 1.0]));
+        assert!(!ClearanceIndex::build(&a).is_clear(&b, Some(&EdgeAdjacency::build(&b)), &near_points(), [0.0, 5.0, 0.0, 1.0]));
     }
 
     /// Segment-triangle crossing without margins (closed barycentric range).

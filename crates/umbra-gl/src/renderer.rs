@@ -1262,7 +1262,8 @@ impl Renderer {
             (true, 0)
         } else if params.auto_zpass && counting {
             let points = near_pyramid_points(&view.clip_from_world, view.eye, view.convention);
-            match scene.clearance().near_winding(scene.mesh(), &points, light) {
+            let adjacency = method.silhouette_sides().then(|| scene.adjacency().as_ref());
+            match scene.clearance().near_winding(scene.mesh(), adjacency, &points, light) {
                 Some(0) => (true, 0),
                 Some(w0) if counter == Counter::Stencil8 => (true, (w0 % 256) as i32),
                 _ => (false, 0),

@@ -113,29 +113,40 @@ fn auto_zpass_under_a_roof_starts_from_its_winding() {
         let (forced, _) = render(&ctx, &mesh, method, &FrameParams { zpass: true, ..p.clone() });
         assert_ne!(visible_count_differences(&forced, &reference, 0), 0, "{method}: plain z-pass should be wrong");
     }
-    // Under the roof's diagonal, the two triangles' shared edge runs through the pyramid's
-    // shadow: the start value is unknown, so z-fail.
+    // Under the roof's diagonal: the two triangles' shared edge (multiplicity 0) runs through
+    // the pyramid's cone, W stays 1 across it: still z-pass from 1.
     let eye = Camera { eye: [0.0, 0.5, 0.0], target: [5.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
     let p = params(eye, vec![[0.0, 6.0, 0.0, 1.0]], 320, 240);
     for method in ["cpu-silhouette", "vs-silhouette"] {
         let (auto, zpass) = render(&ctx, &mesh, method, &p);
-        assert_eq!(zpass, vec![false], "{method}: a shadow edge crosses the pyramid");
+        assert_eq!(zpass, vec![true], "{method}: an edge of multiplicity 0 changes nothing");
+        let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
+        assert_same_image(&ctx, &format!("auto_zpass_roof_diagonal_{method}"), &reference.rgba, &auto.rgba);
+        assert_eq!(visible_count_differences(&auto, &reference, 0), 0, "{method}");
+    }
+    // Under the roof's outer edge (x = 3, an open edge: multiplicity 1), the shadow boundary
+    // crosses the pyramid: unknown, so z-fail.
+    let eye = Camera { eye: [3.0, 0.5, 0.0], target: [6.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let p = params(eye, vec![[3.0, 6.0, 0.0, 1.0]], 320, 240);
+    for method in ["cpu-silhouette", "vs-silhouette"] {
+        let (auto, zpass) = render(&ctx, &mesh, method, &p);
+        assert_eq!(zpass, vec![false], "{method}: a shadow boundary crosses the pyramid");
         let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));
         assert_same_image(&ctx, &format!("auto_zpass_roof_edge_{method}"), &reference.rgba, &auto.rgba);
     }
 }
 
-/// The eye clear of one light and in the shadow of the other: chosen per light.
+/// The eye clear of one light and in an unknown state for the other: chosen per light.
 #[test]
 fn auto_zpass_is_chosen_per_light() {
     let ctx = context();
-    let mesh = sphere_over_ground();
-    // Eye just under the sphere's south side; the point light straight above the sphere
-    // shadows it, a low directional light from the north-east does not reach it through
-    // the sphere.
-    let eye = Camera { eye: [0.0, 0.3, 0.0], target: [0.8, 0.0, 0.3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
-    let p = params(eye, vec![POINT_LIGHT, [1.0, 0.3, -1.0, 0.0]], 320, 240);
-    for method in ["cpu-silhouette", "gs-silhouette"] {
+    let mesh = roof_over_ground();
+    // Under the roof's outer edge: the point light above it casts the edge's shadow boundary
+    // through the pyramid (z-fail); a low directional light from +x reaches the eye past the
+    // roof (clear: z-pass).
+    let eye = Camera { eye: [3.0, 0.5, 0.0], target: [6.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let p = params(eye, vec![[3.0, 6.0, 0.0, 1.0], [1.0, 0.3, 0.0, 0.0]], 320, 240);
+    for method in counting_methods() {
         let (auto, zpass) = render(&ctx, &mesh, method, &p);
         assert_eq!(zpass, vec![false, true], "{method}");
         let (reference, _) = render(&ctx, &mesh, method, &zfail(&p));

@@ -146,6 +146,10 @@ impl CpuSilhouette {
 }
 
 impl ShadowMethod for CpuSilhouette {
+    fn silhouette_sides(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &'static str {
         NAME
     }

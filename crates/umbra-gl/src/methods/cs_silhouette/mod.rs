@@ -265,6 +265,10 @@ impl CsSilhouette {
 }
 
 impl ShadowMethod for CsSilhouette {
+    fn silhouette_sides(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &'static str {
         NAME
     }

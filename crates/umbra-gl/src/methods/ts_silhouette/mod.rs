@@ -240,6 +240,10 @@ fn upload(gl: &glow::Context, p: &EdgePatches) -> Result<Buffers, GlError> {
 }
 
 impl ShadowMethod for TsSilhouette {
+    fn silhouette_sides(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &'static str {
         if self.three_edge {
             NAME_3EDGE

@@ -560,6 +560,10 @@ impl VsSilhouette {
 }
 
 impl ShadowMethod for VsSilhouette {
+    fn silhouette_sides(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &'static str {
         NAME
     }
