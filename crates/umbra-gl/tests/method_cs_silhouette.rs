@@ -95,6 +95,8 @@ fn render_with(
 fn render_cs(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> Rendered {
     let gl = ctx.gl();
     let mut m = CsSilhouette::new();
+    // z-fail, so the caps are drawn and counted (auto z-pass would skip them; auto_zpass.rs).
+    let p = &FrameParams { auto_zpass: false, ..p.clone() };
     let mut out = render_with(ctx, mesh, &mut m, p);
     out.counts = m.last_counts(gl);
     m.destroy(gl);
@@ -104,6 +106,7 @@ fn render_cs(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> 
 
 fn render_cpu(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> Rendered {
     let mut m = umbra_gl::create_method("cpu-silhouette").expect("registered");
+    let p = &FrameParams { auto_zpass: false, ..p.clone() };
     let out = render_with(ctx, mesh, m.as_mut(), p);
     m.destroy(ctx.gl());
     out
