@@ -291,7 +291,13 @@ impl ClearanceIndex {
     /// for a point light (w != 0) its position, for a directional light (w = 0) every point
     /// swept towards the light (`+xyz`) beyond the scene's bounds. `true` proves that z-pass
     /// counts every visible sample exactly as z-fail does; `false` may be conservative.
-    pub fn is_clear(&self, mesh: &WeldedMesh, adjacency: Option<&EdgeAdjacency>, points: &[[f64; 3]], light: Light) -> bool {
+    pub fn is_clear(
+        &self,
+        mesh: &WeldedMesh,
+        adjacency: Option<&EdgeAdjacency>,
+        points: &[[f64; 3]],
+        light: Light,
+    ) -> bool {
         self.near_winding(mesh, adjacency, points, light) == Some(0)
     }
 
@@ -581,7 +587,12 @@ mod tests {
         assert!(clear(&[], [0.0, 5.0, 0.0, 1.0]));
         let a = mesh(&[FLOOR]);
         let b = mesh(&[FLOOR, FLOOR]);
-        assert!(!ClearanceIndex::build(&a).is_clear(&b, Some(&EdgeAdjacency::build(&b)), &near_points(), [0.0, 5.0, 0.0, 1.0]));
+        assert!(!ClearanceIndex::build(&a).is_clear(
+            &b,
+            Some(&EdgeAdjacency::build(&b)),
+            &near_points(),
+            [0.0, 5.0, 0.0, 1.0]
+        ));
     }
 
     /// Segment-triangle crossing without margins (closed barycentric range).
@@ -625,8 +636,7 @@ mod tests {
             let r = rnd() * 1.2 - 0.1;
             let c = [0.3 * r + (rnd() - 0.5) * 0.3, 3.0 * r + (rnd() - 0.5) * 0.3, -r + (rnd() - 0.5) * 0.3];
             let s = 0.05 + rnd() * 0.5;
-            let t: [[f32; 3]; 3] =
-                std::array::from_fn(|_| std::array::from_fn(|a| (c[a] + (rnd() - 0.5) * s) as f32));
+            let t: [[f32; 3]; 3] = std::array::from_fn(|_| std::array::from_fn(|a| (c[a] + (rnd() - 0.5) * s) as f32));
             let inside = (0..=20).any(|i| {
                 (0..=20 - i).any(|j| {
                     let (a, b) = (i as f64 / 20.0, j as f64 / 20.0);
