@@ -44,6 +44,9 @@
 //! Answering "not clear" wrongly only costs speed (the renderer falls back to z-fail); answering
 //! "clear" wrongly would cost exactness, which is why every approximation errs the first way.
 
+// `!(x > 0.0)` on purpose: true for NaN, which must answer "unknown", never "clear".
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::{Aabb, EdgeAdjacency, Light, WeldedMesh};
 
 /// Triangles per cluster.
