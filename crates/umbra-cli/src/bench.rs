@@ -564,14 +564,15 @@ pub fn measure_options(
     if !(a.fov > 0.0 && a.fov < 180.0) {
         return Err(bad("--fov", format!("must be in (0, 180) degrees, got {}", a.fov)));
     }
+    let (zpass, auto_zpass) = crate::config::parse_zmode(&a.zmode, a.zpass)?;
     Ok(MeasureOptions {
         width,
         height,
         warmup: a.warmup.unwrap_or(2),
         stage_every: a.stage_every.unwrap_or(stage_every_default),
         fov: a.fov,
-        zpass: crate::config::parse_zmode(&a.zmode, a.zpass)?.0,
-        auto_zpass: crate::config::parse_zmode(&a.zmode, a.zpass)?.1,
+        zpass,
+        auto_zpass,
         counter: crate::methods::CounterChoice::parse(&a.counter, "--counter")?,
         sm: SmOptions::from_args(&a.sm)?,
         trace_order: a.trace_order,

@@ -95,6 +95,7 @@ pub mod scene;
 pub mod sides_data;
 pub mod silhouette;
 pub mod weld;
+pub mod vec3;
 pub mod winding_bound;
 
 pub use adjacency::EdgeAdjacency;

@@ -276,6 +276,10 @@ struct PassView {
     clip_from_world: DMat4,
     /// The same, as f32 columns for the shaders.
     clip_f32: [f32; 16],
+    /// Its inverse (the near-plane corners, the scene clip planes in clip space).
+    world_from_clip: DMat4,
+    /// The eye and the near-plane corners the auto z-pass test uses (per frame, any light).
+    near_pyramid: Vec<[f64; 3]>,
     eye: [f64; 3],
     convention: DepthConvention,
     /// The framebuffer drawn into (None = default framebuffer).
@@ -310,8 +314,11 @@ impl PassView {
         let convention = params.depth_convention;
         let aspect = params.width as f64 / params.height as f64;
         let clip_from_world = params.camera.clip_from_world_in(aspect, convention);
+        let world_from_clip = clip_from_world.inverse();
         Self {
             clip_f32: to_f32_cols(&clip_from_world),
+            near_pyramid: near_pyramid_points(&world_from_clip, params.camera.eye, convention),
+            world_from_clip,
             clip_from_world,
             eye: params.camera.eye,
             convention,
@@ -459,8 +466,7 @@ fn scene_clip_box(bounds: umbra_geom::Aabb, eye: [f64; 3]) -> [[f64; 4]; 6] {
 
 /// The eye and the corners of the near-plane rectangle (pushed 2 % outwards from its centre),
 /// world space: the points whose hull with the light must be clear for z-pass.
-fn near_pyramid_points(clip_from_world: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
-    let world_from_clip = clip_from_world.inverse();
+fn near_pyramid_points(world_from_clip: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
     // Near plane in NDC: z = -1 (standard, [-1, 1] depth), z = 1 (reversed-Z, ZERO_TO_ONE).
     let z = match convention {
         DepthConvention::Standard => -1.0,
@@ -849,16 +855,17 @@ impl Renderer {
         result.and(checked)
     }
 
-    /// The body of [`Renderer::count_shadows`] (state saved by the caller).
-    fn count_on(
+    /// The common start of the passes on a caller's framebuffer (count_shadows,
+    /// draw_volume_wireframe): binds it (checked to have a stencil), prepares `method` for
+    /// `scene`, lets the passes cover the whole frame and sets the depth convention.
+    fn begin_on_target(
         &mut self,
         gl: &glow::Context,
         scene: &SceneGpu,
         method: &mut dyn ShadowMethod,
         params: &FrameParams,
-        light: Light,
         fb: Option<glow::Framebuffer>,
-    ) -> Result<Classification, GlError> {
+    ) -> Result<PassView, GlError> {
         let view = PassView::new(params, fb);
         view.bind_target(gl);
         check_stencil_target(gl, fb)?;
@@ -873,6 +880,20 @@ impl Renderer {
             gl.disable(glow::RASTERIZER_DISCARD);
         }
         self.set_depth_convention(gl, view.convention)?;
+        Ok(view)
+    }
+
+    /// The body of [`Renderer::count_shadows`] (state saved by the caller).
+    fn count_on(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        method: &mut dyn ShadowMethod,
+        params: &FrameParams,
+        light: Light,
+        fb: Option<glow::Framebuffer>,
+    ) -> Result<Classification, GlError> {
+        let view = self.begin_on_target(gl, scene, method, params, fb)?;
         let mut hook = None;
         self.volume_pass(gl, scene, method, params, &view, light, 0, &mut hook)?;
         match method.classification() {
@@ -1204,7 +1225,7 @@ impl Renderer {
         let mut data = [0f32; 24];
         if let (Some(bounds), true) = (bounds, enable) {
             // A world plane p (p . (X, W) >= 0 inside) in clip space: (clip_from_world)^-T p.
-            let clip_from_plane = view.clip_from_world.inverse().transpose();
+            let clip_from_plane = view.world_from_clip.transpose();
             for (i, p) in scene_clip_box(bounds, view.eye).iter().enumerate() {
                 let q = clip_from_plane * glam::DVec4::from_array(*p);
                 data[4 * i..4 * i + 4].copy_from_slice(&q.to_array().map(|c| c as f32));
@@ -1261,9 +1282,8 @@ impl Renderer {
         let (zpass, start) = if params.zpass {
             (true, 0)
         } else if params.auto_zpass && counting {
-            let points = near_pyramid_points(&view.clip_from_world, view.eye, view.convention);
             let adjacency = method.silhouette_sides().then(|| scene.adjacency().as_ref());
-            match scene.clearance().near_winding(scene.mesh(), adjacency, &points, light) {
+            match scene.clearance().near_winding(scene.mesh(), adjacency, &view.near_pyramid, light) {
                 Some(0) => (true, 0),
                 Some(w0) if counter == Counter::Stencil8 => (true, (w0 % 256) as i32),
                 _ => (false, 0),
@@ -1563,18 +1583,10 @@ impl Renderer {
         // Reason: the wide counter would send the volumes into its own target; the geometry
         // is the same with the stencil counter, and only the geometry is shown.
         let params = FrameParams { counter: Counter::Stencil8, ..params.clone() };
-        let view = PassView::new(&params, fb);
-        view.bind_target(gl);
-        check_stencil_target(gl, fb)?;
-        if method.prepared_scene() != Some(scene.id()) {
-            method.prepare(gl, scene)?;
-        }
+        let view = self.begin_on_target(gl, scene, method, &params, fb)?;
         // SAFETY: plain state calls on the current context (restored by the caller's
         // SavedState).
         unsafe {
-            // Reason: the whole frame, as it was drawn.
-            gl.disable(glow::SCISSOR_TEST);
-            gl.disable(glow::RASTERIZER_DISCARD);
             // Reason: the wireframe itself: volume triangles as their edges. No method sets
             // the polygon mode, so it holds through the method's draws.
             gl.polygon_mode(glow::FRONT_AND_BACK, glow::LINE);
@@ -1582,7 +1594,6 @@ impl Renderer {
             // write no colour to blend with).
             gl.blend_color(tint[0], tint[1], tint[2], 1.0);
         }
-        self.set_depth_convention(gl, view.convention)?;
         let mut state = GlState::shadow_volume_for(false, view.convention);
         // Reason: draw lines, do not count (the stencil holds nothing the frame still needs).
         state.stencil_test = false;

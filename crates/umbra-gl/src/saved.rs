@@ -2,7 +2,7 @@
 //! may run on somebody else's context).
 //!
 //! Restored exactly: every [`GlState`] field, the current program, vertex array, draw and
-//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, CLIP_DISTANCE0..6 (desktop
+//! read framebuffers, viewport, SCISSOR_TEST, RASTERIZER_DISCARD, CLIP_DISTANCE0..7 (desktop
 //! GL; the volume pass enables 0 for the near-plane clip of light caps and 1..6 for the z-pass
 //! scene box), the uniform buffer at SCENE_CLIP_BINDING and the generic one, the generic and indexed
 //! (binding 0) SHADER_STORAGE_BUFFER bindings, glDepthRange, and glClipControl's origin and
@@ -42,11 +42,9 @@ pub(crate) struct SavedState {
     viewport: [i32; 4],
     scissor_test: bool,
     rasterizer_discard: bool,
-    /// GL_CLIP_DISTANCE0; None on OpenGL ES (no clip distances in ES 3.x core).
-    clip_distance0: Option<bool>,
-    /// GL_CLIP_DISTANCE1..7 (1..6: the z-pass scene box clip; the volume pass turns 7 off);
-    /// None on OpenGL ES.
-    clip_distances: Option<[bool; 7]>,
+    /// GL_CLIP_DISTANCE0..7 (0: the near-plane clip of light caps; 1..6: the z-pass scene box
+    /// clip; the volume pass turns 7 off); None on OpenGL ES (no clip distances in ES 3.x core).
+    clip_distances: Option<[bool; 8]>,
     /// Uniform buffer at SCENE_CLIP_BINDING (name, start, size) and the generic binding.
     ubo_indexed: (u32, i64, i64),
     ubo_generic: u32,
@@ -88,9 +86,8 @@ impl SavedState {
                 viewport,
                 scissor_test: gl.is_enabled(glow::SCISSOR_TEST),
                 rasterizer_discard: gl.is_enabled(glow::RASTERIZER_DISCARD),
-                clip_distance0: (!gl.version().is_embedded).then(|| gl.is_enabled(glow::CLIP_DISTANCE0)),
                 clip_distances: (!gl.version().is_embedded)
-                    .then(|| std::array::from_fn(|i| gl.is_enabled(glow::CLIP_DISTANCE0 + 1 + i as u32))),
+                    .then(|| std::array::from_fn(|i| gl.is_enabled(glow::CLIP_DISTANCE0 + i as u32))),
                 ubo_indexed: (
                     gl.get_parameter_indexed_i32(glow::UNIFORM_BUFFER_BINDING, SCENE_CLIP_BINDING) as u32,
                     gl.get_parameter_indexed_i64(glow::UNIFORM_BUFFER_START, SCENE_CLIP_BINDING),
@@ -131,13 +128,6 @@ impl SavedState {
             }
             let [r, g, b, a] = self.blend_color;
             gl.blend_color(r, g, b, a);
-            if let Some(on) = self.clip_distance0 {
-                if on {
-                    gl.enable(glow::CLIP_DISTANCE0)
-                } else {
-                    gl.disable(glow::CLIP_DISTANCE0)
-                }
-            }
             for (cap, on) in [(glow::SCISSOR_TEST, self.scissor_test), (glow::RASTERIZER_DISCARD, self.rasterizer_discard)] {
                 if on {
                     gl.enable(cap)
@@ -159,7 +149,7 @@ impl SavedState {
             gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, buffer(self.ssbo_generic));
             if let Some(on) = self.clip_distances {
                 for (i, on) in on.iter().enumerate() {
-                    let cap = glow::CLIP_DISTANCE0 + 1 + i as u32;
+                    let cap = glow::CLIP_DISTANCE0 + i as u32;
                     if *on {
                         gl.enable(cap)
                     } else {

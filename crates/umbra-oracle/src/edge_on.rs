@@ -19,6 +19,7 @@
 //! front of the eye (else the whole line). Conservative: a marked pixel need not be covered.
 
 use umbra_geom::adjacency::EdgeAdjacency;
+use umbra_geom::vec3::{cross, dot, norm, sub};
 use umbra_geom::{Light, WeldedMesh};
 
 use crate::reference::RasterView;
@@ -29,20 +30,8 @@ pub const SLIVER_PIXELS: f64 = 0.25;
 /// The pixels whose centre lies within this distance of a sliver's image are band.
 pub const EDGE_ON_PIXELS: f64 = 1.0;
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
 fn add_scaled(a: [f64; 3], b: [f64; 3], s: f64) -> [f64; 3] {
     [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// Distance from `p` to the ray `origin + t d`, `t >= 0`.

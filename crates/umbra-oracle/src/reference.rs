@@ -43,6 +43,7 @@
 use std::collections::HashSet;
 
 use rayon::prelude::*;
+use umbra_geom::vec3::{cross, dot, sub};
 use umbra_geom::{Light, WeldedMesh};
 
 use crate::bvh::Bvh;
@@ -316,15 +317,6 @@ impl Shading {
     }
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
 /// Two unit vectors perpendicular to `d` and to each other (`d` non-zero).
 fn perpendicular_basis(d: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let len = dot(d, d).sqrt();

@@ -7,6 +7,8 @@
 
 use rayon::prelude::*;
 
+use umbra_geom::vec3::cross;
+
 use crate::bvh::Bvh;
 
 /// A look-at pinhole camera.
@@ -25,9 +27,6 @@ pub struct PinholeCamera {
 fn normalize(v: [f64; 3]) -> [f64; 3] {
     let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     v.map(|c| c / l)
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
 /// Per pixel (row-major, top row first) the world position of the closest hit and its triangle
