@@ -29,15 +29,12 @@ use std::path::Path;
 use serde::Serialize;
 use umbra_geom::scene;
 use umbra_geom::{Aabb, Light};
-use umbra_gl::{
-    Attachments, FrameTarget, RenderTarget, StageHook, StageMark,
-    StageTiming, TimestampHook,
-};
+use umbra_gl::{Attachments, FrameTarget, RenderTarget, StageHook, StageMark, StageTiming, TimestampHook};
 
 use crate::args::BenchArgs;
 use crate::config::{default_light, load_scene, parse_light, parse_size, CameraConfig, CliError, Framing, ViewConfig};
-use crate::session::Session;
 pub use crate::methods::{make_method, method_exists, SmOptions};
+use crate::session::Session;
 
 /// `bench --methods`: see [`crate::methods::parse_methods`].
 pub fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {

@@ -79,7 +79,11 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
             "sides-data bytes      {} (vs-silhouette, Eq. 8: 16 x (2 + {}) x {} records)",
             report.sides_data_bytes, report.max_mult, report.sides_data_records
         );
-        println!("caps-data bytes       {} (vs-silhouette, Eq. 9: 48 x {} triangles)", report.caps_data_bytes, welded.triangles.len());
+        println!(
+            "caps-data bytes       {} (vs-silhouette, Eq. 9: 48 x {} triangles)",
+            report.caps_data_bytes,
+            welded.triangles.len()
+        );
         if let (Some(e), Some(s)) = (report.silhouette_edges, report.multiplicity_sum) {
             println!("silhouette edges      {e}");
             println!("sum of |multiplicity| {s}");

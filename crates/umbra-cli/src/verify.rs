@@ -46,7 +46,12 @@ fn diff_path(base: &str, method: &str, light: usize, methods: usize, lights: usi
     p.with_file_name(format!("{name}.{ext}"))
 }
 
-fn write_diff(path: &Path, report: &MethodReport, reference: &umbra_oracle::Reference, light: usize) -> Result<(), CliError> {
+fn write_diff(
+    path: &Path,
+    report: &MethodReport,
+    reference: &umbra_oracle::Reference,
+    light: usize,
+) -> Result<(), CliError> {
     let base: Vec<u8> = report.image.pixels.iter().flatten().copied().collect();
     let shadowed = &report.per_light[light].shadowed;
     let rgba = diff_image(reference, shadowed, &base).map_err(|e| CliError::Other(e.to_string()))?;

@@ -204,7 +204,14 @@ fn verify_json_contract_and_exit_status() {
     // classify in their shader (shadow maps).
     assert_eq!(cpu["counter"], "stencil8", "{cpu}");
     let o = umbra(&[
-        "verify", "--size", "160x120", "--method", "cpu-silhouette,shadow-map-cube:1024", "--counter", "float32", "--json",
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "cpu-silhouette,shadow-map-cube:1024",
+        "--counter",
+        "float32",
+        "--json",
     ]);
     let v = json(&o);
     assert_eq!(v[0]["counter"], "float32", "{v}");
@@ -220,13 +227,32 @@ fn verify_zpass_with_camera_in_shadow_fails_with_status_1() {
     // Camera on the ground under the default scene's sphere, inside its shadow volume:
     // z-pass counting is wrong there (the documented reason z-fail is the default).
     let o = umbra(&[
-        "verify", "--size", "160x120", "--method", "cpu-silhouette", "--zpass", "--eye", "-2.2,0.2,0.3", "--target",
-        "3,0,3", "--light", "-2.2,8,0.3",
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "cpu-silhouette",
+        "--zpass",
+        "--eye",
+        "-2.2,0.2,0.3",
+        "--target",
+        "3,0,3",
+        "--light",
+        "-2.2,8,0.3",
     ]);
     assert_eq!(o.status.code(), Some(1), "stdout {}\nstderr {}", stdout(&o), stderr(&o));
     let o = umbra(&[
-        "verify", "--size", "160x120", "--method", "cpu-silhouette", "--eye", "-2.2,0.2,0.3", "--target", "3,0,3",
-        "--light", "-2.2,8,0.3",
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "cpu-silhouette",
+        "--eye",
+        "-2.2,0.2,0.3",
+        "--target",
+        "3,0,3",
+        "--light",
+        "-2.2,8,0.3",
     ]);
     assert_eq!(o.status.code(), Some(0), "z-fail is right: stdout {}\nstderr {}", stdout(&o), stderr(&o));
 }
@@ -243,7 +269,8 @@ fn verify_zmode_contract() {
     // Under the sphere: the silhouette method counts z-pass from the sphere's W0 (edges of
     // multiplicity 0 may cross the eye's pyramid), the per-triangle one keeps z-fail there.
     let o = umbra(
-        &[&["verify", "--size", "160x120", "--method", "cpu-silhouette,vs-triangle", "--json"][..], &shadowed[..]].concat(),
+        &[&["verify", "--size", "160x120", "--method", "cpu-silhouette,vs-triangle", "--json"][..], &shadowed[..]]
+            .concat(),
     );
     let v = json(&o);
     assert_eq!(v[0]["zpass"], serde_json::json!([true]), "{v}");
@@ -254,8 +281,11 @@ fn verify_zmode_contract() {
     let o = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--zmode", "zfail", "--json"]);
     assert_eq!(json(&o)[0]["zpass"], serde_json::json!([false]));
     let o = umbra(
-        &[&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--zmode", "zpass", "--json"][..], &shadowed[..]]
-            .concat(),
+        &[
+            &["verify", "--size", "160x120", "--method", "cpu-silhouette", "--zmode", "zpass", "--json"][..],
+            &shadowed[..],
+        ]
+        .concat(),
     );
     assert_eq!(o.status.code(), Some(1), "forced z-pass with the eye in shadow is wrong: {}", stdout(&o));
     // Bad values and contradictions are usage errors naming the flag.
@@ -294,7 +324,8 @@ fn sm_options_reach_the_shadow_map_in_render_and_verify() {
     assert_ne!(pcf, default_bias, "3x3 PCF must change some decisions");
     let (a, b) = (tmp("sm-plain.png"), tmp("sm-pcf.png"));
     for (out, extra) in [(&a, None), (&b, Some("--sm-pcf"))] {
-        let mut args = vec!["render", "--method", "shadow-map-cube:256", "--size", "160x120", "--out", out.to_str().unwrap()];
+        let mut args =
+            vec!["render", "--method", "shadow-map-cube:256", "--size", "160x120", "--out", out.to_str().unwrap()];
         args.extend(extra);
         let o = umbra(&args);
         assert!(o.status.success(), "{}", stderr(&o));

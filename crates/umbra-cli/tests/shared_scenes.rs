@@ -35,7 +35,16 @@ fn verify_default_view(file: &str, methods: &str) -> usize {
         return 0;
     }
     let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
-        .args(["verify", "--scene", path.to_str().expect("utf-8 path"), "--method", methods, "--json", "--explain", "5"])
+        .args([
+            "verify",
+            "--scene",
+            path.to_str().expect("utf-8 path"),
+            "--method",
+            methods,
+            "--json",
+            "--explain",
+            "5",
+        ])
         .output()
         .expect("run umbra");
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -58,7 +58,6 @@ pub const MARGIN: f64 = 1e-6;
 
 type V3 = [f64; 3];
 
-
 /// Relative margin of [`crossing`]: barycentric coordinates and the segment parameter
 /// must clear 0 and 1 by this much.
 pub const CROSSING_MARGIN: f64 = 1e-6;
@@ -564,7 +563,10 @@ mod tests {
         assert_eq!(crossing([0.2, 0.2, 0.5], [0.2, 0.2, 1.0], t), Some(false));
         assert_eq!(crossing([0.5, 1e-9, -1.0], [0.5, 1e-9, 1.0], t), None);
         // A zero-area triangle: never.
-        assert_ne!(crossing([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [[0.0; 3], [1.0, 1.0, 0.0], [2.0, 2.0, 0.0]]), Some(true));
+        assert_ne!(
+            crossing([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [[0.0; 3], [1.0, 1.0, 0.0], [2.0, 2.0, 0.0]]),
+            Some(true)
+        );
     }
 
     #[test]

@@ -94,8 +94,8 @@ pub mod order;
 pub mod scene;
 pub mod sides_data;
 pub mod silhouette;
-pub mod weld;
 pub mod vec3;
+pub mod weld;
 pub mod winding_bound;
 
 pub use adjacency::EdgeAdjacency;

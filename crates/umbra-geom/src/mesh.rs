@@ -65,7 +65,6 @@ impl Mesh {
             _ => self.normals = None,
         }
         self.positions.extend_from_slice(&other.positions);
-        self.triangles
-            .extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
+        self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
     }
 }

@@ -116,9 +116,7 @@ pub fn parse(spec: &str) -> Result<SceneSpec, SceneError> {
             let (slices, stacks) = (DEFAULT_SPHERE_SLICES, DEFAULT_SPHERE_STACKS);
             let count = spheres_triangle_count(n, slices, stacks);
             if count > MAX_PROCEDURAL_TRIANGLES {
-                return Err(invalid(format!(
-                    "{count} triangles is more than the limit of {MAX_PROCEDURAL_TRIANGLES}"
-                )));
+                return Err(invalid(format!("{count} triangles is more than the limit of {MAX_PROCEDURAL_TRIANGLES}")));
             }
             Ok(SceneSpec::Spheres { n, slices, stacks, target_triangles: None })
         }

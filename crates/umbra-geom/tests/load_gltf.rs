@@ -67,8 +67,14 @@ fn gltf_doc(buffer_json: &str, nodes: &str, views: &str) -> String {
 fn expected_tree() -> Mesh {
     Mesh {
         positions: vec![
-            [10.0, 0.0, 0.0], [12.0, 0.0, 0.0], [12.0, 2.0, 0.0], [10.0, 2.0, 0.0],
-            [0.0, 0.0, 5.0], [1.0, 0.0, 5.0], [1.0, 1.0, 5.0], [0.0, 1.0, 5.0],
+            [10.0, 0.0, 0.0],
+            [12.0, 0.0, 0.0],
+            [12.0, 2.0, 0.0],
+            [10.0, 2.0, 0.0],
+            [0.0, 0.0, 5.0],
+            [1.0, 0.0, 5.0],
+            [1.0, 1.0, 5.0],
+            [0.0, 1.0, 5.0],
         ],
         triangles: vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]],
         normals: Some(vec![[0.0, 0.0, 1.0]; 8]),
@@ -156,7 +162,8 @@ fn assert_err(result: Result<Mesh, LoadError>, file: &str, at: Location, check: 
 fn gltf_with_external_bin_and_node_transforms() {
     let bin = quad_buffer();
     std::fs::write(tmp("tree data.bin"), &bin).unwrap();
-    let doc = gltf_doc(&format!(r#"{{"byteLength": {}, "uri": "tree%20data.bin"}}"#, bin.len()), TREE, QUAD_VIEWS_ACCESSORS);
+    let doc =
+        gltf_doc(&format!(r#"{{"byteLength": {}, "uri": "tree%20data.bin"}}"#, bin.len()), TREE, QUAD_VIEWS_ACCESSORS);
     let path = tmp("tree.gltf");
     std::fs::write(&path, doc).unwrap();
     assert_close(&load::load_path(&path).unwrap(), &expected_tree());
@@ -231,10 +238,8 @@ fn rotation_turns_normals_and_mirroring_flips_winding() {
 fn modes_doc(modes: &[u32]) -> String {
     let mut b = f32s(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0]);
     b.extend([0u8, 1, 2, 3]);
-    let prims: Vec<String> = modes
-        .iter()
-        .map(|m| format!(r#"{{"attributes": {{"POSITION": 0}}, "indices": 1, "mode": {m}}}"#))
-        .collect();
+    let prims: Vec<String> =
+        modes.iter().map(|m| format!(r#"{{"attributes": {{"POSITION": 0}}, "indices": 1, "mode": {m}}}"#)).collect();
     format!(
         r#"{{"asset": {{"version": "2.0"}},
   "buffers": [{{"byteLength": {}, "uri": "data:application/gltf-buffer;base64,{}"}}],
@@ -327,13 +332,21 @@ fn empty_documents_are_empty_meshes() {
 fn error_node_cycle_and_shared_child() {
     // without scenes: no root at all, the cycle is found as unreachable nodes
     let nodes = r#""nodes": [{"children": [1]}, {"mesh": 0, "children": [0]}]"#;
-    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[0]".into()), |e| matches!(e, LoadError::Malformed { .. }));
+    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[0]".into()), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
     let nodes = r#""scenes": [{"nodes": [0]}], "nodes": [{"children": [0]}]"#;
-    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[0]".into()), |e| matches!(e, LoadError::Malformed { .. }));
+    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[0]".into()), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
     let nodes = r#""scenes": [{"nodes": [0, 1]}], "nodes": [{"children": [2]}, {"children": [2]}, {"mesh": 0}]"#;
-    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[2]".into()), |e| matches!(e, LoadError::Malformed { .. }));
+    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[2]".into()), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
     let nodes = r#""scenes": [{"nodes": [7]}], "nodes": [{"mesh": 0}]"#;
-    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[7]".into()), |e| matches!(e, LoadError::Malformed { .. }));
+    assert_err(gltf_str(&data_uri_doc(nodes)), "test.gltf", Location::Json("nodes[7]".into()), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
 }
 
 fn quad_doc_with(accessors_patch: &str, replace: &str) -> String {
@@ -342,20 +355,30 @@ fn quad_doc_with(accessors_patch: &str, replace: &str) -> String {
 
 #[test]
 fn error_accessor_claims_more_than_its_view() {
-    let doc = quad_doc_with(r#""componentType": 5126, "count": 1000000000, "type": "VEC3""#, r#""componentType": 5126, "count": 4, "type": "VEC3""#);
+    let doc = quad_doc_with(
+        r#""componentType": 5126, "count": 1000000000, "type": "VEC3""#,
+        r#""componentType": 5126, "count": 4, "type": "VEC3""#,
+    );
     assert_err(gltf_str(&doc), "test.gltf", Location::Json("accessors[0].count".into()), |e| {
         matches!(e, LoadError::TooManyElements { claimed: 1_000_000_000, .. })
     });
     // a view past the end of its buffer
-    let doc = data_uri_doc(r#""nodes": [{"mesh": 0}]"#).replace(r#""byteOffset": 96, "byteLength": 12"#, r#""byteOffset": 100, "byteLength": 12"#);
-    assert_err(gltf_str(&doc), "test.gltf", Location::Json("bufferViews[2]".into()), |e| matches!(e, LoadError::Truncated { .. }));
+    let doc = data_uri_doc(r#""nodes": [{"mesh": 0}]"#)
+        .replace(r#""byteOffset": 96, "byteLength": 12"#, r#""byteOffset": 100, "byteLength": 12"#);
+    assert_err(gltf_str(&doc), "test.gltf", Location::Json("bufferViews[2]".into()), |e| {
+        matches!(e, LoadError::Truncated { .. })
+    });
     // a buffer shorter than its byteLength
     let doc = data_uri_doc(r#""nodes": [{"mesh": 0}]"#).replace(r#""byteLength": 108"#, r#""byteLength": 4000000000"#);
-    assert_err(gltf_str(&doc), "test.gltf", Location::Json("buffers[0]".into()), |e| matches!(e, LoadError::Truncated { .. }));
+    assert_err(gltf_str(&doc), "test.gltf", Location::Json("buffers[0]".into()), |e| {
+        matches!(e, LoadError::Truncated { .. })
+    });
     // an accessor without bufferView claiming a huge count
     let doc = r#"{"asset": {"version": "2.0"}, "accessors": [{"componentType": 5126, "count": 4000000000, "type": "VEC3"}],
             "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "nodes": [{"mesh": 0}]}"#;
-    assert_err(gltf_str(doc), "test.gltf", Location::Json("accessors[0].count".into()), |e| matches!(e, LoadError::TooManyElements { .. }));
+    assert_err(gltf_str(doc), "test.gltf", Location::Json("accessors[0].count".into()), |e| {
+        matches!(e, LoadError::TooManyElements { .. })
+    });
 }
 
 #[test]
@@ -424,22 +447,33 @@ fn error_missing_external_buffer_names_the_bin() {
     assert!(matches!(err, LoadError::Io { .. }), "{err:?}");
     assert!(err.to_string().contains("missing-buffer.bin"), "{err}");
     // in memory there is no directory to resolve it in
-    assert_err(gltf_str(&doc), "test.gltf", Location::Json("buffers[0].uri".into()), |e| matches!(e, LoadError::Unsupported { .. }));
+    assert_err(gltf_str(&doc), "test.gltf", Location::Json("buffers[0].uri".into()), |e| {
+        matches!(e, LoadError::Unsupported { .. })
+    });
 }
 
 #[test]
 fn error_unsupported_versions_and_extensions() {
-    assert_err(gltf_str(r#"{"asset": {"version": "1.0"}}"#), "test.gltf", Location::Json("asset.version".into()), |e| {
-        matches!(e, LoadError::Unsupported { .. })
-    });
     assert_err(
-        gltf_str(r#"{"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_materials_unlit", "KHR_draco_mesh_compression"]}"#),
+        gltf_str(r#"{"asset": {"version": "1.0"}}"#),
+        "test.gltf",
+        Location::Json("asset.version".into()),
+        |e| matches!(e, LoadError::Unsupported { .. }),
+    );
+    assert_err(
+        gltf_str(
+            r#"{"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_materials_unlit", "KHR_draco_mesh_compression"]}"#,
+        ),
         "test.gltf",
         Location::Json("extensionsRequired[1]".into()),
         |e| matches!(e, LoadError::Unsupported { .. }),
     );
-    assert_err(gltf_str(r#"{"nodes": []}"#), "test.gltf", Location::Json("asset.version".into()), |e| matches!(e, LoadError::Malformed { .. }));
-    assert_err(gltf_str("[1, 2]"), "test.gltf", Location::Json("(root)".into()), |e| matches!(e, LoadError::Malformed { .. }));
+    assert_err(gltf_str(r#"{"nodes": []}"#), "test.gltf", Location::Json("asset.version".into()), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
+    assert_err(gltf_str("[1, 2]"), "test.gltf", Location::Json("(root)".into()), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
 }
 
 #[test]

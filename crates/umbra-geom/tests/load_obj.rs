@@ -14,7 +14,9 @@ fn signed_volume(m: &Mesh) -> f64 {
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|i| m.positions[i as usize].map(f64::from));
-            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
         })
         .sum()
 }
@@ -55,7 +57,8 @@ fn cube_fixture_with_every_face_form() {
 fn face_vertex_forms_are_equivalent() {
     let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
     let expected = vec![[0u32, 1, 2]];
-    for f in ["f 1 2 3", "f 1/1 2/1 3/1", "f 1//1 2//1 3//1", "f 1/1/1 2/1/1 3/1/1", "f -3 -2 -1", "f -3/-1/-1 2//1 3"] {
+    for f in ["f 1 2 3", "f 1/1 2/1 3/1", "f 1//1 2//1 3//1", "f 1/1/1 2/1/1 3/1/1", "f -3 -2 -1", "f -3/-1/-1 2//1 3"]
+    {
         let m = obj(&format!("{head}{f}\n")).unwrap_or_else(|e| panic!("{f}: {e}"));
         assert_eq!(m.triangles, expected, "{f}");
     }
@@ -75,11 +78,9 @@ fn polygons_are_fan_triangulated() {
 
 #[test]
 fn consistent_normals_are_kept_per_vertex() {
-    let m = obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 0 0 -1\nf 1//1 2//1 3//1\nf 2//1 4//2 3//1\n").unwrap();
-    assert_eq!(
-        m.normals,
-        Some(vec![[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]])
-    );
+    let m =
+        obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 0 0 -1\nf 1//1 2//1 3//1\nf 2//1 4//2 3//1\n").unwrap();
+    assert_eq!(m.normals, Some(vec![[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]));
 }
 
 #[test]
@@ -170,7 +171,7 @@ fn error_malformed_tokens() {
     for (text, line) in [
         ("v 0 0 0\nv 1.2.3 0 0\n", 2),
         ("v 0 0 zero\n", 1),
-        ("v 0 0\n", 1),   // a truncated vertex line
+        ("v 0 0\n", 1), // a truncated vertex line
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", 4),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/a 2 3\n", 4),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", 4),

@@ -244,7 +244,9 @@ fn error_index_out_of_range_binary_offset() {
             w.f32(0.0).f32(0.0).f32(0.0);
         }
         w.u8(3).i32(-1).i32(1).i32(2);
-        assert_err_at(ply(&w.out), Location::Byte(h + 36 + 1), |e| matches!(e, LoadError::IndexOutOfRange { index: -1, .. }));
+        assert_err_at(ply(&w.out), Location::Byte(h + 36 + 1), |e| {
+            matches!(e, LoadError::IndexOutOfRange { index: -1, .. })
+        });
     }
 }
 
@@ -280,15 +282,27 @@ fn error_ascii_body_lines() {
 fn error_bad_headers() {
     let cases: [(&str, u64, Check); 10] = [
         ("plx\nformat ascii 1.0\nend_header\n", 1, |e| matches!(e, LoadError::Malformed { .. })),
-        ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", 5, |e| matches!(e, LoadError::Truncated { .. })),
-        ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", 4, |e| matches!(e, LoadError::Malformed { .. })),
+        ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", 5, |e| {
+            matches!(e, LoadError::Truncated { .. })
+        }),
+        ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", 4, |e| {
+            matches!(e, LoadError::Malformed { .. })
+        }),
         ("ply\nformat ascii 1.0\nproperty float x\nend_header\n", 3, |e| matches!(e, LoadError::Malformed { .. })),
         ("ply\nelement vertex 0\nend_header\n", 3, |e| matches!(e, LoadError::Malformed { .. })),
         ("ply\nformat binary_middle_endian 1.0\nend_header\n", 2, |e| matches!(e, LoadError::Malformed { .. })),
         ("ply\nformat ascii 1.0\nelement vertex -1\nend_header\n", 3, |e| matches!(e, LoadError::Malformed { .. })),
-        ("ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n", 4, |e| matches!(e, LoadError::Malformed { .. })),
-        ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", 3, |e| matches!(e, LoadError::Malformed { .. })),
-        ("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar float vertex_indices\nend_header\n3 0 1 2\n", 3, |e| matches!(e, LoadError::Malformed { .. })),
+        ("ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n", 4, |e| {
+            matches!(e, LoadError::Malformed { .. })
+        }),
+        ("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", 3, |e| {
+            matches!(e, LoadError::Malformed { .. })
+        }),
+        (
+            "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar float vertex_indices\nend_header\n3 0 1 2\n",
+            3,
+            |e| matches!(e, LoadError::Malformed { .. }),
+        ),
     ];
     for (text, line, check) in cases {
         assert_err_at(ply(text.as_bytes()), Location::Line(line), check);

@@ -27,8 +27,7 @@ fn check(name: &str, triangles: usize, vertices: usize) {
         return;
     }
     let start = Instant::now();
-    let loaded = load::load_path_detailed(&path, &load::LoadOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"));
+    let loaded = load::load_path_detailed(&path, &load::LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let seconds = start.elapsed().as_secs_f64();
     println!(
         "{name}: {} triangles, {} vertices, loaded in {:.3} s ({} profile)",

@@ -139,12 +139,18 @@ fn error_binary_non_finite_offset() {
     let bytes = binary(b"", &facets);
     assert_err_at(stl(&bytes), Location::Byte(84 + 50 + 12 + 24 + 4), |e| matches!(e, LoadError::NonFinite { .. }));
     facets[1].1[2][1] = f32::NEG_INFINITY;
-    assert_err_at(stl(&binary(b"", &facets)), Location::Byte(84 + 50 + 12 + 24 + 4), |e| matches!(e, LoadError::NonFinite { .. }));
+    assert_err_at(stl(&binary(b"", &facets)), Location::Byte(84 + 50 + 12 + 24 + 4), |e| {
+        matches!(e, LoadError::NonFinite { .. })
+    });
 }
 
 #[test]
 fn error_ascii_lines() {
-    let facet = |v: &str| format!("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n{v}\nendloop\nendfacet\nendsolid s\n");
+    let facet = |v: &str| {
+        format!(
+            "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n{v}\nendloop\nendfacet\nendsolid s\n"
+        )
+    };
     let cases: [(String, u64, Check); 7] = [
         (facet("vertex 0 nan 0"), 6, |e| matches!(e, LoadError::NonFinite { .. })),
         (facet("vertex 0 1e99 0"), 6, |e| matches!(e, LoadError::NonFinite { .. })),
@@ -152,13 +158,17 @@ fn error_ascii_lines() {
         (facet("vertex 0 1"), 6, |e| matches!(e, LoadError::Malformed { .. })),
         (facet("endfacet"), 6, |e| matches!(e, LoadError::Malformed { .. })), // only 2 vertices
         (facet("bogus 1 2 3"), 6, |e| matches!(e, LoadError::Malformed { .. })),
-        ("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n".to_string(), 4, |e| matches!(e, LoadError::Truncated { .. })),
+        ("solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n".to_string(), 4, |e| {
+            matches!(e, LoadError::Truncated { .. })
+        }),
     ];
     for (text, line, check) in cases {
         assert_err_at(stl(text.as_bytes()), Location::Line(line), check);
     }
     assert_err_at(stl(b"solid s\nfacet 0 0 1\n"), Location::Line(2), |e| matches!(e, LoadError::Malformed { .. }));
-    assert_err_at(stl(b"solid s\nendsolid\nvertex 1 2 3\n"), Location::Line(3), |e| matches!(e, LoadError::Malformed { .. }));
+    assert_err_at(stl(b"solid s\nendsolid\nvertex 1 2 3\n"), Location::Line(3), |e| {
+        matches!(e, LoadError::Malformed { .. })
+    });
 }
 
 #[test]
@@ -168,7 +178,10 @@ fn arbitrary_mutations_never_panic() {
         state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
         state >> 33
     };
-    let bases = [binary(b"solid", &TWO), std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/two_facets_ascii.stl")).unwrap()];
+    let bases = [
+        binary(b"solid", &TWO),
+        std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/two_facets_ascii.stl")).unwrap(),
+    ];
     for base in &bases {
         for _ in 0..3000 {
             let mut bytes = base.clone();

@@ -113,8 +113,7 @@ fn add_ground_is_ten_times_the_horizontal_extent_at_lowest_y() {
     let before = m.triangles.len();
     scene::add_ground(&mut m);
     assert_eq!(m.triangles.len(), before + 2);
-    let ground: Vec<[f32; 3]> =
-        m.triangles[before..].iter().flatten().map(|&i| m.positions[i as usize]).collect();
+    let ground: Vec<[f32; 3]> = m.triangles[before..].iter().flatten().map(|&i| m.positions[i as usize]).collect();
     assert!(ground.iter().all(|p| p[1] == 3.0), "{ground:?}");
     let min_x = ground.iter().map(|p| p[0]).fold(f32::MAX, f32::min);
     let max_x = ground.iter().map(|p| p[0]).fold(f32::MIN, f32::max);
@@ -190,10 +189,7 @@ fn default_scene_is_small_with_ground_below() {
 #[test]
 fn spheres_n_default_tessellation_matches_paper_table_3() {
     let spec = scene::parse("spheres:10").unwrap();
-    assert_eq!(
-        spec,
-        SceneSpec::Spheres { n: 10, slices: 18, stacks: 10, target_triangles: None }
-    );
+    assert_eq!(spec, SceneSpec::Spheres { n: 10, slices: 18, stacks: 10, target_triangles: None });
     let m = scene::build(&spec).unwrap();
     assert_eq!(m.triangles.len(), 32_400 + 2);
     assert_eq!(m.positions.len(), 100 * (2 + 18 * 9) + 4);
@@ -256,14 +252,30 @@ fn spheres_n_t_small_budget_uses_coarse_spheres() {
 #[test]
 fn bad_specs_are_clear_errors() {
     for bad in [
-        "spheres:0", "spheres:abc", "spheres:3:5", "spheres:", "spheres:3:", "spheres:-1",
-        "spheres:10:abc", "spheres:1:2:3", "spheres:100000", "spheres:10:999999999999", "spheres:10:700",
-        "spheres:99999999999999999999999", "spheres:4294967295", "spheres:4294967296", "spheres:1:k", "   ",
+        "spheres:0",
+        "spheres:abc",
+        "spheres:3:5",
+        "spheres:",
+        "spheres:3:",
+        "spheres:-1",
+        "spheres:10:abc",
+        "spheres:1:2:3",
+        "spheres:100000",
+        "spheres:10:999999999999",
+        "spheres:10:700",
+        "spheres:99999999999999999999999",
+        "spheres:4294967295",
+        "spheres:4294967296",
+        "spheres:1:k",
+        "   ",
     ] {
         match scene::parse(bad) {
             Err(e @ SceneError::InvalidSpec { .. }) => {
                 let msg = e.to_string();
-                assert!(msg.contains(bad.trim()) || bad.trim().is_empty(), "{bad}: message {msg:?} does not name the spec");
+                assert!(
+                    msg.contains(bad.trim()) || bad.trim().is_empty(),
+                    "{bad}: message {msg:?} does not name the spec"
+                );
             }
             other => panic!("{bad}: expected InvalidSpec, got {other:?}"),
         }

@@ -51,7 +51,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..FrameParams::default()
     };
     // UMBRA_SYNC_STAGES=1: glFinish at every stage boundary (exact attribution on llvmpipe).
-    let mut hook = if std::env::var_os("UMBRA_SYNC_STAGES").is_some() { TimestampHook::synchronous() } else { TimestampHook::new() };
+    let mut hook = if std::env::var_os("UMBRA_SYNC_STAGES").is_some() {
+        TimestampHook::synchronous()
+    } else {
+        TimestampHook::new()
+    };
     for name in method_names() {
         let mut method = create_method(name)?;
         let mut totals: BTreeMap<String, (u64, u64)> = BTreeMap::new();
@@ -76,7 +80,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let n = frames as f64;
         wall.sort_by(f64::total_cmp);
-        println!("{name}: median frame incl. readback {:.2} ms, gpu bytes {}", wall[wall.len() / 2], method.gpu_bytes());
+        println!(
+            "{name}: median frame incl. readback {:.2} ms, gpu bytes {}",
+            wall[wall.len() / 2],
+            method.gpu_bytes()
+        );
         for (k, (g, c)) in totals {
             println!("  {k:<28} gpu {:8.3} ms   cpu {:8.3} ms", g as f64 / n / 1e6, c as f64 / n / 1e6);
         }

@@ -214,7 +214,13 @@ impl Camera {
     }
 
     /// [`Camera::project`] with the depth of `convention` (x and y do not depend on it).
-    pub fn project_in(&self, world: [f64; 3], width: u32, height: u32, convention: DepthConvention) -> Option<[f64; 3]> {
+    pub fn project_in(
+        &self,
+        world: [f64; 3],
+        width: u32,
+        height: u32,
+        convention: DepthConvention,
+    ) -> Option<[f64; 3]> {
         let m = self.clip_from_world_in(width as f64 / height as f64, convention);
         let clip = m * DVec4::new(world[0], world[1], world[2], 1.0);
         if clip.w <= 0.0 {

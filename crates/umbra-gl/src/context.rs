@@ -80,8 +80,10 @@ pub enum ContextError {
         /// The loader's message.
         detail: String,
     },
-    #[error("no usable headless EGL platform: {detail}. Mesa's surfaceless platform needs libegl-mesa0 \
-             (EGL_MESA_platform_surfaceless); the device platform needs EGL_EXT_platform_device; {INSTALL_HINT}")]
+    #[error(
+        "no usable headless EGL platform: {detail}. Mesa's surfaceless platform needs libegl-mesa0 \
+             (EGL_MESA_platform_surfaceless); the device platform needs EGL_EXT_platform_device; {INSTALL_HINT}"
+    )]
     /// Neither the surfaceless nor the device platform gave a display.
     NoPlatform {
         /// What each platform answered.
@@ -105,7 +107,9 @@ pub enum ContextError {
         /// What it is needed for.
         why: &'static str,
     },
-    #[error("eglBindAPI({api}) failed: {detail}; the EGL vendor library does not offer this client API ({INSTALL_HINT})")]
+    #[error(
+        "eglBindAPI({api}) failed: {detail}; the EGL vendor library does not offer this client API ({INSTALL_HINT})"
+    )]
     /// eglBindAPI failed for the wanted client API.
     BindApi {
         /// "OpenGL" or "OpenGL ES".
@@ -119,8 +123,10 @@ pub enum ContextError {
         /// The attributes asked for.
         wanted: &'static str,
     },
-    #[error("could not create an {what} context: {detail}. Mesa's llvmpipe offers OpenGL 4.5 core and ES 3.2 \
-             (libgl1-mesa-dri); a GPU driver without them can be bypassed with LIBGL_ALWAYS_SOFTWARE=1")]
+    #[error(
+        "could not create an {what} context: {detail}. Mesa's llvmpipe offers OpenGL 4.5 core and ES 3.2 \
+             (libgl1-mesa-dri); a GPU driver without them can be bypassed with LIBGL_ALWAYS_SOFTWARE=1"
+    )]
     /// eglCreateContext failed.
     CreateContext {
         /// The context asked for (e.g. "OpenGL 4.5 core").
@@ -184,9 +190,7 @@ type GetPlatformDisplayExt = unsafe extern "system" fn(u32, *mut c_void, *const 
 type QueryDevicesExt = unsafe extern "system" fn(egl::Int, *mut *mut c_void, *mut egl::Int) -> egl::Boolean;
 
 fn client_extensions(egl: &EglInstance) -> String {
-    egl.query_string(None, egl::EXTENSIONS)
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default()
+    egl.query_string(None, egl::EXTENSIONS).map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
 
 fn has_extension(list: &str, name: &str) -> bool {
@@ -194,11 +198,7 @@ fn has_extension(list: &str, name: &str) -> bool {
 }
 
 /// `eglGetPlatformDisplay` (EGL 1.5) or `eglGetPlatformDisplayEXT`.
-fn platform_display(
-    egl: &EglInstance,
-    platform: u32,
-    native: *mut c_void,
-) -> Result<egl::Display, String> {
+fn platform_display(egl: &EglInstance, platform: u32, native: *mut c_void) -> Result<egl::Display, String> {
     if let Some(egl15) = egl.upcast::<egl::EGL1_5>() {
         // SAFETY: `native` is null (surfaceless: EGL_DEFAULT_DISPLAY) or an EGLDeviceEXT
         // handle from eglQueryDevicesEXT, which is what these two platforms require.
@@ -249,15 +249,12 @@ fn open_display(egl: &EglInstance) -> Result<SharedDisplay, ContextError> {
     } else {
         tried.push("EGL_EXT_platform_device not offered".into());
     }
-    Err(ContextError::NoPlatform {
-        detail: format!("{} (client extensions: {ext:?})", tried.join("; ")),
-    })
+    Err(ContextError::NoPlatform { detail: format!("{} (client extensions: {ext:?})", tried.join("; ")) })
 }
 
 fn first_device(egl: &EglInstance) -> Result<*mut c_void, String> {
-    let f = egl
-        .get_proc_address("eglQueryDevicesEXT")
-        .ok_or("eglQueryDevicesEXT missing (EGL_EXT_device_enumeration)")?;
+    let f =
+        egl.get_proc_address("eglQueryDevicesEXT").ok_or("eglQueryDevicesEXT missing (EGL_EXT_device_enumeration)")?;
     // SAFETY: eglQueryDevicesEXT has exactly this signature (EGL_EXT_device_enumeration).
     let f: QueryDevicesExt = unsafe { std::mem::transmute::<extern "system" fn(), QueryDevicesExt>(f) };
     let mut devices = [std::ptr::null_mut::<c_void>(); 8];
@@ -325,14 +322,22 @@ impl HeadlessContext {
             GlApi::Gl45Core => (egl::OPENGL_API, "EGL_OPENGL_API", egl::OPENGL_BIT, "OpenGL 4.5 core"),
             GlApi::Gles3 => (egl::OPENGL_ES_API, "EGL_OPENGL_ES_API", EGL_OPENGL_ES3_BIT, "OpenGL ES 3.0"),
         };
-        egl.bind_api(api_enum)
-            .map_err(|e| ContextError::BindApi { api: api_name, detail: e.to_string() })?;
+        egl.bind_api(api_enum).map_err(|e| ContextError::BindApi { api: api_name, detail: e.to_string() })?;
 
         // A PBUFFER-capable RGBA8 config; the pbuffer itself is never created (surfaceless).
         let config_attribs = [
-            egl::SURFACE_TYPE, egl::PBUFFER_BIT,
-            egl::RENDERABLE_TYPE, renderable,
-            egl::RED_SIZE, 8, egl::GREEN_SIZE, 8, egl::BLUE_SIZE, 8, egl::ALPHA_SIZE, 8,
+            egl::SURFACE_TYPE,
+            egl::PBUFFER_BIT,
+            egl::RENDERABLE_TYPE,
+            renderable,
+            egl::RED_SIZE,
+            8,
+            egl::GREEN_SIZE,
+            8,
+            egl::BLUE_SIZE,
+            8,
+            egl::ALPHA_SIZE,
+            8,
             egl::NONE,
         ];
         let config = match egl.choose_first_config(display, &config_attribs) {
@@ -341,21 +346,25 @@ impl HeadlessContext {
                 // SAFETY: EGL_NO_CONFIG_KHR is the null EGLConfig, valid with EGL_KHR_no_config_context.
                 unsafe { egl::Config::from_ptr(std::ptr::null_mut()) }
             }
-            _ => return Err(ContextError::NoConfig { wanted: "SURFACE_TYPE=PBUFFER and the requested RENDERABLE_TYPE" }),
+            _ => {
+                return Err(ContextError::NoConfig { wanted: "SURFACE_TYPE=PBUFFER and the requested RENDERABLE_TYPE" })
+            }
         };
 
         let flags = if options.debug { EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR } else { 0 };
         let mut context_attribs = vec![];
         match options.api {
             GlApi::Gl45Core => context_attribs.extend_from_slice(&[
-                EGL_CONTEXT_MAJOR_VERSION, 4,
-                EGL_CONTEXT_MINOR_VERSION, 5, // 4.6 fails on this Mesa; 4.5 has everything used.
-                EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                EGL_CONTEXT_MAJOR_VERSION,
+                4,
+                EGL_CONTEXT_MINOR_VERSION,
+                5, // 4.6 fails on this Mesa; 4.5 has everything used.
+                EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
             ]),
-            GlApi::Gles3 => context_attribs.extend_from_slice(&[
-                EGL_CONTEXT_MAJOR_VERSION, 3,
-                EGL_CONTEXT_MINOR_VERSION, 0,
-            ]),
+            GlApi::Gles3 => {
+                context_attribs.extend_from_slice(&[EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0])
+            }
         }
         context_attribs.extend_from_slice(&[EGL_CONTEXT_FLAGS_KHR, flags, egl::NONE]);
         let context = egl
@@ -397,17 +406,7 @@ impl HeadlessContext {
             None
         };
 
-        Ok(Self {
-            egl,
-            display,
-            context,
-            gl,
-            extra,
-            errors,
-            platform,
-            api: options.api,
-            _thread_bound: PhantomData,
-        })
+        Ok(Self { egl, display, context, gl, extra, errors, platform, api: options.api, _thread_bound: PhantomData })
     }
 
     /// The glow context (current on this thread).

@@ -11,13 +11,8 @@ type MultiDrawArraysIndirectFn =
     unsafe extern "system" fn(mode: u32, indirect: *const c_void, drawcount: i32, stride: i32);
 type MultiDrawElementsIndirectFn =
     unsafe extern "system" fn(mode: u32, ty: u32, indirect: *const c_void, drawcount: i32, stride: i32);
-type MultiDrawArraysIndirectCountFn = unsafe extern "system" fn(
-    mode: u32,
-    indirect: *const c_void,
-    drawcount: isize,
-    maxdrawcount: i32,
-    stride: i32,
-);
+type MultiDrawArraysIndirectCountFn =
+    unsafe extern "system" fn(mode: u32, indirect: *const c_void, drawcount: isize, maxdrawcount: i32, stride: i32);
 type MultiDrawElementsIndirectCountFn = unsafe extern "system" fn(
     mode: u32,
     ty: u32,
@@ -52,8 +47,11 @@ impl GlExtra {
                     .map(|p| std::mem::transmute::<*const c_void, MultiDrawArraysIndirectFn>(p)),
                 multi_draw_elements_indirect: get(&["glMultiDrawElementsIndirect"])
                     .map(|p| std::mem::transmute::<*const c_void, MultiDrawElementsIndirectFn>(p)),
-                multi_draw_arrays_indirect_count: get(&["glMultiDrawArraysIndirectCount", "glMultiDrawArraysIndirectCountARB"])
-                    .map(|p| std::mem::transmute::<*const c_void, MultiDrawArraysIndirectCountFn>(p)),
+                multi_draw_arrays_indirect_count: get(&[
+                    "glMultiDrawArraysIndirectCount",
+                    "glMultiDrawArraysIndirectCountARB",
+                ])
+                .map(|p| std::mem::transmute::<*const c_void, MultiDrawArraysIndirectCountFn>(p)),
                 multi_draw_elements_indirect_count: get(&[
                     "glMultiDrawElementsIndirectCount",
                     "glMultiDrawElementsIndirectCountARB",

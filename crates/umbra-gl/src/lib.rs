@@ -23,8 +23,8 @@
 #![warn(missing_docs)]
 
 pub mod camera;
-pub mod counter;
 pub mod context;
+pub mod counter;
 pub mod error;
 pub mod extra;
 pub(crate) mod gpu_buffer;
@@ -47,8 +47,8 @@ pub use methods::{
     create_method, method_names, Classification, ShadowMethod, StageHook, StageMark, UnknownMethod, VolumeFrame,
 };
 pub use renderer::{
-    CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Renderer, StencilCapture,
-    StencilMask,
+    CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Renderer,
+    StencilCapture, StencilMask,
 };
 pub use scene::{SceneGpu, SceneId};
 pub use state::{BlendState, GlState, StencilFace};

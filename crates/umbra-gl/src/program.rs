@@ -49,9 +49,7 @@ pub fn link_program(
     // SAFETY: object creation, compilation and linking on the current context; every object
     // created here is deleted on every error path.
     unsafe {
-        let program = gl
-            .create_program()
-            .map_err(|detail| GlError::Create { what: "program", detail })?;
+        let program = gl.create_program().map_err(|detail| GlError::Create { what: "program", detail })?;
         let mut shaders = Vec::with_capacity(stages.len());
         let mut failure = None;
         for s in stages {

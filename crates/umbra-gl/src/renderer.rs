@@ -238,13 +238,18 @@ struct LightingProgram {
 impl LightingProgram {
     fn new(gl: &glow::Context, custom: Option<(&str, &str)>) -> Result<Self, GlError> {
         let (frag, defines, name) = match custom {
-            Some((method, glsl)) => (format!("{LIGHTING_FRAG}\n{glsl}\n"), vec!["UMBRA_CUSTOM_LIT"], format!("lighting+{method}")),
+            Some((method, glsl)) => {
+                (format!("{LIGHTING_FRAG}\n{glsl}\n"), vec!["UMBRA_CUSTOM_LIT"], format!("lighting+{method}"))
+            }
             None => (LIGHTING_FRAG.to_string(), vec![], "lighting".to_string()),
         };
         let program = link_program(
             gl,
             &name,
-            &[ShaderSource::vertex("shaders/scene.vert.glsl", SCENE_VERT), ShaderSource::fragment("shaders/lighting.frag.glsl", &frag)],
+            &[
+                ShaderSource::vertex("shaders/scene.vert.glsl", SCENE_VERT),
+                ShaderSource::fragment("shaders/lighting.frag.glsl", &frag),
+            ],
             &defines,
         )?;
         let u = |n| uniform(gl, program, n);
@@ -292,7 +297,13 @@ impl PassView {
     /// The [`VolumeFrame`] a method gets for `light` in this view: drawn into the view's
     /// framebuffer, 8-bit stencil counting, no state override, no hook (the volume pass sets
     /// those it needs).
-    fn volume_frame(&self, params: &FrameParams, light: Light, light_index: usize, source: &'static str) -> VolumeFrame<'static> {
+    fn volume_frame(
+        &self,
+        params: &FrameParams,
+        light: Light,
+        light_index: usize,
+        source: &'static str,
+    ) -> VolumeFrame<'static> {
         VolumeFrame {
             clip_from_world: self.clip_from_world,
             eye: self.eye,
@@ -510,7 +521,10 @@ fn validate(params: &FrameParams) -> Result<(), GlError> {
     for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
         if let LightCapture::Light(i) = capture {
             if i >= params.lights.len() {
-                return Err(GlError::InvalidParams(format!("{what} capture of light {i}, but {} light(s)", params.lights.len())));
+                return Err(GlError::InvalidParams(format!(
+                    "{what} capture of light {i}, but {} light(s)",
+                    params.lights.len()
+                )));
             }
         }
     }
@@ -546,7 +560,8 @@ fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
 /// Colours and shading parameters are finite.
 fn validate_shading(params: &FrameParams) -> Result<(), GlError> {
     let scalars = [params.ambient, params.specular, params.shininess];
-    if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite()) {
+    if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite())
+    {
         return Err(GlError::InvalidParams("non-finite colour or shading parameter".into()));
     }
     Ok(())
@@ -620,7 +635,17 @@ impl Renderer {
         };
         let mut lighting = HashMap::new();
         lighting.insert("", LightingProgram::new(gl, None)?);
-        Ok(Self { depth, lighting, target: None, error_log: None, extra: extra_from_current_egl(), counter: None, volume_state_override: None, scene_clip: None, last_zpass: Vec::new() })
+        Ok(Self {
+            depth,
+            lighting,
+            target: None,
+            error_log: None,
+            extra: extra_from_current_egl(),
+            counter: None,
+            volume_state_override: None,
+            scene_clip: None,
+            last_zpass: Vec::new(),
+        })
     }
 
     /// Uses these entry points (glClipControl) instead of the ones found at [`Renderer::new`],
@@ -667,10 +692,9 @@ impl Renderer {
             lit_mask: params.capture.lit_mask != LightCapture::None,
             float_depth: params.depth_convention.depth_format() == glow::DEPTH32F_STENCIL8,
         };
-        let reuse = self
-            .target
-            .as_ref()
-            .is_some_and(|t| t.width() == params.width && t.height() == params.height && t.attachments().covers(&wanted));
+        let reuse = self.target.as_ref().is_some_and(|t| {
+            t.width() == params.width && t.height() == params.height && t.attachments().covers(&wanted)
+        });
         if !reuse {
             if let Some(old) = self.target.take() {
                 old.destroy(gl);
@@ -681,7 +705,8 @@ impl Renderer {
             return Err(GlError::InvalidParams("render target missing".into()));
         };
         let mut captured = Captured::default();
-        let result = self.frame_on(gl, scene, method, params, Some(target.framebuffer()), Some(&target), hook, &mut captured);
+        let result =
+            self.frame_on(gl, scene, method, params, Some(target.framebuffer()), Some(&target), hook, &mut captured);
         let images = result.map(|()| FrameImages {
             rgba: target.read_rgba(gl),
             world_pos: if params.capture.world_pos { target.read_world_pos(gl) } else { None },
@@ -1057,9 +1082,7 @@ impl Renderer {
             let p = LightingProgram::new(gl, Some((method.name(), glsl)))?;
             self.lighting.insert(key, p);
         }
-        self.lighting
-            .get(key)
-            .ok_or_else(|| GlError::InvalidParams("lighting program missing".into()))
+        self.lighting.get(key).ok_or_else(|| GlError::InvalidParams("lighting program missing".into()))
     }
 
     /// glClipControl and glDepthRange for `convention` (restored by SavedState).
@@ -1118,7 +1141,8 @@ impl Renderer {
             }
             // Lit mask of this light: own target only, cleared right before its lighting pass.
             let lit_mask = own.filter(|t| t.attachments().lit_mask && params.capture.lit_mask.includes(light_index));
-            let image = self.lighting_pass(gl, scene, method, params, &view, own, lit_mask, light, light_index, &mut hook)?;
+            let image =
+                self.lighting_pass(gl, scene, method, params, &view, own, lit_mask, light, light_index, &mut hook)?;
             if let Some(image) = image {
                 captured.lit_masks.push(LitMask { light: light_index, image });
             }

@@ -128,7 +128,9 @@ impl SavedState {
             }
             let [r, g, b, a] = self.blend_color;
             gl.blend_color(r, g, b, a);
-            for (cap, on) in [(glow::SCISSOR_TEST, self.scissor_test), (glow::RASTERIZER_DISCARD, self.rasterizer_discard)] {
+            for (cap, on) in
+                [(glow::SCISSOR_TEST, self.scissor_test), (glow::RASTERIZER_DISCARD, self.rasterizer_discard)]
+            {
                 if on {
                     gl.enable(cap)
                 } else {

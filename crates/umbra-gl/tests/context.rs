@@ -33,7 +33,10 @@ fn gles3_context_can_be_created() {
         gl,
         "es3 test",
         &[
-            umbra_gl::program::ShaderSource::vertex("es3.vert", "#version 300 es\nvoid main() { gl_Position = vec4(0.0); }\n"),
+            umbra_gl::program::ShaderSource::vertex(
+                "es3.vert",
+                "#version 300 es\nvoid main() { gl_Position = vec4(0.0); }\n",
+            ),
             umbra_gl::program::ShaderSource::fragment("es3.frag", src),
         ],
         &[],
@@ -126,7 +129,8 @@ fn contexts_on_three_threads_render_identical_images() {
             })
         })
         .collect();
-    let results: Vec<Vec<umbra_gl::RgbaImage>> = handles.into_iter().map(|h| h.join().expect("render thread")).collect();
+    let results: Vec<Vec<umbra_gl::RgbaImage>> =
+        handles.into_iter().map(|h| h.join().expect("render thread")).collect();
     let ctx = context();
     let here = render_once(&ctx, &mesh, "cpu-silhouette", &p).rgba;
     for img in results.iter().flatten() {

@@ -378,7 +378,10 @@ fn query_state(gl: &glow::Context) -> Vec<(String, Vec<i64>)> {
         // Unit 0's textures (the shadow map's unit), queried through the active unit.
         let active = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;
         gl.active_texture(glow::TEXTURE0);
-        for (name, pname) in [("TEXTURE_BINDING_2D[0]", glow::TEXTURE_BINDING_2D), ("TEXTURE_BINDING_CUBE_MAP[0]", glow::TEXTURE_BINDING_CUBE_MAP)] {
+        for (name, pname) in [
+            ("TEXTURE_BINDING_2D[0]", glow::TEXTURE_BINDING_2D),
+            ("TEXTURE_BINDING_CUBE_MAP[0]", glow::TEXTURE_BINDING_CUBE_MAP),
+        ] {
             out.push((name.into(), vec![i64::from(gl.get_parameter_i32(pname))]));
         }
         gl.active_texture(active);
@@ -410,7 +413,13 @@ fn view(light: [f32; 4], convention: DepthConvention) -> FrameParams {
 }
 
 /// One method, light and convention through the host API, checked against umbra's own frame.
-fn check_case(ctx: &HeadlessContext, scene: &SceneGpu, method_name: &str, light: [f32; 4], convention: DepthConvention) {
+fn check_case(
+    ctx: &HeadlessContext,
+    scene: &SceneGpu,
+    method_name: &str,
+    light: [f32; 4],
+    convention: DepthConvention,
+) {
     let gl = ctx.gl();
     let case = format!("{method_name}, light {light:?}, {convention:?}");
     let p = view(light, convention);
@@ -419,7 +428,10 @@ fn check_case(ctx: &HeadlessContext, scene: &SceneGpu, method_name: &str, light:
 
     // umbra's own frame of the same view: its stencil after the volume pass, lit mask, colour.
     let reference_stencil = renderer.render_stencil(gl, scene, method.as_mut(), &p, 0).expect("render_stencil");
-    let own = FrameParams { capture: CaptureFlags { lit_mask: LightCapture::Light(0), triangle_id: true, ..CaptureFlags::default() }, ..p.clone() };
+    let own = FrameParams {
+        capture: CaptureFlags { lit_mask: LightCapture::Light(0), triangle_id: true, ..CaptureFlags::default() },
+        ..p.clone()
+    };
     let frame = renderer.render(gl, scene, method.as_mut(), &own, None).expect("render");
     let lit = &frame.lit_masks[0].image;
 
@@ -475,7 +487,9 @@ fn check_case(ctx: &HeadlessContext, scene: &SceneGpu, method_name: &str, light:
     // ---- add_light under the same unusual host state.
     host.set_unusual_state(ctx);
     let state_before = query_state(gl);
-    renderer.add_light(gl, scene, method.as_mut(), &p, light, target).unwrap_or_else(|e| panic!("{case}: add_light: {e}"));
+    renderer
+        .add_light(gl, scene, method.as_mut(), &p, light, target)
+        .unwrap_or_else(|e| panic!("{case}: add_light: {e}"));
     assert_same_state(&state_before, &query_state(gl), &format!("{case}: add_light"));
     host.plain_state(ctx);
     assert!(host.read_depth(gl) == depth_before, "{case}: add_light changed the host's depth");
@@ -499,7 +513,10 @@ fn none_lit_mask(ctx: &HeadlessContext, scene: &SceneGpu, p: &FrameParams) -> Im
     let gl = ctx.gl();
     let mut renderer = Renderer::new(gl).expect("renderer");
     let mut none = create_method("none").expect("none");
-    let q = FrameParams { capture: CaptureFlags { lit_mask: LightCapture::Light(0), ..CaptureFlags::default() }, ..p.clone() };
+    let q = FrameParams {
+        capture: CaptureFlags { lit_mask: LightCapture::Light(0), ..CaptureFlags::default() },
+        ..p.clone()
+    };
     let f = renderer.render(gl, scene, none.as_mut(), &q, None).expect("none render");
     none.destroy(gl);
     renderer.destroy(gl);
@@ -614,9 +631,13 @@ fn mint_types_convert_at_the_boundary() {
     let camera = umbra_gl::Camera::look_at(eye, target).with_up(mint::Vector3 { x: 0.0, y: 1.0, z: 0.0 });
     let arrays = umbra_gl::Camera::look_at([0.0, 5.0, 8.0], [0.0, 0.5, 0.0]);
     assert_eq!(camera, arrays);
-    let clip: mint::ColumnMatrix4<f64> = camera.clip_from_world_cols(W as f64 / H as f64, DepthConvention::Standard).into();
+    let clip: mint::ColumnMatrix4<f64> =
+        camera.clip_from_world_cols(W as f64 / H as f64, DepthConvention::Standard).into();
     let cols = to_f32_cols(&camera.clip_from_world_in(W as f64 / H as f64, DepthConvention::Standard));
-    assert_eq!([clip.x.x as f32, clip.y.x as f32, clip.w.z as f32, clip.w.w as f32], [cols[0], cols[4], cols[14], cols[15]]);
+    assert_eq!(
+        [clip.x.x as f32, clip.y.x as f32, clip.w.z as f32, clip.w.w as f32],
+        [cols[0], cols[4], cols[14], cols[15]]
+    );
 
     let ctx = context();
     let gl = ctx.gl();

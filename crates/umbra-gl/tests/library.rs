@@ -6,9 +6,9 @@ mod common;
 use common::*;
 use umbra_gl::glow::HasContext;
 use umbra_gl::{
-    create_method, glow, method_names, read_rgba8, read_stencil, Attachments, BlendState, Classification, DepthConvention,
-    FrameParams, FrameTarget, GlError, GlExtra, GlState, LightCapture, RenderTarget, Renderer, SceneGpu, SceneId,
-    ShadowMethod, StencilCapture, StencilFace, VolumeFrame, NO_TRIANGLE,
+    create_method, glow, method_names, read_rgba8, read_stencil, Attachments, BlendState, Classification,
+    DepthConvention, FrameParams, FrameTarget, GlError, GlExtra, GlState, LightCapture, RenderTarget, Renderer,
+    SceneGpu, SceneId, ShadowMethod, StencilCapture, StencilFace, VolumeFrame, NO_TRIANGLE,
 };
 
 #[test]
@@ -49,12 +49,29 @@ fn caller_framebuffer_gets_the_same_frame_and_keeps_its_state() {
         depth_write: false,
         depth_clamp: true,
         stencil_test: true,
-        stencil_front: StencilFace { func: glow::NOTEQUAL, reference: 3, value_mask: 0x0F, write_mask: 0x70, ..StencilFace::KEEP },
-        stencil_back: StencilFace { func: glow::LEQUAL, reference: 1, value_mask: 0xF0, write_mask: 0x07, depth_pass: glow::INVERT, ..StencilFace::KEEP },
+        stencil_front: StencilFace {
+            func: glow::NOTEQUAL,
+            reference: 3,
+            value_mask: 0x0F,
+            write_mask: 0x70,
+            ..StencilFace::KEEP
+        },
+        stencil_back: StencilFace {
+            func: glow::LEQUAL,
+            reference: 1,
+            value_mask: 0xF0,
+            write_mask: 0x07,
+            depth_pass: glow::INVERT,
+            ..StencilFace::KEEP
+        },
         color_write: [true, false, true, false],
         cull_face: Some(glow::FRONT),
         front_face: glow::CW,
-        blend: Some(BlendState { src_rgb: glow::SRC_ALPHA, dst_rgb: glow::ONE_MINUS_SRC_ALPHA, ..BlendState::ADDITIVE }),
+        blend: Some(BlendState {
+            src_rgb: glow::SRC_ALPHA,
+            dst_rgb: glow::ONE_MINUS_SRC_ALPHA,
+            ..BlendState::ADDITIVE
+        }),
         polygon_offset: Some((1.5, 2.0)),
     };
     // SAFETY: plain state setters on the current context.
@@ -87,7 +104,11 @@ fn caller_framebuffer_gets_the_same_frame_and_keeps_its_state() {
         assert_eq!(gl.get_parameter_i32(glow::CURRENT_PROGRAM), 0);
         assert_eq!(gl.get_parameter_i32(glow::VERTEX_ARRAY_BINDING), 0);
         assert_eq!(gl.get_parameter_i32(glow::CLIP_ORIGIN) as u32, glow::UPPER_LEFT, "clip origin restored");
-        assert_eq!(gl.get_parameter_i32(glow::CLIP_DEPTH_MODE) as u32, glow::NEGATIVE_ONE_TO_ONE, "clip depth mode restored");
+        assert_eq!(
+            gl.get_parameter_i32(glow::CLIP_DEPTH_MODE) as u32,
+            glow::NEGATIVE_ONE_TO_ONE,
+            "clip depth mode restored"
+        );
         let mut range = [0.0f32; 2];
         gl.get_parameter_f32_slice(glow::DEPTH_RANGE, &mut range);
         assert_eq!(range, [0.25, 0.75], "depth range restored");
@@ -110,7 +131,14 @@ fn caller_framebuffer_gets_the_same_frame_and_keeps_its_state() {
     let own_standard = renderer.render(gl, &scene, method.as_mut(), &standard, None).expect("render standard");
     let caller24 = RenderTarget::new(gl, p.width, p.height, Attachments::default()).expect("caller fbo d24");
     let stencils = renderer
-        .draw_frame(gl, &scene, method.as_mut(), &standard, FrameTarget { framebuffer: Some(caller24.framebuffer()) }, None)
+        .draw_frame(
+            gl,
+            &scene,
+            method.as_mut(),
+            &standard,
+            FrameTarget { framebuffer: Some(caller24.framebuffer()) },
+            None,
+        )
         .expect("draw_frame standard");
     let theirs24 = read_rgba8(gl, Some(caller24.framebuffer()), glow::COLOR_ATTACHMENT0, p.width, p.height);
     assert_same_image(&ctx, "caller_framebuffer_standard", &own_standard.rgba, &theirs24);
@@ -145,7 +173,12 @@ impl ShadowMethod for HalfSpace {
     fn prepared_scene(&self) -> Option<SceneId> {
         self.prepared
     }
-    fn draw_volumes(&mut self, gl: &glow::Context, _scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        _scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         frame.mark(gl, "nothing");
         self.volumes_called += 1;
         Ok(())
@@ -156,7 +189,12 @@ impl ShadowMethod for HalfSpace {
     fn lighting_glsl(&self) -> Option<&'static str> {
         Some("uniform float u_split;\nbool umbra_lit(vec3 world_pos) { return world_pos.x > u_split; }\n")
     }
-    fn bind_lighting(&mut self, gl: &glow::Context, program: glow::Program, _frame: &VolumeFrame<'_>) -> Result<(), GlError> {
+    fn bind_lighting(
+        &mut self,
+        gl: &glow::Context,
+        program: glow::Program,
+        _frame: &VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         // SAFETY: the program is current (renderer contract); uniform set on it.
         unsafe {
             let loc = gl.get_uniform_location(program, "u_split");
@@ -204,7 +242,9 @@ fn a_method_can_classify_in_the_lighting_shader() {
         let (px, py) = pixel_of(&p.camera, [x, 0.0, z], p.width, p.height);
         let c = img.rgba.get(px, py).expect("in image");
         let lit = x > f64::from(method.split);
-        checks.check(px, py, (c[0].abs_diff(ambient) <= 1) != lit, || format!("x = {x}: colour {c:?}, lit expected {lit}"));
+        checks.check(px, py, (c[0].abs_diff(ambient) <= 1) != lit, || {
+            format!("x = {x}: colour {c:?}, lit expected {lit}")
+        });
     }
     checks.finish();
 
@@ -234,12 +274,17 @@ fn a_method_can_classify_in_the_lighting_shader() {
                 split_off += usize::from(faces && w[0] <= method.split);
                 facing_away += usize::from(!faces && w[0] > method.split);
                 if u8::from(expected) != m {
-                    checks.check(x, y, false, || format!("light {li}: mask {m}, x = {}, seen side faces light {faces}", w[0]));
+                    checks.check(x, y, false, || {
+                        format!("light {li}: mask {m}, x = {}, seen side faces light {faces}", w[0])
+                    });
                 }
             }
         }
         checks.finish();
-        assert!(lit > 500 && split_off > 500 && facing_away > 50, "light {li}: {lit} lit, {split_off} x <= split, {facing_away} facing away");
+        assert!(
+            lit > 500 && split_off > 500 && facing_away > 50,
+            "light {li}: {lit} lit, {split_off} x <= split, {facing_away} facing away"
+        );
     }
     hook.destroy(gl);
     renderer.destroy(gl);
@@ -259,7 +304,10 @@ fn bad_parameters_are_typed_errors_not_panics() {
         ("light w = 0.5", umbra_gl::FrameParams { lights: vec![[0.0, 1.0, 0.0, 0.5]], ..good.clone() }),
         ("zero direction", umbra_gl::FrameParams { lights: vec![[0.0, 0.0, 0.0, 0.0]], ..good.clone() }),
         ("NaN light", umbra_gl::FrameParams { lights: vec![[f32::NAN, 1.0, 0.0, 1.0]], ..good.clone() }),
-        ("eye == target", umbra_gl::FrameParams { camera: umbra_gl::Camera::look_at([1.0; 3], [1.0; 3]), ..good.clone() }),
+        (
+            "eye == target",
+            umbra_gl::FrameParams { camera: umbra_gl::Camera::look_at([1.0; 3], [1.0; 3]), ..good.clone() },
+        ),
         (
             "stencil of a missing light",
             umbra_gl::FrameParams {
@@ -363,7 +411,8 @@ impl ShadowMethod for FarPlaneProbe {
                 &[],
             )?;
             // SAFETY: creating an (empty) vertex array on the current context.
-            let vao = unsafe { gl.create_vertex_array() }.map_err(|detail| GlError::Create { what: "vertex array", detail })?;
+            let vao = unsafe { gl.create_vertex_array() }
+                .map_err(|detail| GlError::Create { what: "vertex array", detail })?;
             self.gpu = Some((program, vao));
         }
         self.prepared = Some(scene.id());
@@ -372,7 +421,12 @@ impl ShadowMethod for FarPlaneProbe {
     fn prepared_scene(&self) -> Option<SceneId> {
         self.prepared
     }
-    fn draw_volumes(&mut self, gl: &glow::Context, _scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        _scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         let Some((program, vao)) = self.gpu else { return Err(GlError::InvalidParams("probe not prepared".into())) };
         let mut state = frame.shadow_volume_state();
         self.seen.push((frame.depth_convention(), frame.far_clip_z(), state.depth_func));
@@ -441,7 +495,10 @@ fn the_far_plane_is_exact_and_fails_the_counting_test_everywhere() {
             let st = &img.stencil[0].image;
             let wrong = st.pixels.iter().filter(|&&s| s != 1).count();
             assert_eq!(wrong, 0, "{convention:?}, at infinity {at_infinity}: {wrong} pixels not counted exactly once");
-            assert!(img.lit_masks[0].image.pixels.iter().all(|&m| m == 0), "{convention:?}: counted everywhere = lit nowhere");
+            assert!(
+                img.lit_masks[0].image.pixels.iter().all(|&m| m == 0),
+                "{convention:?}: counted everywhere = lit nowhere"
+            );
         }
         let (far_standard, far_reversed) = (1.0, 0.0);
         assert_eq!(

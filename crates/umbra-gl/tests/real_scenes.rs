@@ -74,7 +74,10 @@ enum Occlusion {
     Lit,
     /// With the cosine between the seen side's normal and the direction to the light.
     SeenSideFacesAway(#[allow(dead_code)] f64),
-    Occluder { triangle: usize, t: f64 },
+    Occluder {
+        triangle: usize,
+        t: f64,
+    },
 }
 
 /// Triangles in f64 with their bounding boxes, for the brute-force ray casts.
@@ -87,10 +90,16 @@ struct Triangles {
 
 impl Triangles {
     fn new(mesh: &WeldedMesh) -> Self {
-        let corners: Vec<[V; 3]> = mesh.triangles.iter().map(|t| t.map(|v| mesh.positions[v as usize].map(f64::from))).collect();
+        let corners: Vec<[V; 3]> =
+            mesh.triangles.iter().map(|t| t.map(|v| mesh.positions[v as usize].map(f64::from))).collect();
         let boxes: Vec<[V; 2]> = corners
             .iter()
-            .map(|c| [[0, 1, 2].map(|k| c[0][k].min(c[1][k]).min(c[2][k])), [0, 1, 2].map(|k| c[0][k].max(c[1][k]).max(c[2][k]))])
+            .map(|c| {
+                [
+                    [0, 1, 2].map(|k| c[0][k].min(c[1][k]).min(c[2][k])),
+                    [0, 1, 2].map(|k| c[0][k].max(c[1][k]).max(c[2][k])),
+                ]
+            })
             .collect();
         let lo = [0, 1, 2].map(|k| boxes.iter().map(|b| b[0][k]).fold(f64::INFINITY, f64::min));
         let hi = [0, 1, 2].map(|k| boxes.iter().map(|b| b[1][k]).fold(f64::NEG_INFINITY, f64::max));
@@ -102,7 +111,15 @@ impl Triangles {
 /// `epsilon`: occluders closer than this distance along the segment are ignored (the world
 /// position is an f32 interpolation, so a point next to a shared edge may sit a hair behind
 /// the neighbour's plane: "shadow acne" of this reference, not of the renderer).
-fn expected_shadowed(mesh: &WeldedMesh, tris: &Triangles, own: usize, world: V, eye: V, light: [f32; 4], epsilon: f64) -> Occlusion {
+fn expected_shadowed(
+    mesh: &WeldedMesh,
+    tris: &Triangles,
+    own: usize,
+    world: V,
+    eye: V,
+    light: [f32; 4],
+    epsilon: f64,
+) -> Occlusion {
     let l = light.map(f64::from);
     let to_light = sub([l[0], l[1], l[2]], world.map(|x| x * l[3]));
     let n = umbra_gl::scene::flat_normal(&mesh.positions, mesh.triangles[own]).map(f64::from);
@@ -125,7 +142,9 @@ fn expected_shadowed(mesh: &WeldedMesh, tris: &Triangles, own: usize, world: V, 
             let b = &tris.boxes[i];
             (0..3).all(|k| b[0][k] <= hi[k] && b[1][k] >= lo[k])
         })
-        .find_map(|i| hit(world, to_light, t_min, t_max, tris.corners[i]).map(|t| Occlusion::Occluder { triangle: i, t }))
+        .find_map(|i| {
+            hit(world, to_light, t_min, t_max, tris.corners[i]).map(|t| Occlusion::Occluder { triangle: i, t })
+        })
         .unwrap_or(Occlusion::Lit)
 }
 
@@ -182,8 +201,10 @@ fn compare(
         let world = [w[0], w[1], w[2]].map(f64::from);
         Some((id, expected_shadowed(mesh, tris, id as usize, world, p.camera.eye, light, epsilon)))
     };
-    let samples: Vec<(u32, u32)> =
-        (1..p.height - 1).step_by(step as usize).flat_map(|y| (1..p.width - 1).step_by(step as usize).map(move |x| (x, y))).collect();
+    let samples: Vec<(u32, u32)> = (1..p.height - 1)
+        .step_by(step as usize)
+        .flat_map(|y| (1..p.width - 1).step_by(step as usize).map(move |x| (x, y)))
+        .collect();
     // The ray casts depend only on the depth pass (ids, world positions) and the light, which
     // every method shares: computed once per view.
     let key = (ids.clone(), wp.clone(), light);
@@ -191,7 +212,14 @@ fn compare(
         cache.results = std::thread::scope(|s| {
             let handles: Vec<_> = samples
                 .chunks(samples.len().div_ceil(2).max(1))
-                .map(|chunk| s.spawn(move || chunk.iter().filter_map(|&(x, y)| classify(x, y).map(|(id, o)| (x, y, id, o))).collect::<Vec<_>>()))
+                .map(|chunk| {
+                    s.spawn(move || {
+                        chunk
+                            .iter()
+                            .filter_map(|&(x, y)| classify(x, y).map(|(id, o)| (x, y, id, o)))
+                            .collect::<Vec<_>>()
+                    })
+                })
                 .collect();
             handles.into_iter().flat_map(|h| h.join().expect("ray thread")).collect()
         });
@@ -209,7 +237,10 @@ fn compare(
                 tally.facing_away += 1;
                 let c = img.rgba.get(x, y).unwrap_or([0; 4]);
                 checks.check(x, y, c[0].abs_diff(ambient) <= 1 && got, || {
-                    format!("seen side faces away ({why:?}) but colour {c:?} (ambient {ambient}), lit mask {}", u8::from(!got))
+                    format!(
+                        "seen side faces away ({why:?}) but colour {c:?} (ambient {ambient}), lit mask {}",
+                        u8::from(!got)
+                    )
                 });
                 continue;
             }
@@ -220,9 +251,12 @@ fn compare(
             }
         };
         if expected != got {
-            let neighbours = || (-1i64..=1).flat_map(|dy| (-1i64..=1).map(move |dx| ((x as i64 + dx) as u32, (y as i64 + dy) as u32)));
+            let neighbours = || {
+                (-1i64..=1).flat_map(|dy| (-1i64..=1).map(move |dx| ((x as i64 + dx) as u32, (y as i64 + dy) as u32)))
+            };
             let mask_band = neighbours().any(|(nx, ny)| mask.get(nx, ny).is_some_and(|v| (v == 0) != got));
-            let ray_band = neighbours().any(|(nx, ny)| classify(nx, ny).is_some_and(|(_, o)| !matches!(o, Occlusion::Lit) != expected));
+            let ray_band = neighbours()
+                .any(|(nx, ny)| classify(nx, ny).is_some_and(|(_, o)| !matches!(o, Occlusion::Lit) != expected));
             if mask_band || ray_band {
                 tally.band_mismatches += 1;
                 continue;
@@ -237,7 +271,11 @@ fn compare(
                 }
                 other => format!("{other:?}, own triangle {id}"),
             };
-            format!("ray cast shadowed {expected}, lit mask {}, stencil {} ({detail})", u8::from(!got), st.get(x, y).unwrap_or(0))
+            format!(
+                "ray cast shadowed {expected}, lit mask {}, stencil {} ({detail})",
+                u8::from(!got),
+                st.get(x, y).unwrap_or(0)
+            )
         });
     }
     checks.finish();
@@ -264,7 +302,12 @@ fn check_scene(file: &str, test: &'static str, inside: bool, open_roof: bool) {
             ..Camera::default()
         }
     } else {
-        Camera { eye: [c[0] + 0.45 * d, c[1] + 0.35 * d, c[2] + 0.55 * d], target: c, near: d * 1e-3, ..Camera::default() }
+        Camera {
+            eye: [c[0] + 0.45 * d, c[1] + 0.35 * d, c[2] + 0.55 * d],
+            target: c,
+            near: d * 1e-3,
+            ..Camera::default()
+        }
     };
     let lights = if inside {
         // Point lights inside the room (a directional light is blocked by the roof): one
@@ -293,7 +336,10 @@ fn check_scene(file: &str, test: &'static str, inside: bool, open_roof: bool) {
             let t = compare(&ctx, test, &mesh, &img, &p, step, 1e-5 * d, &mut cache);
             println!("{file} {method} light {light:?}: {t:?}");
             let lit = t.checked - t.occluded - t.facing_away;
-            assert!(t.checked > 10 * min && t.occluded > min && lit > min, "{t:?}: the view must show light and shadow");
+            assert!(
+                t.checked > 10 * min && t.occluded > min && lit > min,
+                "{t:?}: the view must show light and shadow"
+            );
         }
     }
 }
@@ -332,7 +378,9 @@ fn debug_pixel() {
     let (x, y) = spec.split_once(',').map(|(a, b)| (a.parse().unwrap_or(0), b.parse().unwrap_or(0))).unwrap_or((0, 0));
     let Some(mesh) = load(&file) else { return };
     let ctx = context();
-    let b = umbra_geom::Mesh { positions: mesh.positions.clone(), triangles: mesh.triangles.clone(), normals: None }.bounds().expect("bounds");
+    let b = umbra_geom::Mesh { positions: mesh.positions.clone(), triangles: mesh.triangles.clone(), normals: None }
+        .bounds()
+        .expect("bounds");
     let (c, d) = (b.center().map(f64::from), f64::from(b.diagonal()));
     let e = b.extent().map(f64::from);
     let camera = Camera {
@@ -344,7 +392,8 @@ fn debug_pixel() {
     let light = [c[0] as f32, (c[1] + 0.2 * e[1]) as f32, c[2] as f32, 1.0];
     let p = params(camera, vec![light], 200, 112);
     let img = render_once(&ctx, &mesh, "cpu-silhouette", &p);
-    let (wp, ids, st) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("id"), &img.stencil[0].image);
+    let (wp, ids, st) =
+        (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("id"), &img.stencil[0].image);
     println!("camera {camera:?}\nlight {light:?}");
     for dy in -2i64..=2 {
         let row: Vec<String> = (-2i64..=2)
@@ -367,9 +416,26 @@ fn debug_pixel() {
         .triangles
         .iter()
         .enumerate()
-        .filter(|(_, o)| { let mut a = **o; a.sort(); let mut b = t; b.sort(); a == b })
+        .filter(|(_, o)| {
+            let mut a = **o;
+            a.sort();
+            let mut b = t;
+            b.sort();
+            a == b
+        })
         .map(|(i, _)| i)
         .collect();
     println!("triangles on the same three vertices: {same:?}");
-    println!("{:?}", expected_shadowed(&mesh, &Triangles::new(&mesh), id as usize, [w[0], w[1], w[2]].map(f64::from), camera.eye, light, 1e-5 * d));
+    println!(
+        "{:?}",
+        expected_shadowed(
+            &mesh,
+            &Triangles::new(&mesh),
+            id as usize,
+            [w[0], w[1], w[2]].map(f64::from),
+            camera.eye,
+            light,
+            1e-5 * d
+        )
+    );
 }

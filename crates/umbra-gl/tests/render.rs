@@ -49,12 +49,17 @@ fn check_ground(
         let (px, py) = pixel_of(&p.camera, [x, 0.0, z], p.width, p.height);
         let w = wp.get(px, py).expect("in image");
         let id = ids.get(px, py).expect("in image");
-        checks.check(px, py, id as usize >= triangle_count - 2 && id != NO_TRIANGLE, || format!("id {id} is not a ground triangle"));
+        checks.check(px, py, id as usize >= triangle_count - 2 && id != NO_TRIANGLE, || {
+            format!("id {id} is not a ground triangle")
+        });
         checks.check(px, py, w[3] == 1.0 && w[1].abs() < 1e-4, || format!("world position {w:?} not on the ground"));
         let world = [w[0], w[1], w[2]].map(f64::from);
         let d = segment_distance_to_center(world, light);
         // The tessellated sphere is inscribed in the ideal one (48 x 24: radius >= 0.991).
-        assert!((d - SPHERE_RADIUS).abs() > 0.1, "{test}: test point ({x}, {z}) is too close to the shadow boundary (d = {d})");
+        assert!(
+            (d - SPHERE_RADIUS).abs() > 0.1,
+            "{test}: test point ({x}, {z}) is too close to the shadow boundary (d = {d})"
+        );
         let s = stencil.get(px, py).expect("in image");
         let m = mask.get(px, py).expect("in image");
         let checks_before = checks.failures();
@@ -62,9 +67,13 @@ fn check_ground(
         if d < SPHERE_RADIUS {
             shadowed += 1;
             checks.check(px, py, m == 0, || format!("ground ({x}, {z}) behind the sphere: lit mask {m}, expected 0"));
-            checks.check(px, py, !counting || s == 2, || format!("ground ({x}, {z}) behind the sphere: stencil {s}, expected 2"));
+            checks.check(px, py, !counting || s == 2, || {
+                format!("ground ({x}, {z}) behind the sphere: stencil {s}, expected 2")
+            });
             let e = expected_ambient_u8(p);
-            checks.check(px, py, c[0].abs_diff(e) <= 1 && c[2].abs_diff(e) <= 1, || format!("shadowed colour {c:?}, expected {e}"));
+            checks.check(px, py, c[0].abs_diff(e) <= 1 && c[2].abs_diff(e) <= 1, || {
+                format!("shadowed colour {c:?}, expected {e}")
+            });
         } else {
             lit += 1;
             checks.check(px, py, m == 1, || format!("ground ({x}, {z}) lit: lit mask {m}, expected 1"));
@@ -92,7 +101,8 @@ fn point_light_shadows_the_ground_under_the_sphere() {
     for method in overlap_exact_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
         let c = counting.contains(&method);
-        let (s, l) = check_ground(&ctx, "point_light_ground", &img, &p, 0, &GROUND_POINTS, mesh.triangles.len(), method, c);
+        let (s, l) =
+            check_ground(&ctx, "point_light_ground", &img, &p, 0, &GROUND_POINTS, mesh.triangles.len(), method, c);
         assert!(s >= 4 && l >= 4, "{method}: {s} shadowed / {l} lit test points");
         // The top of the sphere faces the light: lit (stencil 0 for counting methods).
         let (px, py) = pixel_of(&p.camera, [0.0, 2.99, 0.0], p.width, p.height);
@@ -115,7 +125,8 @@ fn directional_light_shadows_the_ground_along_its_direction() {
     for method in overlap_exact_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
         let c = counting.contains(&method);
-        let (s, l) = check_ground(&ctx, "directional_light_ground", &img, &p, 0, &points, mesh.triangles.len(), method, c);
+        let (s, l) =
+            check_ground(&ctx, "directional_light_ground", &img, &p, 0, &points, mesh.triangles.len(), method, c);
         assert!(s >= 3 && l >= 3, "{method}: {s} shadowed / {l} lit test points");
     }
 }
@@ -138,7 +149,8 @@ fn camera_inside_the_shadow_volume_is_right_with_zfail() {
     for method in overlap_exact_methods() {
         let img = render_once(&ctx, &mesh, method, &p);
         let c = counting.contains(&method);
-        let (s, l) = check_ground(&ctx, "inside_shadow_zfail", &img, &p, 0, &INSIDE_POINTS, mesh.triangles.len(), method, c);
+        let (s, l) =
+            check_ground(&ctx, "inside_shadow_zfail", &img, &p, 0, &INSIDE_POINTS, mesh.triangles.len(), method, c);
         assert_eq!((s, l), (2, 2), "{method}");
     }
 }
@@ -168,7 +180,10 @@ fn camera_inside_the_shadow_volume_is_wrong_with_zpass() {
                 assert_eq!(s, 0, "{method}: z-pass count in the shadow: 2 - 2");
                 let w = wp.get(px, py).expect("in image");
                 let lit = to_u8(expected_lit(&p, [w[0], w[1], w[2]].map(f64::from), [0.0, 1.0, 0.0], POINT_LIGHT));
-                assert!(c[0].abs_diff(lit) <= 2 && lit > ambient + 20, "{method}: shadowed ground drawn lit by z-pass: {c:?}");
+                assert!(
+                    c[0].abs_diff(lit) <= 2 && lit > ambient + 20,
+                    "{method}: shadowed ground drawn lit by z-pass: {c:?}"
+                );
             } else {
                 assert_eq!(s, 254, "{method}: z-pass count outside the shadow: 0 - 2 wraps to 254");
                 assert!(c[0].abs_diff(ambient) <= 1, "{method}: lit ground drawn shadowed by z-pass: {c:?}");
@@ -312,14 +327,19 @@ fn lit_mask_is_stencil_zero_and_facing_the_light() {
     for method in counting {
         let img = render_once(&ctx, &mesh, method, &p);
         let (wp, ids) = (img.world_pos.as_ref().expect("wp"), img.triangle_id.as_ref().expect("ids"));
-        assert_eq!(img.lit_masks.iter().map(|m| m.light).collect::<Vec<_>>(), vec![0, 1], "{method}: one mask per light, in order");
+        assert_eq!(
+            img.lit_masks.iter().map(|m| m.light).collect::<Vec<_>>(),
+            vec![0, 1],
+            "{method}: one mask per light, in order"
+        );
         let mut checks = PixelChecks::new(&ctx, "lit_mask_stencil_facing", &img.rgba);
         for (li, &light) in lights.iter().enumerate() {
             let (mask, st) = (&img.lit_masks[li].image, &img.stencil[li].image);
             let (mut lit, mut shadowed, mut facing_away_stencil_zero, mut ambiguous, mut drawn) = (0, 0, 0, 0, 0);
             for y in 0..p.height {
                 for x in 0..p.width {
-                    let (m, s, id) = (mask.get(x, y).expect("in"), st.get(x, y).expect("in"), ids.get(x, y).expect("in"));
+                    let (m, s, id) =
+                        (mask.get(x, y).expect("in"), st.get(x, y).expect("in"), ids.get(x, y).expect("in"));
                     assert!(m <= 1, "{method}: mask values are 0 / 1, got {m}");
                     if id == NO_TRIANGLE {
                         checks.check(x, y, m == 0, || format!("{method} light {li}: background marked lit"));
@@ -327,7 +347,9 @@ fn lit_mask_is_stencil_zero_and_facing_the_light() {
                     }
                     drawn += 1;
                     let w = wp.get(x, y).expect("in");
-                    let Some(faces) = seen_side_faces_light(&mesh, id, [w[0], w[1], w[2]].map(f64::from), p.camera.eye, light) else {
+                    let Some(faces) =
+                        seen_side_faces_light(&mesh, id, [w[0], w[1], w[2]].map(f64::from), p.camera.eye, light)
+                    else {
                         ambiguous += 1;
                         continue;
                     };
@@ -336,7 +358,9 @@ fn lit_mask_is_stencil_zero_and_facing_the_light() {
                     shadowed += usize::from(faces && s != 0);
                     facing_away_stencil_zero += usize::from(!faces && s == 0);
                     if u8::from(expected) != m {
-                        checks.check(x, y, false, || format!("{method} light {li}: mask {m}, stencil {s}, seen side faces light {faces}"));
+                        checks.check(x, y, false, || {
+                            format!("{method} light {li}: mask {m}, stencil {s}, seen side faces light {faces}")
+                        });
                     }
                 }
             }
@@ -348,7 +372,10 @@ fn lit_mask_is_stencil_zero_and_facing_the_light() {
             } else {
                 assert!(shadowed > 200, "{counts}");
             }
-            assert!(ambiguous * 200 < drawn, "{method} light {li}: {ambiguous} of {drawn} pixels edge-on to camera or light");
+            assert!(
+                ambiguous * 200 < drawn,
+                "{method} light {li}: {ambiguous} of {drawn} pixels edge-on to camera or light"
+            );
         }
         checks.finish();
 
@@ -366,7 +393,9 @@ fn lit_mask_is_stencil_zero_and_facing_the_light() {
                 let c = one.rgba.get(x, y).expect("in")[0];
                 if mask.get(x, y) == Some(0) {
                     dark += 1;
-                    checks.check(x, y, c.abs_diff(ambient) <= 1, || format!("{method}: mask 0 but colour {c} != ambient {ambient}"));
+                    checks.check(x, y, c.abs_diff(ambient) <= 1, || {
+                        format!("{method}: mask 0 but colour {c} != ambient {ambient}")
+                    });
                 } else if c > ambient + 1 {
                     bright += 1;
                 }

@@ -44,7 +44,10 @@ fn sponza(c: &mut Criterion) {
     };
     let (pos, tri) = primary_samples(&bvh, &camera);
     let samples = Samples { width: 1280, height: 720, world_pos: &pos, triangle: &tri };
-    for (name, light) in [("reference_point_1280x720", [0.0f32, 6.0, 0.0, 1.0]), ("reference_directional_1280x720", [0.3, 1.0, 0.2, 0.0])] {
+    for (name, light) in [
+        ("reference_point_1280x720", [0.0f32, 6.0, 0.0, 1.0]),
+        ("reference_directional_1280x720", [0.3, 1.0, 0.2, 0.0]),
+    ] {
         group.bench_function(name, |b| b.iter(|| reference(&welded, &bvh, &samples, light, camera.eye).unwrap()));
     }
     group.bench_function("primary_rays_1280x720", |b| b.iter(|| primary_samples(&bvh, &camera)));

@@ -29,7 +29,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         bvh = Some(timed("bvh build", || Bvh::build(&w.positions, &w.triangles))?);
     }
     let bvh = bvh.ok_or("no bvh")?;
-    let cam = PinholeCamera { eye: [-8.2, 1.5, -0.1], target: [5.0, 2.5, 0.3], up: [0.0, 1.0, 0.0], fov_y: 60f32.to_radians(), width: 1280, height: 720 };
+    let cam = PinholeCamera {
+        eye: [-8.2, 1.5, -0.1],
+        target: [5.0, 2.5, 0.3],
+        up: [0.0, 1.0, 0.0],
+        fov_y: 60f32.to_radians(),
+        width: 1280,
+        height: 720,
+    };
     let (pos, tri) = timed("primary rays", || primary_samples(&bvh, &cam));
     let samples = Samples { width: 1280, height: 720, world_pos: &pos, triangle: &tri };
     for light in [[0.0f32, 6.0, 0.0, 1.0], [0.3, 1.0, 0.2, 0.0]] {

@@ -121,9 +121,11 @@ impl Bvh {
         if triangles.len() >= u32::MAX as usize {
             return Err(OracleError::TooManyTriangles { count: triangles.len() });
         }
-        if let Some((triangle, vertex)) = triangles.iter().enumerate().find_map(|(i, t)| {
-            t.iter().find(|&&v| v as usize >= positions.len()).map(|&v| (i, v))
-        }) {
+        if let Some((triangle, vertex)) = triangles
+            .iter()
+            .enumerate()
+            .find_map(|(i, t)| t.iter().find(|&&v| v as usize >= positions.len()).map(|&v| (i, v)))
+        {
             return Err(OracleError::VertexOutOfRange { triangle, vertex, vertices: positions.len() });
         }
         let mut prims: Vec<PrimRef> = triangles
@@ -143,27 +145,21 @@ impl Bvh {
         let root = if prims.is_empty() {
             BuildNode::Leaf { bounds: Bounds::EMPTY, first: 0, count: 0 }
         } else {
-            let (bounds, centroids) = prims
-                .par_chunks(16384)
-                .map(bounds_of)
-                .reduce(
-                    || (Bounds::EMPTY, Bounds::EMPTY),
-                    |mut a, b| {
-                        a.0.grow(&b.0);
-                        a.1.grow(&b.1);
-                        a
-                    },
-                );
+            let (bounds, centroids) = prims.par_chunks(16384).map(bounds_of).reduce(
+                || (Bounds::EMPTY, Bounds::EMPTY),
+                |mut a, b| {
+                    a.0.grow(&b.0);
+                    a.1.grow(&b.1);
+                    a
+                },
+            );
             build_recursive(&mut prims, 0, 0, bounds, centroids)
         };
         let mut nodes = Vec::with_capacity(prims.len());
         let b = root.bounds();
         nodes.push(Node { min: b.min, first: 0, max: b.max, count: 0 });
         flatten(&root, 0, &mut nodes);
-        let vertices = prims
-            .par_iter()
-            .map(|p| triangles[p.id as usize].map(|k| positions[k as usize]))
-            .collect();
+        let vertices = prims.par_iter().map(|p| triangles[p.id as usize].map(|k| positions[k as usize])).collect();
         let ids = prims.iter().map(|p| p.id).collect();
         Ok(Bvh { nodes, vertices, ids, triangle_count: triangles.len() })
     }
@@ -186,7 +182,14 @@ impl Bvh {
     /// Any-hit query: does `origin + t * direction` hit a triangle other than
     /// `ignore_triangle` (pass `u32::MAX` to ignore none) with `t_min < t < t_max`?
     /// Exits at the first hit found.
-    pub fn occluded(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64, ignore_triangle: u32) -> bool {
+    pub fn occluded(
+        &self,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        t_min: f64,
+        t_max: f64,
+        ignore_triangle: u32,
+    ) -> bool {
         let mut found = false;
         self.traverse(origin, direction, t_min, t_max, 0.0, |bvh, i, ray, t_far| {
             if bvh.ids[i] == ignore_triangle {
@@ -546,7 +549,11 @@ fn best_split(prims: &[PrimRef], bounds: &Bounds, centroids: &Bounds) -> Option<
                 continue;
             }
             let cost = TRAVERSAL_COST
-                + if parent_area > 0.0 { (acc.half_area() * count as f32 + right_cost[i]) / parent_area } else { prims.len() as f32 };
+                + if parent_area > 0.0 {
+                    (acc.half_area() * count as f32 + right_cost[i]) / parent_area
+                } else {
+                    prims.len() as f32
+                };
             if best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, i));
             }

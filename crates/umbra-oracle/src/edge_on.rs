@@ -65,7 +65,15 @@ fn face(a: [f64; 3], b: [f64; 3], light: Light) -> ([f64; 3], [f64; 3]) {
 /// interpolating `da`, `db`), given the eye's distance `h` to the face's plane with unit normal
 /// `n`: `h` if the eye's foot on the plane lies inside the face, else the distance to the
 /// nearest of its three boundary pieces.
-fn face_distance(eye: [f64; 3], n: [f64; 3], h_signed: f64, a: [f64; 3], b: [f64; 3], da: [f64; 3], db: [f64; 3]) -> f64 {
+fn face_distance(
+    eye: [f64; 3],
+    n: [f64; 3],
+    h_signed: f64,
+    a: [f64; 3],
+    b: [f64; 3],
+    da: [f64; 3],
+    db: [f64; 3],
+) -> f64 {
     let foot = add_scaled(eye, n, -h_signed);
     // Inside test in the plane: the face is the convex region bounded by the segment and the
     // two rays; the foot is inside iff it is on the inner side of all three boundary lines.
@@ -102,7 +110,13 @@ pub fn casts_side(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, e: usize, light:
     for &o in adjacency.opposites(e) {
         let side = dot(edge_normal, sub(pos(o), a));
         undecided |= side == 0.0;
-        m += if side > 0.0 { 1 } else if side < 0.0 { -1 } else { 0 };
+        m += if side > 0.0 {
+            1
+        } else if side < 0.0 {
+            -1
+        } else {
+            0
+        };
     }
     m != 0 || undecided
 }
@@ -202,8 +216,10 @@ pub fn mark_edge_on(
                     let (px, py) = ((c[0] / c[2] + 1.0) * 0.5 * w, (1.0 - c[1] / c[2]) * 0.5 * h);
                     px * tangent[0] + py * tangent[1]
                 };
-                let (lo, hi) =
-                    pts[..4].iter().map(along).fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), v| (l.min(v), u.max(v)));
+                let (lo, hi) = pts[..4]
+                    .iter()
+                    .map(along)
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), v| (l.min(v), u.max(v)));
                 (lo - EDGE_ON_PIXELS, hi + EDGE_ON_PIXELS)
             });
             let mut mark = |x: i64, y: i64| {

@@ -20,7 +20,8 @@ pub mod watertight;
 pub use bvh::{Bvh, Hit};
 pub use metrics::{compare, diff_image, mismatches_outside_band, Metrics};
 pub use reference::{
-    boundary_band, reference, reference_in_view, segment_epsilon, RasterView, Reference, SampleClass, Samples, DEPTH_QUANTA,
+    boundary_band, reference, reference_in_view, segment_epsilon, RasterView, Reference, SampleClass, Samples,
+    DEPTH_QUANTA,
 };
 
 /// Bad input to the oracle. Pixel coordinates are `(x, y)` with `y = 0` the top row.

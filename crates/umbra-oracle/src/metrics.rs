@@ -26,9 +26,17 @@ pub struct Metrics {
 
 fn check(reference: &Reference, what: &'static str, actual: usize) -> Result<(), OracleError> {
     let expected = reference.width as usize * reference.height as usize;
-    for (what, actual) in [("reference class", reference.class.len()), ("reference band", reference.band.len()), (what, actual)] {
+    for (what, actual) in
+        [("reference class", reference.class.len()), ("reference band", reference.band.len()), (what, actual)]
+    {
         if actual != expected {
-            return Err(OracleError::SizeMismatch { what, expected, actual, width: reference.width, height: reference.height });
+            return Err(OracleError::SizeMismatch {
+                what,
+                expected,
+                actual,
+                width: reference.width,
+                height: reference.height,
+            });
         }
     }
     Ok(())

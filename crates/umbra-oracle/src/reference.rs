@@ -206,7 +206,13 @@ pub fn segment_epsilon(positions: &[[f32; 3]]) -> f64 {
 /// Computes the reference for `samples` rendered from `eye` with `light`, in parallel over rows.
 ///
 /// `bvh` must have been built from `mesh.positions` / `mesh.triangles` (checked by count).
-pub fn reference(mesh: &WeldedMesh, bvh: &Bvh, samples: &Samples, light: Light, eye: [f32; 3]) -> Result<Reference, OracleError> {
+pub fn reference(
+    mesh: &WeldedMesh,
+    bvh: &Bvh,
+    samples: &Samples,
+    light: Light,
+    eye: [f32; 3],
+) -> Result<Reference, OracleError> {
     reference_in_view(mesh, bvh, samples, light, eye, None)
 }
 
@@ -248,7 +254,11 @@ pub fn reference_in_view(
         // Vertex indices of a WeldedMesh are in range by construction, but its fields are
         // public: check the one we will read.
         if let Some(&v) = mesh.triangles[t as usize].iter().find(|&&v| v as usize >= mesh.positions.len()) {
-            return Err(OracleError::VertexOutOfRange { triangle: t as usize, vertex: v, vertices: mesh.positions.len() });
+            return Err(OracleError::VertexOutOfRange {
+                triangle: t as usize,
+                vertex: v,
+                vertices: mesh.positions.len(),
+            });
         }
     }
 
@@ -260,18 +270,16 @@ pub fn reference_in_view(
     let mut class = vec![SampleClass::Background; pixels];
     let mut grazing = vec![false; pixels];
     if width > 0 {
-        class
-            .par_chunks_mut(width as usize)
-            .zip(grazing.par_chunks_mut(width as usize))
-            .enumerate()
-            .for_each(|(row, (class_row, grazing_row))| {
+        class.par_chunks_mut(width as usize).zip(grazing.par_chunks_mut(width as usize)).enumerate().for_each(
+            |(row, (class_row, grazing_row))| {
                 let start = row * width as usize;
                 for x in 0..width as usize {
                     let t = samples.triangle[start + x];
                     if t == u32::MAX {
                         continue;
                     }
-                    let (c, g) = classify(mesh, bvh, eps, &shading, view, casting.as_ref(), t, samples.world_pos[start + x]);
+                    let (c, g) =
+                        classify(mesh, bvh, eps, &shading, view, casting.as_ref(), t, samples.world_pos[start + x]);
                     class_row[x] = c;
                     let snapped = view.is_some_and(|v| {
                         let tri = mesh.triangles[t as usize].map(|k| to_f64(mesh.positions[k as usize]));
@@ -279,12 +287,15 @@ pub fn reference_in_view(
                     });
                     grazing_row[x] = g || snapped;
                 }
-            });
+            },
+        );
     }
     let mut band = boundary_band(width, height, &class, &grazing);
     if let (Some(v), Some(casting)) = (view, casting.as_ref()) {
         let eye = eye.map(f64::from);
-        crate::edge_on::mark_edge_on(mesh, casting, light, eye, v, width, height, &mut band, |i| class[i] != SampleClass::Background);
+        crate::edge_on::mark_edge_on(mesh, casting, light, eye, v, width, height, &mut band, |i| {
+            class[i] != SampleClass::Background
+        });
     }
     Ok(Reference { width, height, class, band })
 }
@@ -309,11 +320,7 @@ impl Shading {
     fn new(light: Light, eye: [f32; 3]) -> Shading {
         let xyz = [light[0] as f64, light[1] as f64, light[2] as f64];
         let w = light[3] as f64;
-        Shading {
-            point: (w != 0.0).then(|| xyz.map(|c| c / w)),
-            towards: xyz,
-            eye: eye.map(|c| c as f64),
-        }
+        Shading { point: (w != 0.0).then(|| xyz.map(|c| c / w)), towards: xyz, eye: eye.map(|c| c as f64) }
     }
 }
 
@@ -393,8 +400,9 @@ fn classify(
     // Near a shadow boundary (module doc): a world distance at S.
     // Rounding of positions: relative to the sample's distance and coordinates; depth-test
     // resolution: a few depth-buffer steps along the view ray (RasterView::depth_margin).
-    let margin = (NEAR_BOUNDARY_RELATIVE * (dot(sub(s, shading.eye), sub(s, shading.eye)).sqrt() + s.iter().fold(0f64, |m, c| m.max(c.abs()))))
-        .max(view.map_or(0.0, |v| v.depth_margin(s, shading.eye)));
+    let margin = (NEAR_BOUNDARY_RELATIVE
+        * (dot(sub(s, shading.eye), sub(s, shading.eye)).sqrt() + s.iter().fold(0f64, |m, c| m.max(c.abs()))))
+    .max(view.map_or(0.0, |v| v.depth_margin(s, shading.eye)));
     // The exact segment (or ray) from a start point towards the light, as (direction, t range).
     let segment = |from: [f64; 3]| -> Option<([f64; 3], f64, f64)> {
         match shading.point {

@@ -56,15 +56,7 @@ impl ShearedRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let sz = 1.0 / direction[kz];
-        ShearedRay {
-            origin,
-            kz,
-            kx,
-            ky,
-            sx: direction[kx] * sz,
-            sy: direction[ky] * sz,
-            sz,
-        }
+        ShearedRay { origin, kz, kx, ky, sx: direction[kx] * sz, sy: direction[ky] * sz, sz }
     }
 
     /// The triangle in the ray's sheared space: its vertices relative to the origin, sheared
@@ -148,7 +140,15 @@ impl ShearedRay {
     /// times the origin's distance to its line. Along the dominant axis the shear changes
     /// distances by at most a factor sqrt(3), which a band definition can afford.
     #[inline]
-    pub fn intersect_near(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64, margin: f64) -> NearHit {
+    pub fn intersect_near(
+        &self,
+        a: [f32; 3],
+        b: [f32; 3],
+        c: [f32; 3],
+        t_min: f64,
+        t_max: f64,
+        margin: f64,
+    ) -> NearHit {
         let Sheared { u, v, w, xy: [[ax, ay], [bx, by], [cx, cy]], z } = self.shear(a, b, c);
         let det = u + v + w;
         if det == 0.0 || det.is_nan() {
@@ -177,7 +177,15 @@ impl ShearedRay {
     /// [`ShearedRay::intersect_near`]), at a `t` in `(t_min, t_max)` where it meets the grown
     /// triangle's plane: `[ab, bc, ca]`, or `None` when it passes none (or the triangle is
     /// degenerate or edge-on to the ray).
-    pub fn near_edges(&self, a: [f32; 3], b: [f32; 3], c: [f32; 3], t_min: f64, t_max: f64, margin: f64) -> Option<[bool; 3]> {
+    pub fn near_edges(
+        &self,
+        a: [f32; 3],
+        b: [f32; 3],
+        c: [f32; 3],
+        t_min: f64,
+        t_max: f64,
+        margin: f64,
+    ) -> Option<[bool; 3]> {
         let Sheared { u, v, w, xy: [[ax, ay], [bx, by], [cx, cy]], z } = self.shear(a, b, c);
         let det = u + v + w;
         if det == 0.0 || det.is_nan() {

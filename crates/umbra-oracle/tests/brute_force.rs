@@ -6,7 +6,14 @@ use umbra_oracle::watertight::ShearedRay;
 use umbra_oracle::{Bvh, OracleError};
 
 /// Closest hit by testing every triangle; ties (equal t) keep the lowest id.
-fn brute_closest(p: &[[f32; 3]], t: &[[u32; 3]], o: [f64; 3], d: [f64; 3], t_min: f64, t_max: f64) -> Option<(f64, u32)> {
+fn brute_closest(
+    p: &[[f32; 3]],
+    t: &[[u32; 3]],
+    o: [f64; 3],
+    d: [f64; 3],
+    t_min: f64,
+    t_max: f64,
+) -> Option<(f64, u32)> {
     let ray = ShearedRay::new(o, d);
     let mut best: Option<(f64, u32)> = None;
     for (i, tri) in t.iter().enumerate() {
@@ -30,7 +37,15 @@ fn brute_any(p: &[[f32; 3]], t: &[[u32; 3]], o: [f64; 3], d: [f64; 3], t_min: f6
 
 /// Checks one ray against brute force: same closest t, a triangle that really is hit at that t,
 /// and the same any-hit answer with and without an ignored triangle.
-fn check_ray(bvh: &Bvh, p: &[[f32; 3]], t: &[[u32; 3]], o: [f64; 3], d: [f64; 3], t_min: f64, t_max: f64) -> Result<(), TestCaseError> {
+fn check_ray(
+    bvh: &Bvh,
+    p: &[[f32; 3]],
+    t: &[[u32; 3]],
+    o: [f64; 3],
+    d: [f64; 3],
+    t_min: f64,
+    t_max: f64,
+) -> Result<(), TestCaseError> {
     let expected = brute_closest(p, t, o, d, t_min, t_max);
     let got = bvh.intersect(o, d, t_min, t_max);
     match (expected, got) {

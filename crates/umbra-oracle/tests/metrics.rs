@@ -57,7 +57,14 @@ fn compare_counts_on_a_hand_made_mask() {
     // column 0 is not (2 samples). Band samples: 4 (see the band test).
     assert_eq!(
         m,
-        Metrics { samples: 8, shadowed_reference: 4, mismatches: 4, band_samples: 4, band_mismatches: 2, mismatches_outside_band: 2 }
+        Metrics {
+            samples: 8,
+            shadowed_reference: 4,
+            mismatches: 4,
+            band_samples: 4,
+            band_mismatches: 2,
+            mismatches_outside_band: 2
+        }
     );
     // The method equal to the reference on samples, garbage on background: no mismatch at all.
     let exact: Vec<bool> = r.class.iter().map(|&c| c != L).collect();
@@ -72,12 +79,22 @@ fn compare_counts_on_a_hand_made_mask() {
 
 #[test]
 fn metrics_serialize_with_exactly_the_documented_keys() {
-    let m = Metrics { samples: 1, shadowed_reference: 2, mismatches: 3, band_samples: 4, band_mismatches: 5, mismatches_outside_band: 6 };
+    let m = Metrics {
+        samples: 1,
+        shadowed_reference: 2,
+        mismatches: 3,
+        band_samples: 4,
+        band_mismatches: 5,
+        mismatches_outside_band: 6,
+    };
     let v = serde_json::to_value(m).unwrap();
     let obj = v.as_object().unwrap();
     let mut keys: Vec<&str> = obj.keys().map(|k| k.as_str()).collect();
     keys.sort();
-    assert_eq!(keys, ["band_mismatches", "band_samples", "mismatches", "mismatches_outside_band", "samples", "shadowed_reference"]);
+    assert_eq!(
+        keys,
+        ["band_mismatches", "band_samples", "mismatches", "mismatches_outside_band", "samples", "shadowed_reference"]
+    );
     assert_eq!(obj["mismatches_outside_band"], 6);
 }
 
@@ -111,7 +128,10 @@ fn size_mismatches_are_typed_errors() {
         compare(&r, &[false; 11]).unwrap_err(),
         OracleError::SizeMismatch { what: "method mask", expected: 12, actual: 11, width: 4, height: 3 }
     );
-    assert!(matches!(diff_image(&r, &[false; 12], &[0u8; 47]), Err(OracleError::SizeMismatch { expected: 48, actual: 47, .. })));
+    assert!(matches!(
+        diff_image(&r, &[false; 12], &[0u8; 47]),
+        Err(OracleError::SizeMismatch { expected: 48, actual: 47, .. })
+    ));
     let mut broken = r.clone();
     broken.band.pop();
     assert!(matches!(compare(&broken, &[false; 12]), Err(OracleError::SizeMismatch { what: "reference band", .. })));

@@ -324,9 +324,15 @@ fn bad_input_gives_typed_errors() {
     for light in [[0.0, 0.0, 0.0, 0.0], [f32::NAN, 1.0, 0.0, 1.0]] {
         assert!(matches!(reference(&mesh, &bvh, &s, light, eye), Err(OracleError::InvalidLight { .. })));
     }
-    assert!(matches!(reference(&mesh, &bvh, &s, ok_light, [f32::INFINITY, 0.0, 0.0]), Err(OracleError::InvalidEye { .. })));
+    assert!(matches!(
+        reference(&mesh, &bvh, &s, ok_light, [f32::INFINITY, 0.0, 0.0]),
+        Err(OracleError::InvalidEye { .. })
+    ));
     let other = Bvh::build(&mesh.positions, &mesh.triangles[..10]).unwrap();
-    assert_eq!(reference(&mesh, &other, &s, ok_light, eye).unwrap_err(), OracleError::BvhMismatch { bvh: 10, mesh: 72 });
+    assert_eq!(
+        reference(&mesh, &other, &s, ok_light, eye).unwrap_err(),
+        OracleError::BvhMismatch { bvh: 10, mesh: 72 }
+    );
 }
 
 #[test]
@@ -405,7 +411,8 @@ fn snapped_samples_on_their_own_triangles_edge_are_band() {
 /// looking from `eye` at `target` (up +y), column-major clip_from_world.
 fn clip_from_world_looking(eye: [f64; 3], target: [f64; 3], fovy_degrees: f64, aspect: f64, near: f64) -> [f64; 16] {
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let cross = |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    let cross =
+        |a: [f64; 3], b: [f64; 3]| [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
     let unit = |a: [f64; 3]| {
         let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
         a.map(|c| c / l)
@@ -468,7 +475,8 @@ fn depth_limited_sample(x: f32, near: f64) -> (SampleClass, bool) {
     pos[py * 64 + px] = s;
     tri[py * 64 + px] = Scene::ground_triangle(s[0], s[2]);
     let samples = Samples { width: 64, height: 64, world_pos: &pos, triangle: &tri };
-    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world })).unwrap();
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world }))
+        .unwrap();
     (r.class[py * 64 + px], r.band[py * 64 + px])
 }
 
@@ -601,7 +609,8 @@ fn t_junction_sample(delta: f32, near: f64, flat_neighbour: bool) -> (SampleClas
     // The sample lies on the first ground triangle (x + z <= 0 ... no: pick by the diagonal).
     tri[py * 64 + px] = if s[0] + s[2] <= 0.0 { ground } else { ground + 1 };
     let samples = Samples { width: 64, height: 64, world_pos: &pos, triangle: &tri };
-    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world })).unwrap();
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world }))
+        .unwrap();
     (r.class[py * 64 + px], r.band[py * 64 + px])
 }
 

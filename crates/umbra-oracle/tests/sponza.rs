@@ -78,16 +78,26 @@ fn sponza_reference_timing_and_brute_force_subset() {
     // and each of those sees the other in its 3x3 neighbourhood: every mismatch is in the band.
     for (light, r) in &results {
         let shadowed = |i: usize| r.class[i] == SampleClass::Shadowed;
-        let method: Vec<bool> = (0..r.class.len())
-            .map(|i| if i % 1280 > 0 && r.class[i - 1] != SampleClass::Background { shadowed(i - 1) } else { shadowed(i) })
-            .collect();
+        let method: Vec<bool> =
+            (0..r.class.len())
+                .map(|i| {
+                    if i % 1280 > 0 && r.class[i - 1] != SampleClass::Background {
+                        shadowed(i - 1)
+                    } else {
+                        shadowed(i)
+                    }
+                })
+                .collect();
         let m = umbra_oracle::compare(r, &method).unwrap();
         println!("shifted mask, light {light:?}: {m:?}");
         assert_eq!(m.mismatches_outside_band, 0);
         assert!(m.band_mismatches > 1000 && m.band_mismatches == m.mismatches, "{m:?}");
         let base = vec![200u8; 4 * r.class.len()];
         let diff = umbra_oracle::diff_image(r, &method, &base).unwrap();
-        let coloured = diff.chunks(4).filter(|c| *c == umbra_oracle::metrics::FALSE_SHADOW || *c == umbra_oracle::metrics::FALSE_LIGHT).count();
+        let coloured = diff
+            .chunks(4)
+            .filter(|c| *c == umbra_oracle::metrics::FALSE_SHADOW || *c == umbra_oracle::metrics::FALSE_LIGHT)
+            .count();
         assert_eq!(coloured, 0);
     }
 

@@ -28,9 +28,18 @@ fn cube() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
 fn icosphere(levels: u32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     let g = (1.0 + 5f64.sqrt()) / 2.0;
     let raw = [
-        [-1.0, g, 0.0], [1.0, g, 0.0], [-1.0, -g, 0.0], [1.0, -g, 0.0],
-        [0.0, -1.0, g], [0.0, 1.0, g], [0.0, -1.0, -g], [0.0, 1.0, -g],
-        [g, 0.0, -1.0], [g, 0.0, 1.0], [-g, 0.0, -1.0], [-g, 0.0, 1.0],
+        [-1.0, g, 0.0],
+        [1.0, g, 0.0],
+        [-1.0, -g, 0.0],
+        [1.0, -g, 0.0],
+        [0.0, -1.0, g],
+        [0.0, 1.0, g],
+        [0.0, -1.0, -g],
+        [0.0, 1.0, -g],
+        [g, 0.0, -1.0],
+        [g, 0.0, 1.0],
+        [-g, 0.0, -1.0],
+        [-g, 0.0, 1.0],
     ];
     let norm = |v: [f64; 3]| {
         let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -38,9 +47,26 @@ fn icosphere(levels: u32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     };
     let mut p: Vec<[f32; 3]> = raw.iter().map(|&v| norm(v)).collect();
     let mut t: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2],
-        [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5],
-        [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..levels {
         let mut cache: HashMap<(u32, u32), u32> = HashMap::new();
@@ -62,7 +88,8 @@ fn icosphere(levels: u32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
 }
 
 fn unique_edges(t: &[[u32; 3]]) -> Vec<[u32; 2]> {
-    let mut e: Vec<[u32; 2]> = t.iter().flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]]).map(|[a, b]| [a.min(b), a.max(b)]).collect();
+    let mut e: Vec<[u32; 2]> =
+        t.iter().flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]]).map(|[a, b]| [a.min(b), a.max(b)]).collect();
     e.sort();
     e.dedup();
     e
@@ -94,7 +121,8 @@ fn cube_rays_through_exact_edge_points_always_hit() {
                 // cube there or earlier, so a hit at t <= 3 must be found (t = 3 exactly if the
                 // ray arrives from outside through that point and nowhere earlier).
                 let hit = bvh.intersect(origin, *d, 0.0, f64::INFINITY);
-                let hit = hit.unwrap_or_else(|| panic!("ray {origin:?} + t {d:?} slipped through edge {a}-{b} at {target:?}"));
+                let hit = hit
+                    .unwrap_or_else(|| panic!("ray {origin:?} + t {d:?} slipped through edge {a}-{b} at {target:?}"));
                 assert!(hit.t <= 3.0, "hit at {} beyond the surface point", hit.t);
                 assert!(bvh.occluded(origin, *d, 0.0, 3.0 + 1e-9, u32::MAX));
                 rays += 1;
@@ -134,7 +162,9 @@ fn cube_rays_exactly_along_edges_hit_at_the_first_vertex() {
             let (pf, pt) = (f64v(p[from as usize]), f64v(p[to as usize]));
             let d = [0, 1, 2].map(|i| pt[i] - pf[i]);
             let origin = [0, 1, 2].map(|i| pf[i] - d[i]);
-            let hit = bvh.intersect(origin, d, 0.0, f64::INFINITY).unwrap_or_else(|| panic!("ray along edge {from}->{to} missed"));
+            let hit = bvh
+                .intersect(origin, d, 0.0, f64::INFINITY)
+                .unwrap_or_else(|| panic!("ray along edge {from}->{to} missed"));
             assert_eq!(hit.t, 1.0, "ray along edge {from}->{to}");
             // The triangle hit contains the first vertex.
             assert!(t[hit.triangle as usize].contains(&from));

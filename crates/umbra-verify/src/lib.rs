@@ -183,7 +183,8 @@ pub fn view_reference(
 /// start. One line of text.
 pub fn explain(mesh: &WeldedMesh, view: &ViewReference, light: usize, x: u32, y: u32) -> String {
     let i = y as usize * view.width as usize + x as usize;
-    let (Some(&t), Some(lr), Some(&l)) = (view.triangle.get(i), view.lights.get(light), view.light_positions.get(light))
+    let (Some(&t), Some(lr), Some(&l)) =
+        (view.triangle.get(i), view.lights.get(light), view.light_positions.get(light))
     else {
         return format!("({x}, {y}): no such sample");
     };

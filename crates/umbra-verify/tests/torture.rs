@@ -14,7 +14,7 @@ use umbra_geom::scene::{cuboid, ground_plane, load_scene, tetrahedron, uv_sphere
 use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh};
 use umbra_gl::{
-    create_method, method_names, Camera, ContextOptions, FrameParams, GlApi, HeadlessContext, RgbaImage, Renderer,
+    create_method, method_names, Camera, ContextOptions, FrameParams, GlApi, HeadlessContext, Renderer, RgbaImage,
     SceneGpu,
 };
 use umbra_oracle::diff_image;
@@ -51,7 +51,12 @@ fn slug(s: &str) -> String {
     s.split('-').filter(|p| !p.is_empty()).collect::<Vec<_>>().join("-")
 }
 
-fn write_failure(ctx: &HeadlessContext, case: &str, report: &MethodReport, view: &umbra_verify::ViewReference) -> PathBuf {
+fn write_failure(
+    ctx: &HeadlessContext,
+    case: &str,
+    report: &MethodReport,
+    view: &umbra_verify::ViewReference,
+) -> PathBuf {
     let dir = output_dir();
     let _ = std::fs::create_dir_all(&dir);
     let label = format!("{}-{}-{}", case, slug(&report.method), slug(&ctx.renderer_string()));
@@ -86,11 +91,14 @@ fn run(case: Case) {
     assert!(!welded.triangles.is_empty(), "case {} has no triangles", case.name);
     let scene = SceneGpu::upload(gl, welded).expect("upload");
     let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
-    let params = FrameParams { camera: case.camera, width: W, height: H, lights: case.lights.clone(), ..FrameParams::default() };
+    let params =
+        FrameParams { camera: case.camera, width: W, height: H, lights: case.lights.clone(), ..FrameParams::default() };
     let view = view_reference(gl, &mut renderer, &scene, &params).unwrap_or_else(|e| panic!("{}: {e}", case.name));
     let mut failures = Vec::new();
     // Every method's numbers, one TSV per case, for scripts/exactness.py's torture table.
-    let mut tsv = String::from("method\tsamples\tshadowed_reference\tmismatches\tband_samples\tband_mismatches\tmismatches_outside_band\n");
+    let mut tsv = String::from(
+        "method\tsamples\tshadowed_reference\tmismatches\tband_samples\tband_mismatches\tmismatches_outside_band\n",
+    );
     for &name in method_names() {
         let mut method = create_method(name).expect("registered");
         let report = verify_method(gl, &mut renderer, &scene, method.as_mut(), &params, &view);
@@ -99,7 +107,13 @@ fn run(case: Case) {
         let m = report.metrics;
         println!(
             "{:<28} {:<24} samples {:>6} shadowed {:>6} band {:>5} band-mis {:>4} outside-band {:>4}",
-            case.name, name, m.samples, m.shadowed_reference, m.band_samples, m.band_mismatches, m.mismatches_outside_band
+            case.name,
+            name,
+            m.samples,
+            m.shadowed_reference,
+            m.band_samples,
+            m.band_mismatches,
+            m.mismatches_outside_band
         );
         tsv += &format!(
             "{name}\t{}\t{}\t{}\t{}\t{}\t{}\n",
@@ -108,7 +122,11 @@ fn run(case: Case) {
         let excused = case.excused.iter().any(|(n, _)| *n == name);
         if !report.passed() && !excused {
             let dir = write_failure(&ctx, case.name, &report, &view);
-            failures.push(format!("{name}: {} mismatches outside the band (images in {})", m.mismatches_outside_band, dir.display()));
+            failures.push(format!(
+                "{name}: {} mismatches outside the band (images in {})",
+                m.mismatches_outside_band,
+                dir.display()
+            ));
         }
     }
     // A case whose reference is (almost) all lit or all shadowed tests nothing: every method,
@@ -200,7 +218,13 @@ fn torture_camera_inside_shadow_volume() {
 #[test]
 fn torture_near_plane_cuts_volume() {
     // Eye on the side boundary of the sphere's shadow volume: the near plane straddles it.
-    let mut c = case("near-plane-cuts-volume", sphere_over_ground(), [1.07, 1.0, 0.0], [-2.0, 0.0, 0.5], vec![[0.0, 6.0, 0.0, 1.0]]);
+    let mut c = case(
+        "near-plane-cuts-volume",
+        sphere_over_ground(),
+        [1.07, 1.0, 0.0],
+        [-2.0, 0.0, 0.5],
+        vec![[0.0, 6.0, 0.0, 1.0]],
+    );
     c.camera.near = 0.2;
     run(c);
 }
@@ -423,7 +447,8 @@ fn shared_scene(file: &str) {
         // table's side-face edge within a depth step (the *touching* band class).
         let light = at(l);
         let name: &'static str = Box::leak(format!("{}-pose{i}", file.trim_end_matches(".obj.gz")).into_boxed_str());
-        let mut c = case(name, mesh.clone(), at(e), at(t), vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]]);
+        let mut c =
+            case(name, mesh.clone(), at(e), at(t), vec![[light[0] as f32, light[1] as f32, light[2] as f32, 1.0]]);
         c.camera.near = 1e-3 * b.diagonal() as f64;
         run(c);
     }

@@ -58,15 +58,7 @@ pub(crate) fn parse(
         },
         message: format!("invalid JSON: {e}"),
     })?;
-    let mut doc = Doc {
-        file,
-        json: &json,
-        bin,
-        base_dir,
-        options,
-        buffers: Vec::new(),
-        input_len: bytes.len() as u64,
-    };
+    let mut doc = Doc { file, json: &json, bin, base_dir, options, buffers: Vec::new(), input_len: bytes.len() as u64 };
     doc.check_asset()?;
     let nodes = doc.root_nodes()?;
     let mut mesh = Mesh::default();
@@ -124,9 +116,7 @@ fn split_glb<'a>(bytes: &'a [u8], file: &str) -> Result<(&'a [u8], Option<&'a [u
         location: Location::Byte(at as u64),
         what: what.to_string(),
     };
-    let u32_at = |at: usize| {
-        bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    };
+    let u32_at = |at: usize| bytes.get(at..at + 4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
     let version = u32_at(4).ok_or_else(|| truncated(bytes.len(), "GLB header needs 12 bytes"))?;
     if version != 2 {
         return Err(LoadError::Unsupported {
@@ -149,9 +139,10 @@ fn split_glb<'a>(bytes: &'a [u8], file: &str) -> Result<(&'a [u8], Option<&'a [u
     while at < bytes.len() {
         let len = u32_at(at).ok_or_else(|| truncated(bytes.len(), "incomplete GLB chunk header"))? as usize;
         let kind = u32_at(at + 4).ok_or_else(|| truncated(bytes.len(), "incomplete GLB chunk header"))?;
-        let data = bytes.get(at + 8..).and_then(|rest| rest.get(..len)).ok_or_else(|| {
-            truncated(bytes.len(), &format!("GLB chunk at byte offset {at} declares {len} bytes"))
-        })?;
+        let data = bytes
+            .get(at + 8..)
+            .and_then(|rest| rest.get(..len))
+            .ok_or_else(|| truncated(bytes.len(), &format!("GLB chunk at byte offset {at} declares {len} bytes")))?;
         match kind {
             CHUNK_JSON if json.is_none() && at == 12 => json = Some(data),
             CHUNK_BIN if bin.is_none() && json.is_some() => bin = Some(data),
@@ -236,19 +227,18 @@ impl<'a> Doc<'a> {
     }
 
     fn index_value(&self, v: &Value, path: &str) -> Result<usize, LoadError> {
-        v.as_u64()
-            .and_then(|i| usize::try_from(i).ok())
-            .ok_or_else(|| self.malformed(path.to_string(), format!("expected a non-negative integer index, found {v}")))
+        v.as_u64().and_then(|i| usize::try_from(i).ok()).ok_or_else(|| {
+            self.malformed(path.to_string(), format!("expected a non-negative integer index, found {v}"))
+        })
     }
 
     /// An optional non-negative integer field.
     fn uint(&self, obj: &Value, key: &str, path: &str) -> Result<Option<u64>, LoadError> {
         match obj.get(key) {
             None => Ok(None),
-            Some(v) => v
-                .as_u64()
-                .map(Some)
-                .ok_or_else(|| self.malformed(format!("{path}.{key}"), format!("expected a non-negative integer, found {v}"))),
+            Some(v) => v.as_u64().map(Some).ok_or_else(|| {
+                self.malformed(format!("{path}.{key}"), format!("expected a non-negative integer, found {v}"))
+            }),
         }
     }
 
@@ -283,11 +273,9 @@ impl<'a> Doc<'a> {
         let path = format!("scenes[{scene_index}].nodes");
         match scene.get("nodes") {
             None => Ok(Vec::new()),
-            Some(Value::Array(nodes)) => nodes
-                .iter()
-                .enumerate()
-                .map(|(k, n)| self.index_value(n, &format!("{path}[{k}]")))
-                .collect(),
+            Some(Value::Array(nodes)) => {
+                nodes.iter().enumerate().map(|(k, n)| self.index_value(n, &format!("{path}[{k}]"))).collect()
+            }
             Some(_) => Err(self.malformed(path, "must be an array".into())),
         }
     }
@@ -351,7 +339,8 @@ impl<'a> Doc<'a> {
             let ppath = format!("{mpath}.primitives[{pi}]");
             let mode = self.uint(prim, "mode", &ppath)?.unwrap_or(4);
             if !(4..=6).contains(&mode) {
-                let name = ["POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"].get(mode as usize).copied().unwrap_or("unknown");
+                let name =
+                    ["POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"].get(mode as usize).copied().unwrap_or("unknown");
                 warnings.push(format!("{}: {ppath}: mode {mode} ({name}) is not triangles, skipped", self.file));
                 continue;
             }
@@ -422,13 +411,21 @@ impl<'a> Doc<'a> {
             let flip = det3(world) < 0.0;
             let tri = |a: u64, b: u64, c: u64| {
                 let t = [a, b, c].map(|i| (base + i) as u32);
-                if flip { [t[0], t[2], t[1]] } else { t }
+                if flip {
+                    [t[0], t[2], t[1]]
+                } else {
+                    t
+                }
             };
             let mut triangles = Vec::new();
             match mode {
                 4 => triangles.extend(indices.chunks_exact(3).map(|t| tri(t[0], t[1], t[2]))),
                 5 => triangles.extend(indices.windows(3).enumerate().map(|(i, w)| {
-                    if i % 2 == 0 { tri(w[0], w[1], w[2]) } else { tri(w[0], w[2], w[1]) }
+                    if i % 2 == 0 {
+                        tri(w[0], w[1], w[2])
+                    } else {
+                        tri(w[0], w[2], w[1])
+                    }
                 })),
                 _ => {
                     if let Some((&first, rest)) = indices.split_first() {
@@ -442,7 +439,9 @@ impl<'a> Doc<'a> {
                 if q.iter().any(|c| !c.is_finite()) {
                     return Err(LoadError::NonFinite {
                         file: self.file.to_string(),
-                        location: Location::Json(format!("accessors[{position}][{k}] (transformed by the node matrix)")),
+                        location: Location::Json(format!(
+                            "accessors[{position}][{k}] (transformed by the node matrix)"
+                        )),
                         value: format!("{q:?}"),
                     });
                 }
@@ -454,7 +453,11 @@ impl<'a> Doc<'a> {
                     .map(|v| {
                         let t = mul3(&normal_from_object, [v[0], v[1], v[2]]);
                         let len = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
-                        if len > 0.0 && len.is_finite() { t.map(|c| (c / len) as f32) } else { [0.0; 3] }
+                        if len > 0.0 && len.is_finite() {
+                            t.map(|c| (c / len) as f32)
+                        } else {
+                            [0.0; 3]
+                        }
                     })
                     .collect::<Vec<[f32; 3]>>()
             });
@@ -489,7 +492,8 @@ impl<'a> Doc<'a> {
                 bin.to_vec()
             }
             Some(uri) => {
-                let uri = uri.as_str().ok_or_else(|| self.malformed(format!("{path}.uri"), "must be a string".into()))?;
+                let uri =
+                    uri.as_str().ok_or_else(|| self.malformed(format!("{path}.uri"), "must be a string".into()))?;
                 self.read_uri(uri, &format!("{path}.uri"))?
             }
         };
@@ -565,7 +569,9 @@ impl<'a> Doc<'a> {
             5120 | 5121 => 1,
             5122 | 5123 => 2,
             5125 | 5126 => 4,
-            other => return Err(self.malformed(format!("{path}.componentType"), format!("unknown component type {other}"))),
+            other => {
+                return Err(self.malformed(format!("{path}.componentType"), format!("unknown component type {other}")))
+            }
         };
         let normalized = acc.get("normalized").and_then(Value::as_bool).unwrap_or(false);
         let type_name = acc.get("type").and_then(Value::as_str).unwrap_or("");
@@ -590,8 +596,7 @@ impl<'a> Doc<'a> {
         match acc.get("bufferView") {
             Some(v) => {
                 let view_index = self.index_value(v, &format!("{path}.bufferView"))?;
-                let (bytes, start, stride) =
-                    self.view_range(view_index, acc, &path, count, element_size)?;
+                let (bytes, start, stride) = self.view_range(view_index, acc, &path, count, element_size)?;
                 // count * stride <= view length <= buffer length, so this allocation is bounded
                 values = Vec::with_capacity(count as usize * components);
                 for e in 0..count as usize {
@@ -620,7 +625,16 @@ impl<'a> Doc<'a> {
             }
         }
         if let Some(sparse) = acc.get("sparse") {
-            self.apply_sparse(sparse, &path, count, component_type, component_size, components, normalized, &mut values)?;
+            self.apply_sparse(
+                sparse,
+                &path,
+                count,
+                component_type,
+                component_size,
+                components,
+                normalized,
+                &mut values,
+            )?;
         }
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(LoadError::NonFinite {
@@ -633,8 +647,7 @@ impl<'a> Doc<'a> {
     }
 
     fn buffers_len(&self) -> u64 {
-        self.buffers.iter().flatten().map(|b| b.len() as u64).sum::<u64>()
-            + self.bin.map_or(0, |b| b.len() as u64)
+        self.buffers.iter().flatten().map(|b| b.len() as u64).sum::<u64>() + self.bin.map_or(0, |b| b.len() as u64)
     }
 
     /// The buffer of `bufferViews[view_index]`, the offset of the accessor's first element in
@@ -664,7 +677,10 @@ impl<'a> Doc<'a> {
         // bytes needed: offset + (count - 1) * stride + element size
         let needed = match count {
             0 => Some(0),
-            n => (n - 1).checked_mul(stride).and_then(|x| x.checked_add(element_size)).and_then(|x| x.checked_add(acc_offset)),
+            n => (n - 1)
+                .checked_mul(stride)
+                .and_then(|x| x.checked_add(element_size))
+                .and_then(|x| x.checked_add(acc_offset)),
         };
         match needed {
             Some(n) if n <= view_length => {}
@@ -675,7 +691,8 @@ impl<'a> Doc<'a> {
                     what: format!("elements of {element_size} bytes (stride {stride}, offset {acc_offset}) in {vpath}"),
                     claimed: count,
                     available: view_length,
-                    max_possible: view_length.saturating_sub(acc_offset).saturating_add(stride - element_size) / stride.max(1),
+                    max_possible: view_length.saturating_sub(acc_offset).saturating_add(stride - element_size)
+                        / stride.max(1),
                 })
             }
         }
@@ -719,7 +736,9 @@ impl<'a> Doc<'a> {
             5121 => 1,
             5123 => 2,
             5125 => 4,
-            other => return Err(self.malformed(format!("{ipath}.componentType"), format!("invalid index type {other}"))),
+            other => {
+                return Err(self.malformed(format!("{ipath}.componentType"), format!("invalid index type {other}")))
+            }
         };
         let element_size = component_size * components as u64;
         let (ibytes, istart) = self.sparse_range(idx, &ipath, n, index_size)?;
@@ -747,10 +766,15 @@ impl<'a> Doc<'a> {
     }
 
     /// A tightly packed sparse indices/values block of `n` items of `size` bytes.
-    fn sparse_range(&mut self, obj: &Value, path: &str, n: u64, size: u64) -> Result<(std::rc::Rc<Vec<u8>>, usize), LoadError> {
-        let view_index = obj
-            .get("bufferView")
-            .ok_or_else(|| self.malformed(format!("{path}.bufferView"), "missing".into()))?;
+    fn sparse_range(
+        &mut self,
+        obj: &Value,
+        path: &str,
+        n: u64,
+        size: u64,
+    ) -> Result<(std::rc::Rc<Vec<u8>>, usize), LoadError> {
+        let view_index =
+            obj.get("bufferView").ok_or_else(|| self.malformed(format!("{path}.bufferView"), "missing".into()))?;
         let view_index = self.index_value(view_index, &format!("{path}.bufferView"))?;
         let offset = self.uint(obj, "byteOffset", path)?.unwrap_or(0);
         // sparse blocks are tightly packed: the view's byteStride does not apply
@@ -788,19 +812,35 @@ fn decode(raw: &[u8], component_type: u64, normalized: bool) -> f64 {
     match component_type {
         5120 => {
             let v = f64::from(b(0) as i8);
-            if normalized { (v / 127.0).max(-1.0) } else { v }
+            if normalized {
+                (v / 127.0).max(-1.0)
+            } else {
+                v
+            }
         }
         5121 => {
             let v = f64::from(b(0));
-            if normalized { v / 255.0 } else { v }
+            if normalized {
+                v / 255.0
+            } else {
+                v
+            }
         }
         5122 => {
             let v = f64::from(i16::from_le_bytes([b(0), b(1)]));
-            if normalized { (v / 32767.0).max(-1.0) } else { v }
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
         }
         5123 => {
             let v = f64::from(u16::from_le_bytes([b(0), b(1)]));
-            if normalized { v / 65535.0 } else { v }
+            if normalized {
+                v / 65535.0
+            } else {
+                v
+            }
         }
         5125 => f64::from(u32::from_le_bytes([b(0), b(1), b(2), b(3)])),
         _ => f64::from(f32::from_le_bytes([b(0), b(1), b(2), b(3)])),
@@ -935,7 +975,8 @@ mod tests {
             assert_eq!(err.location(), Some(&Location::Json("buffers[0].uri".into())), "{uri}: {err}");
         }
         // a relative regular file still loads
-        let bin: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+        let bin: Vec<u8> =
+            [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0].iter().flat_map(|f| f.to_le_bytes()).collect();
         std::fs::write(dir.join("sub").join("ok.bin"), bin).unwrap();
         let doc = r#"{"asset": {"version": "2.0"}, "buffers": [{"byteLength": 36, "uri": "sub/ok.bin"}],
             "bufferViews": [{"buffer": 0, "byteLength": 36}],
@@ -956,7 +997,15 @@ mod tests {
         .unwrap();
         let json = Value::Null;
         let opts = LoadOptions::default();
-        let doc = Doc { file: "t", json: &json, bin: None, base_dir: None, options: &opts, buffers: Vec::new(), input_len: 0 };
+        let doc = Doc {
+            file: "t",
+            json: &json,
+            bin: None,
+            base_dir: None,
+            options: &opts,
+            buffers: Vec::new(),
+            input_len: 0,
+        };
         let m = doc.local_transform(&node, "nodes[0]").unwrap();
         let p = transform_point(&m, [1.0, 0.0, 0.0]);
         for (a, b) in p.iter().zip([1.0, 2.0, 0.0]) {

@@ -114,11 +114,7 @@ pub fn load_bytes(bytes: &[u8], format: Format, name_for_errors: &str) -> Result
 }
 
 /// [`load_bytes`] returning the warnings too.
-pub fn load_bytes_detailed(
-    bytes: &[u8],
-    format: Format,
-    name_for_errors: &str,
-) -> Result<Loaded, LoadError> {
+pub fn load_bytes_detailed(bytes: &[u8], format: Format, name_for_errors: &str) -> Result<Loaded, LoadError> {
     parse(bytes, format, name_for_errors, None, &LoadOptions::default())
 }
 
@@ -134,9 +130,7 @@ fn parse(
         Format::Obj => obj::parse(bytes, file, &mut warnings)?,
         Format::Ply => ply::parse(bytes, file, &mut warnings)?,
         Format::Stl => stl::parse(bytes, file, &mut warnings)?,
-        Format::Gltf | Format::Glb => {
-            gltf::parse(bytes, file, base_dir, options, &mut warnings)?
-        }
+        Format::Gltf | Format::Glb => gltf::parse(bytes, file, base_dir, options, &mut warnings)?,
     };
     Ok(Loaded { mesh, warnings })
 }

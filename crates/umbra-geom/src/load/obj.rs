@@ -57,10 +57,7 @@ fn parse_utf8(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Me
                     let tok = toks.next().ok_or_else(|| LoadError::Malformed {
                         file: file.to_string(),
                         location: at(),
-                        message: format!(
-                            "`{}` statement has {k} coordinates, needs 3",
-                            show(keyword)
-                        ),
+                        message: format!("`{}` statement has {k} coordinates, needs 3", show(keyword)),
                     })?;
                     *c = coordinate(tok, file, at)?;
                 }
@@ -120,17 +117,11 @@ fn parse_utf8(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Me
         }
     }
     if short_faces > 0 {
-        warnings.push(format!(
-            "{file}: line {first_short_face}: skipped {short_faces} face(s) with fewer than 3 vertices"
-        ));
+        warnings
+            .push(format!("{file}: line {first_short_face}: skipped {short_faces} face(s) with fewer than 3 vertices"));
     }
     let normals = if normals_consistent && !vns.is_empty() && !triangles.is_empty() {
-        Some(
-            normal_of
-                .iter()
-                .map(|&n| vns.get(n as usize).copied().unwrap_or([0.0; 3]))
-                .collect(),
-        )
+        Some(normal_of.iter().map(|&n| vns.get(n as usize).copied().unwrap_or([0.0; 3])).collect())
     } else {
         if !vns.is_empty() && !triangles.is_empty() {
             warnings.push(format!("{file}: vertex normals dropped: {drop_reason}"));

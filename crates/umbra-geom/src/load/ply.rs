@@ -202,12 +202,12 @@ fn parse_header(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<
                 elements.push(Element { name: name.to_vec(), count, properties: Vec::new(), header_line: line_no });
             }
             b"property" => {
-                let element = elements
-                    .last_mut()
-                    .ok_or_else(|| malformed(line_no, "property before any element".into()))?;
+                let element =
+                    elements.last_mut().ok_or_else(|| malformed(line_no, "property before any element".into()))?;
                 let first = toks.next().unwrap_or(b"");
                 let scalar = |tok: &[u8]| {
-                    Scalar::from_name(tok).ok_or_else(|| malformed(line_no, format!("unknown property type {:?}", show(tok))))
+                    Scalar::from_name(tok)
+                        .ok_or_else(|| malformed(line_no, format!("unknown property type {:?}", show(tok))))
                 };
                 let kind = if first == b"list" {
                     let count = scalar(toks.next().unwrap_or(b""))?;
@@ -225,10 +225,9 @@ fn parse_header(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<
             b"end_header" => break,
             // free text without `comment` (Blender 2.47 wrote "Created by Blender3D ..."):
             // skipped like a comment, as other readers do, but not silently
-            other => warnings.push(format!(
-                "{file}: line {line_no}: unknown header keyword {:?}, line ignored",
-                show(other)
-            )),
+            other => {
+                warnings.push(format!("{file}: line {line_no}: unknown header keyword {:?}, line ignored", show(other)))
+            }
         }
     }
     let encoding = encoding.ok_or_else(|| malformed(line_no, "header has no `format` line".into()))?;
@@ -301,11 +300,16 @@ fn read_vertices(
         .collect();
     let has = |k: usize| slots.contains(&Some(k));
     if element.count > 0 && !(has(0) && has(1) && has(2)) {
-        let missing: Vec<&str> = ["x", "y", "z"].into_iter().enumerate().filter(|&(k, _)| !has(k)).map(|(_, n)| n).collect();
+        let missing: Vec<&str> =
+            ["x", "y", "z"].into_iter().enumerate().filter(|&(k, _)| !has(k)).map(|(_, n)| n).collect();
         return Err(LoadError::Malformed {
             file: file.to_string(),
             location: Location::Line(element.header_line),
-            message: format!("vertex element lacks scalar propert{} {}", if missing.len() == 1 { "y" } else { "ies" }, missing.join(", ")),
+            message: format!(
+                "vertex element lacks scalar propert{} {}",
+                if missing.len() == 1 { "y" } else { "ies" },
+                missing.join(", ")
+            ),
         });
     }
     let with_normals = has(3) && has(4) && has(5);
@@ -320,7 +324,11 @@ fn read_vertices(
                 (Kind::Scalar(s), Some(k)) => {
                     let (value, at) = reader.read_f32(s)?;
                     if *k < 3 && !value.is_finite() {
-                        return Err(LoadError::NonFinite { file: file.to_string(), location: at, value: value.to_string() });
+                        return Err(LoadError::NonFinite {
+                            file: file.to_string(),
+                            location: at,
+                            value: value.to_string(),
+                        });
                     }
                     if let Some(c) = v.get_mut(*k) {
                         *c = value;
@@ -343,11 +351,14 @@ fn read_vertices(
 }
 
 /// Reads the faces, fan-triangulating; returns how many had fewer than 3 indices.
-fn read_faces(element: &Element, reader: &mut Body, mesh: &mut Mesh, vertex_count: u64, file: &str) -> Result<u64, LoadError> {
-    let index_prop = element
-        .properties
-        .iter()
-        .position(|p| p.name == b"vertex_indices" || p.name == b"vertex_index");
+fn read_faces(
+    element: &Element,
+    reader: &mut Body,
+    mesh: &mut Mesh,
+    vertex_count: u64,
+    file: &str,
+) -> Result<u64, LoadError> {
+    let index_prop = element.properties.iter().position(|p| p.name == b"vertex_indices" || p.name == b"vertex_index");
     let index_prop = match index_prop {
         Some(i) => i,
         None if element.count == 0 => return skip_element(element, reader).map(|_| 0),
@@ -388,7 +399,12 @@ fn read_faces(element: &Element, reader: &mut Body, mesh: &mut Mesh, vertex_coun
             for _ in 0..n {
                 let (index, at) = reader.read_int(item_type)?;
                 if index < 0 || index as u64 >= vertex_count {
-                    return Err(LoadError::IndexOutOfRange { file: file.to_string(), location: at, index, count: vertex_count });
+                    return Err(LoadError::IndexOutOfRange {
+                        file: file.to_string(),
+                        location: at,
+                        index,
+                        count: vertex_count,
+                    });
                 }
                 face.push(index as u32);
             }

@@ -120,7 +120,8 @@ fn parse_ascii(bytes: &[u8], file: &str) -> Result<Mesh, LoadError> {
     for (line_no, line) in Lines::new(bytes, 1) {
         last_line = line_no;
         let at = Location::Line(line_no);
-        let malformed = |message: String| LoadError::Malformed { file: file.to_string(), location: at.clone(), message };
+        let malformed =
+            |message: String| LoadError::Malformed { file: file.to_string(), location: at.clone(), message };
         let mut toks = tokens(line);
         let Some(keyword) = toks.next() else { continue };
         let kw = keyword.to_ascii_lowercase();

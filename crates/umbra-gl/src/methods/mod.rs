@@ -32,18 +32,18 @@ use crate::counter::Counter;
 use crate::error::GlError;
 use crate::scene::{SceneGpu, SceneId};
 
+pub mod all_edges_invert;
 pub mod cpu_silhouette;
 pub mod cs_silhouette;
-pub mod none;
-pub mod vs_silhouette;
 pub mod gs_silhouette;
+pub mod gs_triangle;
+pub mod none;
+pub mod shadow_map;
 pub mod silhouette_caps;
 pub mod ts_silhouette;
-pub mod shadow_map;
-pub mod vs_triangle;
-pub mod gs_triangle;
 pub mod ts_triangle;
-pub mod all_edges_invert;
+pub mod vs_silhouette;
+pub mod vs_triangle;
 
 /// How the lighting pass decides that a pixel is lit for the current light.
 ///
@@ -198,7 +198,12 @@ pub trait ShadowMethod {
     fn prepared_scene(&self) -> Option<SceneId>;
 
     /// Marks the stencil (or its own resources) for one light; see the module doc.
-    fn draw_volumes(&mut self, gl: &glow::Context, scene: &SceneGpu, frame: &mut VolumeFrame<'_>) -> Result<(), GlError>;
+    fn draw_volumes(
+        &mut self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError>;
 
     /// True when the method draws side faces only for edges of nonzero multiplicity (the
     /// silhouette methods): the auto z-pass test may then let edges of multiplicity 0 cross the
@@ -222,7 +227,12 @@ pub trait ShadowMethod {
 
     /// For [`Classification::Shader`]: binds what `umbra_lit` reads (uniforms on `program`,
     /// which is current, textures, buffers) before the lighting draw.
-    fn bind_lighting(&mut self, _gl: &glow::Context, _program: glow::Program, _frame: &VolumeFrame<'_>) -> Result<(), GlError> {
+    fn bind_lighting(
+        &mut self,
+        _gl: &glow::Context,
+        _program: glow::Program,
+        _frame: &VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         Ok(())
     }
 
@@ -243,7 +253,23 @@ pub struct UnknownMethod {
 
 /// Every registered method, in a stable order.
 pub fn method_names() -> &'static [&'static str] {
-    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME, ts_silhouette::NAME, ts_silhouette::NAME_3EDGE, gs_silhouette::NAME, gs_silhouette::NAME_3EDGE, shadow_map::NAME_1024, shadow_map::NAME_2048, ts_triangle::two_pass::NAME, ts_triangle::one_pass::NAME, gs_triangle::NAME, vs_triangle::NAME, all_edges_invert::NAME]
+    &[
+        none::NAME,
+        cpu_silhouette::NAME,
+        vs_silhouette::NAME,
+        cs_silhouette::NAME,
+        ts_silhouette::NAME,
+        ts_silhouette::NAME_3EDGE,
+        gs_silhouette::NAME,
+        gs_silhouette::NAME_3EDGE,
+        shadow_map::NAME_1024,
+        shadow_map::NAME_2048,
+        ts_triangle::two_pass::NAME,
+        ts_triangle::one_pass::NAME,
+        gs_triangle::NAME,
+        vs_triangle::NAME,
+        all_edges_invert::NAME,
+    ]
 }
 
 /// Builds a method by registry name (no GL calls; see [`ShadowMethod::prepare`]).

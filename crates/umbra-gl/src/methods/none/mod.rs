@@ -41,7 +41,12 @@ impl ShadowMethod for NoShadows {
         self.prepared
     }
 
-    fn draw_volumes(&mut self, _gl: &glow::Context, _scene: &SceneGpu, _frame: &mut VolumeFrame<'_>) -> Result<(), GlError> {
+    fn draw_volumes(
+        &mut self,
+        _gl: &glow::Context,
+        _scene: &SceneGpu,
+        _frame: &mut VolumeFrame<'_>,
+    ) -> Result<(), GlError> {
         Ok(())
     }
 
