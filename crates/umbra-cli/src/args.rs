@@ -267,7 +267,7 @@ pub struct ExportArgs {
     /// Add the receiving ground plane, as `render --ground`.
     #[arg(long)]
     pub ground: bool,
-    /// Suggested light X,Y,Z[,W] written to the manifest. Default: as `render`.
+    /// Suggested light `X,Y,Z[,W]` written to the manifest. Default: as `render`.
     #[arg(long, allow_hyphen_values = true)]
     pub light: Option<String>,
     /// Suggested camera position X,Y,Z. Default: as `render`.

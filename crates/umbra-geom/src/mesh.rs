@@ -47,10 +47,8 @@ impl Mesh {
         let first = it.next()?;
         let mut b = Aabb { min: first, max: first };
         for p in it {
-            for k in 0..3 {
-                b.min[k] = b.min[k].min(p[k]);
-                b.max[k] = b.max[k].max(p[k]);
-            }
+            b.min = [0, 1, 2].map(|k| b.min[k].min(p[k]));
+            b.max = [0, 1, 2].map(|k| b.max[k].max(p[k]));
         }
         Some(b)
     }

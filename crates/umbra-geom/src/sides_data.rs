@@ -279,9 +279,9 @@ mod tests {
                     for r in 0..s.records() {
                         sums[s.source_edge[r] as usize] += s.record_multiplicity(r, light);
                     }
-                    for e in 0..adj.len() {
+                    for (e, &sum) in sums.iter().enumerate() {
                         let m = edge_multiplicity(&w.positions, adj.edges[e], adj.opposites(e), light);
-                        assert_eq!(sums[e], m, "edge {e}, maxMult {max_mult}");
+                        assert_eq!(sum, m, "edge {e}, maxMult {max_mult}");
                         if adj.opposites(e).len() > max_mult {
                             checked_splits += 1;
                         }

@@ -151,9 +151,9 @@ fn crossing(v: &[[f32; 4]], p: [f64; 3], d: [f64; 3]) -> Option<i32> {
     let cols = [col(v[0]), col(v[1]), col(v[2]), [p[0], p[1], p[2], 1.0], [d[0], d[1], d[2], 0.0]];
     // Kernel of the 4x5 matrix: n_i = (-1)^i det(without column i).
     let mut n = [0.0; 5];
-    for i in 0..5 {
+    for (i, n_i) in n.iter_mut().enumerate() {
         let rest: Vec<[f64; 4]> = (0..5).filter(|&j| j != i).map(|j| cols[j]).collect();
-        n[i] = if i % 2 == 0 { 1.0 } else { -1.0 } * det4([rest[0], rest[1], rest[2], rest[3]]);
+        *n_i = if i % 2 == 0 { 1.0 } else { -1.0 } * det4([rest[0], rest[1], rest[2], rest[3]]);
     }
     // a V0 + b V1 + c V2 = λ P + μ D with a, b, c ≥ 0, λ > 0, μ > 0.
     let w = [n[0], n[1], n[2], -n[3], -n[4]];

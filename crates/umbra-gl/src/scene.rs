@@ -6,7 +6,7 @@
 //! writes to the id attachment and the ray-traced oracle receives).
 //!
 //! GL state touched: none besides creating objects (direct state access, no bindings change);
-//! `DEBUG_OUTPUT` is switched off during each upload and restored ([`crate::gpu_buffer`]).
+//! `DEBUG_OUTPUT` is switched off during each upload and restored (`gpu_buffer`).
 //!
 //! A buffer the driver refuses (`GL_OUT_OF_MEMORY`, e.g. llvmpipe's malloc failing) is a
 //! [`GlError::OutOfMemory`] naming the buffer; nothing is left behind and the context stays

@@ -309,7 +309,7 @@ fn es_stencil(ctx: &HeadlessContext, mesh: &WeldedMesh, p: &FrameParams) -> Sten
         gl,
         "es scene",
         ES_SCENE_VERT,
-        &format!("#version 300 es\nprecision highp float;\nout vec4 o;\nvoid main() {{ o = vec4(0.0); }}\n"),
+        "#version 300 es\nprecision highp float;\nout vec4 o;\nvoid main() { o = vec4(0.0); }\n",
     );
     // SAFETY: as above; buffers sized from the mesh.
     unsafe {

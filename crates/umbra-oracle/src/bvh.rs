@@ -244,6 +244,9 @@ impl Bvh {
     /// Calls `found(triangle, [ab, bc, ca])` for every triangle but `ignore_triangle` whose
     /// edges the segment `origin + t direction`, `t_min < t < t_max`, passes within `margin`
     /// of ([`ShearedRay::near_edges`]), in the fixed traversal order.
+    // The segment's four numbers, the triangle left out, the margin and the callback are the
+    // query itself, the same ones `occluded_near` takes; a struct would only rename them.
+    #[allow(clippy::too_many_arguments)]
     pub fn near_edges(
         &self,
         origin: [f64; 3],

@@ -10,7 +10,7 @@
 //! instead of behind it changes the z-fail count by one. In exact arithmetic such a face
 //! contributes nothing (a view ray in its plane only grazes the volume), so the count is right
 //! only up to that rounding: these samples are band, like the other precision classes of
-//! [`crate::reference`]. Found on Conference (tiny edges at the foot of a wall whose side
+//! [`crate::reference`](mod@crate::reference). Found on Conference (tiny edges at the foot of a wall whose side
 //! planes pass within 0.1 units of the eye 1,800 units away).
 //!
 //! What is marked, per light: for every silhouette edge whose side face is seen thinner than
@@ -140,6 +140,8 @@ pub fn side_casting_edges(mesh: &WeldedMesh, light: Light) -> std::collections::
 /// ([`side_casting_edges`]); `is_sample(i)` says whether pixel `i` holds a sample (background
 /// is never band).
 #[allow(clippy::too_many_arguments)]
+// `!(x > 0.0)` is meant: it is also true for NaN, which must be rejected the same way.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn mark_edge_on(
     mesh: &WeldedMesh,
     casting: &std::collections::HashSet<[u32; 2]>,

@@ -16,7 +16,7 @@
 //!     triangle. Rasterizers snap vertices to a fixed-point grid (8 sub-pixel bits on llvmpipe
 //!     and on most GPUs), so which side of that edge the sample is on, and hence whether the
 //!     side quad extruded from that edge covers it in front or behind, is the grid's choice.
-//!     Needs the view ([`RasterView`]); [`reference`] without one skips it.
+//!     Needs the view ([`RasterView`]); [`reference()`] without one skips it.
 //!   - *near a shadow boundary*: the segment to the light passes within a margin of an
 //!     occluder's edge without passing robustly through one ([`Bvh::occluded_near`]), and
 //!     moving `S` by that margin across the segment changes its class: the sample lies that
@@ -89,6 +89,8 @@ impl RasterView {
     /// `(z/w + 1) / 2` for GL's default clip depth mode and `z/w` for reversed-Z (detected: its
     /// depth row has no x, y, z terms). `0` when the depth does not change along the ray (then
     /// only the other margins apply).
+    // `!(x > 0.0)` is meant: it is also true for NaN, which must give no margin the same way.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn depth_margin(&self, s: [f64; 3], eye: [f64; 3]) -> f64 {
         let m = &self.clip_from_world;
         let row = |r: usize, p: [f64; 3], w: f64| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] * w;
@@ -216,7 +218,7 @@ pub fn reference(
     reference_in_view(mesh, bvh, samples, light, eye, None)
 }
 
-/// [`reference`] with the view the samples were rasterized with, which adds the *snapped*
+/// [`reference()`] with the view the samples were rasterized with, which adds the *snapped*
 /// samples to the band (see the module doc). `umbra verify` and the torture suite use this.
 pub fn reference_in_view(
     mesh: &WeldedMesh,

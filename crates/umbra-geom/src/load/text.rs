@@ -105,7 +105,7 @@ pub(crate) fn utf16_to_utf8(bytes: &[u8], file: &str) -> Result<Option<Vec<u8>>,
         _ => return Ok(None),
     };
     let body = &bytes[2..];
-    if body.len() % 2 != 0 {
+    if !body.len().is_multiple_of(2) {
         return Err(LoadError::Truncated {
             file: file.to_string(),
             location: Location::Byte(bytes.len() as u64 - 1),
