@@ -5,7 +5,8 @@
 //! Each file either loads — and then goes through weld + edge adjacency + multiplicity — or
 //! returns a typed [`LoadError`] whose message names the file and a place (line, byte
 //! offset or JSON path). A panic is reported as a failure naming the file (caught with
-//! `catch_unwind`), a file that takes longer than [`TIME_LIMIT`] is reported as a hang, and
+//! `catch_unwind`), a file with no result after [`TIME_LIMIT`] (a non-termination watchdog, not a speed
+//! check) is reported as a hang, and
 //! memory is bounded by [`LoadOptions::max_input_bytes`].
 //!
 //! `UMBRA_ASSIMP_MODELS` overrides the corpus directory; the test skips with a message when
@@ -18,8 +19,11 @@ use std::time::{Duration, Instant};
 use umbra_geom::load::{self, Format, LoadError, LoadOptions};
 use umbra_geom::{multiplicity, EdgeAdjacency, WeldedMesh};
 
-/// Per-file time limit (load + weld + adjacency + multiplicity).
-const TIME_LIMIT: Duration = Duration::from_secs(20);
+/// Non-termination watchdog per file (load + weld + adjacency + multiplicity): a file with no
+/// result after this long is reported as a hang, by name, instead of stalling the whole test.
+/// It detects loops that never end, not slowness: the slowest corpus file took 35 ms here
+/// (the table's last column, in ms). Speed is a benchmark.
+const TIME_LIMIT: Duration = Duration::from_secs(300);
 /// Memory bound: no corpus file is larger than a few MiB.
 const MAX_INPUT_BYTES: u64 = 256 << 20;
 

