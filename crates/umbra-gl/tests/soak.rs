@@ -50,7 +50,7 @@
 //! per block), it fails the memory check, measured at 100 to 104 KiB per frame, and not the
 //! object check ([`soak_detects_leaked_memory_per_frame`]). The unmodified soak passes.
 //! Detection limit of the memory check: a leak of more than 16 KiB per frame on average in
-//! the short soak, 1 KiB per frame in the long one ([`leak_limit_kib_per_frame`]); GL
+//! the short soak, 2 KiB per frame in the long one ([`leak_limit_kib_per_frame`]); GL
 //! objects are counted exactly.
 //!
 //! GL object count: Mesa names objects with small integers (one counter per kind; Mesa 22.3
@@ -343,13 +343,14 @@ const SETTLED_PHASE: usize = 6;
 
 /// The memory check's limit on the growth of the windows' minima, in KiB per frame, for a soak
 /// of `windows` measured blocks. Its noise falls with the distance between the run's thirds:
-/// the windows' minima scatter by about 1 MB (measured), about 2 KiB per frame over the 540
-/// frames between the thirds of the short soak, 0.1 over the 6,000 of the long one. An
-/// injected leak of 64 KiB per frame measures about 100 (malloc's overhead and the
-/// fragmentation around the leaked blocks).
+/// the windows' minima scatter by 1 to 2 MB (measured), up to 3.7 KiB per frame over the 540
+/// frames between the thirds of the short soak. The long soak (50 windows, 6,120 frames
+/// between its thirds) measured +0.53 KiB per frame: its first ten windows settle by +3 MB,
+/// then it stays flat for forty. An injected leak of 64 KiB per frame measures about 100
+/// (malloc's overhead and the fragmentation around the leaked blocks).
 fn leak_limit_kib_per_frame(windows: usize) -> f64 {
     if windows >= 20 {
-        1.0
+        2.0
     } else {
         16.0
     }
