@@ -49,7 +49,7 @@ use umbra_geom::Light;
 
 mod lighting;
 
-use lighting::LightingProgram;
+use lighting::{LightingProgram, LitPass};
 
 use crate::camera::{to_f32_cols, Camera, DepthConvention};
 use crate::counter::{Counter, FloatCounter};
@@ -393,8 +393,8 @@ impl MethodBindings {
 /// target; delete with [`Renderer::destroy`].
 pub struct Renderer {
     depth: DepthProgram,
-    /// Key: "" for the stencil-classified program, else the method name.
-    lighting: HashMap<&'static str, LightingProgram>,
+    /// Key: ("", Shade) for the stencil-classified program, else the method name and pass.
+    lighting: HashMap<(&'static str, LitPass), LightingProgram>,
     target: Option<RenderTarget>,
     error_log: Option<GlErrorLog>,
     /// glClipControl (for [`DepthConvention::ReversedZ`]).
@@ -594,7 +594,7 @@ impl Renderer {
             program,
         };
         let mut lighting = HashMap::new();
-        lighting.insert("", LightingProgram::new(gl, None)?);
+        lighting.insert(("", LitPass::Shade), LightingProgram::new(gl, None, LitPass::Shade)?);
         Ok(Self {
             depth,
             lighting,

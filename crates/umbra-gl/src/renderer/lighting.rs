@@ -16,6 +16,19 @@ use crate::target::{RenderTarget, TargetPass};
 
 const LIGHTING_FRAG: &str = include_str!("../shaders/lighting.frag.glsl");
 
+/// What a lighting program of a [`Classification::Shader`] method is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(super) enum LitPass {
+    /// Umbra's lighting pass: the light's term is multiplied by `umbra_lit`'s 0/1 (no
+    /// `discard`, so early depth and stencil tests stay on: measured on llvmpipe, the
+    /// discarding pass cost 4x `none`'s, see docs/benchmarks.md).
+    Shade,
+    /// The resolve into the stencil ([`Renderer::count_shadows`]): fragments where
+    /// `umbra_lit` is false are discarded, the survivors write stencil 0
+    /// (`UMBRA_DISCARD_UNLIT`).
+    Resolve,
+}
+
 pub(super) struct LightingProgram {
     pub(super) program: glow::Program,
     u_clip_from_world: Option<glow::UniformLocation>,
@@ -28,13 +41,18 @@ pub(super) struct LightingProgram {
 }
 
 impl LightingProgram {
-    pub(super) fn new(gl: &glow::Context, custom: Option<(&str, &str)>) -> Result<Self, GlError> {
-        let (frag, defines, name) = match custom {
+    /// The stencil-classified program (`custom` None), or the one of a shader-classified
+    /// method (`custom` = its name and `umbra_lit` GLSL) for `pass`.
+    pub(super) fn new(gl: &glow::Context, custom: Option<(&str, &str)>, pass: LitPass) -> Result<Self, GlError> {
+        let (frag, mut defines, name) = match custom {
             Some((method, glsl)) => {
                 (format!("{LIGHTING_FRAG}\n{glsl}\n"), vec!["UMBRA_CUSTOM_LIT"], format!("lighting+{method}"))
             }
             None => (LIGHTING_FRAG.to_string(), vec![], "lighting".to_string()),
         };
+        if pass == LitPass::Resolve {
+            defines.push("UMBRA_DISCARD_UNLIT");
+        }
         let program = link_program(
             gl,
             &name,
@@ -61,8 +79,8 @@ impl LightingProgram {
 impl Renderer {
     /// For a shader-classified method after its volume pass (its map of this light drawn):
     /// the stencil becomes 0 where `umbra_lit` holds on the visible surface, 1 elsewhere.
-    /// Draws the scene with umbra's lighting program for the method (which discards where
-    /// `umbra_lit` is false) and writes nothing but the stencil.
+    /// Draws the scene with the method's [`LitPass::Resolve`] lighting program (which
+    /// discards where `umbra_lit` is false) and writes nothing but the stencil.
     pub(super) fn shader_lit_to_stencil(
         &mut self,
         gl: &glow::Context,
@@ -109,7 +127,7 @@ impl Renderer {
             polygon_offset: None,
         }
         .apply(gl);
-        let p = self.lighting_program(gl, method)?;
+        let p = self.lighting_program(gl, method, LitPass::Resolve)?;
         let program = p.program;
         // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader
         // (only the ones umbra_lit and the vertex stage read matter: no colour is written).
@@ -127,20 +145,26 @@ impl Renderer {
         Ok(())
     }
 
-    fn lighting_program(&mut self, gl: &glow::Context, method: &dyn ShadowMethod) -> Result<&LightingProgram, GlError> {
+    /// The lighting program for `method` and `pass` (compiled on first use): the stencil
+    /// program (key `("", Shade)`) for stencil classifications, else the method's own.
+    fn lighting_program(
+        &mut self,
+        gl: &glow::Context,
+        method: &dyn ShadowMethod,
+        pass: LitPass,
+    ) -> Result<&LightingProgram, GlError> {
         let key = match method.classification() {
-            Classification::Shader => method.name(),
-            _ => "",
+            Classification::Shader => (method.name(), pass),
+            _ => ("", LitPass::Shade),
         };
-        if !self.lighting.contains_key(key) {
+        if let std::collections::hash_map::Entry::Vacant(slot) = self.lighting.entry(key) {
             let glsl = method.lighting_glsl().ok_or_else(|| GlError::Unsupported {
                 method: method.name(),
                 reason: "Classification::Shader without lighting_glsl()".into(),
             })?;
-            let p = LightingProgram::new(gl, Some((method.name(), glsl)))?;
-            self.lighting.insert(key, p);
+            slot.insert(LightingProgram::new(gl, Some((method.name(), glsl)), pass)?);
         }
-        self.lighting.get(key).ok_or_else(|| GlError::InvalidParams("lighting program missing".into()))
+        self.lighting.get(&key).ok_or_else(|| GlError::InvalidParams("lighting program missing".into()))
     }
 
     /// Pass 3, one light: adds its diffuse + specular where `method`'s classification says
@@ -230,7 +254,7 @@ impl Renderer {
             polygon_offset: None,
         }
         .apply(gl);
-        let p = self.lighting_program(gl, method)?;
+        let p = self.lighting_program(gl, method, LitPass::Shade)?;
         // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader.
         unsafe {
             gl.use_program(Some(p.program));
