@@ -253,6 +253,8 @@ struct PassView {
     fb: Option<glow::Framebuffer>,
     width: i32,
     height: i32,
+    /// [`VolumeFrame::view_serial`]: new whenever the depth may have changed.
+    serial: u64,
 }
 
 impl PassView {
@@ -278,12 +280,13 @@ impl PassView {
             depth_convention: self.convention,
             counter: Counter::Stencil8,
             state_override: None,
+            view_serial: self.serial,
             source,
             hook: None,
         }
     }
 
-    fn new(params: &FrameParams, fb: Option<glow::Framebuffer>) -> Self {
+    fn new(params: &FrameParams, fb: Option<glow::Framebuffer>, serial: u64) -> Self {
         let convention = params.depth_convention;
         let aspect = params.width as f64 / params.height as f64;
         let clip_from_world = params.camera.clip_from_world_in(aspect, convention);
@@ -298,6 +301,7 @@ impl PassView {
             fb,
             width: params.width as i32,
             height: params.height as i32,
+            serial,
         }
     }
 
@@ -409,6 +413,8 @@ pub struct Renderer {
     scene_clip: Option<glow::Buffer>,
     /// Per light of the last volume passes: counted z-pass ([`Renderer::last_zpass`]).
     last_zpass: Vec<bool>,
+    /// The last [`VolumeFrame::view_serial`] handed out.
+    view_serial: u64,
 }
 
 /// Binding point of the uniform block `UmbraSceneClip` (methods/shared/depth.glsl).
@@ -584,6 +590,7 @@ impl Renderer {
             volume_state_override: None,
             scene_clip: None,
             last_zpass: Vec::new(),
+            view_serial: 0,
         })
     }
 
@@ -830,7 +837,7 @@ impl Renderer {
         params: &FrameParams,
         fb: Option<glow::Framebuffer>,
     ) -> Result<PassView, GlError> {
-        let view = PassView::new(params, fb);
+        let view = PassView::new(params, fb, self.next_view_serial());
         view.bind_target(gl);
         check_stencil_target(gl, fb)?;
         if method.prepared_scene() != Some(scene.id()) {
@@ -879,7 +886,7 @@ impl Renderer {
         light: Light,
         fb: Option<glow::Framebuffer>,
     ) -> Result<(), GlError> {
-        let view = PassView::new(params, fb);
+        let view = PassView::new(params, fb, self.next_view_serial());
         view.bind_target(gl);
         check_stencil_target(gl, fb)?;
         // SAFETY: plain enables (restored by the caller's SavedState).
@@ -916,6 +923,13 @@ impl Renderer {
         // A GL error is a failure even if the passes returned Ok.
         let checked = self.check_errors(gl, "frame");
         result.and(checked)
+    }
+
+    /// A new [`VolumeFrame::view_serial`]: called once per depth buffer a method may see (each
+    /// frame's depth pass, each call on a caller's depth).
+    fn next_view_serial(&mut self) -> u64 {
+        self.view_serial += 1;
+        self.view_serial
     }
 
     /// Err unless frames in `convention` can be drawn ([`Renderer::supports`]).
@@ -985,7 +999,7 @@ impl Renderer {
             method.prepare(gl, scene)?;
         }
         self.set_depth_convention(gl, params.depth_convention)?;
-        let view = PassView::new(params, fb);
+        let view = PassView::new(params, fb, self.next_view_serial());
         self.depth_pass(gl, scene, params, &view, own, &mut hook);
         for (light_index, &light) in params.lights.iter().enumerate() {
             self.volume_pass(gl, scene, method, params, &view, light, light_index, &mut hook)?;

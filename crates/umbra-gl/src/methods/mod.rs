@@ -123,6 +123,8 @@ pub struct VolumeFrame<'a> {
     /// Replaces the counting state for every draw of the pass (the renderer's volume wireframe:
     /// lines, colour, no stencil), `None` normally.
     pub(crate) state_override: Option<crate::GlState>,
+    /// See [`VolumeFrame::view_serial`].
+    pub(crate) view_serial: u64,
     pub(crate) source: &'static str,
     pub(crate) hook: Option<&'a mut dyn StageHook>,
 }
@@ -165,6 +167,16 @@ impl VolumeFrame<'_> {
             return state;
         }
         self.counter.shadow_volume_state(self.zpass, self.depth_convention)
+    }
+
+    /// Identifies the frame's visible samples (the depth buffer the method is called on): the
+    /// renderer hands out a new value whenever that depth may have changed since its previous
+    /// call — each frame of [`crate::Renderer::render`] / [`crate::Renderer::draw_frame`] (one
+    /// depth pass for all its lights), each [`crate::Renderer::count_shadows`] call (the
+    /// caller's depth). A method that derives data from the visible samples (hier-triangle's
+    /// sample hierarchy) may reuse it for every light with the same serial.
+    pub fn view_serial(&self) -> u64 {
+        self.view_serial
     }
 
     /// The counter of this volume pass.
@@ -212,6 +224,17 @@ pub trait ShadowMethod {
     /// (tests/auto_zpass.rs found one wrong pixel with ts-triangle), so they keep the strict test.
     fn silhouette_sides(&self) -> bool {
         false
+    }
+
+    /// True (the default) when the method rasterizes shadow volumes into the stencil (counting,
+    /// or its own stencil test): the renderer then chooses z-pass or z-fail (and the stencil's
+    /// start value `W0`), the wide counter and the clip planes for it. False for a method that
+    /// decides per sample some other way and writes its [`Classification::StencilZero`]
+    /// decision into the stencil itself (hier-triangle): the stencil is cleared to 0 and no
+    /// counting state, counter or clip plane is set up for it; it has no volumes to show as a
+    /// wireframe either.
+    fn fills_volumes(&self) -> bool {
+        true
     }
 
     /// How the lighting pass tests "lit".

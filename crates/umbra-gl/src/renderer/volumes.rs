@@ -103,16 +103,20 @@ impl Renderer {
         mark(hook, gl, "volumes", Some(light_index));
         // The wide counter (crate::counter) serves the methods that count in the stencil: they
         // draw into its framebuffer, the resolve writes the stencil they would have written.
+        let fills = method.fills_volumes();
         let counter = match (params.counter, method.classification()) {
-            (Counter::Float32, Classification::StencilZero) => Counter::Float32,
+            (Counter::Float32, Classification::StencilZero) if fills => Counter::Float32,
             _ => Counter::Stencil8,
         };
         // z-pass where it is exact (umbra_geom::clearance), z-fail elsewhere. With the eye's
         // near pyramid inside W0 volumes and crossed by none of their faces, z-pass counts
         // W(p) - W0, so the stencil starts at W0 (8-bit stencil only; the wide counter starts
         // at 0, so there W0 > 0 keeps z-fail).
-        let counting = method.classification() == Classification::StencilZero;
-        let (zpass, start) = if params.zpass {
+        let counting = method.classification() == Classification::StencilZero && fills;
+        let (zpass, start) = if !fills {
+            // Nothing is counted: the method writes its decision into a stencil cleared to 0.
+            (false, 0)
+        } else if params.zpass {
             (true, 0)
         } else if params.auto_zpass && counting {
             let adjacency = method.silhouette_sides().then(|| scene.adjacency().as_ref());
@@ -160,8 +164,9 @@ impl Renderer {
             // plane before they are pushed to the far plane (methods/shared/depth.glsl): the
             // counting methods' volume shaders write gl_ClipDistance[0] (a positive constant
             // for everything but light caps). Not for Classification::Shader methods (shadow
-            // maps draw their own depth pass without clip distances), not on OpenGL ES (none).
-            let near_clip = method.classification() != Classification::Shader && !gl.version().is_embedded;
+            // maps draw their own depth pass without clip distances), not for methods that fill
+            // no volumes (their draws write no clip distances), not on OpenGL ES (none).
+            let near_clip = fills && method.classification() != Classification::Shader && !gl.version().is_embedded;
             if near_clip {
                 // SAFETY: enabling a core capability on the current context.
                 unsafe { gl.enable(glow::CLIP_DISTANCE0) };

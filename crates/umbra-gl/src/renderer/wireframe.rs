@@ -35,7 +35,8 @@ impl Renderer {
     /// **GL state**: as [`Renderer::count_shadows`], all restored, plus glPolygonMode and
     /// glBlendColor.
     ///
-    /// Methods without volumes ([`Classification::Shader`], the shadow maps) give
+    /// Methods without volumes ([`Classification::Shader`], the shadow maps, and those that
+    /// fill none, [`ShadowMethod::fills_volumes`]: hier-triangle) give
     /// [`GlError::Unsupported`] and draw nothing. The wireframe state is applied at each of
     /// the method's stage marks ([`crate::VolumeFrame::mark`]), after the method set its counting
     /// state: a method that applies its counting state after its last mark before a draw
@@ -65,6 +66,13 @@ impl Renderer {
             return Err(GlError::Unsupported {
                 method: method.name(),
                 reason: "classifies in a shader (shadow map): it has no shadow volumes to draw as a wireframe".into(),
+            });
+        }
+        if !method.fills_volumes() {
+            return Err(GlError::Unsupported {
+                method: method.name(),
+                reason: "decides per sample without rasterizing shadow volumes: it has none to draw as a wireframe"
+                    .into(),
             });
         }
         self.check_convention(params.depth_convention)?;
