@@ -4,11 +4,11 @@
 use glow::HasContext;
 use umbra_geom::Light;
 
-use super::{validate_view, FrameParams, FrameTarget, MethodBindings, Renderer};
+use super::{validate_view, FrameParams, FrameTarget, Renderer};
 use crate::counter::Counter;
 use crate::error::GlError;
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark};
-use crate::saved::SavedState;
+use crate::saved::{MethodBindings, SavedState};
 use crate::scene::SceneGpu;
 use crate::state::{BlendState, GlState};
 
