@@ -30,7 +30,7 @@
 //! Every entry point restores the state listed in `saved.rs` (every [`GlState`] field,
 //! program, vertex array, framebuffer bindings, viewport, scissor and rasterizer-discard
 //! enables, SSBO binding 0, clip control, depth range) and what a shadow method may bind on
-//! top (SSBO bindings 1-7, ARRAY / COPY_READ / DRAW_INDIRECT buffer bindings, PATCH_VERTICES,
+//! top (SSBO bindings 1-7, ARRAY / COPY_READ / DRAW_INDIRECT / DISPATCH_INDIRECT buffer bindings, PATCH_VERTICES,
 //! the active texture unit and unit 0's 2D and cube-map textures). Not restored: the
 //! draw/read buffer selection of a framebuffer [`Renderer::render`] or
 //! [`Renderer::draw_frame`] draws into (count_shadows and add_light never change it).
@@ -679,8 +679,8 @@ impl Renderer {
     /// offset), the current program, the vertex array, the draw and read framebuffers, the
     /// viewport, SCISSOR_TEST and RASTERIZER_DISCARD, glClipControl's origin and depth mode,
     /// glDepthRange, the generic SHADER_STORAGE_BUFFER binding and the indexed bindings
-    /// 0-7 (buffer, offset, size), the ARRAY_BUFFER, COPY_READ_BUFFER and DRAW_INDIRECT_BUFFER
-    /// bindings, PATCH_VERTICES, the active texture unit and unit 0's 2D and cube-map
+    /// 0-7 (buffer, offset, size), the ARRAY_BUFFER, COPY_READ_BUFFER, DRAW_INDIRECT_BUFFER and
+    /// DISPATCH_INDIRECT_BUFFER bindings, PATCH_VERTICES, the active texture unit and unit 0's 2D and cube-map
     /// textures. Not restored (nothing of the caller's is involved): objects the method owns
     /// and what is bound inside them.
     pub fn count_shadows(

@@ -181,6 +181,8 @@ pub(crate) struct MethodBindings {
     array_buffer: u32,
     copy_read_buffer: u32,
     draw_indirect_buffer: u32,
+    /// GL_DISPATCH_INDIRECT_BUFFER (hier-triangle's indirect compute dispatches).
+    dispatch_indirect_buffer: u32,
     patch_vertices: i32,
     active_texture: u32,
     /// Unit 0 (the shadow map's MAP_UNIT, the wide counter's unit): 2D and cube-map textures.
@@ -189,7 +191,7 @@ pub(crate) struct MethodBindings {
 }
 
 /// Indexed storage-buffer bindings saved: 0 (in SavedState) up to this, exclusive; the
-/// methods use 1-5.
+/// methods use 1-7.
 const SAVED_SSBO_BINDINGS: u32 = 8;
 
 impl MethodBindings {
@@ -216,6 +218,7 @@ impl MethodBindings {
                 array_buffer: gl.get_parameter_i32(glow::ARRAY_BUFFER_BINDING) as u32,
                 copy_read_buffer: gl.get_parameter_i32(glow::COPY_READ_BUFFER_BINDING) as u32,
                 draw_indirect_buffer: gl.get_parameter_i32(glow::DRAW_INDIRECT_BUFFER_BINDING) as u32,
+                dispatch_indirect_buffer: gl.get_parameter_i32(glow::DISPATCH_INDIRECT_BUFFER_BINDING) as u32,
                 patch_vertices: gl.get_parameter_i32(glow::PATCH_VERTICES),
                 active_texture,
                 texture_2d,
@@ -241,6 +244,7 @@ impl MethodBindings {
             gl.bind_buffer(glow::ARRAY_BUFFER, buffer(self.array_buffer));
             gl.bind_buffer(glow::COPY_READ_BUFFER, buffer(self.copy_read_buffer));
             gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, buffer(self.draw_indirect_buffer));
+            gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, buffer(self.dispatch_indirect_buffer));
             gl.patch_parameter_i32(glow::PATCH_VERTICES, self.patch_vertices);
             gl.active_texture(glow::TEXTURE0);
             gl.bind_texture(glow::TEXTURE_2D, texture(self.texture_2d));
