@@ -65,7 +65,7 @@ use crate::scene::SceneGpu;
 use crate::state::{GlState, StencilFace};
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
 
-const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
+pub(crate) const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
 /// For which lights a per-light image is read back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -846,9 +846,11 @@ impl Renderer {
     }
 
     /// A new [`VolumeFrame::view_serial`]: called once per depth buffer a method may see (each
-    /// frame's depth pass, each call on a caller's depth).
+    /// frame's depth pass, each call on a caller's depth). Unique in the process, so a method
+    /// used by two renderers never mistakes one's samples for the other's.
     fn next_view_serial(&mut self) -> u64 {
-        self.view_serial += 1;
+        static SERIAL: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        self.view_serial = SERIAL.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         self.view_serial
     }
 

@@ -37,6 +37,7 @@ pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod gs_silhouette;
 pub mod gs_triangle;
+pub mod hier_triangle;
 pub mod none;
 pub mod shadow_map;
 pub mod silhouette_caps;
@@ -292,6 +293,7 @@ pub fn method_names() -> &'static [&'static str] {
         gs_triangle::NAME,
         vs_triangle::NAME,
         all_edges_invert::NAME,
+        hier_triangle::NAME,
     ]
 }
 
@@ -311,6 +313,7 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
         gs_triangle::NAME => Ok(Box::new(gs_triangle::GsTriangle::new())),
         vs_triangle::NAME => Ok(Box::new(vs_triangle::VsTriangle::new())),
         all_edges_invert::NAME => Ok(Box::new(all_edges_invert::AllEdgesInvert::new())),
+        hier_triangle::NAME => Ok(Box::new(hier_triangle::HierTriangle::new())),
         n if n.starts_with(shadow_map::PREFIX) => shadow_map::ShadowMapCube::from_name(n)
             .map(|m| Box::new(m) as Box<dyn ShadowMethod>)
             .ok_or_else(|| UnknownMethod { name: n.to_string() }),
