@@ -1,8 +1,9 @@
 //! Renders a scene headlessly with every shadow method, prints per-stage timings
 //! (glQueryCounter(GL_TIMESTAMP) pairs + CPU wall time) and writes one PNG per method.
 //!
-//! `cargo run --release -p umbra-gl --example frame_timing -- [SCENE] [WIDTHxHEIGHT] [FRAMES] [OUT_DIR]`
-//! SCENE is an umbra_geom scene spec (default `spheres:10:100k`, which has a ground plane).
+//! `cargo run --release -p umbra-gl --example frame_timing -- [SCENE] [WIDTHxHEIGHT] [FRAMES] [OUT_DIR] [METHODS]`
+//! SCENE is an umbra_geom scene spec (default `spheres:10:100k`, which has a ground plane);
+//! METHODS a comma-separated list of method names (default: every registered method).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -22,6 +23,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let frames: usize = args.get(2).map_or(Ok(5), |s| s.parse())?;
     let out_dir = std::path::PathBuf::from(args.get(3).map_or("target/frame_timing", String::as_str));
+    let names: Vec<String> = match args.get(4) {
+        Some(list) => list.split(',').map(str::to_string).collect(),
+        None => method_names().iter().map(|n| n.to_string()).collect(),
+    };
 
     let mesh = umbra_geom::scene::load_scene(spec)?;
     let t = Instant::now();
@@ -56,7 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     } else {
         TimestampHook::new()
     };
-    for name in method_names() {
+    for name in &names {
         let mut method = create_method(name)?;
         let mut totals: BTreeMap<String, (u64, u64)> = BTreeMap::new();
         let mut wall = Vec::new();

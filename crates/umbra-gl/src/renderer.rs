@@ -30,7 +30,7 @@
 //! Every entry point restores the state listed in `saved.rs` (every [`GlState`] field,
 //! program, vertex array, framebuffer bindings, viewport, scissor and rasterizer-discard
 //! enables, SSBO binding 0, clip control, depth range) and what a shadow method may bind on
-//! top (SSBO bindings 1-7, ARRAY / COPY_READ / DRAW_INDIRECT buffer bindings, PATCH_VERTICES,
+//! top (SSBO bindings 1-7, ARRAY / COPY_READ / DRAW_INDIRECT / DISPATCH_INDIRECT buffer bindings, PATCH_VERTICES,
 //! the active texture unit and unit 0's 2D and cube-map textures). Not restored: the
 //! draw/read buffer selection of a framebuffer [`Renderer::render`] or
 //! [`Renderer::draw_frame`] draws into (count_shadows and add_light never change it).
@@ -47,6 +47,12 @@ use glam::DMat4;
 use glow::HasContext;
 use umbra_geom::Light;
 
+mod lighting;
+mod volumes;
+mod wireframe;
+
+use lighting::{LightingProgram, LitPass};
+
 use crate::camera::{to_f32_cols, Camera, DepthConvention};
 use crate::counter::{Counter, FloatCounter};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
@@ -54,15 +60,13 @@ use crate::extra::GlExtra;
 use crate::image::{LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::saved::{buffer, SavedState};
-use crate::scene::{SceneGpu, NORMALS_BINDING};
-use crate::state::{BlendState, GlState, StencilFace};
+use crate::saved::{MethodBindings, SavedState};
+use crate::scene::SceneGpu;
+use crate::state::{GlState, StencilFace};
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
 
-const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
+pub(crate) const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
-const LIGHTING_FRAG: &str = include_str!("shaders/lighting.frag.glsl");
-
 /// For which lights a per-light image is read back.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightCapture {
@@ -224,48 +228,6 @@ struct DepthProgram {
     u_ambient_color: Option<glow::UniformLocation>,
 }
 
-struct LightingProgram {
-    program: glow::Program,
-    u_clip_from_world: Option<glow::UniformLocation>,
-    u_light: Option<glow::UniformLocation>,
-    u_light_color: Option<glow::UniformLocation>,
-    u_eye: Option<glow::UniformLocation>,
-    u_albedo: Option<glow::UniformLocation>,
-    u_specular: Option<glow::UniformLocation>,
-    u_shininess: Option<glow::UniformLocation>,
-}
-
-impl LightingProgram {
-    fn new(gl: &glow::Context, custom: Option<(&str, &str)>) -> Result<Self, GlError> {
-        let (frag, defines, name) = match custom {
-            Some((method, glsl)) => {
-                (format!("{LIGHTING_FRAG}\n{glsl}\n"), vec!["UMBRA_CUSTOM_LIT"], format!("lighting+{method}"))
-            }
-            None => (LIGHTING_FRAG.to_string(), vec![], "lighting".to_string()),
-        };
-        let program = link_program(
-            gl,
-            &name,
-            &[
-                ShaderSource::vertex("shaders/scene.vert.glsl", SCENE_VERT),
-                ShaderSource::fragment("shaders/lighting.frag.glsl", &frag),
-            ],
-            &defines,
-        )?;
-        let u = |n| uniform(gl, program, n);
-        Ok(Self {
-            u_clip_from_world: u("u_clip_from_world"),
-            u_light: u("u_light"),
-            u_light_color: u("u_light_color"),
-            u_eye: u("u_eye"),
-            u_albedo: u("u_albedo"),
-            u_specular: u("u_specular"),
-            u_shininess: u("u_shininess"),
-            program,
-        })
-    }
-}
-
 /// Where [`Renderer::draw_frame`] draws: a caller's framebuffer (None = default framebuffer)
 /// of `FrameParams::width x height` with a depth-stencil attachment (8 stencil bits). Its
 /// depth convention is [`FrameParams::depth_convention`].
@@ -291,6 +253,8 @@ struct PassView {
     fb: Option<glow::Framebuffer>,
     width: i32,
     height: i32,
+    /// [`VolumeFrame::view_serial`]: new whenever the depth may have changed.
+    serial: u64,
 }
 
 impl PassView {
@@ -316,12 +280,13 @@ impl PassView {
             depth_convention: self.convention,
             counter: Counter::Stencil8,
             state_override: None,
+            view_serial: self.serial,
             source,
             hook: None,
         }
     }
 
-    fn new(params: &FrameParams, fb: Option<glow::Framebuffer>) -> Self {
+    fn new(params: &FrameParams, fb: Option<glow::Framebuffer>, serial: u64) -> Self {
         let convention = params.depth_convention;
         let aspect = params.width as f64 / params.height as f64;
         let clip_from_world = params.camera.clip_from_world_in(aspect, convention);
@@ -336,6 +301,7 @@ impl PassView {
             fb,
             width: params.width as i32,
             height: params.height as i32,
+            serial,
         }
     }
 
@@ -349,92 +315,12 @@ impl PassView {
     }
 }
 
-/// Bindings a shadow method may change on the context beyond [`SavedState`]'s list (its
-/// storage buffers, vertex and indirect buffers, patch size, the shadow map's texture unit),
-/// saved and restored around every call that runs a method on a caller's context.
-/// (Belongs with [`SavedState`] in `saved.rs`; kept here until that file is extended.)
-struct MethodBindings {
-    /// SHADER_STORAGE_BUFFER indexed bindings 1.. (binding 0 is in SavedState): buffer,
-    /// offset, size.
-    ssbo: Vec<(u32, i64, i64)>,
-    array_buffer: u32,
-    copy_read_buffer: u32,
-    draw_indirect_buffer: u32,
-    patch_vertices: i32,
-    active_texture: u32,
-    /// Unit 0 (the shadow map's MAP_UNIT, the wide counter's unit): 2D and cube-map textures.
-    texture_2d: u32,
-    texture_cube: u32,
-}
-
-/// Indexed storage-buffer bindings saved: 0 (in SavedState) up to this, exclusive; the
-/// methods use 1-5.
-const SAVED_SSBO_BINDINGS: u32 = 8;
-
-impl MethodBindings {
-    fn capture(gl: &glow::Context) -> Self {
-        // SAFETY: glGet* queries of core state on the current context; the active texture
-        // unit is switched to 0 for the two texture queries and set back.
-        unsafe {
-            let ssbo = (1..SAVED_SSBO_BINDINGS)
-                .map(|i| {
-                    (
-                        gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, i) as u32,
-                        gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, i),
-                        gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, i),
-                    )
-                })
-                .collect();
-            let active_texture = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;
-            gl.active_texture(glow::TEXTURE0);
-            let texture_2d = gl.get_parameter_i32(glow::TEXTURE_BINDING_2D) as u32;
-            let texture_cube = gl.get_parameter_i32(glow::TEXTURE_BINDING_CUBE_MAP) as u32;
-            gl.active_texture(active_texture);
-            Self {
-                ssbo,
-                array_buffer: gl.get_parameter_i32(glow::ARRAY_BUFFER_BINDING) as u32,
-                copy_read_buffer: gl.get_parameter_i32(glow::COPY_READ_BUFFER_BINDING) as u32,
-                draw_indirect_buffer: gl.get_parameter_i32(glow::DRAW_INDIRECT_BUFFER_BINDING) as u32,
-                patch_vertices: gl.get_parameter_i32(glow::PATCH_VERTICES),
-                active_texture,
-                texture_2d,
-                texture_cube,
-            }
-        }
-    }
-
-    fn restore(&self, gl: &glow::Context) {
-        let texture = |name: u32| std::num::NonZeroU32::new(name).map(glow::NativeTexture);
-        // SAFETY: re-binding names that were bound before (still alive: umbra deletes none of
-        // the caller's objects) and a patch size GL reported.
-        unsafe {
-            for (i, &(name, offset, size)) in (1..).zip(&self.ssbo) {
-                match buffer(name) {
-                    // A range binding with size 0 means the whole buffer was bound.
-                    Some(b) if size > 0 => {
-                        gl.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, i, Some(b), offset as i32, size as i32)
-                    }
-                    other => gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i, other),
-                }
-            }
-            gl.bind_buffer(glow::ARRAY_BUFFER, buffer(self.array_buffer));
-            gl.bind_buffer(glow::COPY_READ_BUFFER, buffer(self.copy_read_buffer));
-            gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, buffer(self.draw_indirect_buffer));
-            gl.patch_parameter_i32(glow::PATCH_VERTICES, self.patch_vertices);
-            gl.active_texture(glow::TEXTURE0);
-            gl.bind_texture(glow::TEXTURE_2D, texture(self.texture_2d));
-            gl.bind_texture(glow::TEXTURE_CUBE_MAP, texture(self.texture_cube));
-            gl.active_texture(self.active_texture);
-        }
-    }
-}
-
 /// The shadow-volume renderer. Holds programs and (for [`Renderer::render`]) an offscreen
 /// target; delete with [`Renderer::destroy`].
 pub struct Renderer {
     depth: DepthProgram,
-    /// Key: "" for the stencil-classified program, else the method name.
-    lighting: HashMap<&'static str, LightingProgram>,
+    /// Key: ("", Shade) for the stencil-classified program, else the method name and pass.
+    lighting: HashMap<(&'static str, LitPass), LightingProgram>,
     target: Option<RenderTarget>,
     error_log: Option<GlErrorLog>,
     /// glClipControl (for [`DepthConvention::ReversedZ`]).
@@ -447,33 +333,12 @@ pub struct Renderer {
     scene_clip: Option<glow::Buffer>,
     /// Per light of the last volume passes: counted z-pass ([`Renderer::last_zpass`]).
     last_zpass: Vec<bool>,
+    /// The last [`VolumeFrame::view_serial`] handed out.
+    view_serial: u64,
 }
 
 /// Binding point of the uniform block `UmbraSceneClip` (methods/shared/depth.glsl).
 pub const SCENE_CLIP_BINDING: u32 = 14;
-
-/// The box the z-pass volumes are clipped to: the scene's triangles and the eye, enlarged by
-/// 1 % of its diagonal (plus 1e-6 of its largest coordinate) so that rounding at its planes
-/// lies far from every sample. As six world planes `(n, d)`, `n . X + d W >= 0` inside.
-fn scene_clip_box(bounds: umbra_geom::Aabb, eye: [f64; 3]) -> [[f64; 4]; 6] {
-    let mut lo = bounds.min.map(f64::from);
-    let mut hi = bounds.max.map(f64::from);
-    for a in 0..3 {
-        lo[a] = lo[a].min(eye[a]);
-        hi[a] = hi[a].max(eye[a]);
-    }
-    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
-    let big = lo.iter().chain(hi.iter()).fold(0.0f64, |m, c| m.max(c.abs()));
-    let margin = 0.01 * diag + 1e-6 * big + 1e-6;
-    [
-        [1.0, 0.0, 0.0, -(lo[0] - margin)],
-        [0.0, 1.0, 0.0, -(lo[1] - margin)],
-        [0.0, 0.0, 1.0, -(lo[2] - margin)],
-        [-1.0, 0.0, 0.0, hi[0] + margin],
-        [0.0, -1.0, 0.0, hi[1] + margin],
-        [0.0, 0.0, -1.0, hi[2] + margin],
-    ]
-}
 
 /// The eye and the corners of the near-plane rectangle (pushed 2 % outwards from its centre),
 /// world space: the points whose hull with the light must be clear for z-pass.
@@ -634,7 +499,7 @@ impl Renderer {
             program,
         };
         let mut lighting = HashMap::new();
-        lighting.insert("", LightingProgram::new(gl, None)?);
+        lighting.insert(("", LitPass::Shade), LightingProgram::new(gl, None, LitPass::Shade)?);
         Ok(Self {
             depth,
             lighting,
@@ -645,6 +510,7 @@ impl Renderer {
             volume_state_override: None,
             scene_clip: None,
             last_zpass: Vec::new(),
+            view_serial: 0,
         })
     }
 
@@ -813,8 +679,8 @@ impl Renderer {
     /// offset), the current program, the vertex array, the draw and read framebuffers, the
     /// viewport, SCISSOR_TEST and RASTERIZER_DISCARD, glClipControl's origin and depth mode,
     /// glDepthRange, the generic SHADER_STORAGE_BUFFER binding and the indexed bindings
-    /// 0-7 (buffer, offset, size), the ARRAY_BUFFER, COPY_READ_BUFFER and DRAW_INDIRECT_BUFFER
-    /// bindings, PATCH_VERTICES, the active texture unit and unit 0's 2D and cube-map
+    /// 0-7 (buffer, offset, size), the ARRAY_BUFFER, COPY_READ_BUFFER, DRAW_INDIRECT_BUFFER and
+    /// DISPATCH_INDIRECT_BUFFER bindings, PATCH_VERTICES, the active texture unit and unit 0's 2D and cube-map
     /// textures. Not restored (nothing of the caller's is involved): objects the method owns
     /// and what is bound inside them.
     pub fn count_shadows(
@@ -891,7 +757,7 @@ impl Renderer {
         params: &FrameParams,
         fb: Option<glow::Framebuffer>,
     ) -> Result<PassView, GlError> {
-        let view = PassView::new(params, fb);
+        let view = PassView::new(params, fb, self.next_view_serial());
         view.bind_target(gl);
         check_stencil_target(gl, fb)?;
         if method.prepared_scene() != Some(scene.id()) {
@@ -940,7 +806,7 @@ impl Renderer {
         light: Light,
         fb: Option<glow::Framebuffer>,
     ) -> Result<(), GlError> {
-        let view = PassView::new(params, fb);
+        let view = PassView::new(params, fb, self.next_view_serial());
         view.bind_target(gl);
         check_stencil_target(gl, fb)?;
         // SAFETY: plain enables (restored by the caller's SavedState).
@@ -952,74 +818,6 @@ impl Renderer {
         self.set_depth_convention(gl, view.convention)?;
         let mut hook = None;
         self.lighting_pass(gl, scene, method, params, &view, None, None, light, 0, &mut hook)?;
-        Ok(())
-    }
-
-    /// For a shader-classified method after its volume pass (its map of this light drawn):
-    /// the stencil becomes 0 where `umbra_lit` holds on the visible surface, 1 elsewhere.
-    /// Draws the scene with umbra's lighting program for the method (which discards where
-    /// `umbra_lit` is false) and writes nothing but the stencil.
-    fn shader_lit_to_stencil(
-        &mut self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        method: &mut dyn ShadowMethod,
-        params: &FrameParams,
-        view: &PassView,
-        light: Light,
-    ) -> Result<(), GlError> {
-        // Reason: the stencil clear obeys the stencil write mask; default = all bits.
-        GlState::default().apply(gl);
-        view.bind_target(gl);
-        // SAFETY: clears the stencil of the bound draw framebuffer to 1 = "not lit".
-        unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[1]) };
-        let write_zero = StencilFace {
-            // Reason: every fragment that survives the shader's umbra_lit test marks its
-            // pixel lit (0); the depth test below keeps only the visible surface.
-            func: glow::ALWAYS,
-            reference: 0,
-            value_mask: 0xFF,
-            write_mask: 0xFF,
-            stencil_fail: glow::KEEP,
-            depth_fail: glow::KEEP,
-            depth_pass: glow::REPLACE,
-        };
-        GlState {
-            // Reason: only the surface the caller's depth holds (bit-identical depths, see
-            // count_shadows' invariance requirement).
-            depth_test: true,
-            depth_func: glow::EQUAL,
-            // Reason: the caller's depth is final and must stay untouched.
-            depth_write: false,
-            // Reason: same clipping as the caller's scene pass.
-            depth_clamp: false,
-            stencil_test: true,
-            stencil_front: write_zero,
-            stencil_back: write_zero,
-            // Reason: no colour output at all (the caller's colour stays untouched).
-            color_write: [false; 4],
-            // Reason: two-sided surfaces.
-            cull_face: None,
-            front_face: glow::CCW,
-            blend: None,
-            polygon_offset: None,
-        }
-        .apply(gl);
-        let p = self.lighting_program(gl, method)?;
-        let program = p.program;
-        // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader
-        // (only the ones umbra_lit and the vertex stage read matter: no colour is written).
-        unsafe {
-            gl.use_program(Some(program));
-            gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &view.clip_f32);
-            gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
-            gl.uniform_3_f32_slice(p.u_eye.as_ref(), &view.eye.map(|v| v as f32));
-            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
-            gl.bind_vertex_array(Some(scene.vertex_array()));
-        }
-        let frame = view.volume_frame(params, light, 0, method.name());
-        method.bind_lighting(gl, program, &frame)?;
-        scene.draw_triangles(gl);
         Ok(())
     }
 
@@ -1047,6 +845,15 @@ impl Renderer {
         result.and(checked)
     }
 
+    /// A new [`VolumeFrame::view_serial`]: called once per depth buffer a method may see (each
+    /// frame's depth pass, each call on a caller's depth). Unique in the process, so a method
+    /// used by two renderers never mistakes one's samples for the other's.
+    fn next_view_serial(&mut self) -> u64 {
+        static SERIAL: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        self.view_serial = SERIAL.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.view_serial
+    }
+
     /// Err unless frames in `convention` can be drawn ([`Renderer::supports`]).
     fn check_convention(&self, convention: DepthConvention) -> Result<(), GlError> {
         if self.supports(convention) {
@@ -1067,22 +874,6 @@ impl Renderer {
         } else {
             Err(GlError::Gl { during, messages })
         }
-    }
-
-    fn lighting_program(&mut self, gl: &glow::Context, method: &dyn ShadowMethod) -> Result<&LightingProgram, GlError> {
-        let key = match method.classification() {
-            Classification::Shader => method.name(),
-            _ => "",
-        };
-        if !self.lighting.contains_key(key) {
-            let glsl = method.lighting_glsl().ok_or_else(|| GlError::Unsupported {
-                method: method.name(),
-                reason: "Classification::Shader without lighting_glsl()".into(),
-            })?;
-            let p = LightingProgram::new(gl, Some((method.name(), glsl)))?;
-            self.lighting.insert(key, p);
-        }
-        self.lighting.get(key).ok_or_else(|| GlError::InvalidParams("lighting program missing".into()))
     }
 
     /// glClipControl and glDepthRange for `convention` (restored by SavedState).
@@ -1130,7 +921,7 @@ impl Renderer {
             method.prepare(gl, scene)?;
         }
         self.set_depth_convention(gl, params.depth_convention)?;
-        let view = PassView::new(params, fb);
+        let view = PassView::new(params, fb, self.next_view_serial());
         self.depth_pass(gl, scene, params, &view, own, &mut hook);
         for (light_index, &light) in params.lights.iter().enumerate() {
             self.volume_pass(gl, scene, method, params, &view, light, light_index, &mut hook)?;
@@ -1227,279 +1018,6 @@ impl Renderer {
         scene.draw_triangles(gl);
     }
 
-    /// Uploads the scene box planes in `view`'s clip space to the `UmbraSceneClip` block, binds
-    /// it at [`SCENE_CLIP_BINDING`] and, with `enable`, turns GL_CLIP_DISTANCE1..6 on.
-    fn bind_scene_clip(
-        &mut self,
-        gl: &glow::Context,
-        view: &PassView,
-        bounds: Option<umbra_geom::Aabb>,
-        enable: bool,
-    ) -> Result<(), GlError> {
-        let buffer = match self.scene_clip {
-            Some(b) => b,
-            None => {
-                // SAFETY: creating a buffer name on the current context.
-                let b = unsafe { gl.create_named_buffer() }
-                    .map_err(|detail| GlError::Create { what: "scene clip uniform block", detail })?;
-                self.scene_clip = Some(b);
-                b
-            }
-        };
-        let mut data = [0f32; 24];
-        if let (Some(bounds), true) = (bounds, enable) {
-            // A world plane p (p . (X, W) >= 0 inside) in clip space: (clip_from_world)^-T p.
-            let clip_from_plane = view.world_from_clip.transpose();
-            for (i, p) in scene_clip_box(bounds, view.eye).iter().enumerate() {
-                let q = clip_from_plane * glam::DVec4::from_array(*p);
-                data[4 * i..4 * i + 4].copy_from_slice(&q.to_array().map(|c| c as f32));
-            }
-        }
-        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_ne_bytes()).collect();
-        // SAFETY: 96 bytes into our own buffer; binding it to an indexed uniform block point.
-        unsafe {
-            gl.named_buffer_data_u8_slice(buffer, &bytes, glow::DYNAMIC_DRAW);
-            gl.bind_buffer_base(glow::UNIFORM_BUFFER, SCENE_CLIP_BINDING, Some(buffer));
-            // Reason: planes 1..6 clip only a z-pass pass; under z-fail the shaders still
-            // write them, so a plane a host left enabled must be off (7: never written).
-            for i in 1..8 {
-                if enable && i < 7 {
-                    gl.enable(glow::CLIP_DISTANCE0 + i);
-                } else {
-                    gl.disable(glow::CLIP_DISTANCE0 + i);
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Pass 2, one light: clears the stencil of `view`'s framebuffer to 0 and lets `method`
-    /// mark it (its volumes, z-fail or z-pass per `params.zpass`, against the depth already
-    /// in the framebuffer), then binds `view`'s framebuffer and viewport again and re-sets the
-    /// depth convention (a method may have bound its own framebuffer or changed clip control).
-    /// Leaves the GL state as the method left it, apart from those.
-    #[allow(clippy::too_many_arguments)]
-    fn volume_pass(
-        &mut self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        method: &mut dyn ShadowMethod,
-        params: &FrameParams,
-        view: &PassView,
-        light: Light,
-        light_index: usize,
-        hook: &mut Option<&mut dyn StageHook>,
-    ) -> Result<(), GlError> {
-        // ---- Pass 2: shadow volumes into a cleared stencil.
-        mark(hook, gl, "volumes", Some(light_index));
-        // The wide counter (crate::counter) serves the methods that count in the stencil: they
-        // draw into its framebuffer, the resolve writes the stencil they would have written.
-        let counter = match (params.counter, method.classification()) {
-            (Counter::Float32, Classification::StencilZero) => Counter::Float32,
-            _ => Counter::Stencil8,
-        };
-        // z-pass where it is exact (umbra_geom::clearance), z-fail elsewhere. With the eye's
-        // near pyramid inside W0 volumes and crossed by none of their faces, z-pass counts
-        // W(p) - W0, so the stencil starts at W0 (8-bit stencil only; the wide counter starts
-        // at 0, so there W0 > 0 keeps z-fail).
-        let counting = method.classification() == Classification::StencilZero;
-        let (zpass, start) = if params.zpass {
-            (true, 0)
-        } else if params.auto_zpass && counting {
-            let adjacency = method.silhouette_sides().then(|| scene.adjacency().as_ref());
-            match scene.clearance().near_winding(scene.mesh(), adjacency, &view.near_pyramid, light) {
-                Some(0) => (true, 0),
-                Some(w0) if counter == Counter::Stencil8 => (true, (w0 % 256) as i32),
-                _ => (false, 0),
-            }
-        } else {
-            (false, 0)
-        };
-        if self.last_zpass.len() <= light_index {
-            self.last_zpass.resize(light_index + 1, false);
-        }
-        self.last_zpass[light_index] = zpass;
-        // Reason: the stencil clear obeys the stencil write mask; default = all bits.
-        GlState::default().apply(gl);
-        view.bind_target(gl);
-        // SAFETY: clears the stencil of the bound draw framebuffer (to 0, or W0 as above).
-        unsafe { gl.clear_buffer_i32_slice(glow::STENCIL, 0, &[start]) };
-        let mut target = view.fb;
-        if counter == Counter::Float32 {
-            if self.counter.is_none() {
-                self.counter = Some(FloatCounter::new(gl)?);
-            }
-            if let Some(c) = self.counter.as_mut() {
-                target = Some(c.begin(gl, view.fb, params.width, params.height)?);
-            }
-        }
-        {
-            let mut frame = VolumeFrame {
-                zpass,
-                target_framebuffer: target,
-                counter,
-                state_override: self.volume_state_override,
-                // Re-borrow with a shorter trait-object lifetime (an Option blocks the
-                // automatic coercion).
-                hook: match hook.as_mut() {
-                    Some(h) => Some(&mut **h as &mut dyn StageHook),
-                    None => None,
-                },
-                ..view.volume_frame(params, light, light_index, method.name())
-            };
-            // Reason: light caps of casters the camera's near plane cuts are clipped at that
-            // plane before they are pushed to the far plane (methods/shared/depth.glsl): the
-            // counting methods' volume shaders write gl_ClipDistance[0] (a positive constant
-            // for everything but light caps). Not for Classification::Shader methods (shadow
-            // maps draw their own depth pass without clip distances), not on OpenGL ES (none).
-            let near_clip = method.classification() != Classification::Shader && !gl.version().is_embedded;
-            if near_clip {
-                // SAFETY: enabling a core capability on the current context.
-                unsafe { gl.enable(glow::CLIP_DISTANCE0) };
-            }
-            // Reason: z-pass counts only crossings between the eye and the sample, inside the
-            // scene box, so the volumes are clipped to it (GL_CLIP_DISTANCE1..6, planes in the
-            // UmbraSceneClip block, methods/shared/depth.glsl): their parts beyond the scene cost
-            // fill and binning and count nothing. The block is bound for every counting pass
-            // (the shaders read it whether or not the planes are enabled). Counting methods only:
-            // paper 002's all-edges-invert (parity, StencilTest) changed on 433 of 76,800 pixels
-            // of tests/render.rs's z-pass case with the clip, so it keeps its unclipped volumes.
-            let scene_clip = near_clip && zpass && counting && scene.bounds().is_some();
-            if near_clip {
-                self.bind_scene_clip(gl, view, scene.bounds(), scene_clip)?;
-            }
-            let drawn = method.draw_volumes(gl, scene, &mut frame);
-            if near_clip {
-                // SAFETY: as above; off again whatever the method returned.
-                unsafe {
-                    gl.disable(glow::CLIP_DISTANCE0);
-                    for i in 1..7 {
-                        gl.disable(glow::CLIP_DISTANCE0 + i);
-                    }
-                }
-            }
-            drawn?;
-        }
-        if let (Counter::Float32, Some(c)) = (counter, self.counter.as_ref()) {
-            c.resolve(gl, view.fb, params.width, params.height)?;
-        }
-        // The method may have bound other framebuffers (shadow maps) or changed the clip
-        // control for its own depth pass: re-bind ours, re-set the convention.
-        view.bind_target(gl);
-        self.set_depth_convention(gl, view.convention)?;
-        Ok(())
-    }
-
-    /// Pass 3, one light: adds its diffuse + specular where `method`'s classification says
-    /// "lit" (the stencil after [`Renderer::volume_pass`], or the method's shader) on the
-    /// surfaces whose depth is in the framebuffer (depth EQUAL, no depth writes, additive
-    /// blending). With `lit_mask` (a target with a lit-mask attachment) clears that mask
-    /// first, writes this light's decision into it and returns it read back.
-    #[allow(clippy::too_many_arguments)]
-    fn lighting_pass(
-        &mut self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        method: &mut dyn ShadowMethod,
-        params: &FrameParams,
-        view: &PassView,
-        own: Option<&RenderTarget>,
-        lit_mask: Option<&RenderTarget>,
-        light: Light,
-        light_index: usize,
-        hook: &mut Option<&mut dyn StageHook>,
-    ) -> Result<Option<LitMaskImage>, GlError> {
-        if let Some(t) = lit_mask {
-            // Reason: the clear obeys the colour write mask, which the method may have
-            // turned off; GL's default state has it on.
-            GlState::default().apply(gl);
-            t.clear_lit_mask(gl);
-        }
-
-        // ---- Pass 3: lighting where lit.
-        mark(hook, gl, "lighting", Some(light_index));
-        let classification = method.classification();
-        let one_per_pixel = StencilFace {
-            // Reason: lit where the count is 0 (or, for Shader classification, where no
-            // fragment of this light has been shaded yet: the method leaves the cleared 0).
-            func: glow::EQUAL,
-            reference: 0,
-            value_mask: 0xFF,
-            write_mask: 0xFF,
-            stencil_fail: glow::KEEP,
-            depth_fail: glow::KEEP,
-            // Reason: the first fragment shaded at a pixel bumps the stencil to 1, so a
-            // coplanar duplicate triangle at the same depth (common in soups) cannot add
-            // this light a second time. The stencil is cleared before the next light.
-            depth_pass: glow::INCR_WRAP,
-        };
-        let stencil_face = match classification {
-            Classification::StencilZero | Classification::Shader => one_per_pixel,
-            Classification::StencilTest { func, reference, value_mask } => StencilFace {
-                // Reason: the method's own "lit" test; its stencil encoding is unknown to
-                // us, so nothing is written (coplanar duplicates may add light twice).
-                func,
-                reference,
-                value_mask,
-                write_mask: 0,
-                stencil_fail: glow::KEEP,
-                depth_fail: glow::KEEP,
-                depth_pass: glow::KEEP,
-            },
-        };
-        if let Some(t) = own {
-            // Colour (and the lit mask when captured): pass 3 must not touch world
-            // position / triangle id.
-            t.set_draw_buffers(gl, TargetPass::Lighting { lit_mask: lit_mask.is_some() });
-        }
-        GlState {
-            // Reason: shade exactly the surface pass 1 left visible: the same invariant
-            // vertex shader gives bit-identical depths, EQUAL selects them (in either depth
-            // convention).
-            depth_test: true,
-            depth_func: glow::EQUAL,
-            // Reason: depth is final after pass 1.
-            depth_write: false,
-            // Reason: same clipping as pass 1, or depths could differ near the near plane.
-            depth_clamp: false,
-            stencil_test: true,
-            stencil_front: stencil_face,
-            stencil_back: stencil_face,
-            // Reason: alpha keeps pass 1's coverage value 1.
-            color_write: [true, true, true, false],
-            // Reason: two-sided surfaces, as in pass 1.
-            cull_face: None,
-            front_face: glow::CCW,
-            // Reason: each light adds its diffuse + specular onto ambient + earlier lights.
-            // On the R8 lit mask (draw buffer 3) the same blend is min(1, dst + src) with
-            // src in {0, 1}: an OR, so a second fragment of a pixel cannot clear the bit.
-            blend: Some(BlendState::ADDITIVE),
-            polygon_offset: None,
-        }
-        .apply(gl);
-        let p = self.lighting_program(gl, method)?;
-        // SAFETY: our program, the scene's VAO and normal SSBO; uniforms match the shader.
-        unsafe {
-            gl.use_program(Some(p.program));
-            gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &view.clip_f32);
-            gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
-            gl.uniform_3_f32_slice(p.u_light_color.as_ref(), &params.light_color);
-            gl.uniform_3_f32_slice(p.u_eye.as_ref(), &view.eye.map(|v| v as f32));
-            gl.uniform_3_f32_slice(p.u_albedo.as_ref(), &params.albedo);
-            gl.uniform_1_f32(p.u_specular.as_ref(), params.specular);
-            gl.uniform_1_f32(p.u_shininess.as_ref(), params.shininess);
-            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
-            gl.bind_vertex_array(Some(scene.vertex_array()));
-        }
-        if classification == Classification::Shader {
-            let program = p.program;
-            let frame = view.volume_frame(params, light, light_index, method.name());
-            method.bind_lighting(gl, program, &frame)?;
-        }
-        scene.draw_triangles(gl);
-        Ok(lit_mask.and_then(|t| t.read_lit_mask(gl)))
-    }
-
     /// Deletes programs and the offscreen target.
     pub fn destroy(mut self, gl: &glow::Context) {
         // SAFETY: our own objects, not used afterwards.
@@ -1526,135 +1044,5 @@ impl Renderer {
     /// [`FrameParams::auto_zpass`]) rather than z-fail.
     pub fn last_zpass(&self) -> &[bool] {
         &self.last_zpass
-    }
-
-    /// Draws `method`'s shadow volumes for `light` as a tinted wireframe over a frame already
-    /// in the caller's framebuffer (`target`, None = the default framebuffer) — a debugging
-    /// view (issue 9 §2, `umbra view`'s wireframe toggle). Call it after
-    /// [`Renderer::draw_frame`] (or [`Renderer::render`], on [`Renderer::target`]'s
-    /// framebuffer) with the same `params`: the volumes are tested against the frame's depth.
-    ///
-    /// What is drawn: every volume triangle the method draws for its counting (sides, light and
-    /// dark caps) rasterized as lines (glPolygonMode LINE), where the line lies strictly nearer
-    /// than the frame's depth (the counting pass's own depth test: the lines a viewer can see in
-    /// front of the surfaces; light caps pushed to the far plane never show). Colour =
-    /// `dst * tint` (glBlendFunc(ZERO, CONSTANT_COLOR), glBlendColor(tint)): the volume shaders
-    /// write only a single-channel count, so the blend ignores it; alpha is not written.
-    ///
-    /// **Framebuffer contents touched**: the colour of every enabled draw buffer (tinted where
-    /// a line passes; use a framebuffer with a single draw buffer, as for draw_frame) and the
-    /// stencil (cleared to 0; nothing is counted into it). Depth is not written. Always
-    /// counted with [`Counter::Stencil8`]'s geometry (the wide counter draws the same volumes
-    /// into its own target, which is not what is shown).
-    ///
-    /// **GL state**: as [`Renderer::count_shadows`], all restored, plus glPolygonMode and
-    /// glBlendColor.
-    ///
-    /// Methods without volumes ([`Classification::Shader`], the shadow maps) give
-    /// [`GlError::Unsupported`] and draw nothing. The wireframe state is applied at each of
-    /// the method's stage marks ([`VolumeFrame::mark`]), after the method set its counting
-    /// state: a method that applies its counting state after its last mark before a draw
-    /// draws that part invisibly (colour writes off). Measured on the sphere-over-ground
-    /// frame (tests/wireframe.rs): cpu-, vs- and cs-silhouette show sides and caps;
-    /// ts-silhouette sides only (the shared silhouette caps set their state after the "caps"
-    /// mark); gs-silhouette nothing on llvmpipe (its sides, emitted by a geometry shader,
-    /// are not drawn in line mode there; cause not found); the per-triangle methods draw
-    /// every triangle's volume (dense).
-    #[allow(clippy::too_many_arguments)]
-    pub fn draw_volume_wireframe(
-        &mut self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        method: &mut dyn ShadowMethod,
-        params: &FrameParams,
-        light: impl Into<Light>,
-        target: FrameTarget,
-        tint: [f32; 3],
-    ) -> Result<(), GlError> {
-        let light = light.into();
-        validate_view(params, &light)?;
-        if tint.iter().any(|v| !v.is_finite()) {
-            return Err(GlError::InvalidParams(format!("wireframe tint {tint:?} is not finite")));
-        }
-        if method.classification() == Classification::Shader {
-            return Err(GlError::Unsupported {
-                method: method.name(),
-                reason: "classifies in a shader (shadow map): it has no shadow volumes to draw as a wireframe".into(),
-            });
-        }
-        self.check_convention(params.depth_convention)?;
-        let saved = SavedState::capture(gl);
-        let bindings = MethodBindings::capture(gl);
-        let result = self.wireframe_on(gl, scene, method, params, light, target.framebuffer, tint);
-        bindings.restore(gl);
-        saved.restore(gl, &self.extra);
-        let checked = self.check_errors(gl, "draw_volume_wireframe");
-        result.and(checked)
-    }
-
-    /// The body of [`Renderer::draw_volume_wireframe`] (state saved by the caller).
-    #[allow(clippy::too_many_arguments)]
-    fn wireframe_on(
-        &mut self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        method: &mut dyn ShadowMethod,
-        params: &FrameParams,
-        light: Light,
-        fb: Option<glow::Framebuffer>,
-        tint: [f32; 3],
-    ) -> Result<(), GlError> {
-        // Reason: the wide counter would send the volumes into its own target; the geometry
-        // is the same with the stencil counter, and only the geometry is shown.
-        let params = FrameParams { counter: Counter::Stencil8, ..params.clone() };
-        let view = self.begin_on_target(gl, scene, method, &params, fb)?;
-        // SAFETY: plain state calls on the current context (restored by the caller's
-        // SavedState).
-        unsafe {
-            // Reason: the wireframe itself: volume triangles as their edges. No method sets
-            // the polygon mode, so it holds through the method's draws.
-            gl.polygon_mode(glow::FRONT_AND_BACK, glow::LINE);
-            // Reason: the blend below multiplies the frame by this tint (the volume shaders
-            // write no colour to blend with).
-            gl.blend_color(tint[0], tint[1], tint[2], 1.0);
-        }
-        let mut state = GlState::shadow_volume_for(false, view.convention);
-        // Reason: draw lines, do not count (the stencil holds nothing the frame still needs).
-        state.stencil_test = false;
-        // Reason: tint RGB; alpha keeps the frame's coverage.
-        state.color_write = [true, true, true, false];
-        // Reason: dst * tint, independent of the shader's single-channel count output.
-        state.blend = Some(BlendState {
-            src_rgb: glow::ZERO,
-            dst_rgb: glow::CONSTANT_COLOR,
-            src_alpha: glow::ZERO,
-            dst_alpha: glow::ONE,
-            equation_rgb: glow::FUNC_ADD,
-            equation_alpha: glow::FUNC_ADD,
-        });
-        // The depth test stays the counting state's (strictly nearer than the frame's depth,
-        // depth clamp on, no depth writes): only lines in front of the visible surfaces show.
-        // Every draw of the method takes this state (VolumeFrame::shadow_volume_state), as
-        // does the hook at each stage mark for a method that applies its own state after one.
-        self.volume_state_override = Some(state);
-        let mut wire = WireframeHook { state };
-        let mut hook: Option<&mut dyn StageHook> = Some(&mut wire);
-        let drawn = self.volume_pass(gl, scene, method, &params, &view, light, 0, &mut hook);
-        self.volume_state_override = None;
-        drawn
-    }
-}
-
-/// Applies the wireframe state at every stage mark of a method (after the method applied its
-/// counting state, before its draws); the renderer's own marks are left alone.
-struct WireframeHook {
-    state: GlState,
-}
-
-impl StageHook for WireframeHook {
-    fn mark(&mut self, gl: &glow::Context, mark: StageMark) {
-        if mark.source != "renderer" {
-            self.state.apply(gl);
-        }
     }
 }

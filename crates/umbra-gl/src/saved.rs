@@ -170,3 +170,86 @@ impl SavedState {
         }
     }
 }
+
+/// Bindings a shadow method may change on the context beyond [`SavedState`]'s list (its
+/// storage buffers, vertex and indirect buffers, patch size, the shadow map's texture unit),
+/// saved and restored around every call that runs a method on a caller's context.
+pub(crate) struct MethodBindings {
+    /// SHADER_STORAGE_BUFFER indexed bindings 1.. (binding 0 is in SavedState): buffer,
+    /// offset, size.
+    ssbo: Vec<(u32, i64, i64)>,
+    array_buffer: u32,
+    copy_read_buffer: u32,
+    draw_indirect_buffer: u32,
+    /// GL_DISPATCH_INDIRECT_BUFFER (hier-triangle's indirect compute dispatches).
+    dispatch_indirect_buffer: u32,
+    patch_vertices: i32,
+    active_texture: u32,
+    /// Unit 0 (the shadow map's MAP_UNIT, the wide counter's unit): 2D and cube-map textures.
+    texture_2d: u32,
+    texture_cube: u32,
+}
+
+/// Indexed storage-buffer bindings saved: 0 (in SavedState) up to this, exclusive; the
+/// methods use 1-7.
+const SAVED_SSBO_BINDINGS: u32 = 8;
+
+impl MethodBindings {
+    pub(crate) fn capture(gl: &glow::Context) -> Self {
+        // SAFETY: glGet* queries of core state on the current context; the active texture
+        // unit is switched to 0 for the two texture queries and set back.
+        unsafe {
+            let ssbo = (1..SAVED_SSBO_BINDINGS)
+                .map(|i| {
+                    (
+                        gl.get_parameter_indexed_i32(glow::SHADER_STORAGE_BUFFER_BINDING, i) as u32,
+                        gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, i),
+                        gl.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, i),
+                    )
+                })
+                .collect();
+            let active_texture = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;
+            gl.active_texture(glow::TEXTURE0);
+            let texture_2d = gl.get_parameter_i32(glow::TEXTURE_BINDING_2D) as u32;
+            let texture_cube = gl.get_parameter_i32(glow::TEXTURE_BINDING_CUBE_MAP) as u32;
+            gl.active_texture(active_texture);
+            Self {
+                ssbo,
+                array_buffer: gl.get_parameter_i32(glow::ARRAY_BUFFER_BINDING) as u32,
+                copy_read_buffer: gl.get_parameter_i32(glow::COPY_READ_BUFFER_BINDING) as u32,
+                draw_indirect_buffer: gl.get_parameter_i32(glow::DRAW_INDIRECT_BUFFER_BINDING) as u32,
+                dispatch_indirect_buffer: gl.get_parameter_i32(glow::DISPATCH_INDIRECT_BUFFER_BINDING) as u32,
+                patch_vertices: gl.get_parameter_i32(glow::PATCH_VERTICES),
+                active_texture,
+                texture_2d,
+                texture_cube,
+            }
+        }
+    }
+
+    pub(crate) fn restore(&self, gl: &glow::Context) {
+        let texture = |name: u32| std::num::NonZeroU32::new(name).map(glow::NativeTexture);
+        // SAFETY: re-binding names that were bound before (still alive: umbra deletes none of
+        // the caller's objects) and a patch size GL reported.
+        unsafe {
+            for (i, &(name, offset, size)) in (1..).zip(&self.ssbo) {
+                match buffer(name) {
+                    // A range binding with size 0 means the whole buffer was bound.
+                    Some(b) if size > 0 => {
+                        gl.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, i, Some(b), offset as i32, size as i32)
+                    }
+                    other => gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, i, other),
+                }
+            }
+            gl.bind_buffer(glow::ARRAY_BUFFER, buffer(self.array_buffer));
+            gl.bind_buffer(glow::COPY_READ_BUFFER, buffer(self.copy_read_buffer));
+            gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, buffer(self.draw_indirect_buffer));
+            gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, buffer(self.dispatch_indirect_buffer));
+            gl.patch_parameter_i32(glow::PATCH_VERTICES, self.patch_vertices);
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, texture(self.texture_2d));
+            gl.bind_texture(glow::TEXTURE_CUBE_MAP, texture(self.texture_cube));
+            gl.active_texture(self.active_texture);
+        }
+    }
+}

@@ -213,13 +213,14 @@ impl Host {
             assert!(ctx.extra().clip_control(glow::UPPER_LEFT, glow::NEGATIVE_ONE_TO_ONE), "glClipControl");
             gl.patch_parameter_i32(glow::PATCH_VERTICES, 7);
             let extra = self.buffers[2];
-            for binding in 0..6 {
+            for binding in 0..8 {
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, binding, Some(extra));
             }
             gl.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, 2, Some(extra), 64, 128);
             gl.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(self.buffers[0]));
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffers[1]));
             gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, Some(extra));
+            gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, Some(self.buffers[1]));
             gl.bind_buffer(glow::COPY_READ_BUFFER, Some(self.buffers[0]));
             // The z-pass scene box: uniform block binding 14 and clip distances 1..7.
             gl.bind_buffer_range(glow::UNIFORM_BUFFER, 14, Some(extra), 0, 128);
@@ -338,6 +339,7 @@ fn query_state(gl: &glow::Context) -> Vec<(String, Vec<i64>)> {
             ("ACTIVE_TEXTURE", glow::ACTIVE_TEXTURE, 1),
             ("ARRAY_BUFFER_BINDING", glow::ARRAY_BUFFER_BINDING, 1),
             ("DRAW_INDIRECT_BUFFER_BINDING", glow::DRAW_INDIRECT_BUFFER_BINDING, 1),
+            ("DISPATCH_INDIRECT_BUFFER_BINDING", glow::DISPATCH_INDIRECT_BUFFER_BINDING, 1),
             ("COPY_READ_BUFFER_BINDING", glow::COPY_READ_BUFFER_BINDING, 1),
             ("SHADER_STORAGE_BUFFER_BINDING", glow::SHADER_STORAGE_BUFFER_BINDING, 1),
             ("UNIFORM_BUFFER_BINDING", glow::UNIFORM_BUFFER_BINDING, 1),
@@ -354,7 +356,7 @@ fn query_state(gl: &glow::Context) -> Vec<(String, Vec<i64>)> {
         out.push(("DEPTH_RANGE".into(), range.iter().map(|f| i64::from(f.to_bits())).collect()));
         let offset = [glow::POLYGON_OFFSET_FACTOR, glow::POLYGON_OFFSET_UNITS].map(|p| gl.get_parameter_f32(p));
         out.push(("POLYGON_OFFSET".into(), offset.iter().map(|f| i64::from(f.to_bits())).collect()));
-        for i in 0..6 {
+        for i in 0..8 {
             out.push((
                 format!("SHADER_STORAGE_BUFFER_BINDING[{i}]"),
                 vec![

@@ -3,6 +3,9 @@
 //! method that must be exact ([`umbra_verify::must_be_exact`]) must have 0 mismatches outside
 //! the one-pixel shadow-boundary band against the CPU ray-traced reference.
 //!
+//! `UMBRA_TORTURE_METHODS=a,b` runs only those methods (while working on one); unset, every
+//! registered method runs.
+//!
 //! On failure the diff image (false shadow red, false light blue, band grey) and the method's
 //! shadow mask are written to target/test-output/torture/ (or $UMBRA_TEST_OUTPUT/torture),
 //! labelled with the GL renderer string.
@@ -99,7 +102,9 @@ fn run(case: Case) {
     let mut tsv = String::from(
         "method\tsamples\tshadowed_reference\tmismatches\tband_samples\tband_mismatches\tmismatches_outside_band\n",
     );
-    for &name in method_names() {
+    let only = std::env::var("UMBRA_TORTURE_METHODS").ok();
+    let selected = |name: &str| only.as_deref().is_none_or(|list| list.split(',').any(|m| m.trim() == name));
+    for &name in method_names().iter().filter(|n| selected(n)) {
         let mut method = create_method(name).expect("registered");
         let report = verify_method(gl, &mut renderer, &scene, method.as_mut(), &params, &view);
         method.destroy(gl);

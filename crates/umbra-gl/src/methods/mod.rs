@@ -37,6 +37,7 @@ pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod gs_silhouette;
 pub mod gs_triangle;
+pub mod hier_triangle;
 pub mod none;
 pub mod shadow_map;
 pub mod silhouette_caps;
@@ -123,6 +124,8 @@ pub struct VolumeFrame<'a> {
     /// Replaces the counting state for every draw of the pass (the renderer's volume wireframe:
     /// lines, colour, no stencil), `None` normally.
     pub(crate) state_override: Option<crate::GlState>,
+    /// See [`VolumeFrame::view_serial`].
+    pub(crate) view_serial: u64,
     pub(crate) source: &'static str,
     pub(crate) hook: Option<&'a mut dyn StageHook>,
 }
@@ -165,6 +168,16 @@ impl VolumeFrame<'_> {
             return state;
         }
         self.counter.shadow_volume_state(self.zpass, self.depth_convention)
+    }
+
+    /// Identifies the frame's visible samples (the depth buffer the method is called on): the
+    /// renderer hands out a new value whenever that depth may have changed since its previous
+    /// call — each frame of [`crate::Renderer::render`] / [`crate::Renderer::draw_frame`] (one
+    /// depth pass for all its lights), each [`crate::Renderer::count_shadows`] call (the
+    /// caller's depth). A method that derives data from the visible samples (hier-triangle's
+    /// sample hierarchy) may reuse it for every light with the same serial.
+    pub fn view_serial(&self) -> u64 {
+        self.view_serial
     }
 
     /// The counter of this volume pass.
@@ -212,6 +225,17 @@ pub trait ShadowMethod {
     /// (tests/auto_zpass.rs found one wrong pixel with ts-triangle), so they keep the strict test.
     fn silhouette_sides(&self) -> bool {
         false
+    }
+
+    /// True (the default) when the method rasterizes shadow volumes into the stencil (counting,
+    /// or its own stencil test): the renderer then chooses z-pass or z-fail (and the stencil's
+    /// start value `W0`), the wide counter and the clip planes for it. False for a method that
+    /// decides per sample some other way and writes its [`Classification::StencilZero`]
+    /// decision into the stencil itself (hier-triangle): the stencil is cleared to 0 and no
+    /// counting state, counter or clip plane is set up for it; it has no volumes to show as a
+    /// wireframe either.
+    fn fills_volumes(&self) -> bool {
+        true
     }
 
     /// How the lighting pass tests "lit".
@@ -269,6 +293,7 @@ pub fn method_names() -> &'static [&'static str] {
         gs_triangle::NAME,
         vs_triangle::NAME,
         all_edges_invert::NAME,
+        hier_triangle::NAME,
     ]
 }
 
@@ -288,6 +313,7 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
         gs_triangle::NAME => Ok(Box::new(gs_triangle::GsTriangle::new())),
         vs_triangle::NAME => Ok(Box::new(vs_triangle::VsTriangle::new())),
         all_edges_invert::NAME => Ok(Box::new(all_edges_invert::AllEdgesInvert::new())),
+        hier_triangle::NAME => Ok(Box::new(hier_triangle::HierTriangle::new())),
         n if n.starts_with(shadow_map::PREFIX) => shadow_map::ShadowMapCube::from_name(n)
             .map(|m| Box::new(m) as Box<dyn ShadowMethod>)
             .ok_or_else(|| UnknownMethod { name: n.to_string() }),
