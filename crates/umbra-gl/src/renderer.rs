@@ -47,7 +47,7 @@ use glam::DMat4;
 use glow::HasContext;
 use umbra_geom::Light;
 
-use crate::camera::{to_f32_cols, Camera, DepthConvention};
+use crate::camera::{to_f32_cols, Camera, DepthConvention, DepthConventionGl};
 use crate::counter::{Counter, FloatCounter};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
 use crate::extra::GlExtra;
@@ -58,6 +58,8 @@ use crate::saved::{buffer, SavedState};
 use crate::scene::{SceneGpu, NORMALS_BINDING};
 use crate::state::{BlendState, GlState, StencilFace};
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
+use umbra_geom::camera::near_pyramid_points;
+use umbra_geom::clearance::scene_clip_box;
 
 const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
@@ -452,50 +454,6 @@ pub struct Renderer {
 /// Binding point of the uniform block `UmbraSceneClip` (methods/shared/depth.glsl).
 pub const SCENE_CLIP_BINDING: u32 = 14;
 
-/// The box the z-pass volumes are clipped to: the scene's triangles and the eye, enlarged by
-/// 1 % of its diagonal (plus 1e-6 of its largest coordinate) so that rounding at its planes
-/// lies far from every sample. As six world planes `(n, d)`, `n . X + d W >= 0` inside.
-fn scene_clip_box(bounds: umbra_geom::Aabb, eye: [f64; 3]) -> [[f64; 4]; 6] {
-    let mut lo = bounds.min.map(f64::from);
-    let mut hi = bounds.max.map(f64::from);
-    for a in 0..3 {
-        lo[a] = lo[a].min(eye[a]);
-        hi[a] = hi[a].max(eye[a]);
-    }
-    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
-    let big = lo.iter().chain(hi.iter()).fold(0.0f64, |m, c| m.max(c.abs()));
-    let margin = 0.01 * diag + 1e-6 * big + 1e-6;
-    [
-        [1.0, 0.0, 0.0, -(lo[0] - margin)],
-        [0.0, 1.0, 0.0, -(lo[1] - margin)],
-        [0.0, 0.0, 1.0, -(lo[2] - margin)],
-        [-1.0, 0.0, 0.0, hi[0] + margin],
-        [0.0, -1.0, 0.0, hi[1] + margin],
-        [0.0, 0.0, -1.0, hi[2] + margin],
-    ]
-}
-
-/// The eye and the corners of the near-plane rectangle (pushed 2 % outwards from its centre),
-/// world space: the points whose hull with the light must be clear for z-pass.
-fn near_pyramid_points(world_from_clip: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
-    // Near plane in NDC: z = -1 (standard, [-1, 1] depth), z = 1 (reversed-Z, ZERO_TO_ONE).
-    let z = match convention {
-        DepthConvention::Standard => -1.0,
-        DepthConvention::ReversedZ => 1.0,
-    };
-    let corners: Vec<[f64; 3]> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-        .iter()
-        .map(|&(x, y)| {
-            let p = world_from_clip * glam::DVec4::new(x, y, z, 1.0);
-            [p.x / p.w, p.y / p.w, p.z / p.w]
-        })
-        .collect();
-    let mid: [f64; 3] = std::array::from_fn(|a| corners.iter().map(|c| c[a]).sum::<f64>() / 4.0);
-    let mut points = vec![eye];
-    points.extend(corners.iter().map(|c| std::array::from_fn(|a| mid[a] + 1.02 * (c[a] - mid[a]))));
-    points
-}
-
 /// Entry points through EGL when the current context is an EGL context (then
 /// eglGetProcAddress is valid for it); empty otherwise (no EGL, or another window system).
 fn extra_from_current_egl() -> GlExtra {
@@ -548,13 +506,7 @@ fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
 
 /// Light `i`: finite, w = 0 or 1, a directional light has a direction.
 fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
-    if l.iter().any(|v| !v.is_finite()) || !(l[3] == 0.0 || l[3] == 1.0) {
-        return Err(GlError::InvalidParams(format!("light {i} = {l:?}: expected finite xyz and w = 0 or 1")));
-    }
-    if l[3] == 0.0 && l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0 {
-        return Err(GlError::InvalidParams(format!("light {i} is directional with a zero direction")));
-    }
-    Ok(())
+    umbra_geom::check_light(i, l).map_err(|e| GlError::InvalidParams(e.to_string()))
 }
 
 /// Colours and shading parameters are finite.

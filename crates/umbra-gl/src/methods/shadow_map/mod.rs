@@ -51,6 +51,7 @@ use glam::{DMat4, DVec3, DVec4};
 use glow::HasContext;
 use umbra_geom::{Aabb, Light};
 
+use crate::camera::DepthConventionGl;
 use crate::error::{drain_get_error, GlError};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
