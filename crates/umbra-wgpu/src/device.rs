@@ -78,7 +78,21 @@ impl HeadlessGpu {
     pub fn new() -> Result<Self, WgpuError> {
         let descriptor =
             wgpu::InstanceDescriptor { backends: backends(), ..wgpu::InstanceDescriptor::new_without_display_handle() };
-        let instance = wgpu::Instance::new(descriptor.with_env());
+        Self::with_instance(descriptor.with_env())
+    }
+
+    /// As [`HeadlessGpu::new`] with exactly `backends` (no environment override).
+    pub fn with_backends(backends: wgpu::Backends) -> Result<Self, WgpuError> {
+        Self::with_instance(wgpu::InstanceDescriptor {
+            backends,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        })
+    }
+
+    fn with_instance(descriptor: wgpu::InstanceDescriptor) -> Result<Self, WgpuError> {
+        let named: Vec<&str> = descriptor.backends.iter_names().map(|(name, _)| name).collect();
+        let named = if named.is_empty() { "no".to_string() } else { named.join("/") };
+        let instance = wgpu::Instance::new(descriptor);
         let options = wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
@@ -86,7 +100,7 @@ impl HeadlessGpu {
             ..Default::default()
         };
         let adapter = pollster::block_on(instance.request_adapter(&options)).map_err(|e| WgpuError::NoAdapter {
-            backends: "Vulkan/Metal/DX12".into(),
+            backends: named,
             detail: e.to_string(),
             install: INSTALL_HINT,
         })?;

@@ -49,30 +49,40 @@ impl Readback {
 
     /// The texels, unpadded, top row first (after the submission that holds the copy).
     pub fn read<T: bytemuck::Pod>(&self, device: &wgpu::Device) -> Result<Vec<T>, WgpuError> {
-        let slice = self.buffer.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sender.send(r);
-        });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| WgpuError::Readback { what: self.what, detail: e.to_string() })?;
-        match receiver.recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(WgpuError::Readback { what: self.what, detail: e.to_string() }),
-            Err(e) => return Err(WgpuError::Readback { what: self.what, detail: e.to_string() }),
-        }
+        let padded: Vec<u8> = read_buffer(device, &self.buffer, self.what)?;
         let row = (self.width * self.texel_bytes) as usize;
         let mut bytes = Vec::with_capacity(row * self.height as usize);
-        {
-            let data =
-                slice.get_mapped_range().map_err(|e| WgpuError::Readback { what: self.what, detail: e.to_string() })?;
-            for r in 0..self.height as usize {
-                let start = r * self.padded_row as usize;
-                bytes.extend_from_slice(&data[start..start + row]);
-            }
+        for r in 0..self.height as usize {
+            let start = r * self.padded_row as usize;
+            bytes.extend_from_slice(&padded[start..start + row]);
         }
-        self.buffer.unmap();
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
+}
+
+/// The whole of `buffer` (MAP_READ, after the submission that wrote it).
+pub(crate) fn read_buffer<T: bytemuck::Pod>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    what: &'static str,
+) -> Result<Vec<T>, WgpuError> {
+    let slice = buffer.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = sender.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| WgpuError::Readback { what, detail: e.to_string() })?;
+    match receiver.recv() {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return Err(WgpuError::Readback { what, detail: e.to_string() }),
+        Err(e) => return Err(WgpuError::Readback { what, detail: e.to_string() }),
+    }
+    let out = {
+        let data = slice.get_mapped_range().map_err(|e| WgpuError::Readback { what, detail: e.to_string() })?;
+        bytemuck::pod_collect_to_vec(&data)
+    };
+    buffer.unmap();
+    Ok(out)
 }

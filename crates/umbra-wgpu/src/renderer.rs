@@ -533,7 +533,9 @@ impl Renderer {
         }
         let mut lit_masks = Vec::new();
         for (light, r) in &pending.lit_masks {
-            lit_masks.push(LitMask { light: *light, image: Image { width: w, height: h, pixels: r.read(device)? } });
+            // The R8Unorm attachment holds 255 where lit: 1 and 0 as umbra-gl's lit masks.
+            let pixels = r.read::<u8>(device)?.into_iter().map(|v| u8::from(v != 0)).collect();
+            lit_masks.push(LitMask { light: *light, image: Image { width: w, height: h, pixels } });
         }
         Ok(FrameImages {
             rgba: Image { width: w, height: h, pixels: rgba },

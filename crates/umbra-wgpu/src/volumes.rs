@@ -554,6 +554,31 @@ impl ShadowVolumes {
         }
     }
 
+    /// The side and cap vertex counts the GPU decided for light `light` in the last frame
+    /// (methods that compact their volume on the GPU, `cs-silhouette`; `None` for the others):
+    /// a readback that waits for the GPU, for tests and statistics.
+    pub fn gpu_counts(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        light: usize,
+    ) -> Result<Option<(u32, u32)>, WgpuError> {
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("umbra volume counts"),
+            size: 32,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("umbra counts") });
+        if !self.method.copy_counts(&mut encoder, light, &readback) {
+            return Ok(None);
+        }
+        queue.submit([encoder.finish()]);
+        let words: Vec<u32> = crate::readback::read_buffer(device, &readback, "volume counts")?;
+        Ok(Some((words[0], words[4])))
+    }
+
     /// The stencil test of "lit" after [`ShadowVolumes::draw`]: `Equal` against reference 0
     /// (set `pass.set_stencil_reference(0)`), nothing written.
     pub fn lit_stencil_test() -> wgpu::StencilFaceState {

@@ -245,15 +245,6 @@ impl CsSilhouette {
             buffers_group(device, "cs-silhouette draw", &self.draw_layout, &[scene.position_buffer(), &quads, &caps]);
         Ok(PerLight { orientation, sides_command, caps_command, quads, caps, orient_group, sides_group, draw_group })
     }
-
-    /// The GPU's side and cap vertex counts of light `slot` (for tests and statistics): copies
-    /// the two commands into `readback` (16 + 16 bytes, MAP_READ | COPY_DST) in `encoder`.
-    pub fn copy_counts(&self, encoder: &mut wgpu::CommandEncoder, slot: usize, readback: &wgpu::Buffer) {
-        if let Some(l) = self.lights.get(slot) {
-            encoder.copy_buffer_to_buffer(&l.sides_command, 0, readback, 0, COMMAND_BYTES);
-            encoder.copy_buffer_to_buffer(&l.caps_command, 0, readback, COMMAND_BYTES, COMMAND_BYTES);
-        }
-    }
 }
 
 impl Method for CsSilhouette {
@@ -344,6 +335,13 @@ impl Method for CsSilhouette {
             pass.set_pipeline(&self.draw_caps);
             pass.draw_indirect(&l.caps_command, 0);
         }
+    }
+
+    fn copy_counts(&self, encoder: &mut wgpu::CommandEncoder, slot: usize, readback: &wgpu::Buffer) -> bool {
+        let Some(l) = self.lights.get(slot) else { return false };
+        encoder.copy_buffer_to_buffer(&l.sides_command, 0, readback, 0, COMMAND_BYTES);
+        encoder.copy_buffer_to_buffer(&l.caps_command, 0, readback, COMMAND_BYTES, COMMAND_BYTES);
+        true
     }
 
     fn gpu_bytes(&self) -> u64 {

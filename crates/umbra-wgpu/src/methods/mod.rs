@@ -11,6 +11,7 @@ use crate::error::WgpuError;
 use crate::scene::{SceneGpu, SceneId};
 use crate::volumes::{Common, LightPlan, LightSlot};
 
+pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod none;
 
@@ -64,17 +65,24 @@ pub(crate) trait Method {
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, common: &Common, slot: usize, plan: LightPlan);
     /// Bytes of GPU memory the method holds.
     fn gpu_bytes(&self) -> u64;
+    /// Records a copy of light `slot`'s side and cap vertex counts, as the GPU decided them,
+    /// into `readback` (32 bytes, two draw-indirect commands); false for methods whose counts
+    /// the CPU knows.
+    fn copy_counts(&self, _encoder: &mut wgpu::CommandEncoder, _slot: usize, _readback: &wgpu::Buffer) -> bool {
+        false
+    }
 }
 
 /// Every method of the wgpu backend, in a stable order (umbra-gl's names).
 pub fn method_names() -> &'static [&'static str] {
-    &[none::NAME, cs_silhouette::NAME]
+    &[none::NAME, cpu_silhouette::NAME, cs_silhouette::NAME]
 }
 
 /// Builds a method by registry name for the pass formats of `common`.
 pub(crate) fn create_method(device: &wgpu::Device, common: &Common, name: &str) -> Result<Box<dyn Method>, WgpuError> {
     match name {
         none::NAME => Ok(Box::new(none::NoShadows::default())),
+        cpu_silhouette::NAME => Ok(Box::new(cpu_silhouette::CpuSilhouette::new(device, common))),
         cs_silhouette::NAME => Ok(Box::new(cs_silhouette::CsSilhouette::new(device, common))),
         _ => Err(WgpuError::UnknownMethod { name: name.to_string(), known: method_names().join(", ") }),
     }
