@@ -14,6 +14,7 @@ use crate::volumes::{Common, LightPlan, LightSlot};
 pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod none;
+pub mod vs_silhouette;
 
 /// What a method's draw leaves in the stencil.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,7 +76,7 @@ pub(crate) trait Method {
 
 /// Every method of the wgpu backend, in a stable order (umbra-gl's names).
 pub fn method_names() -> &'static [&'static str] {
-    &[none::NAME, cpu_silhouette::NAME, cs_silhouette::NAME]
+    &[none::NAME, cpu_silhouette::NAME, vs_silhouette::NAME, cs_silhouette::NAME]
 }
 
 /// Builds a method by registry name for the pass formats of `common`.
@@ -83,6 +84,7 @@ pub(crate) fn create_method(device: &wgpu::Device, common: &Common, name: &str) 
     match name {
         none::NAME => Ok(Box::new(none::NoShadows::default())),
         cpu_silhouette::NAME => Ok(Box::new(cpu_silhouette::CpuSilhouette::new(device, common))),
+        vs_silhouette::NAME => Ok(Box::new(vs_silhouette::VsSilhouette::new(device, common))),
         cs_silhouette::NAME => Ok(Box::new(cs_silhouette::CsSilhouette::new(device, common))),
         _ => Err(WgpuError::UnknownMethod { name: name.to_string(), known: method_names().join(", ") }),
     }
