@@ -9,6 +9,7 @@
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
 //! * [`camera`]: the infinite-far camera and its depth conventions, shared by every backend.
+//! * [`shadow_map`]: the cube and directional shadow-map matrices of the shadow-map baseline.
 //!
 //! # Examples
 //!
@@ -94,6 +95,7 @@ pub mod mesh;
 pub mod multiplicity;
 pub mod order;
 pub mod scene;
+pub mod shadow_map;
 pub mod sides_data;
 pub mod silhouette;
 pub mod vec3;
