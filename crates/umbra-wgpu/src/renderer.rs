@@ -279,6 +279,15 @@ impl Renderer {
         ShadowVolumes::new(device, &self.volume_formats(), 1, method)
     }
 
+    /// A shadow map with explicit options (bias, PCF) for this renderer's passes.
+    pub fn shadow_map(
+        &self,
+        device: &wgpu::Device,
+        config: crate::methods::shadow_map::ShadowMapConfig,
+    ) -> Result<ShadowVolumes, WgpuError> {
+        ShadowVolumes::shadow_map(device, &self.volume_formats(), 1, config)
+    }
+
     /// Compiles the scene pipelines. The device needs [`crate::device::frame_features`].
     pub fn new(device: &wgpu::Device) -> Result<Self, WgpuError> {
         crate::device::check_features(

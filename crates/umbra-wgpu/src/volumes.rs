@@ -423,6 +423,15 @@ impl ShadowVolumes {
         sample_count: u32,
         method: &str,
     ) -> Result<Self, WgpuError> {
+        Self::with_method(device, formats, sample_count, |device, common| create_method(device, common, method))
+    }
+
+    fn with_method(
+        device: &wgpu::Device,
+        formats: &PassFormats,
+        sample_count: u32,
+        make: impl FnOnce(&wgpu::Device, &Common) -> Result<Box<dyn Method>, WgpuError>,
+    ) -> Result<Self, WgpuError> {
         crate::device::check_features(
             "the caller's device",
             device.features(),
@@ -440,8 +449,20 @@ impl ShadowVolumes {
         }
         scoped(device, "ShadowVolumes::new", || {
             let common = Common::new(device, formats.clone(), sample_count);
-            let method = create_method(device, &common, method)?;
+            let method = make(device, &common)?;
             Ok(Self { method, common, plans: Vec::new() })
+        })
+    }
+
+    /// A `shadow-map-cube` with explicit options (bias, PCF), for passes of `formats`.
+    pub fn shadow_map(
+        device: &wgpu::Device,
+        formats: &PassFormats,
+        sample_count: u32,
+        config: crate::methods::shadow_map::ShadowMapConfig,
+    ) -> Result<Self, WgpuError> {
+        Self::with_method(device, formats, sample_count, |device, common| {
+            crate::methods::create_shadow_map(device, common, config)
         })
     }
 
