@@ -8,6 +8,8 @@
 //! * [`order`]: the strict vertex order of paper 001, Eq. 1 / Alg. 2.
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
+//! * [`camera`]: the infinite-far camera and its depth conventions, shared by every backend.
+//! * [`shadow_map`]: the cube and directional shadow-map matrices of the shadow-map baseline.
 //!
 //! # Examples
 //!
@@ -86,12 +88,14 @@
 #![warn(missing_docs)]
 
 pub mod adjacency;
+pub mod camera;
 pub mod clearance;
 pub mod load;
 pub mod mesh;
 pub mod multiplicity;
 pub mod order;
 pub mod scene;
+pub mod shadow_map;
 pub mod sides_data;
 pub mod silhouette;
 pub mod vec3;
@@ -105,3 +109,34 @@ pub use weld::WeldedMesh;
 /// A light in homogeneous world coordinates: `w = 1` a point light at `(x, y, z)`,
 /// `w = 0` a directional light shining *from* direction `(x, y, z)` (towards `-(x, y, z)`).
 pub type Light = [f32; 4];
+
+/// A light a frame cannot use ([`check_light`]); the message names the light and the problem.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidLight(pub String);
+
+/// Light `index` of a frame: finite, `w` = 0 or 1, and a directional light has a direction.
+pub fn check_light(index: usize, l: &Light) -> Result<(), InvalidLight> {
+    if l.iter().any(|v| !v.is_finite()) || !(l[3] == 0.0 || l[3] == 1.0) {
+        return Err(InvalidLight(format!("light {index} = {l:?}: expected finite xyz and w = 0 or 1")));
+    }
+    if l[3] == 0.0 && l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0 {
+        return Err(InvalidLight(format!("light {index} is directional with a zero direction")));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn check_light_names_the_bad_light() {
+        assert!(check_light(0, &[1.0, 2.0, 3.0, 1.0]).is_ok());
+        assert!(check_light(0, &[0.0, 1.0, 0.0, 0.0]).is_ok());
+        let e = check_light(2, &[0.0, 0.0, 0.0, 0.0]).unwrap_err();
+        assert_eq!(e.to_string(), "light 2 is directional with a zero direction");
+        assert!(check_light(1, &[0.0, f32::NAN, 0.0, 1.0]).unwrap_err().to_string().starts_with("light 1 = "));
+        assert!(check_light(0, &[0.0, 1.0, 0.0, 2.0]).is_err(), "w must be 0 or 1");
+    }
+}

@@ -66,3 +66,18 @@ impl Mesh {
         self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
     }
 }
+
+/// Unit normal of triangle `t` (counter-clockwise = front), computed in f64; zero for a
+/// zero-area triangle.
+pub fn flat_normal(p: &[[f32; 3]], t: [u32; 3]) -> [f32; 3] {
+    let [a, b, c] = t.map(|i| p[i as usize].map(f64::from));
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len > 0.0 && len.is_finite() {
+        n.map(|x| (x / len) as f32)
+    } else {
+        [0.0; 3]
+    }
+}

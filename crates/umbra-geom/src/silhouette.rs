@@ -710,6 +710,13 @@ impl TriangleSlots {
         Ok(Self { slots })
     }
 
+    /// The slots, parallel to [`EdgeAdjacency::opposites`]: `t << 1 | against` for the
+    /// triangle `t` behind each, `against` = 1 when it runs `B → A` along the edge `A → B`
+    /// (for GPU methods that sum orientations per edge, e.g. umbra-wgpu's).
+    pub fn slots(&self) -> &[u32] {
+        &self.slots
+    }
+
     /// Whether these slots fit `adj` (same number of slots).
     pub fn fits(&self, adj: &EdgeAdjacency) -> bool {
         self.slots.len() == adj.opposites.len()

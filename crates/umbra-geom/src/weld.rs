@@ -15,7 +15,7 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::Mesh;
+use crate::mesh::{Aabb, Mesh};
 
 /// A welded mesh: every position occurs once, every triangle has three distinct vertices.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -120,6 +120,17 @@ impl WeldedMesh {
     pub fn from_mesh(mesh: &Mesh) -> Self {
         weld(mesh)
     }
+}
+
+/// Bounds of the vertices the triangles use (what the GPU scenes of umbra-gl and umbra-wgpu report as their bounds); `None`
+/// without triangles.
+pub fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
+    let mut it = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]);
+    let first = it.next()?;
+    Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
+        min: [0, 1, 2].map(|k| b.min[k].min(p[k])),
+        max: [0, 1, 2].map(|k| b.max[k].max(p[k])),
+    }))
 }
 
 #[cfg(test)]

@@ -82,6 +82,13 @@ pub enum GlError {
     },
 }
 
+impl From<crate::camera::CameraError> for GlError {
+    /// A camera that defines no view is an invalid parameter of the frame.
+    fn from(e: crate::camera::CameraError) -> Self {
+        GlError::InvalidParams(e.0)
+    }
+}
+
 /// Shared, thread-safe list of GL error messages, filled by the synchronous KHR_debug
 /// callback that [`GlErrorLog::install`] sets up, drained with [`GlErrorLog::take`].
 ///

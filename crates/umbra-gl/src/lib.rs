@@ -6,7 +6,8 @@
 //! * [`extra`]: entry points glow 0.18 lacks (glClipControl, multi-draw indirect).
 //! * [`state`]: [`GlState`], the full fixed-function state of one draw, applied explicitly.
 //! * [`camera`]: look-at + infinite-far perspective (Everitt & Kilgard 2002), standard or
-//!   reversed-Z ([`DepthConvention`], reversed-Z with float depth by default).
+//!   reversed-Z ([`DepthConvention`], reversed-Z with float depth by default); shared with
+//!   umbra-wgpu through [`umbra_geom::camera`], with the GL enums in [`DepthConventionGl`].
 //! * [`scene`]: [`SceneGpu`], a welded mesh uploaded once.
 //! * [`target`]: [`RenderTarget`] and readback helpers (top row first).
 //! * [`renderer`]: the frame: depth + ambient, per light stencil volumes + additive lighting,
@@ -38,7 +39,7 @@ pub mod state;
 pub mod target;
 pub mod timing;
 
-pub use camera::{Camera, DepthConvention};
+pub use camera::{Camera, DepthConvention, DepthConventionGl};
 pub use context::{ContextError, ContextOptions, GlApi, HeadlessContext};
 pub use error::{GlError, GlErrorLog};
 pub use extra::GlExtra;

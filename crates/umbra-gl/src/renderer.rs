@@ -53,7 +53,7 @@ mod wireframe;
 
 use lighting::{LightingProgram, LitPass};
 
-use crate::camera::{to_f32_cols, Camera, DepthConvention};
+use crate::camera::{to_f32_cols, Camera, DepthConvention, DepthConventionGl};
 use crate::counter::{Counter, FloatCounter};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
 use crate::extra::GlExtra;
@@ -64,6 +64,7 @@ use crate::saved::{MethodBindings, SavedState};
 use crate::scene::SceneGpu;
 use crate::state::{GlState, StencilFace};
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
+use umbra_geom::camera::near_pyramid_points;
 
 pub(crate) const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
@@ -340,27 +341,6 @@ pub struct Renderer {
 /// Binding point of the uniform block `UmbraSceneClip` (methods/shared/depth.glsl).
 pub const SCENE_CLIP_BINDING: u32 = 14;
 
-/// The eye and the corners of the near-plane rectangle (pushed 2 % outwards from its centre),
-/// world space: the points whose hull with the light must be clear for z-pass.
-fn near_pyramid_points(world_from_clip: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
-    // Near plane in NDC: z = -1 (standard, [-1, 1] depth), z = 1 (reversed-Z, ZERO_TO_ONE).
-    let z = match convention {
-        DepthConvention::Standard => -1.0,
-        DepthConvention::ReversedZ => 1.0,
-    };
-    let corners: Vec<[f64; 3]> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-        .iter()
-        .map(|&(x, y)| {
-            let p = world_from_clip * glam::DVec4::new(x, y, z, 1.0);
-            [p.x / p.w, p.y / p.w, p.z / p.w]
-        })
-        .collect();
-    let mid: [f64; 3] = std::array::from_fn(|a| corners.iter().map(|c| c[a]).sum::<f64>() / 4.0);
-    let mut points = vec![eye];
-    points.extend(corners.iter().map(|c| std::array::from_fn(|a| mid[a] + 1.02 * (c[a] - mid[a]))));
-    points
-}
-
 /// Entry points through EGL when the current context is an EGL context (then
 /// eglGetProcAddress is valid for it); empty otherwise (no EGL, or another window system).
 fn extra_from_current_egl() -> GlExtra {
@@ -413,13 +393,7 @@ fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
 
 /// Light `i`: finite, w = 0 or 1, a directional light has a direction.
 fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
-    if l.iter().any(|v| !v.is_finite()) || !(l[3] == 0.0 || l[3] == 1.0) {
-        return Err(GlError::InvalidParams(format!("light {i} = {l:?}: expected finite xyz and w = 0 or 1")));
-    }
-    if l[3] == 0.0 && l[0] == 0.0 && l[1] == 0.0 && l[2] == 0.0 {
-        return Err(GlError::InvalidParams(format!("light {i} is directional with a zero direction")));
-    }
-    Ok(())
+    umbra_geom::check_light(i, l).map_err(|e| GlError::InvalidParams(e.to_string()))
 }
 
 /// Colours and shading parameters are finite.

@@ -19,6 +19,10 @@ use glow::HasContext;
 use umbra_geom::clearance::ClearanceIndex;
 use umbra_geom::{Aabb, EdgeAdjacency, WeldedMesh};
 
+/// Moved to umbra-geom (shared with umbra-wgpu); re-exported under their old paths.
+pub use umbra_geom::mesh::flat_normal;
+pub use umbra_geom::weld::triangle_bounds;
+
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
 
@@ -47,21 +51,6 @@ pub struct SceneGpu {
     gpu_bytes: usize,
 }
 
-/// Unit normal of triangle `t` (counter-clockwise = front), computed in f64; zero for a
-/// zero-area triangle.
-pub fn flat_normal(p: &[[f32; 3]], t: [u32; 3]) -> [f32; 3] {
-    let [a, b, c] = t.map(|i| p[i as usize].map(f64::from));
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
-    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-    if len > 0.0 && len.is_finite() {
-        n.map(|x| (x / len) as f32)
-    } else {
-        [0.0; 3]
-    }
-}
-
 fn as_bytes<T: Copy>(v: &[T]) -> &[u8] {
     // SAFETY: T is a plain array of f32/u32 (no padding, every bit pattern valid as bytes);
     // the slice covers exactly size_of_val(v) initialised bytes.
@@ -72,17 +61,6 @@ pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlEr
     i32::try_from(bytes).map_err(|_| {
         GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)"))
     })
-}
-
-/// Bounds of the vertices the triangles use (what [`SceneGpu::bounds`] reports); `None`
-/// without triangles.
-pub fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
-    let mut it = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]);
-    let first = it.next()?;
-    Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
-        min: [0, 1, 2].map(|k| b.min[k].min(p[k])),
-        max: [0, 1, 2].map(|k| b.max[k].max(p[k])),
-    }))
 }
 
 impl SceneGpu {

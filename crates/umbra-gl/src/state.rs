@@ -10,7 +10,7 @@
 
 use glow::HasContext;
 
-use crate::camera::DepthConvention;
+use crate::camera::{DepthConvention, DepthConventionGl};
 
 /// One face's stencil function and operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -24,8 +24,8 @@ use umbra_gl::glow::{self, HasContext};
 use umbra_gl::program::{link_program, uniform, ShaderSource};
 use umbra_gl::{
     camera::to_f32_cols, create_method, read_rgba8, read_stencil, CaptureFlags, Classification, DepthConvention,
-    FrameParams, FrameTarget, GlError, HeadlessContext, Image, LightCapture, Renderer, SceneGpu, ShadowMethod,
-    NO_TRIANGLE,
+    DepthConventionGl, FrameParams, FrameTarget, GlError, HeadlessContext, Image, LightCapture, Renderer, SceneGpu,
+    ShadowMethod, NO_TRIANGLE,
 };
 
 /// The host's vertex shader: the position expression of umbra's scene shader, `invariant`

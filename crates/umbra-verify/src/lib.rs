@@ -17,15 +17,23 @@
 //! where the seen side faces away from the light its value does not matter, and near-edge-on
 //! surfaces make it unreliable while the image is right. The stencil-based count is still
 //! reported for stencil-classified methods ([`MethodReport::stencil_metrics`]), for diagnosis.
+//!
+//! Two backends, one comparison: [`view_reference`] / [`verify_method`] run umbra-gl, the
+//! [`mod@wgpu`] module runs umbra-wgpu; both end in [`reference_from_samples`] and
+//! [`compare_decisions`].
 
 use std::sync::Arc;
 use std::time::Instant;
 
+use umbra_geom::camera::Camera;
 use umbra_geom::weld::WeldedMesh;
+use umbra_geom::Light;
 use umbra_gl::glow;
 use umbra_gl::{
     create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
 };
+
+pub mod wgpu;
 use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Reference, Samples};
 
 /// Why a verification could not run (not: a method that failed it).
@@ -33,6 +41,8 @@ use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Referen
 pub enum VerifyError {
     #[error("GL: {0}")]
     Gl(String),
+    #[error("wgpu: {0}")]
+    Wgpu(String),
     #[error("reference: {0}")]
     Oracle(#[from] umbra_oracle::OracleError),
     #[error("method {method}: {message}")]
@@ -132,11 +142,6 @@ pub fn view_reference(
     scene: &SceneGpu,
     params: &FrameParams,
 ) -> Result<ViewReference, VerifyError> {
-    let mesh: &Arc<WeldedMesh> = scene.mesh();
-    let start = Instant::now();
-    let bvh = Bvh::build(&mesh.positions, &mesh.triangles)?;
-    let bvh_ms = ms(start);
-
     let mut p = params.clone();
     p.capture.world_pos = true;
     p.capture.triangle_id = true;
@@ -151,28 +156,54 @@ pub fn view_reference(
     };
     let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
     let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
-    let samples = Samples { width: params.width, height: params.height, world_pos: &world_pos, triangle: &triangle };
-    let eye = params.camera.eye.map(|c| c as f32);
+    reference_from_samples(
+        scene.mesh(),
+        &params.camera,
+        params.width,
+        params.height,
+        &params.lights,
+        world_pos,
+        triangle,
+    )
+}
+
+/// The backend-neutral half of [`view_reference`]: the reference for every light of a view
+/// whose samples a backend rasterized (`world_pos` and `triangle` row-major, top row first,
+/// `u32::MAX` = background) with `camera` at `width x height`.
+pub fn reference_from_samples(
+    mesh: &Arc<WeldedMesh>,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    lights: &[Light],
+    world_pos: Vec<[f32; 3]>,
+    triangle: Vec<u32>,
+) -> Result<ViewReference, VerifyError> {
+    let start = Instant::now();
+    let bvh = Bvh::build(&mesh.positions, &mesh.triangles)?;
+    let bvh_ms = ms(start);
+    let samples = Samples { width, height, world_pos: &world_pos, triangle: &triangle };
+    let eye = camera.eye.map(|c| c as f32);
     // The renderer's own projection (x, y and w do not depend on the depth convention).
-    let aspect = params.width as f64 / params.height.max(1) as f64;
-    let raster = RasterView { clip_from_world: params.camera.clip_from_world(aspect).to_cols_array() };
-    let mut lights = Vec::new();
-    for (i, &light) in params.lights.iter().enumerate() {
+    let aspect = width as f64 / height.max(1) as f64;
+    let raster = RasterView { clip_from_world: camera.clip_from_world(aspect).to_cols_array() };
+    let mut references = Vec::new();
+    for (i, &light) in lights.iter().enumerate() {
         let start = Instant::now();
         let reference = reference_in_view(mesh, &bvh, &samples, light, eye, Some(&raster))?;
-        lights.push(LightReference { light: i, reference, reference_ms: ms(start) });
+        references.push(LightReference { light: i, reference, reference_ms: ms(start) });
     }
     Ok(ViewReference {
-        width: params.width,
-        height: params.height,
-        lights,
+        width,
+        height,
+        lights: references,
         bvh_ms,
         world_pos,
         triangle,
         bvh,
         raster,
         eye,
-        light_positions: params.lights.clone(),
+        light_positions: lights.to_vec(),
     })
 }
 
@@ -254,26 +285,59 @@ pub fn verify_method(
     let start = Instant::now();
     let images = renderer.render(gl, scene, method, &p, None).map_err(gl_err)?;
     let render_ms = ms(start);
+    let decisions: Vec<LightDecision> = view
+        .lights
+        .iter()
+        .map(|lr| {
+            let mask = images
+                .lit_masks
+                .iter()
+                .find(|m| m.light == lr.light)
+                .ok_or_else(|| VerifyError::Gl(format!("no lit mask captured for light {}", lr.light)))?;
+            let stencil_shadowed = images
+                .stencil
+                .iter()
+                .find(|s| s.light == lr.light)
+                .and_then(|st| stencil_shadowed(classification, &st.image.pixels));
+            Ok(LightDecision { light: lr.light, lit_mask: mask.image.pixels.clone(), stencil_shadowed })
+        })
+        .collect::<Result<_, VerifyError>>()?;
+    compare_decisions(name, view, &decisions, images.rgba, render_ms)
+}
 
+/// What a backend's frame decided for one light: its lit mask (1 = the lighting pass shaded
+/// the pixel, row-major, top row first) and, for diagnosis, "shadowed" read from the stencil
+/// after the volume pass (`None` where the stencil is not the method's decision).
+pub struct LightDecision {
+    /// Index of the light in the view.
+    pub light: usize,
+    /// 1 lit, 0 not, per pixel.
+    pub lit_mask: Vec<u8>,
+    /// From the stencil, per pixel.
+    pub stencil_shadowed: Option<Vec<bool>>,
+}
+
+/// The backend-neutral half of [`verify_method`]: a method's per-light decisions compared
+/// with `view`, under the one set of band rules.
+pub fn compare_decisions(
+    name: String,
+    view: &ViewReference,
+    decisions: &[LightDecision],
+    image: RgbaImage,
+    render_ms: f64,
+) -> Result<MethodReport, VerifyError> {
     let mut per_light = Vec::new();
     let mut metrics = Metrics::default();
     let mut stencil_sum: Option<Metrics> = None;
     for lr in &view.lights {
-        let mask = images
-            .lit_masks
-            .iter()
-            .find(|m| m.light == lr.light)
-            .ok_or_else(|| VerifyError::Gl(format!("no lit mask captured for light {}", lr.light)))?;
-        let shadowed: Vec<bool> = mask.image.pixels.iter().map(|&lit| lit == 0).collect();
+        let d = decisions.iter().find(|d| d.light == lr.light).ok_or_else(|| VerifyError::Method {
+            method: name.clone(),
+            message: format!("no decision for light {}", lr.light),
+        })?;
+        let shadowed: Vec<bool> = d.lit_mask.iter().map(|&lit| lit == 0).collect();
         let m = compare(&lr.reference, &shadowed)?;
         metrics = add(metrics, m);
-        let stencil_metrics = match images.stencil.iter().find(|s| s.light == lr.light) {
-            Some(st) => {
-                let from_stencil = stencil_shadowed(classification, &st.image.pixels);
-                from_stencil.map(|sh| compare(&lr.reference, &sh)).transpose()?
-            }
-            None => None,
-        };
+        let stencil_metrics = d.stencil_shadowed.as_ref().map(|sh| compare(&lr.reference, sh)).transpose()?;
         if let Some(sm) = stencil_metrics {
             stencil_sum = Some(add(stencil_sum.unwrap_or_default(), sm));
         }
@@ -285,7 +349,7 @@ pub fn verify_method(
         metrics,
         stencil_metrics: stencil_sum,
         per_light,
-        image: images.rgba,
+        image,
         render_ms,
     })
 }

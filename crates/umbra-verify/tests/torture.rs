@@ -9,6 +9,11 @@
 //! On failure the diff image (false shadow red, false light blue, band grey) and the method's
 //! shadow mask are written to target/test-output/torture/ (or $UMBRA_TEST_OUTPUT/torture),
 //! labelled with the GL renderer string.
+//!
+//! Every case also runs on umbra-wgpu (its own depth pass's samples, its own reference, every
+//! method of `umbra_wgpu::method_names()`), with the same rule; its numbers go to
+//! `results/<case>.wgpu.tsv`. Without a Vulkan/Metal/DX12 adapter that half is skipped with a
+//! message (CI installs Mesa's lavapipe, so it runs there).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -60,9 +65,20 @@ fn write_failure(
     report: &MethodReport,
     view: &umbra_verify::ViewReference,
 ) -> PathBuf {
+    write_failure_images(case, &slug(&ctx.renderer_string()), report, view)
+}
+
+/// Writes the diff image, the method's shadow mask and its image, named
+/// `<case>-<method>-<backend>`.
+fn write_failure_images(
+    case: &str,
+    backend: &str,
+    report: &MethodReport,
+    view: &umbra_verify::ViewReference,
+) -> PathBuf {
     let dir = output_dir();
     let _ = std::fs::create_dir_all(&dir);
-    let label = format!("{}-{}-{}", case, slug(&report.method), slug(&ctx.renderer_string()));
+    let label = format!("{}-{}-{}", case, slug(&report.method), backend);
     let base: Vec<u8> = report.image.pixels.iter().flatten().copied().collect();
     for (lr, res) in view.lights.iter().zip(&report.per_light) {
         if let Ok(rgba) = diff_image(&lr.reference, &res.shadowed, &base) {
@@ -92,7 +108,7 @@ fn run(case: Case) {
     let gl = ctx.gl();
     let welded = Arc::new(weld(&case.mesh));
     assert!(!welded.triangles.is_empty(), "case {} has no triangles", case.name);
-    let scene = SceneGpu::upload(gl, welded).expect("upload");
+    let scene = SceneGpu::upload(gl, welded.clone()).expect("upload");
     let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     let params =
         FrameParams { camera: case.camera, width: W, height: H, lights: case.lights.clone(), ..FrameParams::default() };
@@ -151,10 +167,71 @@ fn run(case: Case) {
     let results = output_dir().join("results");
     let _ = std::fs::create_dir_all(&results);
     let _ = std::fs::write(results.join(format!("{}.tsv", case.name)), tsv);
+    run_wgpu(&case, &welded, &mut failures);
     let errors = ctx.take_gl_errors();
     assert!(errors.is_empty(), "{}: GL errors: {errors:?}", case.name);
     assert!(view.lights.iter().all(|l| l.reference.class.len() == (W * H) as usize));
     assert!(failures.is_empty(), "{} ({}): {}", case.name, ctx.renderer_string(), failures.join("; "));
+}
+
+/// The case on umbra-wgpu: every wgpu method against the reference of the wgpu frame's own
+/// samples; failures are added to `failures`, the numbers written to `<case>.wgpu.tsv`.
+fn run_wgpu(case: &Case, welded: &Arc<umbra_geom::WeldedMesh>, failures: &mut Vec<String>) {
+    let gpu = match umbra_wgpu::HeadlessGpu::new() {
+        Ok(gpu) => gpu,
+        Err(e @ umbra_wgpu::WgpuError::NoAdapter { .. }) => {
+            eprintln!("SKIPPED (wgpu half of {}): {e}", case.name);
+            return;
+        }
+        Err(e) => panic!("{}: wgpu device: {e}", case.name),
+    };
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let scene = umbra_wgpu::SceneGpu::upload(device, welded.clone()).expect("wgpu upload");
+    let mut renderer = umbra_wgpu::Renderer::new(device).expect("wgpu renderer");
+    let params = umbra_wgpu::FrameParams {
+        camera: case.camera,
+        width: W,
+        height: H,
+        lights: case.lights.clone(),
+        ..umbra_wgpu::FrameParams::default()
+    };
+    let view = umbra_verify::wgpu::view_reference(device, queue, &mut renderer, &scene, &params)
+        .unwrap_or_else(|e| panic!("{} (wgpu): {e}", case.name));
+    let mut tsv = String::from(
+        "method\tsamples\tshadowed_reference\tmismatches\tband_samples\tband_mismatches\tmismatches_outside_band\n",
+    );
+    for &name in umbra_wgpu::method_names() {
+        let mut volumes = renderer.volumes(device, name).unwrap_or_else(|e| panic!("{} / wgpu {name}: {e}", case.name));
+        let report =
+            umbra_verify::wgpu::verify_method(device, queue, &mut renderer, &scene, &mut volumes, &params, &view)
+                .unwrap_or_else(|e| panic!("{} / wgpu {name}: {e}", case.name));
+        let m = report.metrics;
+        println!(
+            "{:<28} wgpu {:<19} samples {:>6} shadowed {:>6} band {:>5} band-mis {:>4} outside-band {:>4}",
+            case.name,
+            name,
+            m.samples,
+            m.shadowed_reference,
+            m.band_samples,
+            m.band_mismatches,
+            m.mismatches_outside_band
+        );
+        tsv += &format!(
+            "{name}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+            m.samples, m.shadowed_reference, m.mismatches, m.band_samples, m.band_mismatches, m.mismatches_outside_band
+        );
+        let excused = case.excused.iter().any(|(n, _)| *n == name);
+        if !report.passed() && !excused {
+            let dir = write_failure_images(case.name, &format!("wgpu-{}", slug(&gpu.adapter_line())), &report, &view);
+            failures.push(format!(
+                "wgpu {name}: {} mismatches outside the band (images in {})",
+                m.mismatches_outside_band,
+                dir.display()
+            ));
+        }
+    }
+    let results = output_dir().join("results");
+    let _ = std::fs::write(results.join(format!("{}.wgpu.tsv", case.name)), tsv);
 }
 
 // ---------------------------------------------------------------------------------------

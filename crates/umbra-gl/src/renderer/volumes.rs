@@ -3,6 +3,7 @@
 //! method's [`ShadowMethod::draw_volumes`] run.
 
 use glow::HasContext;
+use umbra_geom::clearance::scene_clip_box;
 use umbra_geom::Light;
 
 use super::{mark, FrameParams, PassView, Renderer, SCENE_CLIP_BINDING};
@@ -11,29 +12,6 @@ use crate::error::GlError;
 use crate::methods::{Classification, ShadowMethod, StageHook, VolumeFrame};
 use crate::scene::SceneGpu;
 use crate::state::GlState;
-
-/// The box the z-pass volumes are clipped to: the scene's triangles and the eye, enlarged by
-/// 1 % of its diagonal (plus 1e-6 of its largest coordinate) so that rounding at its planes
-/// lies far from every sample. As six world planes `(n, d)`, `n . X + d W >= 0` inside.
-fn scene_clip_box(bounds: umbra_geom::Aabb, eye: [f64; 3]) -> [[f64; 4]; 6] {
-    let mut lo = bounds.min.map(f64::from);
-    let mut hi = bounds.max.map(f64::from);
-    for a in 0..3 {
-        lo[a] = lo[a].min(eye[a]);
-        hi[a] = hi[a].max(eye[a]);
-    }
-    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
-    let big = lo.iter().chain(hi.iter()).fold(0.0f64, |m, c| m.max(c.abs()));
-    let margin = 0.01 * diag + 1e-6 * big + 1e-6;
-    [
-        [1.0, 0.0, 0.0, -(lo[0] - margin)],
-        [0.0, 1.0, 0.0, -(lo[1] - margin)],
-        [0.0, 0.0, 1.0, -(lo[2] - margin)],
-        [-1.0, 0.0, 0.0, hi[0] + margin],
-        [0.0, -1.0, 0.0, hi[1] + margin],
-        [0.0, 0.0, -1.0, hi[2] + margin],
-    ]
-}
 
 impl Renderer {
     /// Uploads the scene box planes in `view`'s clip space to the `UmbraSceneClip` block, binds

@@ -1,0 +1,87 @@
+//! The same verification for umbra-wgpu's methods: the samples come from the wgpu frame's own
+//! depth pass (world position and triangle id per pixel, as rasterized by that backend), the
+//! reference is computed for exactly those samples ([`crate::reference_from_samples`]), and
+//! each method's per-light decision (its lit mask: the stencil said lit AND the seen side faces
+//! the light) is compared with it by [`crate::compare_decisions`], under the one set of band
+//! rules. The stencil after each volume pass is read back (a `StencilOnly` copy) and reported
+//! as [`crate::MethodReport::stencil_metrics`]: on wgpu every method leaves "lit" as stencil 0
+//! (shadow maps resolve into it).
+
+use std::time::Instant;
+
+use umbra_wgpu::{FrameParams, LightCapture, Renderer, SceneGpu, ShadowVolumes, NO_TRIANGLE};
+
+use crate::{compare_decisions, reference_from_samples, LightDecision, MethodReport, VerifyError, ViewReference};
+
+fn wgpu_err(e: umbra_wgpu::WgpuError) -> VerifyError {
+    VerifyError::Wgpu(e.to_string())
+}
+
+/// Renders the view's samples with `none` and computes the reference for every light.
+pub fn view_reference(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &mut Renderer,
+    scene: &SceneGpu,
+    params: &FrameParams,
+) -> Result<ViewReference, VerifyError> {
+    let mut p = params.clone();
+    p.capture.world_pos = true;
+    p.capture.triangle_id = true;
+    p.capture.stencil = LightCapture::None;
+    p.capture.lit_mask = LightCapture::None;
+    let mut none = renderer.volumes(device, "none").map_err(wgpu_err)?;
+    let images = renderer.render(device, queue, scene, &mut none, &p).map_err(wgpu_err)?;
+    let (Some(world), Some(ids)) = (images.world_pos, images.triangle_id) else {
+        return Err(VerifyError::Wgpu("the renderer returned no world-position / triangle-id images".into()));
+    };
+    let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
+    reference_from_samples(
+        scene.mesh(),
+        &params.camera,
+        params.width,
+        params.height,
+        &params.lights,
+        world_pos,
+        triangle,
+    )
+}
+
+/// Renders `volumes`' method once with every light of `params`, reads its per-sample decision
+/// for each light and compares it with `view` (from [`view_reference`] for the same params).
+pub fn verify_method(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &mut Renderer,
+    scene: &SceneGpu,
+    volumes: &mut ShadowVolumes,
+    params: &FrameParams,
+    view: &ViewReference,
+) -> Result<MethodReport, VerifyError> {
+    let mut p = params.clone();
+    p.capture.lit_mask = LightCapture::AllLights;
+    p.capture.stencil = LightCapture::AllLights;
+    let start = Instant::now();
+    let images = renderer.render(device, queue, scene, volumes, &p).map_err(wgpu_err)?;
+    let render_ms = start.elapsed().as_secs_f64() * 1e3;
+    let decisions: Vec<LightDecision> = view
+        .lights
+        .iter()
+        .map(|lr| {
+            let mask = images
+                .lit_masks
+                .iter()
+                .find(|m| m.light == lr.light)
+                .ok_or_else(|| VerifyError::Wgpu(format!("no lit mask captured for light {}", lr.light)))?;
+            let stencil = images.stencil.iter().find(|s| s.light == lr.light);
+            Ok(LightDecision {
+                light: lr.light,
+                lit_mask: mask.image.pixels.clone(),
+                stencil_shadowed: stencil.map(|s| s.image.pixels.iter().map(|&v| v != 0).collect()),
+            })
+        })
+        .collect::<Result<_, VerifyError>>()?;
+    let rgba = umbra_gl::RgbaImage { width: images.rgba.width, height: images.rgba.height, pixels: images.rgba.pixels };
+    compare_decisions(volumes.method_name().to_string(), view, &decisions, rgba, render_ms)
+}
