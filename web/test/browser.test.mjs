@@ -253,7 +253,7 @@ test('error pages: no WebGL 2, no stencil, truncated buffer, version mismatch, m
     ['nowebgl=1', /no WebGL 2/],
     ['nostencil=1', /drawing buffer has 0 stencil bits/],
     ['scene=truncated/', /sides\.bin: has \d+ bytes, but \$\.buffers\.sides_data needs/],
-    ['scene=version/', /\$\.version: this viewer reads version 1, the scene is version 999/],
+    ['scene=version/', /\$\.version: this viewer reads version 2, the scene is version 999/],
     ['scene=nothing-here/', /manifest\.json: HTTP 404/],
   ];
   for (const [q, re] of cases) {
