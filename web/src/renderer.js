@@ -1,27 +1,28 @@
 // The WebGL 2 frame of the viewer: multi-pass stencil shadow volumes (Heidmann 1991; Everitt &
 // Kilgard 2002, z-fail with the infinite far plane) with paper 003's vertex-shader silhouettes
 // (vs_silhouette.js, volumes.js), the same three passes as crates/umbra-gl/src/renderer.rs,
-// after the passes that orient every triangle and count every edge once for the frame:
-//   0. (shadows on) every triangle's orientation towards the light, then every edge record's
-//      multiplicity from them, into textures (volumes.js);
+// after a pass that orients every triangle once for the frame:
+//   0. (shadows on) every triangle's orientation towards the light into a texture (volumes.js);
 //   1. depth + ambient;
-//   2. the volumes into the stencil (sides always, caps for z-fail), colour and depth masked;
+//   2. the volumes into the stencil (sides always, caps for z-fail; each set first turned into
+//      clipped polygons by transform feedback, volumes.js), colour and depth masked;
 //   3. lighting where stencil == 0, depth func EQUAL, additive.
 // Depth convention (camera.rs DepthConvention; every choice below is derived from it, as in the
 // native renderer):
-// * standard (the default): the drawing buffer (24-bit depth, 8-bit stencil), clear depth 1,
-//   LESS, u_far_clip_z = 1. WebGL 2 core; measured exact against the native method on the
-//   default scene (docs/web.md);
-// * reversed-Z with depth=reversed when the browser offers EXT_clip_control (WebGL 2 core has
-//   no glClipControl):
-//   clip control ZERO_TO_ONE, the frame drawn into the viewer's own DEPTH32F_STENCIL8 + RGBA8
-//   framebuffer (the native renderer's target format; the drawing buffer's depth is fixed
-//   point) and blitted to the canvas; clear depth 0, "strictly nearer" = GREATER, light caps at
-//   u_far_clip_z = 0. Opt-in: on SwiftShader it disagrees with the native frame in a few
-//   pixels more than the standard path on the default scene (docs/web.md).
+// * reversed-Z (the default when the browser offers EXT_clip_control; WebGL 2 core has no
+//   glClipControl): clip control ZERO_TO_ONE, the frame drawn into the viewer's own
+//   DEPTH32F_STENCIL8 + RGBA8 framebuffer (the native renderer's convention and target
+//   format) and blitted to the canvas; clear depth 0, "strictly nearer" = GREATER, light caps
+//   at u_far_clip_z = 0. The native renderer's depth precision, so the oracle's band (built for
+//   it) applies: ANGLE on llvmpipe is exact on the shared scenes only with it (docs/web.md);
+// * standard (without EXT_clip_control, or depth=standard): the drawing buffer (24-bit fixed
+//   point depth, 8-bit stencil), clear depth 1, LESS, u_far_clip_z = 1. WebGL 2 core; its
+//   depth steps grow with the square of the distance, far coarser than reversed-Z's at the
+//   scenes' far walls (1-2 samples outside the band per shared scene on llvmpipe).
 // These are exactly VolumeFrame::far_clip_z / shadow_volume_state of the two conventions
 // (shared/depth.glsl).
 import { ShadowVolumes } from './volumes.js';
+import { snapGlsl } from './vs_silhouette.js';
 import { link, GlSetupError } from './program.js';
 import sceneVert from './glsl/scene.vert.glsl';
 import ambientFrag from './glsl/ambient.frag.glsl';
@@ -86,8 +87,12 @@ export class Renderer {
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
 
-    this.ambient = link(gl, 'ambient', 'glsl/scene.vert.glsl', sceneVert, 'glsl/ambient.frag.glsl', ambientFrag);
-    this.lit = link(gl, 'lighting', 'glsl/scene.vert.glsl', sceneVert, 'glsl/lit.frag.glsl', litFrag);
+    // The scene vertex shader with snap.glsl (the snap=N diagnostic) after its #version line.
+    const version = '#version 300 es\n';
+    if (!sceneVert.startsWith(version)) throw new GlSetupError('glsl/scene.vert.glsl must start with #version 300 es');
+    const sceneVertSrc = `${version}precision highp float;\n${snapGlsl}\n${sceneVert.slice(version.length)}`;
+    this.ambient = link(gl, 'ambient', 'glsl/scene.vert.glsl', sceneVertSrc, 'glsl/ambient.frag.glsl', ambientFrag);
+    this.lit = link(gl, 'lighting', 'glsl/scene.vert.glsl', sceneVertSrc, 'glsl/lit.frag.glsl', litFrag);
 
     // Volumes: paper 003's vs-silhouette (volumes.js), its data in textures.
     this.volumes = new ShadowVolumes(gl, scene);
@@ -155,6 +160,8 @@ export class Renderer {
     gl.disable(gl.CULL_FACE);
     gl.useProgram(this.ambient.program);
     gl.uniformMatrix4fv(this.ambient.u.u_clip_from_world, false, f.clipFromWorld);
+    gl.uniform1f(this.ambient.u.u_snap, f.snap || 0);
+    gl.uniform2f(this.ambient.u.u_viewport_size, f.width, f.height);
     const a = f.mask ? [0, 0, 0] : S.albedo.map((x) => x * S.ambient);
     gl.uniform3fv(this.ambient.u.u_ambient_color, a);
     gl.bindVertexArray(this.sceneVao);
@@ -179,7 +186,7 @@ export class Renderer {
       // program clips to the viewport, and light caps to the near plane, itself).
       if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
       // VolumeFrame::far_clip_z of the convention (shared/depth.glsl): 0 reversed-Z, 1 standard.
-      this.volumes.draw({ clipFromWorld: f.clipFromWorld, light: f.light, farClipZ: rz ? 0.0 : 1.0 });
+      this.volumes.draw({ clipFromWorld: f.clipFromWorld, light: f.light, farClipZ: rz ? 0.0 : 1.0, snap: f.snap || 0, viewport: [f.width, f.height] });
       if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
       gl.bindVertexArray(null);
       // Pass 3 tests stencil == 0 and keeps it.
@@ -197,6 +204,8 @@ export class Renderer {
     gl.useProgram(this.lit.program);
     const u = this.lit.u;
     gl.uniformMatrix4fv(u.u_clip_from_world, false, f.clipFromWorld);
+    gl.uniform1f(u.u_snap, f.snap || 0);
+    gl.uniform2f(u.u_viewport_size, f.width, f.height);
     gl.uniform4fv(u.u_light, f.light);
     gl.uniform3fv(u.u_light_color, S.lightColor);
     gl.uniform3fv(u.u_eye, f.eye);

@@ -54,6 +54,12 @@ function field(file, obj, path, key, kind) {
   }
 }
 
+/** The last component of a scene spec that is a path (`/a/b/sibenik.obj.gz`, `C:\\m\\x.obj`);
+ * procedural specs (`default`, `spheres:10`) as they are. */
+export function sceneName(spec) {
+  return spec.split(/[\\/]/).filter(Boolean).pop() || spec;
+}
+
 export const BUFFERS = ['positions', 'normals', 'indices', 'sides_data', 'caps_data', 'edge_triangles'];
 
 /**

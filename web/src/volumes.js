@@ -156,9 +156,10 @@ export class ShadowVolumes {
    * The volumes into the stencil under the counting state the caller set and its viewport:
    * the sides of every silhouette edge, the light caps and (point lights) the dark caps, each
    * set through the polygon pass, then the fan pass. `farClipZ`: VolumeFrame::far_clip_z of
-   * the depth convention (1 standard, 0 reversed-Z). After prepare() for the same light.
+   * the depth convention (1 standard, 0 reversed-Z); `snap`, `viewport`: the snap=N diagnostic
+   * (glsl/snap.glsl) and the viewport's size in pixels. After prepare() for the same light.
    */
-  draw({ clipFromWorld, light, farClipZ }) {
+  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport }) {
     const gl = this.gl;
     const P = this.polygons;
     gl.useProgram(P.program);
@@ -195,6 +196,8 @@ export class ShadowVolumes {
       gl.useProgram(this.fan.program);
       this.bindTexture(UNIT_POLYGONS, this.polygonTex);
       gl.uniform1i(this.fan.u.u_count, count);
+      gl.uniform1f(this.fan.u.u_snap, snap);
+      gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
       gl.uniform1i(this.fan.u.u_repeat, repeat);
       gl.uniform1i(this.fan.u.u_per_instance, per);
       gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil(count / per));

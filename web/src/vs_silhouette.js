@@ -27,8 +27,10 @@ import orientationVert from './glsl/orientation.vert.glsl';
 import polygonsVert from './glsl/polygons.vert.glsl';
 import fanVert from './glsl/fan.vert.glsl';
 import pointFrag from './glsl/point.frag.glsl';
+import snapGlsl from './glsl/snap.glsl';
 
 export const sources = native;
+export { snapGlsl };
 
 const prelude = () => native.essl300Prelude + native.culledDefine;
 
@@ -46,7 +48,7 @@ export function polygonsVertexSource() {
 }
 
 export function fanVertexSource() {
-  return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${fanVert}`;
+  return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
 }
 
 /** The fragment shader of the polygon pass (nothing rasterised) and the fan pass (colour

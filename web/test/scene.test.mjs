@@ -4,7 +4,7 @@
 // Run: node --test test/
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { parseManifest, loadScene, SceneError } from '../src/scene.js';
+import { parseManifest, loadScene, SceneError, sceneName } from '../src/scene.js';
 
 /** A valid export of one triangle (3 vertices, 3 edges of 1 opposite each, maxMult 1). */
 function sample() {
@@ -117,4 +117,12 @@ test('missing files are reported with a hint', async () => {
   await assert.rejects(loadScene('http://x/scene/', fetcher(null, files)), /manifest\.json: HTTP 404: missing\? Export a scene/);
   delete files['caps.bin'];
   await assert.rejects(loadScene('http://x/scene/', fetcher(JSON.stringify(m), files)), /caps\.bin: HTTP 404/);
+});
+
+test('the page names the scene by its file name, never its path', () => {
+  assert.equal(sceneName('/work/shared/scenes/sibenik.obj.gz'), 'sibenik.obj.gz');
+  assert.equal(sceneName('C:\\models\\sponza.obj'), 'sponza.obj');
+  assert.equal(sceneName('../shared/scenes/conference.obj.gz'), 'conference.obj.gz');
+  assert.equal(sceneName('default'), 'default');
+  assert.equal(sceneName('spheres:10:4000'), 'spheres:10:4000');
 });

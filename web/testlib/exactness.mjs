@@ -66,7 +66,8 @@ export async function readCanvas(page) {
  * (`WxH`), with `extra` flags (the view: --light, --eye, ...). Returns { native, browser }:
  * the two JSON rows (mismatches_outside_band, band_samples, ...), `explained`: the lines
  * `--explain` printed for the browser's mismatches outside the band (false shadow / false
- * light, pixel, triangle), and the diff image paths when `diff` is given.
+ * light, pixel, triangle), `pixels` ("x,y" of each), and the counts of false shadow and
+ * false light among them.
  */
 export function judge(umbra, { scene, size, maskPng, extra = [], explain = 0, diff = null }) {
   const args = ['verify', '--scene', scene, '--method', 'vs-silhouette', '--size', size, '--external-mask', maskPng, '--json', '--explain', String(explain), ...extra];
@@ -79,7 +80,9 @@ export function judge(umbra, { scene, size, maskPng, extra = [], explain = 0, di
   const browser = rows.find((x) => x.method === maskPng);
   const explained = r.stderr.split('\n').filter((l) => l.startsWith(`${maskPng} `)).map((l) => l.slice(maskPng.length + 1));
   const falseShadow = explained.filter((l) => / false shadow /.test(l)).length;
-  return { native, browser, explained, falseShadow, falseLight: explained.length - falseShadow, stderr: r.stderr };
+  // The samples outside the band, as "x,y" (all of them when `explain` is at least their number).
+  const pixels = explained.map((l) => / \((\d+), (\d+)\):/.exec(l)).filter(Boolean).map((m) => `${m[1]},${m[2]}`);
+  return { native, browser, explained, pixels, falseShadow, falseLight: explained.length - falseShadow, stderr: r.stderr };
 }
 
 /**

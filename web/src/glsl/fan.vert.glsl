@@ -35,5 +35,6 @@ void main() {
     if (copy >= repeat || f + 2 >= n) {
         return; // Alg. 1, line 7: useless copy; or past the polygon's fan
     }
-    gl_Position = texelFetch(u_polygons, umbra_texel(9 * polygon + (corner == 0 ? 0 : f + corner)), 0);
+    // umbra_snap (snap.glsl): the snap=N diagnostic; unchanged by default.
+    gl_Position = umbra_snap(texelFetch(u_polygons, umbra_texel(9 * polygon + (corner == 0 ? 0 : f + corner)), 0));
 }
