@@ -59,7 +59,10 @@ vec4 umbra_clip_edge(vec4 v_in, vec4 v_out, float d_in, float d_out) {
 }
 
 // Clips the convex polygon poly[0 .. n-1] (clip space, any winding, kept) by planes
-// 0 .. planes-1 in that order; returns the new vertex count (< 3: nothing left).
+// 0 .. planes-1 in that order; returns the new vertex count (< 3: nothing left). Every array
+// index is a constant (the loops have constant bounds and unroll), so the polygon stays in
+// registers: each output vertex is gathered from the candidates that could land on it rather
+// than scattered to a computed index (llvmpipe runs the scattering form 8 times slower).
 int umbra_clip(inout vec4 poly[UMBRA_CLIP_MAX], int n, int planes) {
     for (int p = 0; p < 5; ++p) {
         if (p >= planes || n < 3) break;
@@ -67,31 +70,38 @@ int umbra_clip(inout vec4 poly[UMBRA_CLIP_MAX], int n, int planes) {
         float d[UMBRA_CLIP_MAX];
         bool any_out = false;
         for (int i = 0; i < UMBRA_CLIP_MAX; ++i) {
-            if (i >= n) break;
             d[i] = umbra_plane_distance(p, poly[i]);
-            any_out = any_out || d[i] < 0.0;
+            any_out = any_out || (i < n && d[i] < 0.0);
         }
         if (!any_out) continue;
+        // Walking the polygon, vertex i is kept when inside and edge i -> i+1 adds its cut
+        // when it crosses; at[i] counts what came before vertex i.
         vec4 kept[UMBRA_CLIP_MAX];
-        int m = 0;
+        for (int k = 0; k < UMBRA_CLIP_MAX; ++k) {
+            kept[k] = vec4(0.0);
+        }
+        int at = 0;
         for (int i = 0; i < UMBRA_CLIP_MAX; ++i) {
-            if (i >= n) break;
-            int j = i + 1 == n ? 0 : i + 1;
-            bool in_i = d[i] >= 0.0;
-            bool in_j = d[j] >= 0.0;
-            // m < UMBRA_CLIP_MAX always for a convex polygon; the test only keeps a polygon
-            // that rounding made non-convex from writing past the array.
-            if (in_i && m < UMBRA_CLIP_MAX) {
-                kept[m] = poly[i];
-                m++;
-            }
-            if (in_i != in_j && m < UMBRA_CLIP_MAX) {
-                kept[m] = in_i ? umbra_clip_edge(poly[i], poly[j], d[i], d[j]) : umbra_clip_edge(poly[j], poly[i], d[j], d[i]);
-                m++;
+            if (i < n) {
+                vec4 next = i + 1 < n ? poly[(i + 1) % UMBRA_CLIP_MAX] : poly[0];
+                float d_next = i + 1 < n ? d[(i + 1) % UMBRA_CLIP_MAX] : d[0];
+                bool in_i = d[i] >= 0.0;
+                bool crosses = in_i != (d_next >= 0.0);
+                vec4 cut = in_i ? umbra_clip_edge(poly[i], next, d[i], d_next) : umbra_clip_edge(next, poly[i], d_next, d[i]);
+                int cut_at = at + int(in_i);
+                // A convex polygon gains at most one vertex per plane: at < UMBRA_CLIP_MAX
+                // unless rounding made it non-convex, and then the extra vertices are dropped.
+                for (int k = 0; k < UMBRA_CLIP_MAX; ++k) {
+                    if (in_i && k == at) kept[k] = poly[i];
+                    if (crosses && k == cut_at) kept[k] = cut;
+                }
+                at = cut_at + int(crosses);
             }
         }
-        poly = kept;
-        n = m;
+        for (int k = 0; k < UMBRA_CLIP_MAX; ++k) {
+            poly[k] = kept[k];
+        }
+        n = min(at, UMBRA_CLIP_MAX);
     }
     return n;
 }

@@ -114,7 +114,10 @@ void main() {
             }
         }
     }
-    if (n > 0) {
+    // Most polygons need no cut: test that first (fixed indices), clip only the others.
+    bool inside = umbra_inside(poly[0], planes) && umbra_inside(poly[1], planes) && umbra_inside(poly[2], planes)
+        && (n == 3 || umbra_inside(poly[3], planes));
+    if (n > 0 && !inside) {
         n = umbra_clip(poly, n, planes);
     }
     if (u_mode == 1) {
