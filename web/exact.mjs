@@ -5,10 +5,12 @@
 // rasterisers): test/browser.test.mjs runs the CI subset.
 //
 // Usage: node exact.mjs [--scenes A,B,..] [--sizes 640x360,..] [--impl swiftshader,egl]
-//                       [--query 'depth=reversed'] [--keep DIR] [--explain N]
+//                       [--query 'depth=standard'] [--keep DIR] [--explain N]
 //   --scenes  scene specs or mesh files (default: the three shared scenes under UMBRA_SCENES,
 //             default ../shared/scenes beside the repository)
 //   --keep    write every mask and diff image into DIR
+//   --explain print the first N wrong samples of each row (umbra verify --explain)
+// The frame time column is the first frame's (shader compilation included).
 // Needs the umbra binary (UMBRA_BIN, else target/release/umbra) and /usr/bin/chromium.
 import { execFileSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
