@@ -7,7 +7,8 @@
 // `umbra verify --method vs-silhouette --external-mask` (testlib/exactness.mjs): the same
 // reference, the same per-sample band and the same --explain as every native method gets.
 //
-// * The default scene, both depth paths: 0 samples outside the band on ANGLE/llvmpipe.
+// * The default scene, both depth paths, and with a directional light: 0 samples outside the
+//   band on ANGLE/llvmpipe.
 // * A caster the camera's near plane cuts (a wall 0.005 in front of the eye, near plane
 //   0.0143): 0 outside the band on both; the light cap's near-plane cut is what makes it so.
 // * The three shared scenes (UMBRA_SCENES, default ../shared/scenes beside the repository;
@@ -166,18 +167,21 @@ function classify(rgba) {
   return out;
 }
 
-test('default scene: the reference\'s shadows outside the band on ANGLE/llvmpipe, both depth paths; SwiftShader measured', { skip }, async () => {
+test('default scene: the reference\'s shadows outside the band on ANGLE/llvmpipe, both depth paths, point and directional light; SwiftShader measured', { skip }, async () => {
+  // The manifest's point light, and a directional one (no dark caps: zero area).
+  const directional = '0.3,1,0.2,0';
+  const cases = [['', []], ['depth=standard', []], [`light=${directional}`, ['--light', directional]]];
   for (const impl of implementations()) {
-    for (const query of ['', 'depth=standard']) {
-      const r = await judged(impl, { dir: 'scene', scene: 'default', width: W, height: H, query });
+    for (const [query, extra] of cases) {
+      const r = await judged(impl, { dir: 'scene', scene: 'default', width: W, height: H, query, extra });
       report(`default scene, ${impl}${query ? `, ${query}` : ''}`, r);
       assert.equal(r.status.state, 'ready');
-      assert.equal(r.status.depth, query ? 'standard' : 'reversed-z', 'reversed-Z where EXT_clip_control is offered, standard on request');
+      assert.equal(r.status.depth, query === 'depth=standard' ? 'standard' : 'reversed-z', 'reversed-Z where EXT_clip_control is offered, standard on request');
       assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
       assert.equal(r.native.mismatches_outside_band, 0, 'native vs-silhouette');
       // SwiftShader snaps vertices to 1/16 pixel: not held to llvmpipe's band (docs/web.md).
       if (impl === 'egl') assert.equal(r.browser.mismatches_outside_band, 0, `${query}: the viewer disagrees with the reference outside the band`);
-      else await assertOnlyPrecision(r, { dir: 'scene', scene: 'default', width: W, height: H, query }, `default scene${query ? `, ${query}` : ''}`);
+      else await assertOnlyPrecision(r, { dir: 'scene', scene: 'default', width: W, height: H, query, extra }, `default scene${query ? `, ${query}` : ''}`);
     }
   }
 });
