@@ -1,12 +1,14 @@
 // Builds the WebGL2 viewer into web/dist/ with esbuild (issue 7 §2).
 //
-// The shadow-volume shaders are NOT copied: the virtual module `umbra:vs-silhouette` is made
-// here, at build time, from the native method's own files —
-// crates/umbra-gl/src/methods/vs_silhouette/{sides.vert,caps.vert,volume.frag}.glsl,
-// crates/umbra-gl/src/methods/shared/{multiplicity,depth}.glsl — and from the two pieces of
+// The shared shadow-volume shader code is NOT copied: the virtual module `umbra:vs-silhouette`
+// is made here, at build time, from the native method's own files —
+// crates/umbra-gl/src/methods/vs_silhouette/volume.frag.glsl,
+// crates/umbra-gl/src/methods/shared/{multiplicity,depth}.glsl (001's reference-edge
+// orientation, 003's Eq. 6 and the near-plane distance) — and from the two pieces of
 // vs_silhouette/mod.rs that are not .glsl files: the GLSL ES 3.00 prelude
 // (ShaderDialect::Essl300) and the UMBRA_CULLED define. The build fails, naming the file, if
-// any of them cannot be found, so the viewer can never drift from the native method.
+// any of them cannot be found, so the viewer's arithmetic can never drift from the native
+// method's. The viewer's own volume and orientation programs are in src/glsl/ (docs/web.md).
 //
 // Usage: node build.mjs [--outdir DIR]
 import * as esbuild from 'esbuild';
@@ -38,8 +40,6 @@ export async function nativePieces() {
 /** Every shader source of the native method, by name. */
 export async function nativeShaders() {
   const files = {
-    sidesVert: path.join(methods, 'vs_silhouette', 'sides.vert.glsl'),
-    capsVert: path.join(methods, 'vs_silhouette', 'caps.vert.glsl'),
     volumeFrag: path.join(methods, 'vs_silhouette', 'volume.frag.glsl'),
     multiplicity: path.join(methods, 'shared', 'multiplicity.glsl'),
     depth: path.join(methods, 'shared', 'depth.glsl'),

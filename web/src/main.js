@@ -6,12 +6,12 @@
 //
 // URL parameters (also the test hooks): scene=DIR (the export, default "scene/"), size=WxH
 // (fixed canvas size), mask=1, shadows=0, light=X,Y,Z[,W], eye=X,Y,Z, target=X,Y,Z, and
-// clamp=0 (no EXT_depth_clamp even when offered), depth=reversed (reversed-Z through
-// EXT_clip_control when the browser offers it; default: standard depth, see renderer.js), and
-// nowebgl=1 / nostencil=1 (simulate a browser without WebGL 2 or without a stencil buffer).
+// clamp=0 (no EXT_depth_clamp even when offered), depth=standard (the drawing buffer's fixed
+// point depth even when the browser offers EXT_clip_control for reversed-Z; renderer.js), snap=N
+// (diagnostic: every vertex on a 1/N-pixel grid, glsl/snap.glsl), and nowebgl=1 / nostencil=1 (simulate a browser without WebGL 2 or without a stencil buffer).
 // The page's state is in document.body.dataset.state: loading, ready, error; on error the
 // message is shown on the page (never a blank page) and in window.umbra.error.
-import { loadScene, SceneError } from './scene.js';
+import { loadScene, SceneError, sceneName } from './scene.js';
 import { Renderer, GlSetupError } from './renderer.js';
 import { clipFromWorld, sub, normalize, cross } from './math.js';
 
@@ -69,16 +69,23 @@ async function start() {
   // nostencil=1 simulates a browser without stencil: no stencil in the drawing buffer, which
   // the standard-depth path draws into (the reversed-Z path has its own depth-stencil).
   const renderer = new Renderer(gl, scene, {
-    standardDepth: params.get('depth') !== 'reversed' || params.get('nostencil') === '1',
+    standardDepth: params.get('depth') === 'standard' || params.get('nostencil') === '1',
     noDepthClamp: params.get('clamp') === '0',
   });
   status.renderer = renderer.rendererName;
   status.depthClamp = !!renderer.depthClamp;
   status.depth = renderer.reversedZ ? 'reversed-z' : 'standard';
-  $('info').textContent = `${m.scene}: ${m.counts.triangles} triangles, ${m.counts.sides_data_records} edge records, maxMult ${m.max_mult} · ${status.depth} depth · ${renderer.rendererName}`;
+  // The scene's file name, not its path (`umbra export` records the spec it was given, which
+  // for a mesh file is wherever it lay on the exporting machine).
+  status.sceneName = sceneName(m.scene);
+  document.title = `${status.sceneName} · umbra`;
+  $('info').textContent = `${status.sceneName}: ${m.counts.triangles} triangles, ${m.counts.sides_data_records} edge records, maxMult ${m.max_mult} · ${status.depth} depth · ${renderer.rendererName}`;
 
   const cam = { ...m.camera, eye: vec('eye', 3) || m.camera.eye, target: vec('target', 3) || m.camera.target };
   let light = vec('light', 4) || m.light;
+  // snap=N: the diagnostic of glsl/snap.glsl (vertices on a 1/N-pixel grid); 0 = off.
+  const snap = Number(params.get('snap') || 0);
+  if (!(Number.isInteger(snap) && snap >= 0)) throw new Error(`URL parameter snap=${params.get('snap')}: expected a whole number of positions per pixel`);
   const view = { shadows: params.get('shadows') !== '0', mask: params.get('mask') === '1' };
   $('shadows').checked = view.shadows;
   $('mask').checked = view.mask;
@@ -96,6 +103,7 @@ async function start() {
       light,
       shadows: view.shadows,
       mask: view.mask,
+      snap,
       width: canvas.width,
       height: canvas.height,
     });

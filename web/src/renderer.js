@@ -1,29 +1,34 @@
 // The WebGL 2 frame of the viewer: multi-pass stencil shadow volumes (Heidmann 1991; Everitt &
 // Kilgard 2002, z-fail with the infinite far plane) with paper 003's vertex-shader silhouettes
-// (vs_silhouette.js), the same three passes as crates/umbra-gl/src/renderer.rs:
+// (vs_silhouette.js, volumes.js), the same three passes as crates/umbra-gl/src/renderer.rs,
+// after a pass that orients every triangle once for the frame:
+//   0. (shadows on) every triangle's orientation towards the light into a texture (volumes.js);
 //   1. depth + ambient;
-//   2. the volumes into the stencil (sides always, caps for z-fail), colour and depth masked;
+//   2. the volumes into the stencil (sides always, caps for z-fail; each set first turned into
+//      clipped polygons by transform feedback, volumes.js), colour and depth masked;
 //   3. lighting where stencil == 0, depth func EQUAL, additive.
 // Depth convention (camera.rs DepthConvention; every choice below is derived from it, as in the
 // native renderer):
-// * standard (the default): the drawing buffer (24-bit depth, 8-bit stencil), clear depth 1,
-//   LESS, u_far_clip_z = 1. WebGL 2 core; measured exact against the native method on the
-//   default scene (docs/web.md);
-// * reversed-Z with depth=reversed when the browser offers EXT_clip_control (WebGL 2 core has
-//   no glClipControl):
-//   clip control ZERO_TO_ONE, the frame drawn into the viewer's own DEPTH32F_STENCIL8 + RGBA8
-//   framebuffer (the native renderer's target format; the drawing buffer's depth is fixed
-//   point) and blitted to the canvas; clear depth 0, "strictly nearer" = GREATER, light caps at
-//   u_far_clip_z = 0. Opt-in: on SwiftShader it disagrees with the native frame in a few
-//   pixels more than the standard path on the default scene (docs/web.md).
+// * reversed-Z (the default when the browser offers EXT_clip_control; WebGL 2 core has no
+//   glClipControl): clip control ZERO_TO_ONE, the frame drawn into the viewer's own
+//   DEPTH32F_STENCIL8 + RGBA8 framebuffer (the native renderer's convention and target
+//   format) and blitted to the canvas; clear depth 0, "strictly nearer" = GREATER, light caps
+//   at u_far_clip_z = 0. The native renderer's depth precision, so the oracle's band (built for
+//   it) applies: ANGLE on llvmpipe is exact on the shared scenes only with it (docs/web.md);
+// * standard (without EXT_clip_control, or depth=standard): the drawing buffer (24-bit fixed
+//   point depth, 8-bit stencil), clear depth 1, LESS, u_far_clip_z = 1. WebGL 2 core; its
+//   depth steps grow with the square of the distance, far coarser than reversed-Z's at the
+//   scenes' far walls (1-2 samples outside the band per shared scene on llvmpipe).
 // These are exactly VolumeFrame::far_clip_z / shadow_volume_state of the two conventions
-// (shared/depth.glsl): the native shaders need no change for WebGL.
-import { sidesVertexSource, capsVertexSource, fragmentSource, recordsPerInstance } from './vs_silhouette.js';
+// (shared/depth.glsl).
+import { ShadowVolumes } from './volumes.js';
+import { snapGlsl } from './vs_silhouette.js';
+import { link, GlSetupError } from './program.js';
 import sceneVert from './glsl/scene.vert.glsl';
 import ambientFrag from './glsl/ambient.frag.glsl';
 import litFrag from './glsl/lit.frag.glsl';
 
-export class GlSetupError extends Error {}
+export { GlSetupError };
 
 /** The shading constants of FrameParams::default() (renderer.rs), so images are comparable. */
 export const SHADING = {
@@ -34,84 +39,6 @@ export const SHADING = {
   shininess: 32,
   background: [0.1, 0.12, 0.16, 1],
 };
-
-function compile(gl, type, name, src) {
-  const s = gl.createShader(type);
-  gl.shaderSource(s, src);
-  gl.compileShader(s);
-  if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) {
-    const log = gl.getShaderInfoLog(s);
-    gl.deleteShader(s);
-    throw new GlSetupError(`${name}: compile failed: ${log}`);
-  }
-  return s;
-}
-
-function link(gl, name, vertName, vert, fragName, frag) {
-  const p = gl.createProgram();
-  const vs = compile(gl, gl.VERTEX_SHADER, vertName, vert);
-  const fs = compile(gl, gl.FRAGMENT_SHADER, fragName, frag);
-  gl.attachShader(p, vs);
-  gl.attachShader(p, fs);
-  gl.linkProgram(p);
-  gl.deleteShader(vs);
-  gl.deleteShader(fs);
-  if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new GlSetupError(`${name}: link failed: ${gl.getProgramInfoLog(p)}`);
-  const u = {};
-  const n = gl.getProgramParameter(p, gl.ACTIVE_UNIFORMS);
-  for (let i = 0; i < n; i++) {
-    const info = gl.getActiveUniform(p, i);
-    u[info.name] = gl.getUniformLocation(p, info.name);
-  }
-  return { program: p, u };
-}
-
-/** One record buffer and its vertex arrays (twin of mod.rs RecordArrays). */
-function recordArrays(gl, data, vec4s, perInstance) {
-  const records = data.length / (4 * vec4s);
-  const recordBytes = 16 * vec4s;
-  const stride = recordBytes * perInstance;
-  const mainInstances = Math.floor(records / perInstance);
-  const rest = records % perInstance;
-  const buffer = gl.createBuffer();
-  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-  // STATIC_DRAW: uploaded once per scene, read by every frame.
-  gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
-  const vao = (sets, base) => {
-    const v = gl.createVertexArray();
-    gl.bindVertexArray(v);
-    for (let j = 0; j < sets; j++) {
-      for (let f = 0; f < vec4s; f++) {
-        const loc = j * vec4s + f;
-        gl.vertexAttribPointer(loc, 4, gl.FLOAT, false, stride, base + (j * vec4s + f) * 16);
-        gl.enableVertexAttribArray(loc);
-        // Divisor 1: the record is the same for all of the instance's vertices (003 §2.6).
-        gl.vertexAttribDivisor(loc, 1);
-      }
-    }
-    return v;
-  };
-  const main = mainInstances > 0 ? vao(perInstance, 0) : null;
-  const remainder = rest > 0 ? vao(rest, mainInstances * perInstance * recordBytes) : null;
-  gl.bindVertexArray(null);
-  gl.bindBuffer(gl.ARRAY_BUFFER, null);
-  return {
-    draw(vertices) {
-      const count = vertices * perInstance;
-      if (main) {
-        gl.bindVertexArray(main);
-        gl.drawArraysInstanced(gl.TRIANGLES, 0, count, mainInstances);
-      }
-      if (remainder) {
-        // Disabled sets read the generic attribute value: all zero = an empty record.
-        for (let loc = rest * vec4s; loc < perInstance * vec4s; loc++) gl.vertexAttrib4f(loc, 0, 0, 0, 0);
-        gl.bindVertexArray(remainder);
-        gl.drawArraysInstanced(gl.TRIANGLES, 0, count, 1);
-        for (let loc = rest * vec4s; loc < perInstance * vec4s; loc++) gl.vertexAttrib4f(loc, 0, 0, 0, 1);
-      }
-    },
-  };
-}
 
 export class Renderer {
   /** @param {WebGL2RenderingContext} gl @param scene from loadScene */
@@ -160,27 +87,15 @@ export class Renderer {
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
 
-    this.ambient = link(gl, 'ambient', 'glsl/scene.vert.glsl', sceneVert, 'glsl/ambient.frag.glsl', ambientFrag);
-    this.lit = link(gl, 'lighting', 'glsl/scene.vert.glsl', sceneVert, 'glsl/lit.frag.glsl', litFrag);
+    // The scene vertex shader with snap.glsl (the snap=N diagnostic) after its #version line.
+    const version = '#version 300 es\n';
+    if (!sceneVert.startsWith(version)) throw new GlSetupError('glsl/scene.vert.glsl must start with #version 300 es');
+    const sceneVertSrc = `${version}precision highp float;\n${snapGlsl}\n${sceneVert.slice(version.length)}`;
+    this.ambient = link(gl, 'ambient', 'glsl/scene.vert.glsl', sceneVertSrc, 'glsl/ambient.frag.glsl', ambientFrag);
+    this.lit = link(gl, 'lighting', 'glsl/scene.vert.glsl', sceneVertSrc, 'glsl/lit.frag.glsl', litFrag);
 
-    // Volumes: the layout of the export (maxMult planned for 16 attributes, the WebGL 2
-    // minimum), records per instance from this browser's attribute count.
-    const attribs = gl.getParameter(gl.MAX_VERTEX_ATTRIBS);
-    const maxMult = m.max_mult;
-    if (2 + maxMult > attribs) throw new GlSetupError(`maxMult ${maxMult} needs ${2 + maxMult} vertex attributes, this WebGL 2 has ${attribs}`);
-    this.maxMult = maxMult;
-    this.sidesPerInstance = recordsPerInstance(2 + maxMult, attribs);
-    if (this.sidesPerInstance < 1) {
-      throw new GlSetupError(`maxMult ${maxMult}: one edge record is ${16 * (2 + maxMult)} bytes, above WebGL's 255-byte vertex stride limit (maxMult <= 13 in WebGL 2)`);
-    }
-    this.capsPerInstance = recordsPerInstance(3, attribs);
-    this.records = m.counts.sides_data_records;
-    this.triangles = t;
-    const frag = fragmentSource();
-    this.sides = link(gl, 'vs-silhouette sides', 'vs_silhouette/sides.vert.glsl', sidesVertexSource(maxMult, this.sidesPerInstance), 'vs_silhouette/volume.frag.glsl', frag);
-    this.caps = link(gl, 'vs-silhouette caps', 'vs_silhouette/caps.vert.glsl', capsVertexSource(this.capsPerInstance), 'vs_silhouette/volume.frag.glsl', frag);
-    this.sidesData = recordArrays(gl, scene.sides_data, 2 + maxMult, this.sidesPerInstance);
-    this.capsData = recordArrays(gl, scene.caps_data, 3, this.capsPerInstance);
+    // Volumes: paper 003's vs-silhouette (volumes.js), its data in textures.
+    this.volumes = new ShadowVolumes(gl, scene);
   }
 
   /**
@@ -219,6 +134,8 @@ export class Renderer {
     const gl = this.gl;
     const S = SHADING;
     const rz = this.reversedZ;
+    // Pass 0: each triangle oriented and each edge counted once for the frame (pass 2 reads them).
+    if (f.shadows) this.volumes.prepare(f.light);
     // Reversed-Z: our own float depth-stencil target and clip z in [0, w].
     gl.bindFramebuffer(gl.FRAMEBUFFER, rz ? this.target(f.width, f.height) : null);
     if (rz) this.clipControl.clipControlEXT(this.clipControl.LOWER_LEFT_EXT, this.clipControl.ZERO_TO_ONE_EXT);
@@ -243,6 +160,8 @@ export class Renderer {
     gl.disable(gl.CULL_FACE);
     gl.useProgram(this.ambient.program);
     gl.uniformMatrix4fv(this.ambient.u.u_clip_from_world, false, f.clipFromWorld);
+    gl.uniform1f(this.ambient.u.u_snap, f.snap || 0);
+    gl.uniform2f(this.ambient.u.u_viewport_size, f.width, f.height);
     const a = f.mask ? [0, 0, 0] : S.albedo.map((x) => x * S.ambient);
     gl.uniform3fv(this.ambient.u.u_ambient_color, a);
     gl.bindVertexArray(this.sceneVao);
@@ -263,26 +182,11 @@ export class Renderer {
       gl.depthMask(false);
       gl.colorMask(false, false, false, false);
       gl.frontFace(gl.CCW);
-      // Nothing of a volume may be clipped (state.rs): depth clamp when available.
+      // Nothing of a volume may be clipped (state.rs): depth clamp when available (the volume
+      // program clips to the viewport, and light caps to the near plane, itself).
       if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
-      const bind = (p, capVertices) => {
-        gl.useProgram(p.program);
-        gl.uniformMatrix4fv(p.u.u_clip_from_world, false, f.clipFromWorld);
-        gl.uniform4fv(p.u.u_light, f.light);
-        // VolumeFrame::far_clip_z of the convention (shared/depth.glsl): 0 reversed-Z, 1 standard.
-        if (p.u.u_far_clip_z) gl.uniform1f(p.u.u_far_clip_z, rz ? 0.0 : 1.0);
-        if (p.u.u_cap_vertices) gl.uniform1i(p.u.u_cap_vertices, capVertices);
-      };
-      if (this.records > 0) {
-        bind(this.sides, 0);
-        this.sidesData.draw(6 * this.maxMult);
-      }
-      if (this.triangles > 0) {
-        // A directional light's dark cap has zero area: only the light cap (mod.rs).
-        const vertices = f.light[3] === 0 ? 3 : 6;
-        bind(this.caps, vertices);
-        this.capsData.draw(vertices);
-      }
+      // VolumeFrame::far_clip_z of the convention (shared/depth.glsl): 0 reversed-Z, 1 standard.
+      this.volumes.draw({ clipFromWorld: f.clipFromWorld, light: f.light, farClipZ: rz ? 0.0 : 1.0, snap: f.snap || 0, viewport: [f.width, f.height] });
       if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
       gl.bindVertexArray(null);
       // Pass 3 tests stencil == 0 and keeps it.
@@ -300,6 +204,8 @@ export class Renderer {
     gl.useProgram(this.lit.program);
     const u = this.lit.u;
     gl.uniformMatrix4fv(u.u_clip_from_world, false, f.clipFromWorld);
+    gl.uniform1f(u.u_snap, f.snap || 0);
+    gl.uniform2f(u.u_viewport_size, f.width, f.height);
     gl.uniform4fv(u.u_light, f.light);
     gl.uniform3fv(u.u_light_color, S.lightColor);
     gl.uniform3fv(u.u_eye, f.eye);

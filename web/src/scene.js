@@ -9,7 +9,7 @@
 // No DOM or WebGL here: the same code runs under node --test (test/scene.test.mjs).
 
 export const FORMAT = 'umbra-export';
-export const VERSION = 1;
+export const VERSION = 2;
 export const MAX_MULT_LIMIT = 14;
 
 export class SceneError extends Error {
@@ -54,7 +54,13 @@ function field(file, obj, path, key, kind) {
   }
 }
 
-export const BUFFERS = ['positions', 'normals', 'indices', 'sides_data', 'caps_data'];
+/** The last component of a scene spec that is a path (`/a/b/sibenik.obj.gz`, `C:\\m\\x.obj`);
+ * procedural specs (`default`, `spheres:10`) as they are. */
+export function sceneName(spec) {
+  return spec.split(/[\\/]/).filter(Boolean).pop() || spec;
+}
+
+export const BUFFERS = ['positions', 'normals', 'indices', 'sides_data', 'caps_data', 'edge_triangles'];
 
 /**
  * Parses and checks manifest.json's text (the twin of export.rs's parse_manifest).
@@ -95,6 +101,8 @@ export function parseManifest(text, file = 'manifest.json') {
     indices: [3, c.triangles, 'u32'],
     sides_data: [4, c.sides_data_records * (2 + maxMult), 'f32'],
     caps_data: [4, 3 * c.triangles, 'f32'],
+    // Version 2: per edge record, the signed triangle behind each opposite slot (export.rs).
+    edge_triangles: [maxMult, c.sides_data_records, 'i32'],
   };
   for (const name of BUFFERS) {
     const path = `$.buffers.${name}`;
@@ -131,7 +139,8 @@ export function bufferView(m, name, data) {
     throw new SceneError(b.file, '', `has ${data.byteLength} bytes, but $.buffers.${name} needs ${b.offset + b.bytes} (offset ${b.offset} + ${b.bytes}): truncated or stale export`);
   }
   const n = b.bytes / 4;
-  return b.component_type === 'u32' ? new Uint32Array(data, b.offset, n) : new Float32Array(data, b.offset, n);
+  if (b.component_type === 'u32') return new Uint32Array(data, b.offset, n);
+  return b.component_type === 'i32' ? new Int32Array(data, b.offset, n) : new Float32Array(data, b.offset, n);
 }
 
 /**

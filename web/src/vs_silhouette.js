@@ -1,64 +1,85 @@
-// vs-silhouette in WebGL 2: paper 003 (Milet et al., WebGL 1.0 shadows) Section 2, sides by
-// Algorithm 1 and caps by Algorithm 2 in the vertex shader from sides-data and caps-data in
-// the compact instanced layout of Section 2.6 (Eq. 8 / Eq. 9).
+// vs-silhouette in WebGL 2: paper 003 (Milet et al., WebGL 1.0 shadows) Section 2, the
+// shadow-volume sides (Alg. 1) and caps (Alg. 2) of every silhouette evaluated in vertex
+// shaders from the preprocessed sides-data and caps-data (Section 2.6, Eq. 8 / Eq. 9), made
+// exact on every WebGL 2 implementation we can run (issue 16 §3, docs/web.md). Per frame:
 //
-// The shader bodies are the native method's own files, included at build time by build.mjs
-// (module `umbra:vs-silhouette`): sides.vert.glsl, caps.vert.glsl, volume.frag.glsl,
-// shared/multiplicity.glsl, shared/depth.glsl, the ES 3.00 prelude and UMBRA_CULLED of
-// vs_silhouette/mod.rs. What mod.rs GENERATES (the record-access code: R sets of vec4
-// attributes and the function returning set r) is generated here by the same rules —
-// recordAccess below is the line-for-line twin of mod.rs's record_access — and so are the
-// GL calls: one static buffer per data set, R attribute sets per instance with divisor 1,
-// a remainder instance whose missing sets read the all-zero generic value.
+// 1. the orientation pass (glsl/orientation.vert.glsl) orients every triangle ONCE, one texel
+//    per triangle, and everything after reads that value (the export's edge_triangles name
+//    the triangle behind each opposite slot of an edge), so no compiler contraction can give a
+//    triangle two orientations (ES 3.00 has no `precise`);
+// 2. the polygon pass (glsl/polygons.vert.glsl, transform feedback) turns every edge record
+//    and every triangle into its side or cap polygon clipped to just inside the viewport, and
+//    light caps to the near plane (glsl/clip.glsl), once: no rasteriser clips a volume;
+// 3. the fan pass (glsl/fan.vert.glsl) draws those polygons into the stencil.
+//
+// The scene's data live in textures read with texelFetch by element index
+// (glsl/elements.glsl): neither WebGL's 255-byte attribute stride nor the 16-attribute limit
+// bounds maxMult.
+//
+// Shader text: the native method's shared files (multiplicity.glsl: 001 Alg. 2-4;
+// depth.glsl: 003 Eq. 6 and the near-plane distance; volume.frag.glsl; the ES 3.00 prelude and
+// UMBRA_CULLED of vs_silhouette/mod.rs), read by build.mjs at build time as module
+// `umbra:vs-silhouette`, and the viewer's own glsl/*.glsl.
 import native from 'umbra:vs-silhouette';
+import elementsGlsl from './glsl/elements.glsl';
+import clipGlsl from './glsl/clip.glsl';
+import orientationVert from './glsl/orientation.vert.glsl';
+import polygonsVert from './glsl/polygons.vert.glsl';
+import fanVert from './glsl/fan.vert.glsl';
+import pointFrag from './glsl/point.frag.glsl';
+import snapGlsl from './glsl/snap.glsl';
 
 export const sources = native;
-
-/** Twin of mod.rs `record_access`. */
-export function recordAccess(structName, structBody, fn, fields, records) {
-  let g = `#define UMBRA_RECORDS ${records}\nstruct ${structName} { ${structBody} };\n`;
-  for (let r = 0; r < records; r++) {
-    for (let f = 0; f < fields.length; f++) g += `layout(location = ${r * fields.length + f}) in vec4 a_r${r}_${f};\n`;
-  }
-  g += `${structName} ${fn}(int r) {\n    ${structName} rec;\n`;
-  for (let r = 0; r < records; r++) {
-    const assign = fields.map((name, f) => ` rec.${name} = a_r${r}_${f};`).join('');
-    const last = r + 1 === records;
-    const guard = last ? '    {' : `    if (r == ${r}) {`;
-    g += `${guard}${assign} }${last ? '' : ' else'}\n`;
-  }
-  g += '    return rec;\n}\n';
-  return g;
-}
+export { snapGlsl };
 
 const prelude = () => native.essl300Prelude + native.culledDefine;
 
-/** Twin of mod.rs `sides_vertex_source(ShaderDialect::Essl300, ..)`. */
-export function sidesVertexSource(maxMult, records) {
-  const fields = ['a', 'b', ...Array.from({ length: maxMult }, (_, i) => `o[${i}]`)];
-  const access = recordAccess('UmbraEdgeRecord', 'vec4 a; vec4 b; vec4 o[UMBRA_MAX_MULT];', 'umbra_edge_record', fields, records);
-  return `${prelude()}#define UMBRA_MAX_MULT ${maxMult}\n${native.multiplicity}\n${native.depth}\n${access}\n${native.sidesVert}`;
+export function orientationVertexSource() {
+  return `${prelude()}${native.multiplicity}\n${elementsGlsl}\n${orientationVert}`;
 }
 
-/** Twin of mod.rs `caps_vertex_source(ShaderDialect::Essl300, ..)`. */
-export function capsVertexSource(records) {
-  const access = recordAccess('UmbraTriangleRecord', 'vec4 p0; vec4 p1; vec4 p2;', 'umbra_triangle_record', ['p0', 'p1', 'p2'], records);
-  return `${prelude()}${native.multiplicity}\n${native.depth}\n${access}\n${native.capsVert}`;
+/** The orientation pass's fragment shader: the point's integer into its texel. */
+export function pointFragmentSource() {
+  return `${prelude()}${pointFrag}`;
 }
 
-export function fragmentSource() {
+export function polygonsVertexSource() {
+  return `${prelude()}${native.multiplicity}\n${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${polygonsVert}`;
+}
+
+export function fanVertexSource() {
+  return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
+}
+
+/** The fragment shader of the polygon pass (nothing rasterised) and the fan pass (colour
+ * writes off: stencil only). */
+export function volumeFragmentSource() {
   return `${prelude()}${native.volumeFrag}`;
 }
 
-/** WebGL 2 refuses vertex-attribute strides above 255 bytes (WebGL 1.0 spec §6.9 "Vertex Attribute Data Stride",
- * kept by WebGL 2), a limit native GL does not have. */
-export const MAX_STRIDE = 255;
+/** The polygon pass's outputs, in the order they are captured (9 vec4 per polygon). */
+export const POLYGON_VARYINGS = ['v_p0', 'v_p1', 'v_p2', 'v_p3', 'v_p4', 'v_p5', 'v_p6', 'v_p7', 'v_info'];
 
-/** Twin of mod.rs `records_per_instance`, further limited so that `records * 16 * vec4s`
- * (the stride of each attribute set) stays within WebGL's 255 bytes. 0 when even one record
- * is too large (maxMult 14: 16 x 16 = 256 bytes). The layout and bytes are unchanged: only
- * how many records one instance reads. */
-export function recordsPerInstance(vec4s, attribs) {
-  const native = Math.min(8, Math.max(1, Math.floor(attribs / Math.max(1, vec4s))));
-  return Math.min(native, Math.floor(MAX_STRIDE / (16 * vec4s)));
+/** Vertices of one potential side or cap: the fan of a clipped polygon of up to 8 vertices
+ * (glsl/clip.glsl UMBRA_CLIP_MAX, glsl/volume.vert.glsl UMBRA_FAN). */
+export const FAN_VERTICES = 3 * (8 - 2);
+
+/** Vertices per instance the volume draws aim for (a few thousand: llvmpipe runs its vertex
+ * pipeline per instance, so instances should not be tiny). */
+const VERTICES_PER_INSTANCE = 4096;
+
+/** Polygons per instance of the fan pass for `repeat` potential copies per polygon. */
+export function polygonsPerInstance(repeat) {
+  return Math.max(1, Math.floor(VERTICES_PER_INSTANCE / (repeat * FAN_VERTICES)));
+}
+
+/** Width exponent of the data textures: 4096 texels wide, or the implementation's largest
+ * power of two below that (WebGL 2 guarantees 2048). */
+export function textureShift(maxTextureSize) {
+  return Math.min(12, Math.floor(Math.log2(maxTextureSize)));
+}
+
+/** Rows a data texture of `texels` elements needs at width 2^shift (at least 1). */
+export function textureRows(texels, shift) {
+  return Math.max(1, Math.ceil(texels / 2 ** shift));
 }

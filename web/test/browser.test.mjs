@@ -1,16 +1,28 @@
-// The viewer in a real browser (issue 7 §3): Debian's Chromium (/usr/bin/chromium, driven by
-// playwright-core, never a downloaded browser), headless, WebGL 2 on SwiftShader, and a second
-// time on ANGLE's EGL back end (Mesa llvmpipe here, when the machine has it). The default
-// scene is exported with `umbra export`, served by serve.mjs, drawn by the viewer at 320x240
-// with the manifest's camera and light, read back, and classified per pixel (background /
-// shadow / lit); `umbra render --method vs-silhouette` of the same view and size is classified
-// the same way and the two must agree everywhere outside the one-pixel band around class
-// boundaries (where the two depth conventions may round a boundary pixel differently).
-// `umbra verify` of the same view gives the native method's mismatches against the
-// ray-traced reference outside its band, which must be 0: so the browser matches the
-// reference too. Also: the shadow-mask view, shadows off, the error pages (no WebGL 2, no
-// stencil, truncated buffer, version mismatch, missing export), and a screenshot saved as a
-// test artefact (web/test-artifacts/).
+// The viewer in a real browser (issue 7 §3, issue 16 §3): Debian's Chromium (/usr/bin/chromium,
+// driven by playwright-core, never a downloaded browser), headless, on the two WebGL 2
+// implementations this machine has: SwiftShader (what a user without a GPU gets) and ANGLE on
+// the system's EGL (Mesa llvmpipe here, the native renderer's rasteriser). Scenes are exported
+// with `umbra export`, served by serve.mjs and drawn by the viewer in its shadow-mask view
+// (white = lit, as native umbra's lit mask); the mask is judged by the oracle itself,
+// `umbra verify --method vs-silhouette --external-mask` (testlib/exactness.mjs): the same
+// reference, the same per-sample band and the same --explain as every native method gets.
+//
+// * The default scene, both depth paths, and with a directional light: 0 samples outside the
+//   band on ANGLE/llvmpipe.
+// * A caster the camera's near plane cuts (a wall 0.005 in front of the eye, near plane
+//   0.0143): 0 outside the band on both; the light cap's near-plane cut is what makes it so.
+// * The three shared scenes (UMBRA_SCENES, default ../shared/scenes beside the repository;
+//   skipped with a message when absent), 320 x 180: 0 outside the band on ANGLE/llvmpipe.
+// * SwiftShader is not required to reach 0 outside the band: Chromium builds it with 4-bit
+//   sub-pixel precision (SWIFTSHADER_LEGACY_PRECISION), 16 times coarser than the llvmpipe
+//   precision the oracle's band is built for. Its samples outside the band (default and
+//   shared scenes) are printed, and each must also be outside the band for llvmpipe drawing
+//   the same frame with every vertex snapped to SwiftShader's 1/16-pixel grid (the viewer's
+//   snap=16): its precision, and nothing else, explains them (docs/web.md).
+// * The page names each shared scene by its file name, never its path.
+// * The mask view against the shaded view, shadows off, the frame time, the error pages (no
+//   WebGL 2, no stencil, truncated buffer, version mismatch, missing export), the controls,
+//   and screenshots saved as test artefacts (web/test-artifacts/).
 //
 // Needs: the umbra binary (UMBRA_BIN, else $CARGO_TARGET_DIR/release/umbra, else
 // target/release/umbra: build it with `cargo build --release -p umbra-cli`), /usr/bin/chromium
@@ -26,7 +38,7 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createServer, listen } from '../serve.mjs';
 import { build } from '../build.mjs';
-import { decodePng } from '../testlib/png.mjs';
+import { launch, openViewer, readCanvas, maskAgainstReference } from '../testlib/exactness.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const webDir = path.join(here, '..');
@@ -35,6 +47,12 @@ const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
 const artifacts = path.join(webDir, 'test-artifacts');
 const W = 320;
 const H = 240;
+// The shared scenes: small, so that three scenes on two software rasterisers stay in CI's
+// budget (seconds per frame on SwiftShader for Sponza at this size).
+const SW = 320;
+const SH = 180;
+const SCENES_DIR = process.env.UMBRA_SCENES || path.join(repo, '..', 'shared', 'scenes');
+const SHARED = ['crytek-sponza.obj.gz', 'conference.obj.gz', 'sibenik.obj.gz'];
 
 function umbraBin() {
   const candidates = [process.env.UMBRA_BIN, process.env.CARGO_TARGET_DIR && path.join(process.env.CARGO_TARGET_DIR, 'release', 'umbra'), path.join(repo, 'target', 'release', 'umbra')];
@@ -45,67 +63,91 @@ function umbraBin() {
 
 const skip = existsSync(CHROMIUM) ? false : `${CHROMIUM} is absent (apt-get install chromium): browser test skipped`;
 if (skip) console.log(`SKIP: ${skip}`);
+const sharedMissing = SHARED.filter((s) => !existsSync(path.join(SCENES_DIR, s)));
+const skipShared = skip || (sharedMissing.length ? `${sharedMissing.join(', ')} absent from ${SCENES_DIR} (UMBRA_SCENES): shared-scene browser test skipped` : false);
+if (skipShared && !skip) console.log(`SKIP: ${skipShared}`);
 
-let tmp, server, base, context, contextEgl, umbra, manifest;
+// The near-plane case: a floor and a wall; the camera stands 0.005 in front of the wall, closer
+// than its near plane (1e-3 of the scene's diagonal: 0.0143), so the near plane cuts the whole
+// wall away and the floor behind it is seen, half in the wall's shadow.
+const WALL_OBJ = `v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv -2 0 0\nv 2 0 0\nv 2 2 0\nv -2 2 0\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n`;
+const WALL_VIEW = { eye: '0,1,-0.005', target: '0,1,5', light: '0,4,-3' };
+
+let tmp, server, base, umbra, manifest, wallObj;
+const contexts = {};
 
 before(async () => {
   if (skip) return;
   umbra = umbraBin();
   tmp = await mkdtemp(path.join(tmpdir(), 'umbra-browser-'));
   const dist = await build(path.join(tmp, 'dist'));
-  const t0 = Date.now();
-  execFileSync(umbra, ['export', 'default', '--out', path.join(tmp, 'scene')], { stdio: 'inherit' });
-  console.log(`umbra export default: ${Date.now() - t0} ms`);
+  const exp = (spec, dir, extra = []) => execFileSync(umbra, ['export', spec, '--out', path.join(tmp, dir), ...extra], { stdio: ['ignore', 'ignore', 'inherit'] });
+  exp('default', 'scene');
   manifest = JSON.parse(await readFile(path.join(tmp, 'scene', 'manifest.json'), 'utf8'));
+  wallObj = path.join(tmp, 'wall.obj');
+  await writeFile(wallObj, WALL_OBJ);
+  exp(wallObj, 'wall', ['--eye', WALL_VIEW.eye, '--target', WALL_VIEW.target, '--light', WALL_VIEW.light]);
+  const mounts = [['/', dist], ['/scene/', path.join(tmp, 'scene')], ['/wall/', path.join(tmp, 'wall')]];
+  if (!skipShared) {
+    for (const [i, s] of SHARED.entries()) {
+      exp(path.join(SCENES_DIR, s), `shared${i}`);
+      mounts.push([`/shared${i}/`, path.join(tmp, `shared${i}`)]);
+    }
+  }
   // Broken exports for the error pages.
   await cp(path.join(tmp, 'scene'), path.join(tmp, 'truncated'), { recursive: true });
   await truncate(path.join(tmp, 'truncated', 'sides.bin'), manifest.sides_data_bytes - 16);
   await cp(path.join(tmp, 'scene'), path.join(tmp, 'version'), { recursive: true });
   await writeFile(path.join(tmp, 'version', 'manifest.json'), JSON.stringify({ ...manifest, version: 999 }));
-  server = createServer([['/', dist], ['/scene/', path.join(tmp, 'scene')], ['/truncated/', path.join(tmp, 'truncated')], ['/version/', path.join(tmp, 'version')]]);
+  mounts.push(['/truncated/', path.join(tmp, 'truncated')], ['/version/', path.join(tmp, 'version')]);
+  server = createServer(mounts);
   base = await listen(server, 0);
-  const { chromium } = await import('playwright-core');
-  const common = ['--headless', '--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
-    '--disable-component-update', '--disable-sync'];
-  const launch = (name, args) => chromium.launchPersistentContext(path.join(tmp, `profile-${name}`), { executablePath: CHROMIUM, headless: true, args: [...common, ...args] });
-  // SwiftShader (the issue's browser set-up): a new empty profile, no GPU process features.
-  context = await launch('swiftshader', ['--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader']);
-  // The same Chromium with ANGLE on the system's EGL (Mesa llvmpipe here, the native
-  // renderer's rasteriser): a second WebGL 2 implementation.
-  contextEgl = await launch('egl', ['--use-angle=gl-egl', '--ignore-gpu-blocklist']);
+  contexts.swiftshader = await launch(CHROMIUM, 'swiftshader', tmp);
+  contexts.egl = await launch(CHROMIUM, 'egl', tmp);
+  // ANGLE on EGL is only the second implementation where the machine's EGL is Mesa's llvmpipe.
+  const probe = await openViewer(contexts.egl, `${base}?size=64x64`);
+  contexts.eglRenderer = probe.status.renderer || probe.status.error;
+  await probe.page.close();
+  if (!/llvmpipe/.test(contexts.eglRenderer)) console.log(`SKIP the ANGLE/EGL rows: Chromium's EGL back end gave ${contexts.eglRenderer}`);
 });
 
 after(async () => {
-  if (context) await context.close();
-  if (contextEgl) await contextEgl.close();
+  for (const k of ['swiftshader', 'egl']) if (contexts[k]) await contexts[k].close();
   if (server) await new Promise((r) => server.close(r));
   if (tmp) await rm(tmp, { recursive: true, force: true });
 });
 
-/** Opens the viewer with `query`, waits until it is ready or failed; returns page and status. */
-async function open(query, ctx = context) {
-  const page = await ctx.newPage();
-  const logs = [];
-  page.on('console', (m) => logs.push(m.text()));
-  page.on('pageerror', (e) => logs.push(String(e)));
-  await page.goto(`${base}?${query}`);
-  await page.waitForFunction(() => document.body.dataset.state !== 'loading', null, { timeout: 120_000 });
-  const status = await page.evaluate(() => ({ state: window.umbra.state, depth: window.umbra.depth, error: window.umbra.error, frameMs: window.umbra.frameMs, renderer: window.umbra.renderer, depthClamp: window.umbra.depthClamp, message: document.getElementById('message').textContent, visible: getComputedStyle(document.getElementById('message')).display !== 'none' }));
-  return { page, status, logs };
+/** The WebGL 2 implementations to judge: SwiftShader always, ANGLE/EGL where it is llvmpipe. */
+const implementations = () => ['swiftshader', ...(/llvmpipe/.test(contexts.eglRenderer) ? ['egl'] : [])];
+
+/** Opens the viewer in SwiftShader (or `ctx`) with `query`; returns page and status. */
+const open = (query, ctx = contexts.swiftshader) => openViewer(ctx, `${base}?${query}`, 120_000);
+
+/** The viewer's mask of `view` judged by the oracle: { native, browser, falseShadow, falseLight, explained, status }. */
+async function judged(impl, { dir, scene, width, height, query = '', extra = [] }) {
+  const maskPng = path.join(tmp, `mask-${impl}-${dir}-${width}x${height}-${query.replace(/[^a-z0-9]+/gi, '_')}.png`);
+  return maskAgainstReference(contexts[impl], umbra, { base, query: `scene=${dir}/&${query}`, scene, width, height, maskPng, extra, explain: 1_000_000 });
 }
 
-/** The canvas as RGBA rows top to bottom. */
-async function readCanvas(page) {
-  const px = await page.evaluate(() => {
-    const c = document.getElementById('canvas');
-    const gl = c.getContext('webgl2');
-    const out = new Uint8Array(c.width * c.height * 4);
-    gl.readPixels(0, 0, c.width, c.height, gl.RGBA, gl.UNSIGNED_BYTE, out);
-    return Array.from(out);
-  });
-  const flipped = new Uint8Array(W * H * 4);
-  for (let y = 0; y < H; y++) flipped.set(px.slice((H - 1 - y) * W * 4, (H - y) * W * 4), y * W * 4);
-  return flipped;
+function report(what, r) {
+  console.log(`${what}: ${r.browser.mismatches_outside_band} samples outside the band (${r.falseShadow} false shadow, ${r.falseLight} false light), ${r.browser.band_mismatches} in it, of ${r.browser.samples}; native vs-silhouette ${r.native.mismatches_outside_band}; ${r.status.depth} depth, frame ${r.status.frameMs.toFixed(0)} ms`);
+  for (const l of r.explained.slice(0, 5)) console.log(`    ${l}`);
+}
+
+/**
+ * SwiftShader's samples outside the band (`ss`, judged for `view`) must all be outside it for
+ * llvmpipe too when llvmpipe draws the same frame with every vertex on SwiftShader's
+ * 1/16-pixel grid (the viewer's snap=16): whatever SwiftShader gets wrong, its precision
+ * explains. (Before the viewer clipped its volumes itself, SwiftShader's clipper cracked them
+ * and most of its wrong samples were not among these: docs/web.md.)
+ */
+async function assertOnlyPrecision(ss, view, what) {
+  if (!implementations().includes('egl')) return console.log(`SKIP ${what}: no llvmpipe to emulate SwiftShader's grid`);
+  const emulated = await judged('egl', { ...view, query: view.query ? `${view.query}&snap=16` : 'snap=16' });
+  const unexplained = ss.pixels.filter((p) => !emulated.pixels.includes(p));
+  console.log(`${what}: SwiftShader ${ss.pixels.length} samples outside the band, llvmpipe on SwiftShader's 1/16-pixel grid ${emulated.pixels.length}, SwiftShader's not among them: ${unexplained.length}`);
+  assert.equal(ss.pixels.length, ss.browser.mismatches_outside_band, 'every sample explained');
+  assert.deepEqual(unexplained, [], `${what}: SwiftShader samples outside the band that its 1/16-pixel snapping does not explain`);
 }
 
 const BG = 0, SHADOW = 1, LIT = 2, AMBIGUOUS = 3;
@@ -125,88 +167,65 @@ function classify(rgba) {
   return out;
 }
 
-/** Pixels whose 3x3 neighbourhood in `cls` holds more than one class. */
-function band(cls) {
-  const out = new Uint8Array(W * H);
-  for (let y = 0; y < H; y++) for (let x = 0; x < W; x++) {
-    const c = cls[y * W + x];
-    for (let dy = -1; dy <= 1; dy++) for (let dx = -1; dx <= 1; dx++) {
-      const X = x + dx, Y = y + dy;
-      if (X >= 0 && Y >= 0 && X < W && Y < H && cls[Y * W + X] !== c) out[y * W + x] = 1;
+test('default scene: the reference\'s shadows outside the band on ANGLE/llvmpipe, both depth paths, point and directional light; SwiftShader measured', { skip }, async () => {
+  // The manifest's point light, and a directional one (no dark caps: zero area).
+  const directional = '0.3,1,0.2,0';
+  const cases = [['', []], ['depth=standard', []], [`light=${directional}`, ['--light', directional]]];
+  for (const impl of implementations()) {
+    for (const [query, extra] of cases) {
+      const r = await judged(impl, { dir: 'scene', scene: 'default', width: W, height: H, query, extra });
+      report(`default scene, ${impl}${query ? `, ${query}` : ''}`, r);
+      assert.equal(r.status.state, 'ready');
+      assert.equal(r.status.depth, query === 'depth=standard' ? 'standard' : 'reversed-z', 'reversed-Z where EXT_clip_control is offered, standard on request');
+      assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
+      assert.equal(r.native.mismatches_outside_band, 0, 'native vs-silhouette');
+      // SwiftShader snaps vertices to 1/16 pixel: not held to llvmpipe's band (docs/web.md).
+      if (impl === 'egl') assert.equal(r.browser.mismatches_outside_band, 0, `${query}: the viewer disagrees with the reference outside the band`);
+      else await assertOnlyPrecision(r, { dir: 'scene', scene: 'default', width: W, height: H, query, extra }, `default scene${query ? `, ${query}` : ''}`);
     }
   }
-  return out;
-}
+});
 
-function compare(a, b, inBand) {
-  let outside = 0, inside = 0, ambiguous = 0;
-  const where = [];
-  for (let i = 0; i < W * H; i++) {
-    if (a[i] === AMBIGUOUS || b[i] === AMBIGUOUS) ambiguous++;
-    else if (a[i] !== b[i]) {
-      if (inBand[i]) inside++;
-      else {
-        outside++;
-        if (where.length < 10) where.push(`(${i % W}, ${Math.floor(i / W)}): browser ${'bsl'[a[i]]}, native ${'bsl'[b[i]]}`);
-      }
+test('a caster the near plane cuts: its light cap is cut too (ES 3.00 has no clip distances)', { skip }, async () => {
+  const extra = ['--eye', WALL_VIEW.eye, '--target', WALL_VIEW.target, '--light', WALL_VIEW.light];
+  for (const impl of implementations()) {
+    const r = await judged(impl, { dir: 'wall', scene: wallObj, width: SW, height: SH, extra });
+    report(`wall cut by the near plane, ${impl}`, r);
+    // Both shadow and light behind the cut wall; without the cut every sample is wrong.
+    assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, 'the floor behind the wall is half in its shadow');
+    assert.equal(r.native.mismatches_outside_band, 0);
+    assert.equal(r.browser.mismatches_outside_band, 0, `${impl}: samples seen through the cut wall`);
+  }
+});
+
+test('shared scenes: 0 samples outside the band on ANGLE/llvmpipe, SwiftShader measured; the page names the file', { skip: skipShared }, async () => {
+  const totals = {};
+  for (const impl of implementations()) {
+    for (const [i, s] of SHARED.entries()) {
+      const scene = path.join(SCENES_DIR, s);
+      const r = await judged(impl, { dir: `shared${i}`, scene, width: SW, height: SH });
+      report(`${s}, ${impl}, ${SW}x${SH}`, r);
+      assert.equal(r.status.state, 'ready');
+      assert.match(r.status.info, new RegExp(`^${s.replace(/\./g, '\\.')}: \\d+ triangles`), 'the file name, first');
+      assert.ok(!r.status.info.includes(path.dirname(scene)), `the page shows a path: ${r.status.info}`);
+      assert.equal(r.native.mismatches_outside_band, 0, `${s}: native vs-silhouette`);
+      assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, `${s}: shadow and light in view`);
+      totals[impl] = (totals[impl] || 0) + r.browser.mismatches_outside_band;
+      // SwiftShader snaps vertices to 1/16 pixel: not held to llvmpipe's band (docs/web.md).
+      if (impl === 'egl') assert.equal(r.browser.mismatches_outside_band, 0, `${s} on ANGLE/llvmpipe`);
+      else await assertOnlyPrecision(r, { dir: `shared${i}`, scene, width: SW, height: SH }, s);
     }
   }
-  if (where.length) console.log(`mismatches outside the band: ${where.join('; ')}`);
-  return { outside, inside, ambiguous };
-}
+  console.log(`shared scenes at ${SW}x${SH}, samples outside the band: ${Object.entries(totals).map(([k, v]) => `${k} ${v}`).join(', ')}`);
+});
 
-test('the viewer matches native vs-silhouette and the ray-traced reference outside the band', { skip }, async () => {
+test('mask view agrees with the shaded view; shadows off; frame time', { skip }, async () => {
   const { page, status, logs } = await open(`size=${W}x${H}`);
   assert.equal(status.state, 'ready', `viewer failed: ${status.error}\n${logs.join('\n')}`);
   console.log(`Chromium WebGL renderer (SwiftShader set-up): ${status.renderer}; depth: ${status.depth}; EXT_depth_clamp: ${status.depthClamp}; first frame ${status.frameMs.toFixed(1)} ms at ${W}x${H}`);
   await mkdir(artifacts, { recursive: true });
   await page.locator('#canvas').screenshot({ path: path.join(artifacts, 'browser-default.png') });
-  const browser = classify(await readCanvas(page));
-
-  const nativePng = path.join(tmp, 'native.png');
-  execFileSync(umbra, ['render', '--scene', 'default', '--method', 'vs-silhouette', '--size', `${W}x${H}`, '--out', nativePng], { stdio: 'inherit' });
-  const native = decodePng(await readFile(nativePng), nativePng);
-  assert.equal(native.width, W);
-  const nat = classify(native.data);
-  const counts = [0, 0, 0, 0];
-  for (const c of nat) counts[c]++;
-  assert.ok(counts[SHADOW] > 500 && counts[LIT] > 500, `the view must show shadow and light: ${counts}`);
-  const r = compare(browser, nat, band(nat));
-  console.log(`browser vs native (${W}x${H}): ${r.outside} mismatches outside the band, ${r.inside} inside, ${r.ambiguous} grazing-light pixels not compared; native classes bg/shadow/lit/grazing = ${counts.join('/')}`);
-  assert.equal(r.outside, 0, 'browser and native vs-silhouette disagree outside the boundary band');
-  assert.equal(status.depth, 'standard');
-  // The opt-in reversed-Z path (EXT_clip_control): measured and printed; on SwiftShader it
-  // is not exact (docs/web.md).
-  const rev = await open(`size=${W}x${H}&depth=reversed`);
-  assert.equal(rev.status.state, 'ready', rev.status.error);
-  if (rev.status.depth === 'reversed-z') {
-    const rr = compare(classify(await readCanvas(rev.page)), nat, band(nat));
-    console.log(`SwiftShader reversed-Z vs native: ${rr.outside} mismatches outside the band, ${rr.inside} inside (not required to be 0)`);
-  } else {
-    console.log('no EXT_clip_control: reversed-Z path not measured');
-  }
-  await rev.page.close();
-
-  // Chromium's WebGL 2 on the system's EGL (llvmpipe): both depth paths must be exact.
-  const probe = await open(`size=${W}x${H}`, contextEgl);
-  if (probe.status.state === 'ready' && /llvmpipe/.test(probe.status.renderer)) {
-    console.log(`second WebGL 2 implementation: ${probe.status.renderer}`);
-    for (const q of ['', '&depth=reversed']) {
-      const e = q ? await open(`size=${W}x${H}${q}`, contextEgl) : probe;
-      assert.equal(e.status.state, 'ready', e.status.error);
-      const re = compare(classify(await readCanvas(e.page)), nat, band(nat));
-      console.log(`llvmpipe ${e.status.depth} vs native: ${re.outside} mismatches outside the band, ${re.inside} inside`);
-      assert.equal(re.outside, 0, `llvmpipe ${e.status.depth}: browser and native disagree outside the band`);
-      await e.page.close();
-    }
-  } else {
-    console.log(`SKIP the llvmpipe comparison: Chromium's EGL back end gave ${probe.status.renderer || probe.status.error}`);
-    await probe.page.close();
-  }
-
-  const v = JSON.parse(execFileSync(umbra, ['verify', '--scene', 'default', '--method', 'vs-silhouette', '--size', `${W}x${H}`, '--json']).toString());
-  console.log(`native vs-silhouette vs ray-traced reference: ${v[0].mismatches_outside_band} mismatches outside the band (${v[0].samples} samples)`);
-  assert.equal(v[0].mismatches_outside_band, 0);
+  const shaded = classify((await readCanvas(page)).rgba);
 
   // The shadow-mask view: black only where the shaded view shows the ambient term alone, and
   // white wherever the shaded view is clearly lit (a white pixel may look unlit when shaded:
@@ -214,17 +233,15 @@ test('the viewer matches native vs-silhouette and the ray-traced reference outsi
   const m = await open(`size=${W}x${H}&mask=1`);
   assert.equal(m.status.state, 'ready', m.status.error);
   await m.page.locator('#canvas').screenshot({ path: path.join(artifacts, 'browser-default-mask.png') });
-  const mask = await readCanvas(m.page);
+  const mask = (await readCanvas(m.page)).rgba;
   let disagree = 0, grazing = 0;
-  const inBand = band(nat);
   for (let i = 0; i < W * H; i++) {
-    if (browser[i] === BG || inBand[i]) continue;
+    if (shaded[i] === BG) continue;
     const white = mask[4 * i] === 255 && mask[4 * i + 1] === 255 && mask[4 * i + 2] === 255;
     const black = mask[4 * i] === 0 && mask[4 * i + 1] === 0 && mask[4 * i + 2] === 0;
     if (!white && !black) disagree++;
-    else if (black && browser[i] !== SHADOW) disagree++;
-    else if (white && browser[i] === SHADOW) grazing++;
-    else if (!white && browser[i] === LIT) disagree++;
+    else if (black && shaded[i] !== SHADOW && shaded[i] !== AMBIGUOUS) disagree++;
+    else if (white && shaded[i] === SHADOW) grazing++;
   }
   console.log(`mask view: ${disagree} disagreements with the shaded view, ${grazing} lit-at-grazing-angle pixels`);
   assert.equal(disagree, 0, 'mask view and shaded view disagree');
@@ -242,9 +259,9 @@ test('the viewer matches native vs-silhouette and the ray-traced reference outsi
 
   // Shadows off: every shadowed pixel that faces the light becomes lit.
   const off = await open(`size=${W}x${H}&shadows=0`);
-  const noShadow = classify(await readCanvas(off.page));
+  const noShadow = classify((await readCanvas(off.page)).rgba);
   const shadowed = (cls) => cls.reduce((n, c) => n + (c === SHADOW), 0);
-  assert.ok(shadowed(noShadow) < shadowed(browser) / 2, `shadows off: ${shadowed(noShadow)} vs on: ${shadowed(browser)} shadow pixels`);
+  assert.ok(shadowed(noShadow) < shadowed(shaded) / 2, `shadows off: ${shadowed(noShadow)} vs on: ${shadowed(shaded)} shadow pixels`);
   for (const p of [page, m.page, off.page]) await p.close();
 });
 
@@ -253,7 +270,7 @@ test('error pages: no WebGL 2, no stencil, truncated buffer, version mismatch, m
     ['nowebgl=1', /no WebGL 2/],
     ['nostencil=1', /drawing buffer has 0 stencil bits/],
     ['scene=truncated/', /sides\.bin: has \d+ bytes, but \$\.buffers\.sides_data needs/],
-    ['scene=version/', /\$\.version: this viewer reads version 1, the scene is version 999/],
+    ['scene=version/', /\$\.version: this viewer reads version 2, the scene is version 999/],
     ['scene=nothing-here/', /manifest\.json: HTTP 404/],
   ];
   for (const [q, re] of cases) {
@@ -272,12 +289,12 @@ test('controls: drag orbits, wheel zooms, shift-drag and arrows move the light, 
     const n = await page.evaluate(() => window.umbra.frames);
     await act();
     await page.waitForFunction((k) => window.umbra.frames > k, n, { timeout: 60_000 });
-    return readCanvas(page);
+    return (await readCanvas(page)).rgba;
   };
   const differs = (a, b) => a.some((v, i) => v !== b[i]);
   const box = await page.locator('#canvas').boundingBox();
   const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
-  let before = await readCanvas(page);
+  let before = (await readCanvas(page)).rgba;
   const steps = [
     ['drag orbits the camera', async () => { await page.mouse.move(cx, cy); await page.mouse.down(); await page.mouse.move(cx + 40, cy + 10); await page.mouse.up(); }],
     ['wheel zooms', async () => { await page.mouse.move(cx, cy); await page.mouse.wheel(0, 300); }],

@@ -4,12 +4,12 @@
 // Run: node --test test/
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { parseManifest, loadScene, SceneError } from '../src/scene.js';
+import { parseManifest, loadScene, SceneError, sceneName } from '../src/scene.js';
 
 /** A valid export of one triangle (3 vertices, 3 edges of 1 opposite each, maxMult 1). */
 function sample() {
   const m = {
-    format: 'umbra-export', version: 1, scene: 't', ground: false,
+    format: 'umbra-export', version: 2, scene: 't', ground: false,
     counts: { vertices: 3, triangles: 1, edges: 3, sides_data_records: 3 },
     max_mult: 1, sides_data_bytes: 16 * 3 * 3, caps_data_bytes: 48,
     bounds: { min: [0, 0, 0], max: [1, 1, 0] }, light: [0, 0, 5, 1],
@@ -18,13 +18,14 @@ function sample() {
   };
   const b = (file, type, components, count) => ({ file, offset: 0, bytes: 4 * components * count, component_type: type, components, count });
   m.buffers = { positions: b('positions.bin', 'f32', 3, 3), normals: b('normals.bin', 'f32', 3, 1), indices: b('indices.bin', 'u32', 3, 1),
-    sides_data: b('sides.bin', 'f32', 4, 9), caps_data: b('caps.bin', 'f32', 4, 3) };
+    sides_data: b('sides.bin', 'f32', 4, 9), caps_data: b('caps.bin', 'f32', 4, 3), edge_triangles: b('edge_triangles.bin', 'i32', 1, 3) };
   const files = {
     'positions.bin': new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]).buffer,
     'normals.bin': new Float32Array([0, 0, 1]).buffer,
     'indices.bin': new Uint32Array([0, 1, 2]).buffer,
     'sides.bin': new Float32Array(36).buffer,
     'caps.bin': new Float32Array(12).buffer,
+    'edge_triangles.bin': new Int32Array([1, -1, 1]).buffer,
   };
   return { m, files };
 }
@@ -53,6 +54,17 @@ test('a valid export loads', async () => {
   const s = await loadScene('http://x/scene/', fetcher(JSON.stringify(m), files));
   assert.equal(s.indices.length, 3);
   assert.equal(s.sides_data.length, 36);
+  assert.ok(s.edge_triangles instanceof Int32Array, 'edge triangles are signed');
+  assert.deepEqual(Array.from(s.edge_triangles), [1, -1, 1]);
+});
+
+test('edge triangles: maxMult i32 per edge record', () => {
+  let { m } = sample();
+  m.buffers.edge_triangles.component_type = 'f32';
+  assert.match(err(() => parseManifest(JSON.stringify(m))), /\$\.buffers\.edge_triangles\.component_type: expected "i32"/);
+  ({ m } = sample());
+  m.buffers.edge_triangles.count = 2;
+  assert.match(err(() => parseManifest(JSON.stringify(m))), /\$\.buffers\.edge_triangles: expected 3 elements of 1 components/);
 });
 
 test('truncated manifest text', () => {
@@ -63,8 +75,8 @@ test('truncated manifest text', () => {
 
 test('version mismatch names $.version', () => {
   const { m } = sample();
-  m.version = 2;
-  assert.match(err(() => parseManifest(JSON.stringify(m))), /^manifest\.json: \$\.version: this viewer reads version 1, the scene is version 2/);
+  m.version = 1;
+  assert.match(err(() => parseManifest(JSON.stringify(m))), /^manifest\.json: \$\.version: this viewer reads version 2, the scene is version 1: re-export it/);
 });
 
 test('missing and mistyped fields name their JSON path', () => {
@@ -105,4 +117,12 @@ test('missing files are reported with a hint', async () => {
   await assert.rejects(loadScene('http://x/scene/', fetcher(null, files)), /manifest\.json: HTTP 404: missing\? Export a scene/);
   delete files['caps.bin'];
   await assert.rejects(loadScene('http://x/scene/', fetcher(JSON.stringify(m), files)), /caps\.bin: HTTP 404/);
+});
+
+test('the page names the scene by its file name, never its path', () => {
+  assert.equal(sceneName('/work/shared/scenes/sibenik.obj.gz'), 'sibenik.obj.gz');
+  assert.equal(sceneName('C:\\models\\sponza.obj'), 'sponza.obj');
+  assert.equal(sceneName('../shared/scenes/conference.obj.gz'), 'conference.obj.gz');
+  assert.equal(sceneName('default'), 'default');
+  assert.equal(sceneName('spheres:10:4000'), 'spheres:10:4000');
 });

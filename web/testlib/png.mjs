@@ -1,6 +1,6 @@
-// Minimal PNG reader for the browser test (8-bit RGB/RGBA, non-interlaced: what umbra writes
+// Minimal PNG reader and writer for the browser test (8-bit RGB/RGBA, non-interlaced: what umbra writes
 // and Chromium's screenshots are), on node:zlib. Throws on anything else, naming the field.
-import { inflateSync } from 'node:zlib';
+import { crc32, deflateSync, inflateSync } from 'node:zlib';
 
 export function decodePng(buf, name = 'png') {
   const sig = [137, 80, 78, 71, 13, 10, 26, 10];
@@ -57,4 +57,26 @@ export function decodePng(buf, name = 'png') {
     prev = cur;
   }
   return { width, height, data: out };
+}
+
+/** Encodes RGBA8 rows, top row first, as a PNG (filter 0, one IDAT): what `umbra verify
+ * --external-mask` reads. */
+export function encodePng(width, height, rgba) {
+  if (rgba.length !== width * height * 4) throw new Error(`encodePng: ${rgba.length} bytes for ${width}x${height} RGBA`);
+  const raw = Buffer.alloc((width * 4 + 1) * height);
+  for (let y = 0; y < height; y++) Buffer.from(rgba.buffer, rgba.byteOffset + y * width * 4, width * 4).copy(raw, y * (width * 4 + 1) + 1);
+  const chunk = (type, data) => {
+    const head = Buffer.alloc(8);
+    head.writeUInt32BE(data.length, 0);
+    head.write(type, 4, 'latin1');
+    const crc = Buffer.alloc(4);
+    crc.writeUInt32BE(crc32(Buffer.concat([head.subarray(4), data])), 0);
+    return Buffer.concat([head, data, crc]);
+  };
+  const ihdr = Buffer.alloc(13);
+  ihdr.writeUInt32BE(width, 0);
+  ihdr.writeUInt32BE(height, 4);
+  ihdr[8] = 8; // bit depth
+  ihdr[9] = 6; // RGBA
+  return Buffer.concat([Buffer.from([137, 80, 78, 71, 13, 10, 26, 10]), chunk('IHDR', ihdr), chunk('IDAT', deflateSync(raw)), chunk('IEND', Buffer.alloc(0))]);
 }

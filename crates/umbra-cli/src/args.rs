@@ -173,6 +173,11 @@ pub struct VerifyArgs {
     /// method and light (triangle, position, distance to its edges, first occluder).
     #[arg(long, default_value_t = 0)]
     pub explain: usize,
+    /// Also compare a shadow mask made elsewhere with the reference, as one more row named by
+    /// the file: a PNG of the view's size, top row first, pure white = lit, any other colour =
+    /// shadowed (the WebGL2 viewer's `mask=1` view read back). One light only.
+    #[arg(long)]
+    pub external_mask: Option<String>,
 }
 
 /// Flags of `umbra bench` (frame benchmarks; see docs/benchmarks.md "Frame benchmarks").

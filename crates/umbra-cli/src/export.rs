@@ -16,6 +16,7 @@
 //! | `indices` | `indices.bin` | triangles, 3 × u32, counter-clockwise = front | `12 t` |
 //! | `sides_data` | `sides.bin` | `2 + maxMult` vec4 per edge record (Eq. 8) | `16 (2 + maxMult) e` |
 //! | `caps_data` | `caps.bin` | 3 vec4 per triangle (Eq. 9) | `48 t` |
+//! | `edge_triangles` | `edge_triangles.bin` | per edge record, `maxMult` × i32: the signed triangle behind each opposite slot ([`umbra_geom::edge_triangles`]) | `4 maxMult e` |
 //!
 //! The manifest (`manifest.json`, [`Manifest`]) states the format version, the counts,
 //! `maxMult`, the bounds, every buffer's file, byte offset and byte size, and the light and
@@ -23,6 +24,10 @@
 //! [`read_manifest`] reads one back with typed errors that name the file and the JSON path
 //! (`manifest.json: $.buffers.sides_data.bytes: …`); [`check_export`] also checks every
 //! buffer file's length (`umbra export --check DIR`).
+//!
+//! Version 2 added `edge_triangles`: the viewer orients every triangle once per light and
+//! lets the sides and the caps read that one value (docs/web.md), which needs to know which
+//! triangle each opposite slot of the sides-data stands for.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -30,6 +35,7 @@ use std::time::Instant;
 use serde::Serialize;
 use serde_json::Value;
 use umbra_geom::adjacency::EdgeAdjacency;
+use umbra_geom::edge_triangles::build_edge_triangles;
 use umbra_geom::sides_data::{build_caps_data, build_sides_data, caps_data_bytes, sides_data_bytes, MAX_MULT_LIMIT};
 use umbra_geom::weld::{weld, WeldedMesh};
 use umbra_geom::Aabb;
@@ -42,7 +48,7 @@ use crate::config::{CliError, ViewConfig};
 /// `format` of every manifest this module writes.
 pub const FORMAT: &str = "umbra-export";
 /// Manifest version; readers reject any other (the viewer checks it too).
-pub const VERSION: u64 = 1;
+pub const VERSION: u64 = 2;
 /// The manifest's file name inside the export directory.
 pub const MANIFEST: &str = "manifest.json";
 /// One buffer: which file, where in it, how many bytes, and how to read them.
@@ -51,7 +57,7 @@ pub struct BufferRef {
     pub file: String,
     pub offset: u64,
     pub bytes: u64,
-    /// `f32` or `u32`, little-endian.
+    /// `f32`, `u32` or `i32`, little-endian.
     pub component_type: String,
     /// Components per element (3 for positions, normals, indices; 4 for the vec4 records).
     pub components: u64,
@@ -66,6 +72,7 @@ pub struct Buffers {
     pub indices: BufferRef,
     pub sides_data: BufferRef,
     pub caps_data: BufferRef,
+    pub edge_triangles: BufferRef,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -205,8 +212,8 @@ fn buffer_ref(at: &At<'_>) -> Result<BufferRef, ManifestError> {
     }
     let component_type = at.get("component_type")?;
     let ty = component_type.str()?;
-    if ty != "f32" && ty != "u32" {
-        return Err(component_type.err(format!("expected \"f32\" or \"u32\", got {ty:?}")));
+    if ty != "f32" && ty != "u32" && ty != "i32" {
+        return Err(component_type.err(format!("expected \"f32\", \"u32\" or \"i32\", got {ty:?}")));
     }
     Ok(BufferRef {
         file: name,
@@ -270,6 +277,7 @@ pub fn parse_manifest(file: &Path, text: &str) -> Result<Manifest, ManifestError
             indices: buffer_ref(&buffers.get("indices")?)?,
             sides_data: buffer_ref(&buffers.get("sides_data")?)?,
             caps_data: buffer_ref(&buffers.get("caps_data")?)?,
+            edge_triangles: buffer_ref(&buffers.get("edge_triangles")?)?,
         },
     };
     check_sizes(file, &m)?;
@@ -288,12 +296,13 @@ fn check_sizes(file: &Path, m: &Manifest) -> Result<(), ManifestError> {
     }
     let c = &m.counts;
     let b = &m.buffers;
-    let expected: [(&str, &BufferRef, u64, u64); 5] = [
+    let expected: [(&str, &BufferRef, u64, u64); 6] = [
         ("positions", &b.positions, 3, c.vertices),
         ("normals", &b.normals, 3, c.triangles),
         ("indices", &b.indices, 3, c.triangles),
         ("sides_data", &b.sides_data, 4, c.sides_data_records * (2 + m.max_mult)),
         ("caps_data", &b.caps_data, 4, 3 * c.triangles),
+        ("edge_triangles", &b.edge_triangles, m.max_mult, c.sides_data_records),
     ];
     for (name, r, components, count) in expected {
         let path = format!("$.buffers.{name}");
@@ -328,6 +337,9 @@ fn check_sizes(file: &Path, m: &Manifest) -> Result<(), ManifestError> {
     if b.indices.component_type != "u32" {
         return Err(bad("$.buffers.indices.component_type", "indices must be u32".into()));
     }
+    if b.edge_triangles.component_type != "i32" {
+        return Err(bad("$.buffers.edge_triangles.component_type", "edge triangles must be i32".into()));
+    }
     Ok(())
 }
 
@@ -348,6 +360,7 @@ pub fn check_export(dir: &Path) -> Result<Manifest, ManifestError> {
         ("indices", &b.indices),
         ("sides_data", &b.sides_data),
         ("caps_data", &b.caps_data),
+        ("edge_triangles", &b.edge_triangles),
     ] {
         let file = dir.join(&r.file);
         let found = std::fs::metadata(&file).map_err(|source| ManifestError::Io { file: file.clone(), source })?.len();
@@ -400,6 +413,8 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
     let layout = plan_portable_layout(&adj, t);
     let sides = build_sides_data(&welded, &adj, layout.max_mult).map_err(|e| CliError::Other(e.to_string()))?;
     let caps = build_caps_data(&welded).map_err(|e| CliError::Other(e.to_string()))?;
+    let edge_triangles =
+        build_edge_triangles(&welded, &adj, layout.max_mult).map_err(|e| CliError::Other(e.to_string()))?;
 
     let mut positions = Vec::with_capacity(12 * welded.positions.len());
     le_f32(&mut positions, welded.positions.iter().flatten().copied());
@@ -413,6 +428,7 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
     le_f32(&mut sides_bytes, sides.data.iter().flatten().copied());
     let mut caps_bytes = Vec::with_capacity(16 * caps.len());
     le_f32(&mut caps_bytes, caps.iter().flatten().copied());
+    let edge_triangle_bytes: Vec<u8> = edge_triangles.iter().flat_map(|v| v.to_le_bytes()).collect();
 
     let bounds = triangle_bounds(&welded).unwrap_or(Aabb { min: [-1.0; 3], max: [1.0; 3] });
     let r = |file: &str, bytes: &[u8], component_type: &str, components: u64| BufferRef {
@@ -429,6 +445,7 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
         indices: r("indices.bin", &indices, "u32", 3),
         sides_data: r("sides.bin", &sides_bytes, "f32", 4),
         caps_data: r("caps.bin", &caps_bytes, "f32", 4),
+        edge_triangles: r("edge_triangles.bin", &edge_triangle_bytes, "i32", layout.max_mult as u64),
     };
     let c = &view.camera;
     let manifest = Manifest {
@@ -463,6 +480,7 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
         (manifest.buffers.indices.file.clone(), indices),
         (manifest.buffers.sides_data.file.clone(), sides_bytes),
         (manifest.buffers.caps_data.file.clone(), caps_bytes),
+        (manifest.buffers.edge_triangles.file.clone(), edge_triangle_bytes),
     ];
     Ok(Export { manifest, files })
 }
@@ -629,9 +647,17 @@ mod tests {
         let b = &m.buffers;
         assert_eq!(
             sizes,
-            vec![b.positions.bytes, b.normals.bytes, b.indices.bytes, b.sides_data.bytes, b.caps_data.bytes]
+            vec![
+                b.positions.bytes,
+                b.normals.bytes,
+                b.indices.bytes,
+                b.sides_data.bytes,
+                b.caps_data.bytes,
+                b.edge_triangles.bytes
+            ]
         );
         assert_eq!(m.sides_data_bytes, 16 * (2 + m.max_mult) * m.counts.sides_data_records);
+        assert_eq!(b.edge_triangles.bytes, 4 * m.max_mult * m.counts.sides_data_records);
         assert_eq!(m.caps_data_bytes, 48 * m.counts.triangles);
     }
 }

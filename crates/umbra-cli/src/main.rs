@@ -5,6 +5,7 @@ mod args;
 mod bench;
 mod config;
 mod export;
+mod external_mask;
 mod info;
 mod methods;
 mod render;

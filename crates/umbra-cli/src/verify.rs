@@ -4,9 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
+use umbra_geom::weld::WeldedMesh;
 use umbra_gl::RgbaImage;
 use umbra_oracle::{diff_image, mismatches_outside_band};
-use umbra_verify::{verify_method, view_reference, MethodReport};
+use umbra_verify::{verify_external_mask, verify_method, view_reference, MethodReport, ViewReference};
 
 use crate::args::VerifyArgs;
 use crate::config::{CliError, ViewConfig};
@@ -60,6 +61,27 @@ fn write_diff(
     img.save_png(path).map_err(|e| CliError::Gl(e.to_string()))
 }
 
+/// Prints on stderr what is known about up to `n` of `report`'s mismatches outside the band, per
+/// light (`--explain`).
+fn explain(
+    name: &str,
+    report: &MethodReport,
+    reference: &ViewReference,
+    welded: &WeldedMesh,
+    n: usize,
+) -> Result<(), CliError> {
+    for (lr, res) in reference.lights.iter().zip(&report.per_light) {
+        let outside =
+            mismatches_outside_band(&lr.reference, &res.shadowed).map_err(|e| CliError::Other(e.to_string()))?;
+        for &k in outside.iter().take(n) {
+            let (x, y) = ((k % reference.width as usize) as u32, (k / reference.width as usize) as u32);
+            let what = if res.shadowed[k] { "false shadow" } else { "false light" };
+            eprintln!("{name} light {} {what} {}", lr.light, umbra_verify::explain(welded, reference, lr.light, x, y));
+        }
+    }
+    Ok(())
+}
+
 /// Returns whether every method that must be exact passed.
 pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     let methods = crate::methods::parse_methods(&a.method, "--method")?;
@@ -75,6 +97,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     let reference =
         view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
     let mut rows = Vec::new();
+    let rows_expected = methods.len() + usize::from(a.external_mask.is_some());
     let mut all_passed = true;
     for name in &methods {
         let mut method = crate::methods::make_method(name, &sm, "--method")?;
@@ -85,23 +108,24 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
         let report = report.map_err(|e| CliError::Other(e.to_string()))?;
         if let Some(base) = &a.diff {
             for (i, lr) in reference.lights.iter().enumerate() {
-                let path = diff_path(base, name, i, methods.len(), reference.lights.len());
+                let path = diff_path(base, name, i, rows_expected, reference.lights.len());
                 write_diff(&path, &report, &lr.reference, i)?;
             }
         }
-        if a.explain > 0 {
-            for (i, (lr, res)) in reference.lights.iter().zip(&report.per_light).enumerate() {
-                let outside = mismatches_outside_band(&lr.reference, &res.shadowed)
-                    .map_err(|e| CliError::Other(e.to_string()))?;
-                for &k in outside.iter().take(a.explain) {
-                    let (x, y) = ((k % view.width as usize) as u32, (k / view.width as usize) as u32);
-                    let what = if res.shadowed[k] { "false shadow" } else { "false light" };
-                    eprintln!("{name} light {i} {what} {}", umbra_verify::explain(&s.welded, &reference, i, x, y));
-                }
-            }
-        }
+        explain(name, &report, &reference, &s.welded, a.explain)?;
         all_passed &= report.passed();
         rows.push((report, reference.total_ms(), counter, zpass));
+    }
+    if let Some(path) = &a.external_mask {
+        // One more row: a mask drawn elsewhere (the WebGL2 viewer), judged by the same oracle.
+        let mask = crate::external_mask::load_mask_png(Path::new(path))?;
+        let report = verify_external_mask(path, &mask, &reference).map_err(|e| CliError::Other(e.to_string()))?;
+        if let Some(base) = &a.diff {
+            write_diff(&diff_path(base, "external", 0, rows_expected, 1), &report, &reference.lights[0].reference, 0)?;
+        }
+        explain(path, &report, &reference, &s.welded, a.explain)?;
+        all_passed &= report.passed();
+        rows.push((report, reference.total_ms(), "none", Vec::new()));
     }
     if a.json {
         let json: Vec<JsonRow> = rows

@@ -305,6 +305,79 @@ fn verify_writes_diff_image() {
     assert_eq!(&std::fs::read(&d).expect("diff written")[..4], b"\x89PNG");
 }
 
+/// Writes a `w x h` RGB PNG of one colour.
+fn solid_png(path: &std::path::Path, w: u32, h: u32, rgb: [u8; 3]) {
+    let mut e = png::Encoder::new(std::io::BufWriter::new(std::fs::File::create(path).unwrap()), w, h);
+    e.set_color(png::ColorType::Rgb);
+    e.set_depth(png::BitDepth::Eight);
+    let bytes: Vec<u8> = (0..w * h).flat_map(|_| rgb).collect();
+    e.write_header().unwrap().write_image_data(&bytes).unwrap();
+}
+
+#[test]
+fn verify_external_mask_is_judged_as_one_more_row() {
+    // --external-mask (the WebGL2 viewer's mask, web/testlib/exactness.mjs): white = lit. An
+    // all-white mask lights every shadowed sample: false light outside the band, exit status 1,
+    // one more row named by the file, next to the native method's.
+    let m = tmp("white-mask.png");
+    solid_png(&m, 160, 120, [255, 255, 255]);
+    let path = m.to_str().unwrap();
+    let d = tmp("external-diff.png");
+    let o = umbra(&[
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "vs-silhouette",
+        "--external-mask",
+        path,
+        "--json",
+        "--explain",
+        "2",
+        "--diff",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let v = json(&o);
+    assert_eq!(v[0]["method"], "vs-silhouette");
+    assert_eq!(v[0]["mismatches_outside_band"], 0, "{v}");
+    assert_eq!(v[1]["method"], path, "{v}");
+    let (outside, shadowed) =
+        (v[1]["mismatches_outside_band"].as_u64().unwrap(), v[1]["shadowed_reference"].as_u64().unwrap());
+    assert!(outside > 500 && outside <= shadowed, "{v}");
+    assert!(stderr(&o).contains(&format!("{path} light 0 false light (")), "{}", stderr(&o));
+    assert!(tmp("external-diff.external.png").exists() && tmp("external-diff.vs-silhouette.png").exists());
+    // An all-black mask shadows every lit sample instead.
+    let black = tmp("black-mask.png");
+    solid_png(&black, 160, 120, [0, 0, 0]);
+    let o = umbra(&[
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "none",
+        "--external-mask",
+        black.to_str().unwrap(),
+        "--json",
+    ]);
+    let v = json(&o);
+    let r = &v[1];
+    assert_eq!(
+        r["mismatches"].as_u64().unwrap() + r["shadowed_reference"].as_u64().unwrap(),
+        r["samples"].as_u64().unwrap(),
+        "{r}"
+    );
+    // Errors name the file: wrong size, not a PNG, absent.
+    solid_png(&m, 80, 60, [255, 255, 255]);
+    let o = umbra(&["verify", "--size", "160x120", "--method", "none", "--external-mask", path]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(&format!("method {path}: the mask is 80x60, the view 160x120")), "{}", stderr(&o));
+    std::fs::write(&m, b"not a png").unwrap();
+    let o = umbra(&["verify", "--size", "160x120", "--method", "none", "--external-mask", path]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(&format!("{path}: not a readable PNG")), "{}", stderr(&o));
+}
+
 #[test]
 fn sm_options_reach_the_shadow_map_in_render_and_verify() {
     // --sm-bias / --sm-pcf are accepted by render and verify as by bench, and change what the

@@ -40,7 +40,7 @@ fn info(scene: &str, extra: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).expect("info JSON")
 }
 
-const BUFFERS: [&str; 5] = ["positions", "normals", "indices", "sides_data", "caps_data"];
+const BUFFERS: [&str; 6] = ["positions", "normals", "indices", "sides_data", "caps_data", "edge_triangles"];
 
 /// Sizes: Eq. 8 / Eq. 9, `umbra info --json`, and the files on disk, exactly.
 fn check_sizes(scene: &str, dir: &Path, m: &serde_json::Value, info: &serde_json::Value) {
@@ -58,7 +58,9 @@ fn check_sizes(scene: &str, dir: &Path, m: &serde_json::Value, info: &serde_json
     assert_eq!(m["buffers"]["sides_data"]["bytes"], m["sides_data_bytes"], "{scene}");
     assert_eq!(m["buffers"]["caps_data"]["bytes"], m["caps_data_bytes"], "{scene}");
     let v = u(&m["counts"]["vertices"]);
-    for (name, bytes) in BUFFERS.iter().zip([12 * v, 12 * t, 12 * t, 16 * (2 + max_mult) * records, 48 * t]) {
+    for (name, bytes) in
+        BUFFERS.iter().zip([12 * v, 12 * t, 12 * t, 16 * (2 + max_mult) * records, 48 * t, 4 * max_mult * records])
+    {
         let b = &m["buffers"][name];
         assert_eq!(u(&b["bytes"]), bytes, "{scene}: {name}");
         assert_eq!(u(&b["offset"]), 0, "{scene}: {name}");
@@ -81,7 +83,7 @@ fn box_export_sizes_contents_and_check() {
     let dir = tmp("box");
     let m = export("box", &dir, &[]);
     assert_eq!(m["format"], "umbra-export");
-    assert_eq!(m["version"], 1);
+    assert_eq!(m["version"], 2);
     check_sizes("box", &dir, &m, &info("box", &[]));
     // The cube: 8 vertices, 12 triangles, 18 edges of 2 opposites each: maxMult 2, 18 records.
     assert_eq!(m["counts"]["vertices"], 8);
@@ -109,6 +111,26 @@ fn box_export_sizes_contents_and_check() {
             let p = &pos[3 * tri[k] as usize..3 * tri[k] as usize + 3];
             assert_eq!(&caps[12 * t + 4 * k..12 * t + 4 * k + 3], p, "caps-data = the triangle's vertices in order");
             assert_eq!(caps[12 * t + 4 * k + 3], 1.0);
+        }
+    }
+    // Edge triangles: per record, for each opposite slot the triangle (+1) that has the
+    // record's edge and that opposite vertex, signed by the direction it walks A -> B.
+    let refs: Vec<i32> = std::fs::read(dir.join("edge_triangles.bin"))
+        .unwrap()
+        .chunks_exact(4)
+        .map(|c| i32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    assert_eq!(m["buffers"]["edge_triangles"]["component_type"], "i32");
+    let vertex = |p: &[f32]| pos.chunks_exact(3).position(|q| q == &p[..3]).unwrap() as u32;
+    for (rec, r) in sides.chunks_exact(16).zip(refs.chunks_exact(2)) {
+        let (a, b) = (vertex(&rec[0..3]), vertex(&rec[4..7]));
+        for (slot, &v) in r.iter().enumerate() {
+            let tri = &idx[3 * (v.unsigned_abs() as usize - 1)..][..3];
+            let o = vertex(&rec[8 + 4 * slot..11 + 4 * slot]);
+            let at = |x: u32| tri.iter().position(|&y| y == x).expect("the triangle has the vertex");
+            let walks_a_to_b = (at(a) + 1) % 3 == at(b);
+            assert_eq!(at(o), 3 - at(a) - at(b), "slot {slot}: the opposite vertex is the triangle's third");
+            assert_eq!(v > 0, walks_a_to_b, "slot {slot}: the sign is the walking direction");
         }
     }
     for n in f32s(&std::fs::read(dir.join("normals.bin")).unwrap()).chunks_exact(3) {
@@ -141,7 +163,9 @@ fn export_is_deterministic() {
     let (a, b) = (tmp("det-a"), tmp("det-b"));
     export("default", &a, &[]);
     export("default", &b, &[]);
-    for f in ["manifest.json", "positions.bin", "normals.bin", "indices.bin", "sides.bin", "caps.bin"] {
+    for f in
+        ["manifest.json", "positions.bin", "normals.bin", "indices.bin", "sides.bin", "caps.bin", "edge_triangles.bin"]
+    {
         assert!(std::fs::read(a.join(f)).unwrap() == std::fs::read(b.join(f)).unwrap(), "{f} differs between runs");
     }
 }

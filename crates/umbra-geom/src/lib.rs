@@ -5,6 +5,7 @@
 //! * [`scene`]: procedural scenes (`spheres:N`, `box`, `default`) and `--ground`.
 //! * [`weld`]: exact-position welding; degenerate triangles dropped and counted.
 //! * [`adjacency`]: every unique edge with all of its opposite vertices.
+//! * [`edge_triangles`]: the triangle behind every opposite slot of the sides-data.
 //! * [`order`]: the strict vertex order of paper 001, Eq. 1 / Alg. 2.
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
@@ -90,6 +91,7 @@
 pub mod adjacency;
 pub mod camera;
 pub mod clearance;
+pub mod edge_triangles;
 pub mod load;
 pub mod mesh;
 pub mod multiplicity;

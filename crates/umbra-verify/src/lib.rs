@@ -354,6 +354,40 @@ pub fn compare_decisions(
     })
 }
 
+/// The pixel colour an external shadow mask uses for "lit" (the WebGL2 viewer's `mask=1` view
+/// draws lit samples white, every other pixel black or its background colour).
+pub const EXTERNAL_LIT: [u8; 3] = [255, 255, 255];
+
+/// Compares a shadow mask made outside umbra's renderer (the WebGL2 viewer's mask view, read
+/// back) with `view`'s reference, as if it were method `name`: lit = the pixel is exactly
+/// [`EXTERNAL_LIT`], shadowed = anything else, background included (the lit-mask convention of
+/// [`verify_method`]). `mask` is RGBA8, top row first, of the view's size; the view must have
+/// exactly one light (a mask holds one light's decision). Must be exact: the mask claims to
+/// be a shadow-volume method's.
+pub fn verify_external_mask(name: &str, mask: &RgbaImage, view: &ViewReference) -> Result<MethodReport, VerifyError> {
+    let fail = |message: String| VerifyError::Method { method: name.to_string(), message };
+    if (mask.width, mask.height) != (view.width, view.height) {
+        return Err(fail(format!(
+            "the mask is {}x{}, the view {}x{}",
+            mask.width, mask.height, view.width, view.height
+        )));
+    }
+    let [lr] = view.lights.as_slice() else {
+        return Err(fail(format!("a mask holds one light's decision, the view has {} lights", view.lights.len())));
+    };
+    let shadowed: Vec<bool> = mask.pixels.iter().map(|p| p[..3] != EXTERNAL_LIT).collect();
+    let metrics = compare(&lr.reference, &shadowed)?;
+    Ok(MethodReport {
+        method: name.to_string(),
+        must_be_exact: true,
+        metrics,
+        stencil_metrics: None,
+        per_light: vec![LightResult { light: lr.light, shadowed, metrics, stencil_metrics: None }],
+        image: mask.clone(),
+        render_ms: 0.0,
+    })
+}
+
 /// "Shadowed" per pixel read from the stencil after the volume pass, for the stencil
 /// classifications; `None` for [`Classification::Shader`].
 fn stencil_shadowed(classification: Classification, stencil: &[u8]) -> Option<Vec<bool>> {
@@ -397,6 +431,69 @@ mod tests {
         let paper002 = Classification::StencilTest { func: glow::NOTEQUAL, reference: 0b1100, value_mask: 0b1101 };
         assert_eq!(stencil_shadowed(paper002, &st), Some(vec![false, false, true, true]));
         assert_eq!(stencil_shadowed(Classification::Shader, &st), None);
+    }
+
+    /// A 4x1 view with one light: background, lit, shadowed (band), shadowed.
+    fn four_pixel_view(lights: usize) -> ViewReference {
+        use umbra_oracle::SampleClass::{Background, Lit, Shadowed};
+        let reference = Reference {
+            width: 4,
+            height: 1,
+            class: vec![Background, Lit, Shadowed, Shadowed],
+            band: vec![false, false, true, false],
+        };
+        ViewReference {
+            width: 4,
+            height: 1,
+            lights: (0..lights)
+                .map(|light| LightReference { light, reference: reference.clone(), reference_ms: 0.0 })
+                .collect(),
+            bvh_ms: 0.0,
+            world_pos: vec![[0.0; 3]; 4],
+            triangle: vec![u32::MAX; 4],
+            bvh: Bvh::build(&[], &[]).expect("empty BVH"),
+            raster: RasterView { clip_from_world: [0.0; 16] },
+            eye: [0.0; 3],
+            light_positions: vec![[0.0, 1.0, 0.0, 1.0]; lights],
+        }
+    }
+
+    #[test]
+    fn external_mask_white_is_lit_everything_else_shadowed() {
+        let view = four_pixel_view(1);
+        let white = [255, 255, 255, 255];
+        let black = [0, 0, 0, 255];
+        let blue = [0, 0, 128, 255];
+        // Background pixel: ignored whatever it holds; lit pixel white; band pixel wrong
+        // (tolerated); last pixel black = shadowed, as the reference says.
+        let mask = RgbaImage { width: 4, height: 1, pixels: vec![white, white, white, black] };
+        let r = verify_external_mask("browser", &mask, &view).expect("same size, one light");
+        assert_eq!(r.method, "browser");
+        assert_eq!((r.metrics.samples, r.metrics.band_mismatches, r.metrics.mismatches_outside_band), (3, 1, 0));
+        assert!(r.passed());
+        // Almost white is not lit, and neither is the mask view's background colour: a
+        // false shadow on the lit sample, outside the band.
+        for not_lit in [[255, 255, 254, 255], blue] {
+            let mask = RgbaImage { width: 4, height: 1, pixels: vec![blue, not_lit, black, black] };
+            let r = verify_external_mask("browser", &mask, &view).expect("valid");
+            assert_eq!(r.metrics.mismatches_outside_band, 1, "{not_lit:?} must read as shadowed");
+            assert!(!r.passed());
+        }
+        // False light outside the band.
+        let mask = RgbaImage { width: 4, height: 1, pixels: vec![black, white, black, white] };
+        let r = verify_external_mask("browser", &mask, &view).expect("valid");
+        assert_eq!(r.metrics.mismatches_outside_band, 1);
+        assert_eq!(r.per_light[0].shadowed, vec![true, false, true, false]);
+    }
+
+    #[test]
+    fn external_mask_of_the_wrong_size_or_several_lights_is_an_error() {
+        let mask = RgbaImage::new(3, 1, [255u8; 4]);
+        let e = verify_external_mask("m.png", &mask, &four_pixel_view(1)).err().expect("size mismatch");
+        assert_eq!(e.to_string(), "method m.png: the mask is 3x1, the view 4x1");
+        let mask = RgbaImage::new(4, 1, [255u8; 4]);
+        let e = verify_external_mask("m.png", &mask, &four_pixel_view(2)).err().expect("two lights");
+        assert_eq!(e.to_string(), "method m.png: a mask holds one light's decision, the view has 2 lights");
     }
 
     #[test]

@@ -6,6 +6,7 @@
 // pass's depth func EQUAL selects exactly the visible surface and the sides meet the caster.
 // The flat triangle normal comes as a per-vertex attribute (the viewer de-indexes the mesh,
 // three vertices per triangle): ES 3.00 has neither gl_PrimitiveID nor storage buffers.
+// umbra_snap (snap.glsl, spliced in after #version by renderer.js): the snap=N diagnostic.
 precision highp float;
 
 layout(location = 0) in vec3 a_world_pos;
@@ -21,5 +22,5 @@ invariant gl_Position;
 void main() {
     v_world_pos = a_world_pos;
     v_normal = a_normal;
-    gl_Position = u_clip_from_world * vec4(a_world_pos, 1.0);
+    gl_Position = umbra_snap(u_clip_from_world * vec4(a_world_pos, 1.0));
 }

@@ -36,8 +36,9 @@ float umbra_near_distance(vec4 clip) {
     return clip.w + (2.0 * u_far_clip_z - 1.0) * clip.z;
 }
 
-// GLSL ES 3.00 (vs-silhouette's WebGL2 build) has no gl_ClipDistance: there the near-plane
-// cut is not handled (docs/web.md).
+// GLSL ES 3.00 has no gl_ClipDistance: vs-silhouette's ES build does not cut light caps; the
+// WebGL viewer clips its volume polygons itself, light caps at this same near plane
+// (web/src/glsl/clip.glsl, docs/web.md).
 #ifdef GL_ES
 #define UMBRA_NEAR_CLIP(d)
 #else

@@ -8,8 +8,10 @@
 // `precise` (GLSL 4.00) forbids the compiler from contracting a * b + c into an fma or
 // reassociating: without it, two call sites of the same function could round differently and
 // a triangle could be lit through one edge and unlit through another (an open volume).
-// GLSL ES 3.00 has no `precise`; there the shaders rely on the driver not contracting (WebGL
-// implementations do not), which is why the ES build is a separate, tested target.
+// GLSL ES 3.00 has no `precise`; there vs-silhouette's ES build relies on the driver not
+// contracting (SwiftShader and llvmpipe, measured, do not), which is why it is a separate,
+// tested target. The WebGL viewer does not rely on it: it orients each triangle once per frame
+// and lets the sides and the caps read that value (web/src/glsl/orientation.vert.glsl).
 //
 // This file has no #version line: a method splices it after its own #version / #define lines.
 

@@ -1,0 +1,137 @@
+// The polygon pass of the WebGL viewer's shadow volumes (issue 16 §3): paper 003's sides
+// (Section 2.4, Alg. 1) and caps (Section 2.5, Alg. 2, Eq. 6) of every edge record or
+// triangle, each computed ONCE per frame as a clipped convex polygon and captured by
+// transform feedback (one point in, one polygon out); fan.vert.glsl then draws them. What it
+// changes from the native vs-silhouette (crates/umbra-gl/src/methods/vs_silhouette/), and why:
+//
+// 1. Orientations are read, not recomputed. The orientation pass (orientation.vert.glsl)
+//    orients every triangle once per frame; a cap reads its triangle's value, and an edge
+//    record sums sign_i * orientation(T_i) over its opposite slots (edge_triangles, from
+//    `umbra export`: T_i the slot's triangle, + when it walks the edge A -> B), which is
+//    paper 001's Alg. 3 bit for bit. GLSL ES 3.00 has no `precise`; evaluated apart for the
+//    sides and the caps, a compiler could contract the test differently and give a triangle
+//    two orientations (an open volume). One value read twice cannot disagree.
+// 2. Every polygon is clipped here (clip.glsl) to just inside the viewport, and light caps also
+//    to the camera's near plane: no rasteriser clips a volume (SwiftShader's clipper
+//    re-projects vertices that its unclipped triangles share, and the volume cracks), and
+//    ES 3.00 has no gl_ClipDistance for the near-plane cut of light caps (native umbra:
+//    gl_ClipDistance[0]).
+//
+// u_mode 0: edge record `gl_VertexID` of sides-data (u_data: 2 + maxMult RGBA32F texels per
+// record: A + count, B + split, opposites): the quad B A A_inf B_inf (the native id_CCW
+// triangles (B, A, A_inf), (B, A_inf, B_inf)) for curMult > 0, reversed for curMult < 0 (so
+// that opposite-signed records of a split edge clip to the same polygon and cancel), drawn
+// |curMult| times (Alg. 1). u_mode 1 / 2: the light / dark cap of triangle `gl_VertexID` of
+// caps-data (3 texels per triangle), wound to face the light (Alg. 2, lines 5-6), the dark
+// cap extruded and reversed (line 11), the light cap pushed to the far plane after its cut
+// (Eq. 6); drawn once, or not at all for an edge-on triangle (lines 2-4).
+//
+// Out: the polygon's vertices v_p0 .. v_p7 (clip space, as drawn) and v_info = (vertex
+// count, signed repeat), 36 floats: 9 RGBA32F texels per polygon once copied to a texture.
+
+uniform mat4 u_clip_from_world;
+uniform vec4 u_light;
+uniform int u_mode;
+uniform int u_max_mult;
+uniform highp sampler2D u_data;
+uniform highp isampler2D u_edge_triangles;
+uniform highp isampler2D u_orientation;
+
+// w = 1 vertices must be bit for bit where the scene's vertex shader puts the same point
+// (same expression, invariant), so the sides meet the caster and a light cap keeps the
+// triangle's footprint.
+invariant out vec4 v_p0;
+invariant out vec4 v_p1;
+invariant out vec4 v_p2;
+invariant out vec4 v_p3;
+invariant out vec4 v_p4;
+invariant out vec4 v_p5;
+invariant out vec4 v_p6;
+invariant out vec4 v_p7;
+out vec4 v_info;
+
+int umbra_orientation_of(int triangle) {
+    return texelFetch(u_orientation, umbra_texel(triangle), 0).r;
+}
+
+void main() {
+    // Transform feedback only: nothing of this pass is rasterised.
+    gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+    vec4 poly[UMBRA_CLIP_MAX];
+    for (int i = 0; i < UMBRA_CLIP_MAX; ++i) {
+        poly[i] = vec4(0.0);
+    }
+    int n = 0;
+    int repeat = 0;
+    int planes = 4;
+    int record = gl_VertexID;
+    if (u_mode == 0) {
+        int first = record * (2 + u_max_mult);
+        vec4 a = texelFetch(u_data, umbra_texel(first), 0);
+        // Alg. 1, line 2: the record's (sub-)multiplicity, Alg. 3's terms read.
+        int count = int(a.w);
+        for (int i = 0; i < count; ++i) {
+            int t = texelFetch(u_edge_triangles, umbra_texel(record * u_max_mult + i), 0).r;
+            int o = umbra_orientation_of(abs(t) - 1);
+            repeat += t > 0 ? o : -o;
+        }
+        if (repeat != 0) {
+            vec3 b = texelFetch(u_data, umbra_texel(first + 1), 0).xyz;
+            vec4 pa = u_clip_from_world * vec4(a.xyz, 1.0);
+            vec4 pb = u_clip_from_world * vec4(b, 1.0);
+            vec4 pa_inf = u_clip_from_world * umbra_extrude(a.xyz, u_light);
+            vec4 pb_inf = u_clip_from_world * umbra_extrude(b, u_light);
+            poly[0] = pb;
+            poly[1] = repeat > 0 ? pa : pb_inf;
+            poly[2] = pa_inf;
+            poly[3] = repeat > 0 ? pb_inf : pa;
+            n = 4;
+        }
+    } else {
+        int o = umbra_orientation_of(record);
+        if (o != 0) {
+            repeat = 1;
+            n = 3;
+            vec3 p0 = texelFetch(u_data, umbra_texel(3 * record), 0).xyz;
+            vec3 p1 = texelFetch(u_data, umbra_texel(3 * record + 1), 0).xyz;
+            vec3 p2 = texelFetch(u_data, umbra_texel(3 * record + 2), 0).xyz;
+            if (o < 0) {
+                vec3 t = p1;
+                p1 = p2;
+                p2 = t;
+            }
+            if (u_mode == 1) {
+                // Cut by the near plane last (plane 4), so that its cuts by the viewport
+                // planes on the edges it shares with the sides are theirs.
+                planes = 5;
+                poly[0] = u_clip_from_world * vec4(p0, 1.0);
+                poly[1] = u_clip_from_world * vec4(p1, 1.0);
+                poly[2] = u_clip_from_world * vec4(p2, 1.0);
+            } else {
+                poly[0] = u_clip_from_world * umbra_extrude(p2, u_light);
+                poly[1] = u_clip_from_world * umbra_extrude(p1, u_light);
+                poly[2] = u_clip_from_world * umbra_extrude(p0, u_light);
+            }
+        }
+    }
+    // Most polygons need no cut: test that first (fixed indices), clip only the others.
+    bool inside = umbra_inside(poly[0], planes) && umbra_inside(poly[1], planes) && umbra_inside(poly[2], planes)
+        && (n == 3 || umbra_inside(poly[3], planes));
+    if (n > 0 && !inside) {
+        n = umbra_clip(poly, n, planes);
+    }
+    if (u_mode == 1) {
+        for (int i = 0; i < UMBRA_CLIP_MAX; ++i) {
+            poly[i] = umbra_push_to_far(poly[i]); // Eq. 6, after the near-plane cut
+        }
+    }
+    v_p0 = poly[0];
+    v_p1 = poly[1];
+    v_p2 = poly[2];
+    v_p3 = poly[3];
+    v_p4 = poly[4];
+    v_p5 = poly[5];
+    v_p6 = poly[6];
+    v_p7 = poly[7];
+    v_info = vec4(float(n), float(repeat), 0.0, 0.0);
+}
