@@ -9,7 +9,7 @@ void main() {
     uvec2 tile = p / LEAF_SIDE;
     uint leaf = tile.y * u_level[0].x + tile.x;
     uint k = (p.y % LEAF_SIDE) * LEAF_SIDE + p.x % LEAF_SIDE;
-    bool bit = (state[u_bits_offset + 2u * leaf + k / 32u] & (1u << (k % 32u))) != 0u;
+    bool bit = (state[u_bits_offset + leaf] & (1u << k)) != 0u;
     if (!bit && !covered_from_above(0u, leaf)) {
         discard;
     }
