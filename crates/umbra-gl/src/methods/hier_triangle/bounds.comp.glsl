@@ -2,13 +2,31 @@
 // each node (Sintorn et al. 2014, Section 4: the cluster hierarchy's nodes bound their samples
 // in 3-D): here the axis-aligned box of their world positions and the range of their clip w
 // (view depth), which with the node's screen tile bounds them in a frustum slab (common.glsl).
-// Level 0: the samples of the leaf's pixels (and the mask of the samples present); above: the
-// union of the 16 children. One
+// Level 0: the samples of the leaf's pixels (first moved onto their own triangle's plane, and
+// the mask of the samples present); above: the union of the 16 children. One
 // invocation per node of level u_bounds_level. A node without samples is empty (w_min > w_max).
 // A sample's w is computed in f32: the range is widened by 2^-20 of the magnitudes involved.
 // Prepended: the header and common.glsl.
 
 layout(local_size_x = 64) in;
+
+// The sample moved onto its own triangle's plane, in double precision, as the reference does
+// before its segment test (crates/umbra-oracle, reference.rs): the interpolated position lies
+// off the plane by rounding, and where a neighbour meets the segment at a grazing angle that
+// offset, divided by the angle, can put the hit beyond eps. A degenerate triangle keeps it.
+vec3 on_own_plane(uvec4 s) {
+    dvec3 p = dvec3(uintBitsToFloat(s.xyz));
+    uint t = s.w;
+    dvec3 a = dvec3(positions[3u * indices[3u * t]], positions[3u * indices[3u * t] + 1u],
+                    positions[3u * indices[3u * t] + 2u]);
+    dvec3 b = dvec3(positions[3u * indices[3u * t + 1u]], positions[3u * indices[3u * t + 1u] + 1u],
+                    positions[3u * indices[3u * t + 1u] + 2u]);
+    dvec3 c = dvec3(positions[3u * indices[3u * t + 2u]], positions[3u * indices[3u * t + 2u] + 1u],
+                    positions[3u * indices[3u * t + 2u] + 2u]);
+    dvec3 n = cross(b - a, c - a);
+    double nn = dot(n, n);
+    return nn > 0.0lf ? vec3(p - n * (dot(n, p - a) / nn)) : vec3(p);
+}
 
 uniform uint u_first;
 uniform uint u_bounds_level;
@@ -33,7 +51,8 @@ void main() {
                 uvec4 s = samples[y * u_frame.x + x];
                 if (s.w != NO_TRIANGLE) {
                     valid |= 1u << k;
-                    vec3 p = uintBitsToFloat(s.xyz);
+                    vec3 p = on_own_plane(s);
+                    samples[y * u_frame.x + x] = uvec4(floatBitsToUint(p), s.w);
                     lo = min(lo, p);
                     hi = max(hi, p);
                     float pw = dot(u_view_w.xyz, p) + u_view_w.w;
