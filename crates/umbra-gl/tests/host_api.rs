@@ -546,6 +546,13 @@ fn silhouette_methods_count_into_the_hosts_stencil_like_their_own_frame() {
     );
 }
 
+/// hier-triangle extracts its samples from the host's depth (depth func EQUAL) and writes its
+/// decision into the host's stencil: the same as in its own frame.
+#[test]
+fn hier_triangle_decides_into_the_hosts_stencil_like_its_own_frame() {
+    run_methods(&["hier-triangle"], &[DepthConvention::Standard, DepthConvention::ReversedZ]);
+}
+
 #[test]
 fn stencil_test_method_returns_its_own_classification() {
     run_methods(&["all-edges-invert"], &[DepthConvention::Standard]);

@@ -252,6 +252,12 @@ impl App {
                 let next = self.running.as_ref().map_or(0, |r| r.method_index + 1);
                 self.set_method(next);
             }
+            KeyCode::KeyH => {
+                // hier-triangle, beyond the number keys' first ten methods.
+                if let Some(i) = method_names().iter().position(|&n| n == umbra_gl::methods::hier_triangle::NAME) {
+                    self.set_method(i);
+                }
+            }
             KeyCode::KeyV => self.show_mask = !self.show_mask,
             KeyCode::KeyF => {
                 self.wireframe = !self.wireframe;

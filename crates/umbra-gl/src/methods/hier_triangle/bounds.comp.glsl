@@ -1,11 +1,32 @@
 // hier-triangle, per frame (once for all lights), bottom-up: the bounds of the view samples of
 // each node (Sintorn et al. 2014, Section 4: the cluster hierarchy's nodes bound their samples
-// in 3-D; axis-aligned boxes in world space here). Level 0: the samples of the leaf's 8 x 8
-// pixels; above: the union of the 16 children. One invocation per node of level
-// u_bounds_level. A node without samples gets count 0 (empty). Prepended: the header and
-// common.glsl.
+// in 3-D): here the axis-aligned box of their world positions and the range of their clip w
+// (view depth), which with the node's screen tile bounds them in a frustum slab (common.glsl).
+// Level 0: the samples of the leaf's pixels (first moved onto their own triangle's plane, and
+// the mask of the samples present); above: the union of the 16 children. One
+// invocation per node of level u_bounds_level. A node without samples is empty (w_min > w_max).
+// A sample's w is computed in f32: the range is widened by 2^-20 of the magnitudes involved.
+// Prepended: the header and common.glsl.
 
 layout(local_size_x = 64) in;
+
+// The sample moved onto its own triangle's plane, in double precision, as the reference does
+// before its segment test (crates/umbra-oracle, reference.rs): the interpolated position lies
+// off the plane by rounding, and where a neighbour meets the segment at a grazing angle that
+// offset, divided by the angle, can put the hit beyond eps. A degenerate triangle keeps it.
+vec3 on_own_plane(uvec4 s) {
+    dvec3 p = dvec3(uintBitsToFloat(s.xyz));
+    uint t = s.w;
+    dvec3 a = dvec3(positions[3u * indices[3u * t]], positions[3u * indices[3u * t] + 1u],
+                    positions[3u * indices[3u * t] + 2u]);
+    dvec3 b = dvec3(positions[3u * indices[3u * t + 1u]], positions[3u * indices[3u * t + 1u] + 1u],
+                    positions[3u * indices[3u * t + 1u] + 2u]);
+    dvec3 c = dvec3(positions[3u * indices[3u * t + 2u]], positions[3u * indices[3u * t + 2u] + 1u],
+                    positions[3u * indices[3u * t + 2u] + 2u]);
+    dvec3 n = cross(b - a, c - a);
+    double nn = dot(n, n);
+    return nn > 0.0lf ? vec3(p - n * (dot(n, p - a) / nn)) : vec3(p);
+}
 
 uniform uint u_first;
 uniform uint u_bounds_level;
@@ -18,7 +39,8 @@ void main() {
     }
     vec3 lo = vec3(3.0e38);
     vec3 hi = vec3(-3.0e38);
-    float count = 0.0;
+    vec2 w = vec2(3.0e38, -3.0e38);
+    uint valid = 0u;
     if (level == 0u) {
         uint x0 = (node % u_level[0].x) * LEAF_SIDE;
         uint y0 = (node / u_level[0].x) * LEAF_SIDE;
@@ -28,10 +50,14 @@ void main() {
             if (x < u_frame.x && y < u_frame.y) {
                 uvec4 s = samples[y * u_frame.x + x];
                 if (s.w != NO_TRIANGLE) {
-                    vec3 p = uintBitsToFloat(s.xyz);
+                    valid |= 1u << k;
+                    vec3 p = on_own_plane(s);
+                    samples[y * u_frame.x + x] = uvec4(floatBitsToUint(p), s.w);
                     lo = min(lo, p);
                     hi = max(hi, p);
-                    count += 1.0;
+                    float pw = dot(u_view_w.xyz, p) + u_view_w.w;
+                    float tol = (dot(abs(u_view_w.xyz), abs(p)) + abs(u_view_w.w)) * (1.0 / 1048576.0);
+                    w = vec2(min(w.x, pw - tol), max(w.y, pw + tol));
                 }
             }
         }
@@ -40,16 +66,20 @@ void main() {
             uint child;
             if (child_of(level, node, k, child)) {
                 uint g = node_index(level - 1u, child);
-                vec4 c_lo = nodes[2u * g];
-                if (c_lo.w > 0.0) {
+                vec4 c_lo = nodes[3u * g];
+                vec4 c_hi = nodes[3u * g + 1u];
+                if (c_lo.w <= c_hi.w) {
                     lo = min(lo, c_lo.xyz);
-                    hi = max(hi, nodes[2u * g + 1u].xyz);
-                    count += c_lo.w;
+                    hi = max(hi, c_hi.xyz);
+                    w = vec2(min(w.x, c_lo.w), max(w.y, c_hi.w));
                 }
             }
         }
     }
+    if (level == 0u) {
+        state[u_valid_offset + node] = valid;
+    }
     uint g = node_index(level, node);
-    nodes[2u * g] = vec4(lo, count);
-    nodes[2u * g + 1u] = vec4(hi, 0.0);
+    nodes[3u * g] = vec4(lo, w.x);
+    nodes[3u * g + 1u] = vec4(hi, w.y);
 }

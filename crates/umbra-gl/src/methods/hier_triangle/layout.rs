@@ -4,47 +4,79 @@
 //! Volumes Using a View-Sample Cluster Hierarchy", I3D 2014, Section 4: a hierarchy over the
 //! depth buffer's samples with 3-D bounds, built per frame).
 //!
-//! Level 0 holds the leaves: tiles of [`LEAF_SIDE`] x [`LEAF_SIDE`] pixels (64 samples, one
-//! 64-bit "shadowed" mask each). Every level above groups [`BRANCH_SIDE`] x [`BRANCH_SIDE`]
-//! nodes of the level below (16 children), up to the first level with at most
-//! [`MAX_TOP_NODES`] nodes (or [`MAX_UPPER_LEVELS`] levels above the leaves, whichever comes
-//! first): each triangle tests every top node, then descends. Tiles are counted from the
-//! bottom-left pixel (GL's window coordinates); the last tile of a row or column may be cut.
+//! Level 0 holds the leaves: tiles of [`LEAF_SIDE`] x [`LEAF_SIDE`] pixels (16 samples, one
+//! "shadowed" bit each). Every level above groups [`BRANCH_SIDE`] x [`BRANCH_SIDE`] nodes of
+//! the level below (16 children), up to a single root (or [`MAX_UPPER_LEVELS`] levels above the
+//! leaves, enough for 65,536 pixels). Tiles are counted from the bottom-left pixel (GL's window
+//! coordinates); the last tile of a row or column may be cut.
 //!
-//! Queues hold (triangle, node) pairs whose node the triangle's shadow frustum cuts (neither
-//! misses nor covers it); level `l`'s queue feeds the pass that tests the children of those
-//! nodes. Their capacity is fixed per frame size and scene ([`queue_capacity`]): a pair that
-//! does not fit is processed at once by the invocation that found it (slower, never wrong).
+//! Triangles are processed in batches of at most [`BATCH`], largest first (their order is
+//! fixed per scene): after each batch, every node whose samples are all shadowed is marked
+//! covered, so the smaller triangles of later batches skip it. Queues hold (triangle, node)
+//! pairs whose node the triangle's shadow frustum cuts (neither misses nor covers it); level
+//! `l`'s queue feeds the pass that tests the children of those nodes, the leaves' queue is
+//! threaded into one list per leaf. Their capacity is fixed per frame size ([`queue_capacity`]):
+//! a pair that does not fit sends its triangle to the redo list (one entry per triangle at
+//! most), processed whole by the fallback pass (slower, never wrong).
 
-/// Side of a leaf tile in pixels (64 samples per leaf).
-pub const LEAF_SIDE: u32 = 8;
-/// Samples per leaf.
+/// Side of a leaf tile in pixels (16 samples per leaf).
+pub const LEAF_SIDE: u32 = 4;
+/// Samples per leaf (at most 32: one mask word per leaf).
 pub const LEAF_SAMPLES: u32 = LEAF_SIDE * LEAF_SIDE;
+const _: () = assert!(LEAF_SAMPLES <= 32);
 /// Side of the block of children of an inner node (16 children).
 pub const BRANCH_SIDE: u32 = 4;
 /// Children per inner node.
 pub const CHILDREN: u32 = BRANCH_SIDE * BRANCH_SIDE;
-/// Most levels above the leaves (the shaders' fallback chain is generated for this many).
-pub const MAX_UPPER_LEVELS: usize = 5;
+/// Most levels above the leaves (the shaders' fallback chain is generated for this many):
+/// a root over 4 x 4^7 = 65,536 pixels.
+pub const MAX_UPPER_LEVELS: usize = 7;
 /// Most levels in all, leaves included.
 pub const MAX_LEVELS: usize = MAX_UPPER_LEVELS + 1;
 /// Levels are added until the top one has at most this many nodes.
-pub const MAX_TOP_NODES: u32 = 64;
+pub const MAX_TOP_NODES: u32 = 1;
+/// Most triangles per batch.
+pub const BATCH: usize = 4096;
+/// Triangles in the first batch; each next batch doubles, up to [`BATCH`]: the largest
+/// triangles, whose frusta cut the most nodes, go in small batches.
+pub const FIRST_BATCH: usize = 256;
+
+/// The batches of a scene of `triangles` triangles, as ranges of positions in the
+/// largest-first order: [`FIRST_BATCH`], then doubling up to [`BATCH`].
+pub fn batches(triangles: usize) -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    let (mut start, mut size) = (0, FIRST_BATCH);
+    while start < triangles {
+        let end = (start + size).min(triangles);
+        out.push(start..end);
+        start = end;
+        size = (2 * size).min(BATCH);
+    }
+    out
+}
 /// Words (u32) of the control block at the start of the state buffer: per level, the queue's
-/// entry count and a DispatchIndirectCommand (x, y, z).
-pub const CONTROL_WORDS: usize = 4 * MAX_LEVELS;
-/// Queue capacity per level: this many pairs per triangle of the scene ...
-pub const QUEUE_PAIRS_PER_TRIANGLE: usize = 2;
-/// ... plus this many per node of the level.
+/// entry count and a DispatchIndirectCommand (x, y, z); then the same for the list of active
+/// leaves and for the two redo lists.
+pub const CONTROL_WORDS: usize = 4 * MAX_LEVELS + 12;
+/// Index of the active-leaf list's count in the control block.
+pub const ACTIVE_CONTROL: usize = 4 * MAX_LEVELS;
+/// Index of redo list 0's count in the control block (list 1's follows 4 words later).
+pub const REDO_CONTROL: usize = ACTIVE_CONTROL + 4;
+/// Rounds over the redo lists, with the same passes as the batches, before the fallback.
+pub const REDO_ROUNDS: usize = 2;
+/// Queue capacity per level: this many pairs per node of the level ...
 pub const QUEUE_PAIRS_PER_NODE: usize = 16;
+/// ... and at least this many per triangle of a batch.
+pub const QUEUE_PAIRS_PER_BATCH_TRIANGLE: usize = 64;
 /// Bytes of one sample (world position xyz as f32 bits, triangle id).
 pub const SAMPLE_BYTES: usize = 16;
-/// Bytes of one node's bounds (min xyz + sample count, max xyz + unused).
-pub const NODE_BYTES: usize = 32;
+/// Bytes of one node's bounds (world box with the clip-w range, the light-direction bound).
+pub const NODE_BYTES: usize = 48;
 /// Bytes of one queue entry (triangle, node).
 pub const PAIR_BYTES: usize = 8;
-/// Bytes of one triangle's four planes (oriented triangle plane, three edge planes).
-pub const PLANE_BYTES: usize = 64;
+/// Bytes of one triangle's data per light: the oriented triangle plane and three edge planes,
+/// each also over the view's rays, and the bound of its directions from the light (common.glsl).
+pub const PLANE_BYTES: usize = 144;
 
 /// One level's grid of nodes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,11 +109,13 @@ pub struct Layout {
     pub height: u32,
     /// Level 0 = leaves, last = top.
     pub levels: Vec<Level>,
+    /// Triangles of the scene (the redo list's capacity).
+    pub triangles: usize,
 }
 
-/// Pairs level `nodes`' queue holds for a scene of `triangles` triangles.
-pub fn queue_capacity(triangles: usize, nodes: u32) -> usize {
-    QUEUE_PAIRS_PER_TRIANGLE * triangles + QUEUE_PAIRS_PER_NODE * nodes as usize
+/// Pairs the queue of a level of `nodes` nodes holds.
+pub fn queue_capacity(nodes: u32) -> usize {
+    (QUEUE_PAIRS_PER_NODE * nodes as usize).max(QUEUE_PAIRS_PER_BATCH_TRIANGLE * BATCH)
 }
 
 impl Layout {
@@ -102,14 +136,14 @@ impl Layout {
         }
         let mut first_pair = 0u64;
         for level in &mut levels {
-            let scaled = (queue_capacity(triangles, level.nodes()) as f64 * queue_scale).ceil();
+            let scaled = (queue_capacity(level.nodes()) as f64 * queue_scale).ceil();
             let capacity = scaled.clamp(1.0, f64::from(u32::MAX / 4)) as u64;
             let capacity = capacity.min(u64::from(u32::MAX) - first_pair) as u32;
             level.first_pair = first_pair as u32;
             level.queue_capacity = capacity;
             first_pair += u64::from(capacity);
         }
-        Layout { width, height, levels }
+        Layout { width, height, levels, triangles }
     }
 
     /// Number of leaves.
@@ -137,9 +171,47 @@ impl Layout {
         NODE_BYTES * self.nodes() as usize
     }
 
-    /// Words of the state buffer: control, one covered flag per node, two mask words per leaf.
+    /// Words of the state buffer cleared for every light: control, one covered flag per node,
+    /// a mask word, a list head and an active-list entry per leaf, one redo flag per triangle
+    /// (32 per word).
+    pub fn light_words(&self) -> usize {
+        self.redo_flags_offset() + self.triangles.div_ceil(32)
+    }
+
+    /// Index of the first leaf's mask of samples present (per frame) in the state buffer.
+    pub fn valid_offset(&self) -> usize {
+        self.light_words()
+    }
+
+    /// Index of the triangle order (per scene: ids, largest area first) in the state buffer.
+    pub fn order_offset(&self) -> usize {
+        self.valid_offset() + self.leaves() as usize
+    }
+
+    /// Words of the state buffer.
     pub fn state_words(&self) -> usize {
-        CONTROL_WORDS + self.nodes() as usize + 2 * self.leaves() as usize
+        self.order_offset() + self.triangles
+    }
+
+    /// Index of the first leaf list head in the state buffer.
+    pub fn heads_offset(&self) -> usize {
+        self.bits_offset() + self.leaves() as usize
+    }
+
+    /// Index of the list of active leaves (those with pairs in this batch) in the state buffer.
+    pub fn active_offset(&self) -> usize {
+        self.heads_offset() + self.leaves() as usize
+    }
+
+    /// Index of the first redo flag word in the state buffer.
+    pub fn redo_flags_offset(&self) -> usize {
+        self.active_offset() + self.leaves() as usize
+    }
+
+    /// Index of redo list 0 in the queue array (after every level's queue; list 1 follows it,
+    /// `triangles` entries each).
+    pub fn redo_offset(&self) -> usize {
+        self.levels.iter().map(|l| l.queue_capacity as usize).sum()
     }
 
     /// Index of the first covered flag in the state buffer.
@@ -157,9 +229,9 @@ impl Layout {
         4 * self.state_words()
     }
 
-    /// Entries of all queues.
+    /// Entries of all queues and the two redo lists.
     pub fn queue_pairs(&self) -> usize {
-        self.levels.iter().map(|l| l.queue_capacity as usize).sum()
+        self.redo_offset() + 2 * self.triangles
     }
 
     /// Bytes of the queues.
@@ -186,20 +258,18 @@ mod tests {
     fn levels_of_common_sizes() {
         let l = Layout::new(1920, 1080, 0, 1.0);
         let dims: Vec<(u32, u32)> = l.levels.iter().map(|v| (v.width, v.height)).collect();
-        // 8-pixel leaves, then 32, 128 and 512 pixels: 4 x 3 top nodes.
-        assert_eq!(dims, vec![(240, 135), (60, 34), (15, 9), (4, 3)]);
-        assert_eq!(l.levels[1].first_node, 240 * 135);
-        assert_eq!(l.nodes(), 240 * 135 + 60 * 34 + 15 * 9 + 12);
-        let small = Layout::new(640, 360, 0, 1.0);
-        assert_eq!(small.top().nodes(), 5 * 3, "128-pixel top nodes");
+        // 4-pixel leaves, then 16, 64, 256, 1024 and 4096 pixels: one root.
+        assert_eq!(dims, vec![(480, 270), (120, 68), (30, 17), (8, 5), (2, 2), (1, 1)]);
+        assert_eq!(l.levels[1].first_node, 480 * 270);
+        assert_eq!(l.nodes(), 480 * 270 + 120 * 68 + 30 * 17 + 8 * 5 + 4 + 1);
         let tiny = Layout::new(1, 1, 0, 1.0);
         assert_eq!(tiny.levels.len(), 2, "always one level above the leaves");
         assert_eq!(tiny.top().nodes(), 1);
         let huge = Layout::new(16384, 16384, 0, 1.0);
-        assert_eq!((huge.levels.len(), huge.top().nodes()), (5, 64), "2048-pixel top nodes");
-        let strip = Layout::new(1 << 20, 8, 0, 1.0);
+        assert_eq!((huge.levels.len(), huge.top().nodes()), (7, 1));
+        let strip = Layout::new(1 << 20, 4, 0, 1.0);
         assert_eq!(strip.levels.len(), MAX_LEVELS, "capped");
-        assert_eq!(strip.top().nodes(), 128, "more top nodes than MAX_TOP_NODES once capped");
+        assert_eq!(strip.top().nodes(), 16, "more than one top node once capped");
     }
 
     #[test]
@@ -208,18 +278,42 @@ mod tests {
         let mut next = 0;
         for level in &l.levels {
             assert_eq!(level.first_pair, next);
-            assert_eq!(level.queue_capacity as usize, queue_capacity(1000, level.nodes()));
+            assert_eq!(level.queue_capacity as usize, queue_capacity(level.nodes()));
             next += level.queue_capacity;
         }
+        assert_eq!(l.redo_offset(), next as usize);
+        assert_eq!(l.queue_pairs(), next as usize + 2000, "two redo lists");
         let tiny = Layout::new(1920, 1080, 1000, 1e-9);
         assert!(tiny.levels.iter().all(|v| v.queue_capacity == 1));
+    }
+
+    #[test]
+    fn state_regions_follow_each_other() {
+        let l = Layout::new(640, 360, 100, 1.0);
+        assert_eq!(l.covered_offset(), CONTROL_WORDS);
+        assert_eq!(l.bits_offset(), CONTROL_WORDS + l.nodes() as usize);
+        assert_eq!(l.heads_offset(), l.bits_offset() + l.leaves() as usize);
+        assert_eq!(l.active_offset(), l.heads_offset() + l.leaves() as usize);
+        assert_eq!(l.redo_flags_offset(), l.active_offset() + l.leaves() as usize);
+        assert_eq!(l.light_words(), l.redo_flags_offset() + 4);
+        assert_eq!(l.order_offset(), l.light_words() + l.leaves() as usize);
+        assert_eq!(l.state_words(), l.order_offset() + 100);
+    }
+
+    #[test]
+    fn batches_double_up_to_the_cap() {
+        let b = batches(10_000);
+        let sizes: Vec<usize> = b.iter().map(|r| r.len()).collect();
+        assert_eq!(sizes, vec![256, 512, 1024, 2048, 4096, 2064]);
+        assert!(b.windows(2).all(|w| w[0].end == w[1].start) && b[0].start == 0 && b[5].end == 10_000);
+        assert!(batches(0).is_empty());
     }
 
     #[test]
     fn bytes_per_resolution() {
         // The numbers docs/benchmarks.md states (a 262,267-triangle Crytek Sponza).
         let t = 262_267;
-        for (w, h, mib) in [(640, 360, 32.2), (1920, 1080, 69.3), (3840, 2160, 181.2)] {
+        for (w, h, mib) in [(640, 360, 55.5), (1920, 1080, 107.3), (3840, 2160, 278.2)] {
             let l = Layout::new(w, h, t, 1.0);
             let got = (l.frame_bytes() + plane_bytes(t)) as f64 / (1 << 20) as f64;
             assert!((got - mib).abs() < 0.1, "{w}x{h}: {got:.1} MiB");

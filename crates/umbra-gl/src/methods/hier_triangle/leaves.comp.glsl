@@ -1,19 +1,88 @@
-// hier-triangle, per light: the exact per-sample test (common.glsl, test_sample) of every
-// queued (triangle, leaf) pair: one workgroup per pair, one invocation per sample of the leaf
-// (Sintorn et al. 2014, Section 4: at the leaves each view sample is tested against the
-// triangle's frustum). Leaves covered by then (here or above) are skipped whole. Prepended:
-// the header and common.glsl. Dispatched indirectly (args.comp.glsl).
+// hier-triangle, per light and batch: the exact per-sample test (common.glsl, shadows_sample)
+// of each active leaf (one with pairs in this batch) against every triangle in its list (the
+// pairs whose frustum cuts the leaf: Sintorn et al. 2014, Section 4, at the leaves each view
+// sample is tested against the triangle's frustum). One workgroup per active leaf (indirect,
+// args.comp.glsl), one invocation per sample, walking the leaf's list together (the same
+// triangle in every invocation: coherent loads); a sample stops at its first shadowing
+// triangle. The walk is two nested loops of at most 65,535 steps each, so llvmpipe's limit on
+// one loop's iterations can never cut a list short. Afterwards the leaf is marked covered if
+// all its samples are shadowed, and so is each ancestor whose non-empty children all are
+// (the smaller triangles of later batches then skip them). Prepended: the header, common.glsl.
 
-layout(local_size_x = 64) in;
+layout(local_size_x = LEAF_SAMPLES) in;
+
+void test_list(uint leaf) {
+    uint k = gl_LocalInvocationIndex;
+    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
+    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
+    if (x >= u_frame.x || y >= u_frame.y) {
+        return;
+    }
+    uvec4 s = samples[y * u_frame.x + x];
+    if (s.w == NO_TRIANGLE) {
+        return;
+    }
+    vec3 rel = uintBitsToFloat(s.xyz) - u_origin;
+    float r = length(rel);
+    if (u_light.w != 0.0 && !(r > 2.0 * u_eps)) {
+        return;
+    }
+    uint word = u_bits_offset + leaf;
+    uint bit = 1u << k;
+    if ((state[word] & bit) != 0u) {
+        return;
+    }
+    uint link = state[u_heads_offset + leaf];
+    for (uint outer = 0u; outer < 65535u && link != 0u; ++outer) {
+        for (uint inner = 0u; inner < 65535u && link != 0u; ++inner) {
+            uvec2 pair = queue[u_level[0].w + link - 1u];
+            if (pair.x != s.w && shadows_sample(pair.x, rel, r)) {
+                atomicOr(state[word], bit);
+                return;
+            }
+            link = pair.y;
+        }
+    }
+}
 
 void main() {
-    uint entry = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    if (entry >= min(state[0], u_queue_capacity[0])) {
+    uint i = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    if (i >= state[ACTIVE_CONTROL]) {
         return;
     }
-    uvec2 pair = queue[u_level[0].w + entry];
-    if (covered_from_above(0u, pair.y)) {
+    uint leaf = state[u_active_offset + i];
+    if (covered_from_above(0u, leaf)) {
         return;
     }
-    test_sample(pair.x, pair.y, gl_LocalInvocationIndex);
+    test_list(leaf);
+    memoryBarrierBuffer();
+    barrier();
+    if (gl_LocalInvocationIndex != 0u) {
+        return;
+    }
+    uint valid = state[u_valid_offset + leaf];
+    if (valid == 0u || (state[u_bits_offset + leaf] & valid) != valid) {
+        return;
+    }
+    state[u_covered_offset + node_index(0u, leaf)] = 1u;
+    // Upwards while every non-empty child of the parent is covered (racing with other leaves
+    // only loses this shortcut, never correctness: a node is marked only when all is shadowed).
+    uint node = leaf;
+    for (uint level = 1u; level < u_levels; ++level) {
+        uint parent = (node / u_level[level - 1u].x / BRANCH_SIDE) * u_level[level].x
+            + (node % u_level[level - 1u].x) / BRANCH_SIDE;
+        bool all = true;
+        for (uint k = 0u; k < CHILDREN; ++k) {
+            uint child;
+            if (child_of(level, parent, k, child)) {
+                uint c = node_index(level - 1u, child);
+                all = all && (nodes[3u * c].w > nodes[3u * c + 1u].w || state[u_covered_offset + c] != 0u);
+            }
+        }
+        if (!all) {
+            return;
+        }
+        state[u_covered_offset + node_index(level, parent)] = 1u;
+        node = parent;
+    }
 }

@@ -1,8 +1,10 @@
-// hier-triangle, per light, one invocation per triangle: the triangle's shadow frustum as four
+// hier-triangle, per light and batch, one invocation per triangle of the batch (positions
+// u_first .. u_batch_end of the largest-first order) or of a redo round's list: the
+// triangle's shadow frustum as four
 // planes (Sintorn et al. 2014, Section 3: the triangle's plane and the three planes through the
 // light and an edge; for a directional light, through the edge along the light's direction),
 // then its test against every top node of the hierarchy. Prepended: the header and
-// common.glsl, then the generated fallback chain (descend_into).
+// common.glsl.
 //
 // The planes are computed in double precision from the f32 vertices (differences and products
 // exact, one rounding per sum), normalised, and rounded to f32 once. An edge plane is computed
@@ -11,11 +13,18 @@
 // not — store the same plane up to its sign (see common.glsl). A triangle of zero area, or one
 // whose plane holds the light, has no shadow frustum (the reference's watertight test never
 // reports a hit on it either) and is skipped.
+//
+// Each plane is also stored over the view's rays for the nodes' frustum slabs (common.glsl):
+// with the point eye + w D(x, y), D = x u_ray_x + y u_ray_y + u_ray_c, a plane (n, w_p) at the
+// origin takes the value E + w (a x + b y + c) with E = n.(eye - origin) + w_p, a = n.u_ray_x,
+// b = n.u_ray_y, c = n.u_ray_c — computed in double too, rounded once.
 
 layout(local_size_x = 64) in;
 
 uniform uint u_first;
-uniform uint u_triangle_count;
+uniform uint u_batch_end;
+// 1: a redo round: the triangles of redo list u_redo_in (indirect dispatch), not a batch.
+uniform uint u_from_redo;
 
 dvec3 position(uint i) {
     return dvec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
@@ -32,9 +41,19 @@ bool lex_less(dvec3 a, dvec3 b) {
 }
 
 void main() {
-    uint tri = u_first + gl_GlobalInvocationID.x;
-    if (tri >= u_triangle_count) {
-        return;
+    uint tri;
+    if (u_from_redo != 0u) {
+        uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+        if (i >= state[REDO_CONTROL + 4u * u_redo_in]) {
+            return;
+        }
+        tri = queue[u_redo_offset + u_redo_in * u_triangles + i].x;
+    } else {
+        uint rank = u_first + gl_GlobalInvocationID.x;
+        if (rank >= u_batch_end) {
+            return;
+        }
+        tri = state[u_order_offset + rank];
     }
     dvec3 q[3] = dvec3[3](position(indices[3u * tri]), position(indices[3u * tri + 1u]),
                           position(indices[3u * tri + 2u]));
@@ -51,7 +70,7 @@ void main() {
     // at the origin (directional).
     dvec3 n0 = (side > 0.0lf ? n : -n) / n_len;
     double w0 = point ? abs(side) / n_len : dot(n0, origin - q[0]);
-    vec4 edge[3];
+    dvec4 e_world[3];
     for (int i = 0; i < 3; ++i) {
         dvec3 a = q[i];
         dvec3 b = q[(i + 1) % 3];
@@ -73,17 +92,51 @@ void main() {
             e = -e;
         }
         double w = point ? 0.0lf : dot(e, origin - s0);
-        edge[i] = vec4(vec3(e), float(w));
+        e_world[i] = dvec4(e, w);
     }
-    planes[4u * tri] = vec4(vec3(n0), float(w0));
-    planes[4u * tri + 1u] = edge[0];
-    planes[4u * tri + 2u] = edge[1];
-    planes[4u * tri + 3u] = edge[2];
+    dvec4 world[4] = dvec4[4](dvec4(n0, w0), dvec4(0.0lf), dvec4(0.0lf), dvec4(0.0lf));
+    for (int i = 0; i < 3; ++i) {
+        world[i + 1] = dvec4(e_world[i]);
+    }
+    dvec3 eye_rel = dvec3(u_eye_rel);
+    for (int k = 0; k < 4; ++k) {
+        dvec3 nk = world[k].xyz;
+        planes[9u * tri + uint(k)] = vec4(world[k]);
+        planes[9u * tri + 4u + uint(k)] = vec4(dot(nk, eye_rel) + world[k].w, dot(nk, dvec3(u_ray_x)),
+                                               dot(nk, dvec3(u_ray_y)), dot(nk, dvec3(u_ray_c)));
+    }
+
+    // The bound of the triangle's directions from the light (common.glsl, directions_meet).
+    vec4 bound;
+    if (point) {
+        dvec3 t[3];
+        for (int i = 0; i < 3; ++i) {
+            t[i] = normalize(q[i] - light);
+        }
+        dvec3 axis = normalize(t[0] + t[1] + t[2]);
+        double g = max(max(length(t[0] - axis), length(t[1] - axis)), length(t[2] - axis));
+        // A cap of chord radius sqrt 2 or more is a hemisphere or more: not convex, so it need
+        // not hold the spherical triangle; say "all directions" then.
+        bound = g < 1.4lf ? vec4(vec3(axis), float(g) * (1.0 + 1.0 / 1048576.0) + 1.0e-6) : vec4(1.0, 0.0, 0.0, 4.0);
+    } else {
+        dvec3 u = dvec3(u_light_u);
+        dvec3 v = dvec3(u_light_v);
+        dvec2 lo = dvec2(1.0e300);
+        dvec2 hi = dvec2(-1.0e300);
+        for (int i = 0; i < 3; ++i) {
+            dvec2 uv = dvec2(dot(u, q[i] - origin), dot(v, q[i] - origin));
+            lo = min(lo, uv);
+            hi = max(hi, uv);
+        }
+        bound = vec4(float(lo.x), float(hi.x), float(lo.y), float(hi.y));
+    }
+    planes[9u * tri + 8u] = bound;
 
     uint top = u_levels - 1u;
     uint top_nodes = u_level[top].x * u_level[top].y;
+    Frustum f = load_frustum(tri);
     for (uint node = 0u; node < top_nodes; ++node) {
-        if (visit(tri, top, node) == PARTIAL) {
+        if (visit(f, top, node) == PARTIAL) {
             descend_into(tri, top, node);
         }
     }
