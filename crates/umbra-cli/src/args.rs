@@ -100,6 +100,11 @@ pub struct RenderArgs {
     /// Output PNG file.
     #[arg(long, default_value = "umbra.png")]
     pub out: String,
+    /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
+    /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
+    /// stay GL-only.
+    #[arg(long, default_value = "gl")]
+    pub backend: String,
 }
 
 /// Flags of `umbra view` (see umbra_view for the controls).
@@ -132,8 +137,11 @@ pub struct ViewWindowArgs {
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene spec or mesh file, as for `render --scene`.
-    pub scene: String,
+    /// Scene spec or mesh file, as for `render --scene` (optional with `--backend`).
+    pub scene: Option<String>,
+    /// Print the device the backend draws on: `gl` (the GL renderer) or `wgpu` (the adapter).
+    #[arg(long)]
+    pub backend: Option<String>,
     /// Also count silhouette edges for this light (X,Y,Z or X,Y,Z,W).
     #[arg(long, allow_hyphen_values = true)]
     pub light: Option<String>,
@@ -173,6 +181,11 @@ pub struct VerifyArgs {
     /// method and light (triangle, position, distance to its edges, first occluder).
     #[arg(long, default_value_t = 0)]
     pub explain: usize,
+    /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
+    /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
+    /// stay GL-only.
+    #[arg(long, default_value = "gl")]
+    pub backend: String,
 }
 
 /// Flags of `umbra bench` (frame benchmarks; see docs/benchmarks.md "Frame benchmarks").
@@ -253,6 +266,11 @@ pub struct BenchArgs {
     /// results survive in a log when it is stopped.
     #[arg(long)]
     pub log: bool,
+    /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
+    /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
+    /// stay GL-only.
+    #[arg(long, default_value = "gl")]
+    pub backend: String,
 }
 
 /// Flags of `umbra export` (see crate::export).

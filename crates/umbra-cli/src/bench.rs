@@ -35,6 +35,7 @@ use crate::args::BenchArgs;
 use crate::config::{default_light, load_scene, parse_light, parse_size, CameraConfig, CliError, Framing, ViewConfig};
 pub use crate::methods::{make_method, method_exists, SmOptions};
 use crate::session::Session;
+use crate::wgpu_backend::Backend;
 
 /// `bench --methods`: see [`crate::methods::parse_methods`].
 pub fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
@@ -275,23 +276,19 @@ impl Progress {
 
 /// What the measurement saw besides the per-method stats.
 pub struct Measurement {
+    /// "gl" or "wgpu".
+    pub backend: &'static str,
     pub stats: Vec<MethodStats>,
     pub renderer: String,
     pub triangles: usize,
 }
 
-/// Runs the interleaved schedule of `methods` over `cameras` (one camera per measured round;
-/// warm-up round r uses camera r) on a fresh context.
-pub fn measure(
-    scene: &BenchScene,
-    methods: &[String],
-    cameras: &[Keyframe],
-    o: &MeasureOptions,
-) -> Result<Measurement, CliError> {
+/// The view a measurement draws (the camera moves along `cameras`), shared by both backends.
+pub fn bench_view(scene: &BenchScene, cameras: &[Keyframe], o: &MeasureOptions) -> Result<ViewConfig, CliError> {
     if cameras.is_empty() {
         return Err(CliError::Other("no frames to measure".into()));
     }
-    let view = ViewConfig {
+    Ok(ViewConfig {
         scene_spec: scene.spec.clone(),
         mesh: scene.mesh.clone(),
         camera: CameraConfig {
@@ -305,7 +302,18 @@ pub fn measure(
         height: o.height,
         zpass: o.zpass,
         auto_zpass: o.auto_zpass,
-    };
+    })
+}
+
+/// Runs the interleaved schedule of `methods` over `cameras` (one camera per measured round;
+/// warm-up round r uses camera r) on a fresh context.
+pub fn measure(
+    scene: &BenchScene,
+    methods: &[String],
+    cameras: &[Keyframe],
+    o: &MeasureOptions,
+) -> Result<Measurement, CliError> {
+    let view = bench_view(scene, cameras, o)?;
     let mut s = Session::new(&view)?;
     let mut params = s.frame_params(&view);
     let decision = crate::methods::choose_counter(o.counter, &s.welded.positions, &s.welded.triangles, &params.lights)?;
@@ -389,7 +397,7 @@ pub fn measure(
     clock.inner.destroy(gl);
     stage_hook.inner.destroy(gl);
     target.destroy(gl);
-    Ok(Measurement { stats, renderer: s.context.renderer_string(), triangles: s.welded.triangles.len() })
+    Ok(Measurement { backend: "gl", stats, renderer: s.context.renderer_string(), triangles: s.welded.triangles.len() })
 }
 
 /// One object of `bench --json`; the first seven keys are the contract.
@@ -411,6 +419,8 @@ pub struct JsonRow {
     pub zpass_share: f64,
     pub width: u32,
     pub height: u32,
+    /// "gl" or "wgpu" (`--backend`).
+    pub backend: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub run: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -443,6 +453,7 @@ pub fn json_rows(
             zpass_share: if s.lights == 0 { 0.0 } else { s.zpass_lights as f64 / s.lights as f64 },
             width,
             height,
+            backend: m.backend.to_string(),
             run: run.map(str::to_string),
             x,
             error: s.error.clone(),
@@ -579,7 +590,11 @@ pub fn measure_options(
 }
 
 pub fn run(a: &BenchArgs) -> Result<(), CliError> {
+    let backend = Backend::parse(&a.backend)?;
     if let Some(name) = &a.suite {
+        if backend == Backend::Wgpu && name != "list" {
+            return Err(bad("--backend", "the paper suites (--suite) run on the gl backend only"));
+        }
         return suites::run(name, a);
     }
     let (width, height) = parse_size(a.size.as_deref().unwrap_or("1280x720"))?;
@@ -587,12 +602,19 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     if frames == 0 {
         return Err(bad("--frames", "must be at least 1"));
     }
-    let methods = parse_methods(a.methods.as_deref().unwrap_or("all"))?;
+    let methods = match backend {
+        Backend::Gl => parse_methods(a.methods.as_deref().unwrap_or("all"))?,
+        Backend::Wgpu => crate::wgpu_backend::parse_methods(a.methods.as_deref().unwrap_or("all"), "--methods")?,
+    };
     let o = measure_options(a, width, height, 1, "bench")?;
     let scene = BenchScene::load(&a.scene, a.ground, a.max_input_bytes, &a.light)?;
     let cameras = camera_path(&a.flythrough, &scene, frames)?;
     let load_before = load_average();
-    let m = measure(&scene, &methods, &cameras, &o)?;
+    let m = match backend {
+        Backend::Gl => measure(&scene, &methods, &cameras, &o)?,
+        // Frame times only: the wgpu backend has no stage timing (stages stay empty).
+        Backend::Wgpu => crate::wgpu_backend::measure(&bench_view(&scene, &cameras, &o)?, &methods, &cameras, &o)?,
+    };
     let load_after = load_average();
     if let Some(path) = &a.csv {
         let mut text = String::from(CSV_HEADER);

@@ -11,6 +11,7 @@ mod render;
 mod session;
 mod verify;
 mod view;
+mod wgpu_backend;
 
 use clap::Parser;
 

@@ -11,11 +11,14 @@ use umbra_verify::{verify_method, view_reference, MethodReport};
 use crate::args::VerifyArgs;
 use crate::config::{CliError, ViewConfig};
 use crate::session::Session;
+use crate::wgpu_backend::Backend;
 
 /// One line of `verify --json`; the keys are a contract.
 #[derive(Serialize)]
 struct JsonRow<'a> {
     method: &'a str,
+    /// "gl" or "wgpu" (`--backend`).
+    backend: &'static str,
     /// "stencil8" or "float32" for methods that count in the stencil, "none" for the others.
     counter: &'a str,
     /// Per light: counted z-pass (`--zmode`; auto chooses it where provably exact).
@@ -62,27 +65,49 @@ fn write_diff(
 
 /// Returns whether every method that must be exact passed.
 pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
-    let methods = crate::methods::parse_methods(&a.method, "--method")?;
+    let backend = Backend::parse(&a.backend)?;
+    let methods = match backend {
+        Backend::Gl => crate::methods::parse_methods(&a.method, "--method")?,
+        Backend::Wgpu => crate::wgpu_backend::parse_methods(&a.method, "--method")?,
+    };
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let view = ViewConfig::from_args(&a.view)?;
     let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
-    let mut s = Session::new(&view)?;
-    let mut params = s.frame_params(&view);
-    let decision = crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
-    crate::methods::report_counter(&decision);
-    params.counter = decision.counter;
-    let gl = s.context.gl();
-    let reference =
-        view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
+    // Per method: (report, counter label, per-light z-pass); then the reference, the mesh and
+    // the device that drew them.
+    let (results, reference, welded, device_name) = match backend {
+        Backend::Gl => {
+            let mut s = Session::new(&view)?;
+            let mut params = s.frame_params(&view);
+            let decision =
+                crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
+            crate::methods::report_counter(&decision);
+            params.counter = decision.counter;
+            let gl = s.context.gl();
+            let reference =
+                view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
+            let mut results = Vec::new();
+            for name in &methods {
+                let mut method = crate::methods::make_method(name, &sm, "--method")?;
+                let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
+                let counter = crate::methods::counter_label(method.as_ref(), params.counter);
+                let zpass = s.renderer.last_zpass().to_vec();
+                method.destroy(gl);
+                let report = report.map_err(|e| CliError::Other(e.to_string()))?;
+                results.push((report, counter, zpass));
+            }
+            (results, reference, s.welded.clone(), s.context.renderer_string())
+        }
+        Backend::Wgpu => {
+            let (s, reference, verified) = crate::wgpu_backend::verify(&view, &methods, &sm, choice)?;
+            let results = verified.into_iter().map(|v| (v.report, v.counter, v.zpass)).collect();
+            (results, reference, s.welded.clone(), format!("wgpu on {}", s.gpu.adapter_line()))
+        }
+    };
     let mut rows = Vec::new();
     let mut all_passed = true;
-    for name in &methods {
-        let mut method = crate::methods::make_method(name, &sm, "--method")?;
-        let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
-        let counter = crate::methods::counter_label(method.as_ref(), params.counter);
-        let zpass = s.renderer.last_zpass().to_vec();
-        method.destroy(gl);
-        let report = report.map_err(|e| CliError::Other(e.to_string()))?;
+    for (report, counter, zpass) in results {
+        let name = &report.method;
         if let Some(base) = &a.diff {
             for (i, lr) in reference.lights.iter().enumerate() {
                 let path = diff_path(base, name, i, methods.len(), reference.lights.len());
@@ -96,7 +121,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
                 for &k in outside.iter().take(a.explain) {
                     let (x, y) = ((k % view.width as usize) as u32, (k / view.width as usize) as u32);
                     let what = if res.shadowed[k] { "false shadow" } else { "false light" };
-                    eprintln!("{name} light {i} {what} {}", umbra_verify::explain(&s.welded, &reference, i, x, y));
+                    eprintln!("{name} light {i} {what} {}", umbra_verify::explain(&welded, &reference, i, x, y));
                 }
             }
         }
@@ -108,6 +133,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             .iter()
             .map(|(r, reference_ms, counter, zpass)| JsonRow {
                 method: &r.method,
+                backend: backend.name(),
                 counter,
                 zpass: zpass.clone(),
                 samples: r.metrics.samples,
@@ -128,7 +154,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             view.width,
             view.height,
             view.lights.len(),
-            s.context.renderer_string(),
+            device_name,
             reference.total_ms()
         );
         println!(

@@ -523,12 +523,14 @@ impl Renderer {
     ) -> Result<FrameImages, WgpuError> {
         params.validate()?;
         let view = View::from_camera(&params.camera, params.width, params.height)?;
-        let pending = scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view))?;
+        let pending = scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view, true))?;
         let read = |r: &Option<Readback>| -> Result<Option<Vec<u8>>, WgpuError> {
             r.as_ref().map(|r| r.read::<u8>(device)).transpose()
         };
         let (w, h) = (params.width, params.height);
-        let rgba: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(&pending.color.read::<u8>(device)?);
+        let color =
+            pending.color.as_ref().ok_or(WgpuError::Readback { what: "colour", detail: "not recorded".into() })?;
+        let rgba: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(&color.read::<u8>(device)?);
         let world_pos =
             read(&pending.world_pos)?.map(|b| Image { width: w, height: h, pixels: bytemuck::pod_collect_to_vec(&b) });
         let triangle_id = read(&pending.triangle_id)?.map(|b| Image {
@@ -555,7 +557,26 @@ impl Renderer {
         })
     }
 
-    /// Records and submits the frame; returns the readbacks to map.
+    /// Draws one frame into the renderer's own target and submits it, reading nothing back
+    /// (benchmarks: wait for it with `device.poll`). `params.capture` is ignored.
+    pub fn draw_frame(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &SceneGpu,
+        volumes: &mut ShadowVolumes,
+        params: &FrameParams,
+    ) -> Result<(), WgpuError> {
+        let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
+        params.validate()?;
+        let view = View::from_camera(&params.camera, params.width, params.height)?;
+        scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false))?;
+        Ok(())
+    }
+
+    /// Records and submits the frame; returns the readbacks to map (the colour only with
+    /// `read_color`).
+    #[allow(clippy::too_many_arguments)]
     fn encode(
         &mut self,
         device: &wgpu::Device,
@@ -564,6 +585,7 @@ impl Renderer {
         volumes: &mut ShadowVolumes,
         params: &FrameParams,
         view: &View,
+        read_color: bool,
     ) -> Result<Pending, WgpuError> {
         let (w, h) = (params.width, params.height);
         if self.target.as_ref().is_none_or(|t| t.width != w || t.height != h) {
@@ -715,7 +737,7 @@ impl Renderer {
         }
         let all = wgpu::TextureAspect::All;
         let pending = Pending {
-            color: Readback::copy(device, &mut encoder, &target.color, all, 4, "colour"),
+            color: read_color.then(|| Readback::copy(device, &mut encoder, &target.color, all, 4, "colour")),
             world_pos: params
                 .capture
                 .world_pos
@@ -734,7 +756,7 @@ impl Renderer {
 
 /// Readbacks recorded in a frame's command buffer.
 struct Pending {
-    color: Readback,
+    color: Option<Readback>,
     world_pos: Option<Readback>,
     triangle_id: Option<Readback>,
     stencil: Vec<(usize, Readback)>,
