@@ -256,72 +256,72 @@ pub fn adapter_report() -> Result<Vec<(String, String)>, CliError> {
     ])
 }
 
-/// What `bench --backend wgpu` measures per method, as the GL bench's [`crate::bench::MethodStats`].
-pub fn measure(
-    view: &ViewConfig,
-    methods: &[String],
-    cameras: &[crate::bench::Keyframe],
-    o: &crate::bench::MeasureOptions,
-) -> Result<crate::bench::Measurement, CliError> {
-    let s = WgpuSession::new(view)?;
-    let mut params = s.frame_params(view);
-    check_counter(o.counter, &s.welded, &params.lights)?;
-    let mut instances = Vec::new();
-    for m in methods {
-        instances.push(s.volumes(m, &o.sm, "--methods")?);
+/// `bench --backend wgpu`: umbra-wgpu's frames ([`Renderer::draw_frame`], no readback) for
+/// the interleaved schedule. Frame times only: no stage timing.
+pub struct WgpuDriver {
+    session: WgpuSession,
+    params: umbra_wgpu::FrameParams,
+    instances: Vec<ShadowVolumes>,
+}
+
+impl WgpuDriver {
+    pub fn new(view: &ViewConfig, methods: &[String], o: &crate::bench::MeasureOptions) -> Result<Self, CliError> {
+        let session = WgpuSession::new(view)?;
+        let params = session.frame_params(view);
+        check_counter(o.counter, &session.welded, &params.lights)?;
+        let instances = methods.iter().map(|m| session.volumes(m, &o.sm, "--methods")).collect::<Result<_, _>>()?;
+        Ok(Self { session, params, instances })
     }
-    let WgpuSession { gpu, scene, mut renderer, welded } = s;
-    let mut stats: Vec<crate::bench::MethodStats> = methods
-        .iter()
-        .zip(&instances)
-        .map(|(m, v)| crate::bench::MethodStats {
-            method: m.clone(),
-            counter: if v.counts_volumes() { "stencil8" } else { "none" }.to_string(),
-            ..Default::default()
-        })
-        .collect();
-    let slots = crate::bench::schedule(methods.len(), o.warmup, cameras.len());
-    let wait = |device: &umbra_wgpu::wgpu::Device| device.poll(umbra_wgpu::wgpu::PollType::wait_indefinitely());
-    for slot in &slots {
-        let st = &mut stats[slot.method];
-        if st.error.is_some() {
-            continue;
-        }
-        if o.trace_order {
-            eprintln!("bench-order {} {} {}", if slot.warmup { "warmup" } else { "frame" }, slot.round, st.method);
-        }
-        let cam = cameras[slot.round % cameras.len()];
-        params.camera.eye = cam.eye;
-        params.camera.target = cam.target;
-        // Whole frame: the GPU idle before (the previous frame waited for), CPU clock from the
-        // first command recorded to the frame's completion.
-        let _ = wait(&gpu.device);
+}
+
+impl crate::bench::Driver for WgpuDriver {
+    fn backend(&self) -> &'static str {
+        Backend::Wgpu.name()
+    }
+
+    fn device_name(&self) -> String {
+        self.session.gpu.adapter_line()
+    }
+
+    fn triangles(&self) -> usize {
+        self.session.welded.triangles.len()
+    }
+
+    fn lights(&self) -> usize {
+        self.params.lights.len()
+    }
+
+    fn counter(&self, method: usize) -> String {
+        if self.instances[method].counts_volumes() { "stencil8" } else { "none" }.to_string()
+    }
+
+    fn frame(&mut self, method: usize, cam: crate::bench::Keyframe) -> Result<f64, String> {
+        self.params.camera.eye = cam.eye;
+        self.params.camera.target = cam.target;
+        let s = &mut self.session;
+        let (device, queue) = (&s.gpu.device, &s.gpu.queue);
+        let wait =
+            || device.poll(umbra_wgpu::wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| e.to_string());
+        // The GPU idle before; CPU clock from the first command recorded to the frame's
+        // completion (the submission waited for).
+        wait()?;
         let start = Instant::now();
-        let drawn = renderer.draw_frame(&gpu.device, &gpu.queue, &scene, &mut instances[slot.method], &params);
-        let waited = wait(&gpu.device);
-        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
-        if let Err(e) = drawn.map_err(|e| e.to_string()).and(waited.map(|_| ()).map_err(|e| e.to_string())) {
-            st.error = Some(e.clone());
-            eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
-            continue;
-        }
-        if o.log {
-            let kind = if slot.warmup { "warmup" } else { "frame" };
-            eprintln!("umbra bench: {} {kind} {} {} {frame_ms:.1} ms", o.progress_label, slot.round, st.method);
-        }
-        if !slot.warmup {
-            st.frame_ms.push(frame_ms);
-            st.zpass_lights += instances[slot.method].plans().iter().filter(|p| p.zpass).count();
-            st.lights += params.lights.len();
-        }
+        s.renderer
+            .draw_frame(device, queue, &s.scene, &mut self.instances[method], &self.params)
+            .map_err(|e| e.to_string())?;
+        wait()?;
+        Ok(start.elapsed().as_secs_f64() * 1e3)
     }
-    for (st, v) in stats.iter_mut().zip(&instances) {
-        st.gpu_bytes = v.gpu_bytes() as usize;
+
+    fn stages(&mut self, _method: usize, _cam: crate::bench::Keyframe) -> Result<Vec<(String, f64)>, String> {
+        Ok(Vec::new())
     }
-    Ok(crate::bench::Measurement {
-        backend: Backend::Wgpu.name(),
-        stats,
-        renderer: format!("wgpu on {}", umbra_wgpu::device::adapter_line(&gpu.adapter)),
-        triangles: welded.triangles.len(),
-    })
+
+    fn zpass_lights(&self, method: usize) -> usize {
+        self.instances[method].plans().iter().filter(|p| p.zpass).count()
+    }
+
+    fn gpu_bytes(&self, method: usize) -> usize {
+        self.instances[method].gpu_bytes() as usize
+    }
 }

@@ -175,3 +175,53 @@ fn bench_runs_a_short_wgpu_measurement() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("gl backend only"));
 }
+
+#[test]
+fn bench_interleaves_gl_and_wgpu_in_one_run() {
+    if !adapter() {
+        return;
+    }
+    let o = umbra(&[
+        "bench",
+        "--backend",
+        "gl,wgpu",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--size",
+        "64x48",
+        "--methods",
+        "cs-silhouette",
+        "--trace-order",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = json(&o);
+    let got: Vec<(&str, &str)> = rows
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["method"].as_str().unwrap(), r["backend"].as_str().unwrap()))
+        .collect();
+    assert_eq!(got, [("cs-silhouette", "gl"), ("cs-silhouette", "wgpu")]);
+    // GL rows have stages, wgpu rows frame times only.
+    assert!(!rows[0]["stages"].as_object().unwrap().is_empty());
+    assert!(rows[1]["stages"].as_object().unwrap().is_empty());
+    let order: Vec<String> = stderr(&o).lines().filter(|l| l.starts_with("bench-order")).map(str::to_string).collect();
+    assert_eq!(
+        order,
+        [
+            "bench-order warmup 0 cs-silhouette@gl",
+            "bench-order warmup 0 cs-silhouette@wgpu",
+            "bench-order frame 0 cs-silhouette@gl",
+            "bench-order frame 0 cs-silhouette@wgpu",
+            "bench-order frame 1 cs-silhouette@gl",
+            "bench-order frame 1 cs-silhouette@wgpu",
+        ],
+        "frame by frame, one backend after the other"
+    );
+    let o = umbra(&["bench", "--backend", "wgpu,wgpu", "--frames", "1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("expected gl, wgpu or gl,wgpu"), "{}", stderr(&o));
+}
