@@ -361,7 +361,7 @@ impl Common {
             // depth the test sees, NaN made far (shaders/volume.wgsl, fs_volume).
             fragment: Some(wgpu::FragmentState {
                 module,
-                entry_point: Some("fs_volume"),
+                entry_point: Some(if self.sample_count > 1 { "fs_volume_per_sample" } else { "fs_volume" }),
                 compilation_options: Default::default(),
                 targets: &targets,
             }),

@@ -95,9 +95,21 @@ fn umbra_volume_vertex(clip: vec4<f32>, near_distance: f32) -> UmbraVolumeVertex
 // shadow). A needle's fragments lie at its far end, by the vertices at infinity (depth 0), so 0
 // is their depth up to the needle's width; and 0 is what z-fail counts as behind every sample,
 // like the caps at infinity. Any other depth passes through unchanged (the same bits).
+fn umbra_volume_depth(z: f32) -> f32 {
+    // A NaN test on the bits: a compiler may assume no NaN in floating-point comparisons.
+    let nan = (bitcast<u32>(z) & 0x7FFFFFFFu) > 0x7F800000u;
+    return select(z, 0.0, nan);
+}
+
 @fragment
 fn fs_volume(@builtin(position) position: vec4<f32>) -> @builtin(frag_depth) f32 {
-    // A NaN test on the bits: a compiler may assume no NaN in floating-point comparisons.
-    let nan = (bitcast<u32>(position.z) & 0x7FFFFFFFu) > 0x7F800000u;
-    return select(position.z, 0.0, nan);
+    return umbra_volume_depth(position.z);
+}
+
+// Multisampled passes: a written depth holds for every sample of the fragment, so the shader
+// runs per sample (reading sample_index asks for it) and position.z is that sample's depth.
+@fragment
+fn fs_volume_per_sample(@builtin(position) position: vec4<f32>, @builtin(sample_index) sample: u32) -> @builtin(frag_depth) f32 {
+    _ = sample;
+    return umbra_volume_depth(position.z);
 }
