@@ -4,7 +4,8 @@
 //! formats as the GL backend; what differs is said where it applies: the methods
 //! (`umbra_wgpu::method_names()`: no geometry or tessellation shaders on wgpu), the counter (the
 //! 8-bit stencil only: `--counter float32`, or `auto` when a count could reach 256, is an
-//! error), shadow maps (six face passes: `--sm-faces` has no effect; an integer constant bias).
+//! error), shadow maps (six face passes: `--sm-faces` has no effect; an integer constant bias),
+//! bench stages (GPU timestamps between the passes, coarser than GL's).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -257,7 +258,9 @@ pub fn adapter_report() -> Result<Vec<(String, String)>, CliError> {
 }
 
 /// `bench --backend wgpu`: umbra-wgpu's frames ([`Renderer::draw_frame`], no readback) for
-/// the interleaved schedule. Frame times only: no stage timing.
+/// the interleaved schedule; stage times from GPU timestamps at the passes' boundaries
+/// ([`Renderer::draw_frame_timed`]: prepare, depth+ambient, volumes, lighting) where the
+/// adapter has timestamp queries inside encoders.
 pub struct WgpuDriver {
     session: WgpuSession,
     params: umbra_wgpu::FrameParams,
@@ -313,8 +316,14 @@ impl crate::bench::Driver for WgpuDriver {
         Ok(start.elapsed().as_secs_f64() * 1e3)
     }
 
-    fn stages(&mut self, _method: usize, _cam: crate::bench::Keyframe) -> Result<Vec<(String, f64)>, String> {
-        Ok(Vec::new())
+    fn stages(&mut self, method: usize, cam: crate::bench::Keyframe) -> Result<Vec<(String, f64)>, String> {
+        self.params.camera.eye = cam.eye;
+        self.params.camera.target = cam.target;
+        let s = &mut self.session;
+        let (device, queue) = (&s.gpu.device, &s.gpu.queue);
+        let timed = s.renderer.draw_frame_timed(device, queue, &s.scene, &mut self.instances[method], &self.params);
+        // Without timestamp queries: no stages (frame times only).
+        Ok(timed.map_err(|e| e.to_string())?.unwrap_or_default())
     }
 
     fn zpass_lights(&self, method: usize) -> usize {

@@ -523,7 +523,8 @@ impl Renderer {
     ) -> Result<FrameImages, WgpuError> {
         params.validate()?;
         let view = View::from_camera(&params.camera, params.width, params.height)?;
-        let pending = scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view, true))?;
+        let pending =
+            scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view, true, None))?;
         let read = |r: &Option<Readback>| -> Result<Option<Vec<u8>>, WgpuError> {
             r.as_ref().map(|r| r.read::<u8>(device)).transpose()
         };
@@ -570,8 +571,49 @@ impl Renderer {
         let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
         params.validate()?;
         let view = View::from_camera(&params.camera, params.width, params.height)?;
-        scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false))?;
+        scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, None))?;
         Ok(())
+    }
+
+    /// [`Renderer::draw_frame`] with a GPU timestamp at every stage boundary, waited for:
+    /// (stage, ms) summed over lights, in first-seen order — "prepare" (every light's compute
+    /// work and shadow-map passes), "depth+ambient", "volumes", "lighting". `None` when the
+    /// device has no timestamp queries inside encoders.
+    pub fn draw_frame_timed(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &SceneGpu,
+        volumes: &mut ShadowVolumes,
+        params: &FrameParams,
+    ) -> Result<Option<Vec<(String, f64)>>, WgpuError> {
+        let needed = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        if !device.features().contains(needed) {
+            return Ok(None);
+        }
+        let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
+        params.validate()?;
+        let view = View::from_camera(&params.camera, params.width, params.height)?;
+        let stamps = 3 + 2 * params.lights.len() as u32;
+        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("umbra stage timestamps"),
+            ty: wgpu::QueryType::Timestamp,
+            count: stamps,
+        });
+        let pending =
+            scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, Some(&set)))?;
+        let Some((labels, readback)) = pending.stamps else { return Ok(None) };
+        let ticks: Vec<u64> = crate::readback::read_buffer(device, &readback, "timestamps")?;
+        let period = f64::from(queue.get_timestamp_period());
+        let mut stages: Vec<(String, f64)> = Vec::new();
+        for (i, label) in labels.iter().enumerate().take(labels.len().saturating_sub(1)) {
+            let ms = ticks[i + 1].saturating_sub(ticks[i]) as f64 * period / 1e6;
+            match stages.iter_mut().find(|(n, _)| n == label) {
+                Some((_, t)) => *t += ms,
+                None => stages.push((label.to_string(), ms)),
+            }
+        }
+        Ok(Some(stages))
     }
 
     /// Records and submits the frame; returns the readbacks to map (the colour only with
@@ -586,6 +628,7 @@ impl Renderer {
         params: &FrameParams,
         view: &View,
         read_color: bool,
+        timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<Pending, WgpuError> {
         let (w, h) = (params.width, params.height);
         if self.target.as_ref().is_none_or(|t| t.width != w || t.height != h) {
@@ -620,12 +663,22 @@ impl Renderer {
         });
         let target = self.target.as_ref().expect("made above");
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("umbra frame") });
+        // Stage boundaries (bench): the label of the stage that starts at each timestamp.
+        let mut labels: Vec<&'static str> = Vec::new();
+        let mut stamp = |encoder: &mut wgpu::CommandEncoder, label: &'static str| {
+            if let Some(set) = timestamps {
+                encoder.write_timestamp(set, labels.len() as u32);
+                labels.push(label);
+            }
+        };
+        stamp(&mut encoder, "prepare");
 
         // ---- Every light's compute work, before any pass.
         let frame = VolumeFrame { view, lights: &params.lights, zmode: params.zmode() };
         let plans = volumes.prepare(device, queue, &mut encoder, scene, &frame)?.to_vec();
 
         // ---- Pass 1: depth + ambient (+ world position, triangle id).
+        stamp(&mut encoder, "depth+ambient");
         let capture_samples = params.capture.world_pos || params.capture.triangle_id;
         let (color, world, ids, lit, depth) = (
             view_of(&target.color),
@@ -674,6 +727,7 @@ impl Renderer {
         let mut lit_masks = Vec::new();
         for (i, plan) in plans.iter().enumerate() {
             // ---- Pass 2: this light's volumes into a freshly cleared stencil.
+            stamp(&mut encoder, "volumes");
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("umbra volumes"),
@@ -699,6 +753,7 @@ impl Renderer {
                 stencil.push((i, r));
             }
             // ---- Pass 3: lighting where the stencil is 0.
+            stamp(&mut encoder, "lighting");
             let capture_lit = params.capture.lit_mask.includes(i);
             {
                 let mut attachments = vec![Some(wgpu::RenderPassColorAttachment {
@@ -735,8 +790,29 @@ impl Renderer {
                 lit_masks.push((i, r));
             }
         }
+        stamp(&mut encoder, "end");
+        let stamps = timestamps.map(|set| {
+            let n = labels.len() as u32;
+            let bytes = 8 * u64::from(n);
+            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("umbra timestamps"),
+                size: bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("umbra timestamps readback"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.resolve_query_set(set, 0..n, &resolve, 0);
+            encoder.copy_buffer_to_buffer(&resolve, 0, &readback, 0, bytes);
+            (labels.clone(), readback)
+        });
         let all = wgpu::TextureAspect::All;
         let pending = Pending {
+            stamps,
             color: read_color.then(|| Readback::copy(device, &mut encoder, &target.color, all, 4, "colour")),
             world_pos: params
                 .capture
@@ -756,6 +832,8 @@ impl Renderer {
 
 /// Readbacks recorded in a frame's command buffer.
 struct Pending {
+    /// Stage labels and the buffer their timestamps are copied to.
+    stamps: Option<(Vec<&'static str>, wgpu::Buffer)>,
     color: Option<Readback>,
     world_pos: Option<Readback>,
     triangle_id: Option<Readback>,
