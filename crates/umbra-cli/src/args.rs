@@ -100,6 +100,11 @@ pub struct RenderArgs {
     /// Output PNG file.
     #[arg(long, default_value = "umbra.png")]
     pub out: String,
+    /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
+    /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
+    /// stay GL-only.
+    #[arg(long, default_value = "gl")]
+    pub backend: String,
 }
 
 /// Flags of `umbra view` (see umbra_view for the controls).
@@ -132,8 +137,11 @@ pub struct ViewWindowArgs {
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Scene spec or mesh file, as for `render --scene`.
-    pub scene: String,
+    /// Scene spec or mesh file, as for `render --scene` (optional with `--backend`).
+    pub scene: Option<String>,
+    /// Print the device the backend draws on: `gl` (the GL renderer) or `wgpu` (the adapter).
+    #[arg(long)]
+    pub backend: Option<String>,
     /// Also count silhouette edges for this light (X,Y,Z or X,Y,Z,W).
     #[arg(long, allow_hyphen_values = true)]
     pub light: Option<String>,
@@ -178,6 +186,11 @@ pub struct VerifyArgs {
     /// shadowed (the WebGL2 viewer's `mask=1` view read back). One light only.
     #[arg(long)]
     pub external_mask: Option<String>,
+    /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
+    /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
+    /// stay GL-only.
+    #[arg(long, default_value = "gl")]
+    pub backend: String,
 }
 
 /// Flags of `umbra bench` (frame benchmarks; see docs/benchmarks.md "Frame benchmarks").
@@ -258,6 +271,11 @@ pub struct BenchArgs {
     /// results survive in a log when it is stopped.
     #[arg(long)]
     pub log: bool,
+    /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
+    /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
+    /// stay GL-only.
+    #[arg(long, default_value = "gl")]
+    pub backend: String,
 }
 
 /// Flags of `umbra export` (see crate::export).

@@ -35,6 +35,7 @@ use crate::args::BenchArgs;
 use crate::config::{default_light, load_scene, parse_light, parse_size, CameraConfig, CliError, Framing, ViewConfig};
 pub use crate::methods::{make_method, method_exists, SmOptions};
 use crate::session::Session;
+use crate::wgpu_backend::Backend;
 
 /// `bench --methods`: see [`crate::methods::parse_methods`].
 pub fn parse_methods(text: &str) -> Result<Vec<String>, CliError> {
@@ -275,23 +276,19 @@ impl Progress {
 
 /// What the measurement saw besides the per-method stats.
 pub struct Measurement {
+    /// Per row of `stats`: its backend.
+    pub backends: Vec<&'static str>,
     pub stats: Vec<MethodStats>,
     pub renderer: String,
     pub triangles: usize,
 }
 
-/// Runs the interleaved schedule of `methods` over `cameras` (one camera per measured round;
-/// warm-up round r uses camera r) on a fresh context.
-pub fn measure(
-    scene: &BenchScene,
-    methods: &[String],
-    cameras: &[Keyframe],
-    o: &MeasureOptions,
-) -> Result<Measurement, CliError> {
+/// The view a measurement draws (the camera moves along `cameras`), shared by both backends.
+pub fn bench_view(scene: &BenchScene, cameras: &[Keyframe], o: &MeasureOptions) -> Result<ViewConfig, CliError> {
     if cameras.is_empty() {
         return Err(CliError::Other("no frames to measure".into()));
     }
-    let view = ViewConfig {
+    Ok(ViewConfig {
         scene_spec: scene.spec.clone(),
         mesh: scene.mesh.clone(),
         camera: CameraConfig {
@@ -305,93 +302,276 @@ pub fn measure(
         height: o.height,
         zpass: o.zpass,
         auto_zpass: o.auto_zpass,
-    };
-    let mut s = Session::new(&view)?;
-    let mut params = s.frame_params(&view);
-    let decision = crate::methods::choose_counter(o.counter, &s.welded.positions, &s.welded.triangles, &params.lights)?;
-    crate::methods::report_counter(&decision);
-    params.counter = decision.counter;
-    let gl = s.context.gl();
-    let target = RenderTarget::new(gl, o.width, o.height, Attachments::default()).map_err(gl_err)?;
-    let fb = FrameTarget { framebuffer: Some(target.framebuffer()) };
-    let mut instances = Vec::new();
-    for m in methods {
-        instances.push(make_method(m, &o.sm, "--methods")?);
+    })
+}
+
+/// One backend's frames, as the interleaved schedule drives them ([`run_schedule`]).
+pub trait Driver {
+    /// "gl" or "wgpu".
+    fn backend(&self) -> &'static str;
+    /// The device, for the report.
+    fn device_name(&self) -> String;
+    /// Triangles drawn.
+    fn triangles(&self) -> usize;
+    /// Lights per frame.
+    fn lights(&self) -> usize;
+    /// Method `method`'s counter label ("stencil8", "float32", "none").
+    fn counter(&self, method: usize) -> String;
+    /// Draws method `method`'s frame at `cam` (no readback) and returns its time: the GPU
+    /// idle before, CPU clock from the first command to the frame's completion (ms).
+    fn frame(&mut self, method: usize, cam: Keyframe) -> Result<f64, String>;
+    /// The same frame once more with per-stage timing: (stage, GPU ms) summed over lights;
+    /// empty when the backend has no stage timing.
+    fn stages(&mut self, method: usize, cam: Keyframe) -> Result<Vec<(String, f64)>, String>;
+    /// Lights of the last frame counted z-pass.
+    fn zpass_lights(&self, method: usize) -> usize;
+    /// Bytes of GPU memory method `method` holds.
+    fn gpu_bytes(&self, method: usize) -> usize;
+}
+
+/// umbra-gl's frames: [`umbra_gl::Renderer::draw_frame`] into an offscreen target.
+struct GlDriver {
+    s: Session,
+    params: umbra_gl::FrameParams,
+    target: Option<RenderTarget>,
+    instances: Vec<Box<dyn umbra_gl::ShadowMethod>>,
+    clock: FrameClock,
+    stage_hook: StageClock,
+}
+
+impl GlDriver {
+    fn new(view: &ViewConfig, methods: &[String], o: &MeasureOptions) -> Result<Self, CliError> {
+        let s = Session::new(view)?;
+        let mut params = s.frame_params(view);
+        let decision =
+            crate::methods::choose_counter(o.counter, &s.welded.positions, &s.welded.triangles, &params.lights)?;
+        crate::methods::report_counter(&decision);
+        params.counter = decision.counter;
+        let target = RenderTarget::new(s.context.gl(), o.width, o.height, Attachments::default()).map_err(gl_err)?;
+        let mut instances = Vec::new();
+        for m in methods {
+            instances.push(make_method(m, &o.sm, "--methods")?);
+        }
+        Ok(Self {
+            s,
+            params,
+            target: Some(target),
+            instances,
+            clock: FrameClock { inner: TimestampHook::synchronous(), seen_first: false },
+            stage_hook: StageClock { inner: TimestampHook::synchronous() },
+        })
     }
-    let mut stats: Vec<MethodStats> = methods
+}
+
+impl Drop for GlDriver {
+    fn drop(&mut self) {
+        let gl = self.s.context.gl();
+        for m in &mut self.instances {
+            m.destroy(gl);
+        }
+        std::mem::take(&mut self.clock.inner).destroy(gl);
+        std::mem::take(&mut self.stage_hook.inner).destroy(gl);
+        if let Some(t) = self.target.take() {
+            t.destroy(gl);
+        }
+    }
+}
+
+impl GlDriver {
+    fn target(&self) -> FrameTarget {
+        FrameTarget { framebuffer: self.target.as_ref().map(RenderTarget::framebuffer) }
+    }
+
+    fn set_camera(&mut self, cam: Keyframe) {
+        self.params.camera.eye = cam.eye;
+        self.params.camera.target = cam.target;
+    }
+}
+
+impl Driver for GlDriver {
+    fn backend(&self) -> &'static str {
+        "gl"
+    }
+
+    fn device_name(&self) -> String {
+        self.s.context.renderer_string()
+    }
+
+    fn triangles(&self) -> usize {
+        self.s.welded.triangles.len()
+    }
+
+    fn lights(&self) -> usize {
+        self.params.lights.len()
+    }
+
+    fn counter(&self, method: usize) -> String {
+        crate::methods::counter_label(self.instances[method].as_ref(), self.params.counter).to_string()
+    }
+
+    fn frame(&mut self, method: usize, cam: Keyframe) -> Result<f64, String> {
+        self.set_camera(cam);
+        let fb = self.target();
+        let gl = self.s.context.gl();
+        self.clock.seen_first = false;
+        let m = self.instances[method].as_mut();
+        let drawn = self.s.renderer.draw_frame(gl, &self.s.scene, m, &self.params, fb, Some(&mut self.clock));
+        let timings = self.clock.inner.finish(gl);
+        drawn.map_err(|e| e.to_string())?;
+        Ok(timings.iter().map(|t| t.cpu_ns).sum::<u64>() as f64 / 1e6)
+    }
+
+    fn stages(&mut self, method: usize, cam: Keyframe) -> Result<Vec<(String, f64)>, String> {
+        self.set_camera(cam);
+        let fb = self.target();
+        let gl = self.s.context.gl();
+        let m = self.instances[method].as_mut();
+        let drawn = self.s.renderer.draw_frame(gl, &self.s.scene, m, &self.params, fb, Some(&mut self.stage_hook));
+        let timings = self.stage_hook.inner.finish(gl);
+        drawn.map_err(|e| e.to_string())?;
+        Ok(stage_times(&timings).into_iter().map(|(name, gpu_ms, _)| (name, gpu_ms)).collect())
+    }
+
+    fn zpass_lights(&self, _method: usize) -> usize {
+        self.s.renderer.last_zpass().iter().filter(|z| **z).count()
+    }
+
+    fn gpu_bytes(&self, method: usize) -> usize {
+        self.instances[method].gpu_bytes()
+    }
+}
+
+/// One row of a measurement: method `method` of driver `driver`.
+struct Entry {
+    driver: usize,
+    method: usize,
+}
+
+/// Runs the interleaved schedule of `entries` (driver, method) over `cameras` (one camera per
+/// measured round; warm-up round r uses camera r): warm-up rounds first, then every entry once
+/// per round in list order, so drift of a shared machine hits every method and backend alike.
+fn run_schedule(
+    drivers: &mut [Box<dyn Driver>],
+    entries: &[Entry],
+    names: &[String],
+    cameras: &[Keyframe],
+    o: &MeasureOptions,
+) -> Vec<MethodStats> {
+    let mut stats: Vec<MethodStats> = entries
         .iter()
-        .zip(&instances)
-        .map(|(m, i)| MethodStats {
-            method: m.clone(),
-            counter: crate::methods::counter_label(i.as_ref(), params.counter).to_string(),
+        .zip(names)
+        .map(|(e, name)| MethodStats {
+            method: name.clone(),
+            counter: drivers[e.driver].counter(e.method),
             ..Default::default()
         })
         .collect();
-    let slots = schedule(methods.len(), o.warmup, cameras.len());
+    let slots = schedule(entries.len(), o.warmup, cameras.len());
     let progress = Progress::new(slots.len(), &o.progress_label);
-    let mut clock = FrameClock { inner: TimestampHook::synchronous(), seen_first: false };
-    let mut stage_hook = StageClock { inner: TimestampHook::synchronous() };
     for (i, slot) in slots.iter().enumerate() {
         let st = &mut stats[slot.method];
         if st.error.is_some() {
             continue;
         }
-        let method = instances[slot.method].as_mut();
+        let entry = &entries[slot.method];
+        let driver = drivers[entry.driver].as_mut();
         progress.show(i, &st.method);
         if o.trace_order {
             eprintln!("bench-order {} {} {}", if slot.warmup { "warmup" } else { "frame" }, slot.round, st.method);
         }
         let cam = cameras[slot.round % cameras.len()];
-        params.camera.eye = cam.eye;
-        params.camera.target = cam.target;
-        clock.seen_first = false;
-        let drawn = s.renderer.draw_frame(gl, &s.scene, method, &params, fb, Some(&mut clock));
-        let timings = clock.inner.finish(gl);
-        if let Err(e) = drawn {
-            st.error = Some(e.to_string());
-            eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
-            continue;
-        }
-        let frame_ms = timings.iter().map(|t| t.cpu_ns).sum::<u64>() as f64 / 1e6;
+        let frame_ms = match driver.frame(entry.method, cam) {
+            Ok(ms) => ms,
+            Err(e) => {
+                eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
+                st.error = Some(e);
+                continue;
+            }
+        };
         if o.log {
             let kind = if slot.warmup { "warmup" } else { "frame" };
             eprintln!("umbra bench: {} {kind} {} {} {frame_ms:.1} ms", o.progress_label, slot.round, st.method);
         }
+        let zpass = driver.zpass_lights(entry.method);
         let stage_round = o.stage_every > 0 && (slot.warmup || slot.round % o.stage_every == 0);
         if stage_round {
-            let drawn = s.renderer.draw_frame(gl, &s.scene, method, &params, fb, Some(&mut stage_hook));
-            let timings = stage_hook.inner.finish(gl);
-            if let Err(e) = drawn {
-                st.error = Some(e.to_string());
-                eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
-                continue;
-            }
-            if !slot.warmup {
-                for (name, gpu_ms, _cpu_ms) in stage_times(&timings) {
-                    match st.stage_ms.iter_mut().find(|(n, _)| *n == name) {
-                        Some((_, v)) => v.push(gpu_ms),
-                        None => st.stage_ms.push((name, vec![gpu_ms])),
+            match driver.stages(entry.method, cam) {
+                Ok(stages) if !slot.warmup => {
+                    for (name, ms) in stages {
+                        match st.stage_ms.iter_mut().find(|(n, _)| *n == name) {
+                            Some((_, v)) => v.push(ms),
+                            None => st.stage_ms.push((name, vec![ms])),
+                        }
                     }
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
+                    st.error = Some(e);
+                    continue;
                 }
             }
         }
         if !slot.warmup {
             st.frame_ms.push(frame_ms);
-            st.zpass_lights += s.renderer.last_zpass().iter().filter(|z| **z).count();
-            st.lights += params.lights.len();
+            st.zpass_lights += zpass;
+            st.lights += driver.lights();
         }
     }
     progress.done();
-    for (st, m) in stats.iter_mut().zip(instances.iter_mut()) {
-        st.gpu_bytes = m.gpu_bytes();
-        m.destroy(gl);
+    for (st, e) in stats.iter_mut().zip(entries) {
+        st.gpu_bytes = drivers[e.driver].gpu_bytes(e.method);
     }
-    clock.inner.destroy(gl);
-    stage_hook.inner.destroy(gl);
-    target.destroy(gl);
-    Ok(Measurement { stats, renderer: s.context.renderer_string(), triangles: s.welded.triangles.len() })
+    stats
 }
 
+/// Runs the interleaved schedule of `methods` over `cameras` on a fresh GL context.
+pub fn measure(
+    scene: &BenchScene,
+    methods: &[String],
+    cameras: &[Keyframe],
+    o: &MeasureOptions,
+) -> Result<Measurement, CliError> {
+    measure_backends(scene, methods, cameras, o, &[Backend::Gl])
+}
+
+/// The same for every backend of `backends`, in ONE interleaved schedule (`--backend gl,wgpu`:
+/// wgpu against GL in the same run). With several backends each row's method is labelled
+/// `NAME@BACKEND` in the table (the JSON rows keep `method` and gain `backend`).
+pub fn measure_backends(
+    scene: &BenchScene,
+    methods: &[String],
+    cameras: &[Keyframe],
+    o: &MeasureOptions,
+    backends: &[Backend],
+) -> Result<Measurement, CliError> {
+    let view = bench_view(scene, cameras, o)?;
+    let mut drivers: Vec<Box<dyn Driver>> = Vec::new();
+    let mut entries = Vec::new();
+    let mut names = Vec::new();
+    for (d, &backend) in backends.iter().enumerate() {
+        drivers.push(match backend {
+            Backend::Gl => Box::new(GlDriver::new(&view, methods, o)?),
+            Backend::Wgpu => Box::new(crate::wgpu_backend::WgpuDriver::new(&view, methods, o)?),
+        });
+        for (m, name) in methods.iter().enumerate() {
+            entries.push(Entry { driver: d, method: m });
+            names.push(if backends.len() > 1 { format!("{name}@{}", backend.name()) } else { name.clone() });
+        }
+    }
+    let stats = run_schedule(&mut drivers, &entries, &names, cameras, o);
+    let backend_of: Vec<&'static str> = entries.iter().map(|e| drivers[e.driver].backend()).collect();
+    Ok(Measurement {
+        backends: backend_of,
+        stats,
+        renderer: drivers
+            .iter()
+            .map(|d| format!("{}: {}", d.backend(), d.device_name()))
+            .collect::<Vec<_>>()
+            .join("; "),
+        triangles: drivers.first().map_or(0, |d| d.triangles()),
+    })
+}
 /// One object of `bench --json`; the first seven keys are the contract.
 #[derive(Serialize, Debug, Clone)]
 pub struct JsonRow {
@@ -411,6 +591,8 @@ pub struct JsonRow {
     pub zpass_share: f64,
     pub width: u32,
     pub height: u32,
+    /// "gl" or "wgpu" (`--backend`).
+    pub backend: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub run: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -429,8 +611,9 @@ pub fn json_rows(
 ) -> Vec<JsonRow> {
     m.stats
         .iter()
-        .map(|s| JsonRow {
-            method: s.method.clone(),
+        .zip(&m.backends)
+        .map(|(s, &backend)| JsonRow {
+            method: s.method.split('@').next().unwrap_or(&s.method).to_string(),
             frames: s.frame_ms.len(),
             mean_ms: s.mean(),
             median_ms: s.median(),
@@ -443,6 +626,7 @@ pub fn json_rows(
             zpass_share: if s.lights == 0 { 0.0 } else { s.zpass_lights as f64 / s.lights as f64 },
             width,
             height,
+            backend: backend.to_string(),
             run: run.map(str::to_string),
             x,
             error: s.error.clone(),
@@ -579,7 +763,14 @@ pub fn measure_options(
 }
 
 pub fn run(a: &BenchArgs) -> Result<(), CliError> {
+    let backends = a.backend.split(',').map(Backend::parse).collect::<Result<Vec<_>, _>>()?;
+    if backends.is_empty() || (1..backends.len()).any(|i| backends[..i].contains(&backends[i])) {
+        return Err(bad("--backend", format!("expected gl, wgpu or gl,wgpu, got {:?}", a.backend)));
+    }
     if let Some(name) = &a.suite {
+        if backends != [Backend::Gl] && name != "list" {
+            return Err(bad("--backend", "the paper suites (--suite) run on the gl backend only"));
+        }
         return suites::run(name, a);
     }
     let (width, height) = parse_size(a.size.as_deref().unwrap_or("1280x720"))?;
@@ -587,12 +778,19 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     if frames == 0 {
         return Err(bad("--frames", "must be at least 1"));
     }
-    let methods = parse_methods(a.methods.as_deref().unwrap_or("all"))?;
+    // Every backend asked for must have every method (`all`: the wgpu methods when wgpu is asked).
+    let text = a.methods.as_deref().unwrap_or("all");
+    let methods = if backends.contains(&Backend::Wgpu) {
+        crate::wgpu_backend::parse_methods(text, "--methods")?
+    } else {
+        parse_methods(text)?
+    };
     let o = measure_options(a, width, height, 1, "bench")?;
     let scene = BenchScene::load(&a.scene, a.ground, a.max_input_bytes, &a.light)?;
     let cameras = camera_path(&a.flythrough, &scene, frames)?;
     let load_before = load_average();
-    let m = measure(&scene, &methods, &cameras, &o)?;
+    // wgpu rows have frame times only (no stage timing: their stages stay empty).
+    let m = measure_backends(&scene, &methods, &cameras, &o, &backends)?;
     let load_after = load_average();
     if let Some(path) = &a.csv {
         let mut text = String::from(CSV_HEADER);

@@ -9,6 +9,7 @@ use umbra_gl::methods::vs_silhouette::plan_portable_layout;
 
 use crate::args::InfoArgs;
 use crate::config::{load_scene, parse_light, CliError};
+use crate::wgpu_backend::Backend;
 
 /// The JSON keys are a contract (`umbra info --json`).
 #[derive(Serialize, Debug, PartialEq)]
@@ -39,9 +40,42 @@ pub struct InfoReport {
     pub multiplicity_sum: Option<u64>,
 }
 
+/// `umbra info --backend gl|wgpu`: the device the backend draws on, as (key, value) lines.
+fn device_report(backend: Backend) -> Result<Vec<(String, String)>, CliError> {
+    match backend {
+        Backend::Wgpu => crate::wgpu_backend::adapter_report(),
+        Backend::Gl => {
+            let ctx = umbra_gl::HeadlessContext::new().map_err(|e| CliError::Gl(e.to_string()))?;
+            Ok(vec![("renderer".into(), ctx.renderer_string())])
+        }
+    }
+}
+
 pub fn run(a: &InfoArgs) -> Result<(), CliError> {
+    let backend = a.backend.as_deref().map(Backend::parse).transpose()?;
+    let device = backend.map(device_report).transpose()?;
+    let Some(scene) = a.scene.as_deref() else {
+        let Some(device) = device else {
+            return Err(CliError::Other("info needs a SCENE, or --backend gl|wgpu to print the device".into()));
+        };
+        if a.json {
+            let map: serde_json::Map<String, serde_json::Value> =
+                device.into_iter().map(|(k, v)| (k.replace(' ', "_"), serde_json::Value::String(v))).collect();
+            println!("{}", serde_json::Value::Object(map));
+        } else {
+            for (k, v) in device {
+                println!("{k:<22}{v}");
+            }
+        }
+        return Ok(());
+    };
+    if let (Some(device), false) = (&device, a.json) {
+        for (k, v) in device {
+            println!("{k:<22}{v}");
+        }
+    }
     let light = a.light.as_deref().map(parse_light).transpose()?;
-    let mesh = load_scene(&a.scene, a.ground, a.max_input_bytes)?;
+    let mesh = load_scene(scene, a.ground, a.max_input_bytes)?;
     let welded = weld(&mesh);
     let adj = EdgeAdjacency::build(&welded);
     let silhouette = light.map(|l| silhouette_stats(&welded, &adj, l));
@@ -64,9 +98,16 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         multiplicity_sum: silhouette.map(|s| s.1),
     };
     if a.json {
-        println!("{}", serde_json::to_string(&report).map_err(|e| CliError::Other(e.to_string()))?);
+        let mut value = serde_json::to_value(&report).map_err(|e| CliError::Other(e.to_string()))?;
+        if let (Some(device), serde_json::Value::Object(map)) = (device, &mut value) {
+            // `--backend`: the device under "device" (the statistics' keys are unchanged).
+            let d: serde_json::Map<String, serde_json::Value> =
+                device.into_iter().map(|(k, v)| (k.replace(' ', "_"), serde_json::Value::String(v))).collect();
+            map.insert("device".into(), serde_json::Value::Object(d));
+        }
+        println!("{value}");
     } else {
-        println!("scene                 {}", a.scene);
+        println!("scene                 {scene}");
         println!("triangles             {}", report.triangles);
         println!("vertices (welded)     {}", report.vertices);
         println!("degenerate triangles  {}", report.degenerate_triangles);

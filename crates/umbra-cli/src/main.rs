@@ -12,6 +12,7 @@ mod render;
 mod session;
 mod verify;
 mod view;
+mod wgpu_backend;
 
 use clap::Parser;
 

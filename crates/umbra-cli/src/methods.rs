@@ -113,6 +113,17 @@ pub fn list_if_help(name: &str) -> bool {
     false
 }
 
+/// [`list_if_help`] for `backend`: the wgpu backend lists its own methods.
+pub fn list_if_help_for(backend: crate::wgpu_backend::Backend, name: &str) -> bool {
+    if backend == crate::wgpu_backend::Backend::Wgpu && (name == "help" || name == "list") {
+        for n in umbra_wgpu::method_names() {
+            println!("{n}");
+        }
+        return true;
+    }
+    list_if_help(name)
+}
+
 /// `--counter`: a fixed counter, or `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CounterChoice {

@@ -5,11 +5,16 @@ use std::path::Path;
 use crate::args::RenderArgs;
 use crate::config::{CliError, ViewConfig};
 use crate::session::{Session, DEFAULT_METHOD};
+use crate::wgpu_backend::Backend;
 
 pub fn run(a: &RenderArgs) -> Result<(), CliError> {
+    let backend = Backend::parse(&a.backend)?;
     let method_name = a.method.as_deref().unwrap_or(DEFAULT_METHOD);
-    if crate::methods::list_if_help(method_name) {
+    if crate::methods::list_if_help_for(backend, method_name) {
         return Ok(());
+    }
+    if backend == Backend::Wgpu {
+        return crate::wgpu_backend::render(a, method_name);
     }
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let mut method = crate::methods::make_method(method_name, &sm, "--method")?;

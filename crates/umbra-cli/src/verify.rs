@@ -12,11 +12,14 @@ use umbra_verify::{verify_external_mask, verify_method, view_reference, MethodRe
 use crate::args::VerifyArgs;
 use crate::config::{CliError, ViewConfig};
 use crate::session::Session;
+use crate::wgpu_backend::Backend;
 
 /// One line of `verify --json`; the keys are a contract.
 #[derive(Serialize)]
 struct JsonRow<'a> {
     method: &'a str,
+    /// "gl" or "wgpu" (`--backend`).
+    backend: &'static str,
     /// "stencil8" or "float32" for methods that count in the stencil, "none" for the others.
     counter: &'a str,
     /// Per light: counted z-pass (`--zmode`; auto chooses it where provably exact).
@@ -84,35 +87,57 @@ fn explain(
 
 /// Returns whether every method that must be exact passed.
 pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
-    let methods = crate::methods::parse_methods(&a.method, "--method")?;
+    let backend = Backend::parse(&a.backend)?;
+    let methods = match backend {
+        Backend::Gl => crate::methods::parse_methods(&a.method, "--method")?,
+        Backend::Wgpu => crate::wgpu_backend::parse_methods(&a.method, "--method")?,
+    };
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let view = ViewConfig::from_args(&a.view)?;
     let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
-    let mut s = Session::new(&view)?;
-    let mut params = s.frame_params(&view);
-    let decision = crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
-    crate::methods::report_counter(&decision);
-    params.counter = decision.counter;
-    let gl = s.context.gl();
-    let reference =
-        view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
+    // Per method: (report, counter label, per-light z-pass); then the reference, the mesh and
+    // the device that drew them.
+    let (results, reference, welded, device_name) = match backend {
+        Backend::Gl => {
+            let mut s = Session::new(&view)?;
+            let mut params = s.frame_params(&view);
+            let decision =
+                crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
+            crate::methods::report_counter(&decision);
+            params.counter = decision.counter;
+            let gl = s.context.gl();
+            let reference =
+                view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
+            let mut results = Vec::new();
+            for name in &methods {
+                let mut method = crate::methods::make_method(name, &sm, "--method")?;
+                let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
+                let counter = crate::methods::counter_label(method.as_ref(), params.counter);
+                let zpass = s.renderer.last_zpass().to_vec();
+                method.destroy(gl);
+                let report = report.map_err(|e| CliError::Other(e.to_string()))?;
+                results.push((report, counter, zpass));
+            }
+            (results, reference, s.welded.clone(), s.context.renderer_string())
+        }
+        Backend::Wgpu => {
+            let (s, reference, verified) = crate::wgpu_backend::verify(&view, &methods, &sm, choice)?;
+            let results = verified.into_iter().map(|v| (v.report, v.counter, v.zpass)).collect();
+            (results, reference, s.welded.clone(), format!("wgpu on {}", s.gpu.adapter_line()))
+        }
+    };
     let mut rows = Vec::new();
     let rows_expected = methods.len() + usize::from(a.external_mask.is_some());
     let mut all_passed = true;
-    for name in &methods {
-        let mut method = crate::methods::make_method(name, &sm, "--method")?;
-        let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
-        let counter = crate::methods::counter_label(method.as_ref(), params.counter);
-        let zpass = s.renderer.last_zpass().to_vec();
-        method.destroy(gl);
-        let report = report.map_err(|e| CliError::Other(e.to_string()))?;
+    for (report, counter, zpass) in results {
+        let name = &report.method;
         if let Some(base) = &a.diff {
             for (i, lr) in reference.lights.iter().enumerate() {
                 let path = diff_path(base, name, i, rows_expected, reference.lights.len());
                 write_diff(&path, &report, &lr.reference, i)?;
             }
         }
-        explain(name, &report, &reference, &s.welded, a.explain)?;
+        explain(name, &report, &reference, &welded, a.explain)?;
         all_passed &= report.passed();
         rows.push((report, reference.total_ms(), counter, zpass));
     }
@@ -123,7 +148,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
         if let Some(base) = &a.diff {
             write_diff(&diff_path(base, "external", 0, rows_expected, 1), &report, &reference.lights[0].reference, 0)?;
         }
-        explain(path, &report, &reference, &s.welded, a.explain)?;
+        explain(path, &report, &reference, &welded, a.explain)?;
         all_passed &= report.passed();
         rows.push((report, reference.total_ms(), "none", Vec::new()));
     }
@@ -132,6 +157,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             .iter()
             .map(|(r, reference_ms, counter, zpass)| JsonRow {
                 method: &r.method,
+                backend: backend.name(),
                 counter,
                 zpass: zpass.clone(),
                 samples: r.metrics.samples,
@@ -152,7 +178,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             view.width,
             view.height,
             view.lights.len(),
-            s.context.renderer_string(),
+            device_name,
             reference.total_ms()
         );
         println!(

@@ -14,7 +14,9 @@
 //! * [`wgpu::Features::PRIMITIVE_INDEX`] (required for umbra's own frames): the triangle id per
 //!   sample and the flat normal the lighting pass reads;
 //! * [`wgpu::Features::DEPTH32FLOAT_STENCIL8`] (optional): reversed-Z with a float depth
-//!   buffer; without it the frame uses `Depth24PlusStencil8` (less depth precision far away).
+//!   buffer; without it the frame uses `Depth24PlusStencil8` (less depth precision far away);
+//! * [`wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS`] (optional): per-stage frame times
+//!   ([`crate::Renderer::draw_frame_timed`]).
 //!
 //! Limits: the adapter's own (the largest scenes need large storage buffers).
 
@@ -114,7 +116,8 @@ impl HeadlessGpu {
     }
 }
 
-/// A device on `adapter` with `required` plus `DEPTH32FLOAT_STENCIL8` when offered, and the
+/// A device on `adapter` with `required` plus `DEPTH32FLOAT_STENCIL8` and the timestamp
+/// queries when offered, and the
 /// adapter's limits. Uncaptured errors are printed, never a panic (umbra's own calls run
 /// inside error scopes and report theirs as [`WgpuError::Wgpu`]).
 pub fn request_device(
@@ -124,7 +127,11 @@ pub fn request_device(
     let info = adapter.get_info();
     let available = adapter.features();
     check_features(&info.name, available, required, "umbra-wgpu's shadow volumes and frames")?;
-    let optional = available & wgpu::Features::DEPTH32FLOAT_STENCIL8;
+    // Optional: float depth with stencil; timestamps inside encoders (bench's stage times).
+    let optional = available
+        & (wgpu::Features::DEPTH32FLOAT_STENCIL8
+            | wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
     let descriptor = wgpu::DeviceDescriptor {
         label: Some("umbra-wgpu"),
         required_features: required | optional,

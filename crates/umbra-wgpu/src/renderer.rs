@@ -523,12 +523,15 @@ impl Renderer {
     ) -> Result<FrameImages, WgpuError> {
         params.validate()?;
         let view = View::from_camera(&params.camera, params.width, params.height)?;
-        let pending = scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view))?;
+        let pending =
+            scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view, true, None))?;
         let read = |r: &Option<Readback>| -> Result<Option<Vec<u8>>, WgpuError> {
             r.as_ref().map(|r| r.read::<u8>(device)).transpose()
         };
         let (w, h) = (params.width, params.height);
-        let rgba: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(&pending.color.read::<u8>(device)?);
+        let color =
+            pending.color.as_ref().ok_or(WgpuError::Readback { what: "colour", detail: "not recorded".into() })?;
+        let rgba: Vec<[u8; 4]> = bytemuck::pod_collect_to_vec(&color.read::<u8>(device)?);
         let world_pos =
             read(&pending.world_pos)?.map(|b| Image { width: w, height: h, pixels: bytemuck::pod_collect_to_vec(&b) });
         let triangle_id = read(&pending.triangle_id)?.map(|b| Image {
@@ -555,7 +558,67 @@ impl Renderer {
         })
     }
 
-    /// Records and submits the frame; returns the readbacks to map.
+    /// Draws one frame into the renderer's own target and submits it, reading nothing back
+    /// (benchmarks: wait for it with `device.poll`). `params.capture` is ignored.
+    pub fn draw_frame(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &SceneGpu,
+        volumes: &mut ShadowVolumes,
+        params: &FrameParams,
+    ) -> Result<(), WgpuError> {
+        let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
+        params.validate()?;
+        let view = View::from_camera(&params.camera, params.width, params.height)?;
+        scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, None))?;
+        Ok(())
+    }
+
+    /// [`Renderer::draw_frame`] with a GPU timestamp at every stage boundary, waited for:
+    /// (stage, ms) summed over lights, in first-seen order — "prepare" (every light's compute
+    /// work and shadow-map passes), "depth+ambient", "volumes", "lighting". `None` when the
+    /// device has no timestamp queries inside encoders.
+    pub fn draw_frame_timed(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &SceneGpu,
+        volumes: &mut ShadowVolumes,
+        params: &FrameParams,
+    ) -> Result<Option<Vec<(String, f64)>>, WgpuError> {
+        let needed = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        if !device.features().contains(needed) {
+            return Ok(None);
+        }
+        let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
+        params.validate()?;
+        let view = View::from_camera(&params.camera, params.width, params.height)?;
+        let stamps = 3 + 2 * params.lights.len() as u32;
+        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("umbra stage timestamps"),
+            ty: wgpu::QueryType::Timestamp,
+            count: stamps,
+        });
+        let pending =
+            scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, Some(&set)))?;
+        let Some((labels, readback)) = pending.stamps else { return Ok(None) };
+        let ticks: Vec<u64> = crate::readback::read_buffer(device, &readback, "timestamps")?;
+        let period = f64::from(queue.get_timestamp_period());
+        let mut stages: Vec<(String, f64)> = Vec::new();
+        for (i, label) in labels.iter().enumerate().take(labels.len().saturating_sub(1)) {
+            let ms = ticks[i + 1].saturating_sub(ticks[i]) as f64 * period / 1e6;
+            match stages.iter_mut().find(|(n, _)| n == label) {
+                Some((_, t)) => *t += ms,
+                None => stages.push((label.to_string(), ms)),
+            }
+        }
+        Ok(Some(stages))
+    }
+
+    /// Records and submits the frame; returns the readbacks to map (the colour only with
+    /// `read_color`).
+    #[allow(clippy::too_many_arguments)]
     fn encode(
         &mut self,
         device: &wgpu::Device,
@@ -564,6 +627,8 @@ impl Renderer {
         volumes: &mut ShadowVolumes,
         params: &FrameParams,
         view: &View,
+        read_color: bool,
+        timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<Pending, WgpuError> {
         let (w, h) = (params.width, params.height);
         if self.target.as_ref().is_none_or(|t| t.width != w || t.height != h) {
@@ -598,12 +663,22 @@ impl Renderer {
         });
         let target = self.target.as_ref().expect("made above");
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("umbra frame") });
+        // Stage boundaries (bench): the label of the stage that starts at each timestamp.
+        let mut labels: Vec<&'static str> = Vec::new();
+        let mut stamp = |encoder: &mut wgpu::CommandEncoder, label: &'static str| {
+            if let Some(set) = timestamps {
+                encoder.write_timestamp(set, labels.len() as u32);
+                labels.push(label);
+            }
+        };
+        stamp(&mut encoder, "prepare");
 
         // ---- Every light's compute work, before any pass.
         let frame = VolumeFrame { view, lights: &params.lights, zmode: params.zmode() };
         let plans = volumes.prepare(device, queue, &mut encoder, scene, &frame)?.to_vec();
 
         // ---- Pass 1: depth + ambient (+ world position, triangle id).
+        stamp(&mut encoder, "depth+ambient");
         let capture_samples = params.capture.world_pos || params.capture.triangle_id;
         let (color, world, ids, lit, depth) = (
             view_of(&target.color),
@@ -652,6 +727,7 @@ impl Renderer {
         let mut lit_masks = Vec::new();
         for (i, plan) in plans.iter().enumerate() {
             // ---- Pass 2: this light's volumes into a freshly cleared stencil.
+            stamp(&mut encoder, "volumes");
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("umbra volumes"),
@@ -677,6 +753,7 @@ impl Renderer {
                 stencil.push((i, r));
             }
             // ---- Pass 3: lighting where the stencil is 0.
+            stamp(&mut encoder, "lighting");
             let capture_lit = params.capture.lit_mask.includes(i);
             {
                 let mut attachments = vec![Some(wgpu::RenderPassColorAttachment {
@@ -713,9 +790,30 @@ impl Renderer {
                 lit_masks.push((i, r));
             }
         }
+        stamp(&mut encoder, "end");
+        let stamps = timestamps.map(|set| {
+            let n = labels.len() as u32;
+            let bytes = 8 * u64::from(n);
+            let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("umbra timestamps"),
+                size: bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("umbra timestamps readback"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.resolve_query_set(set, 0..n, &resolve, 0);
+            encoder.copy_buffer_to_buffer(&resolve, 0, &readback, 0, bytes);
+            (labels.clone(), readback)
+        });
         let all = wgpu::TextureAspect::All;
         let pending = Pending {
-            color: Readback::copy(device, &mut encoder, &target.color, all, 4, "colour"),
+            stamps,
+            color: read_color.then(|| Readback::copy(device, &mut encoder, &target.color, all, 4, "colour")),
             world_pos: params
                 .capture
                 .world_pos
@@ -734,7 +832,9 @@ impl Renderer {
 
 /// Readbacks recorded in a frame's command buffer.
 struct Pending {
-    color: Readback,
+    /// Stage labels and the buffer their timestamps are copied to.
+    stamps: Option<(Vec<&'static str>, wgpu::Buffer)>,
+    color: Option<Readback>,
     world_pos: Option<Readback>,
     triangle_id: Option<Readback>,
     stencil: Vec<(usize, Readback)>,

@@ -165,7 +165,11 @@ pub(crate) struct LightSlot {
     pub triangles: u32,
     pub records: u32,
     pub max_mult: u32,
-    pub pad: [u32; 2],
+    pub vertices: u32,
+    pub pad: u32,
+    pub first_light_cap: u32,
+    pub first_dark_cap: u32,
+    pub pad2: [u32; 2],
 }
 
 /// Resources every method shares: the per-light uniform slots (group 0, dynamic offset) and
@@ -353,9 +357,11 @@ impl Common {
                 mask: !0,
                 alpha_to_coverage_enabled: false,
             },
-            fragment: (!targets.is_empty()).then(|| wgpu::FragmentState {
+            // Reason: always a fragment stage, even without colour targets: it writes the
+            // depth the test sees, NaN made far (shaders/volume.wgsl, fs_volume).
+            fragment: Some(wgpu::FragmentState {
                 module,
-                entry_point: Some("fs_volume"),
+                entry_point: Some(if self.sample_count > 1 { "fs_volume_per_sample" } else { "fs_volume" }),
                 compilation_options: Default::default(),
                 targets: &targets,
             }),
@@ -530,7 +536,11 @@ impl ShadowVolumes {
                     triangles: scene.triangle_count() as u32,
                     records: 0,
                     max_mult: 0,
-                    pad: [0; 2],
+                    vertices: scene.mesh().positions.len() as u32,
+                    pad: 0,
+                    first_light_cap: 0,
+                    first_dark_cap: 0,
+                    pad2: [0; 2],
                 };
                 let light_frame = crate::methods::LightFrame { slot, plan, data };
                 self.method.prepare_light(device, queue, encoder, scene, &self.common, &light_frame)?;

@@ -150,13 +150,14 @@ fn worst_case_output_fills_the_buffer_exactly() {
     assert_eq!(sides as usize, 6 * adj.opposites.len(), "every opposite contributes a quad: Σ|m| = Σk");
     assert_eq!(caps as usize, 6 * mesh.triangles.len());
     // Records 16 e + slots 4 Σk, per light: orientation 4 t + quads 8 Σk + caps 12 t + two
-    // 16-byte commands (every buffer at least 16 bytes).
+    // 16-byte commands + clip positions 32 v (every buffer at least 16 bytes).
     let expected = 16 * adj.len()
         + 4 * adj.opposites.len()
         + 4 * mesh.triangles.len()
         + 8 * adj.opposites.len()
         + 12 * mesh.triangles.len()
-        + 32;
+        + 32
+        + 32 * mesh.positions.len();
     assert_eq!(cs.gpu_bytes as usize, expected);
 }
 

@@ -7,15 +7,16 @@
 //! the twin of umbra-gl's `cpu-silhouette`. Rust never contracts `a * b + c`, so the CPU's
 //! orientations are the same bits wherever they are read.
 //!
-//! Per light and frame: extract into a reused [`IndexedVolume`], upload the side quads as
-//! homogeneous vertices and the caps as one oriented index triple per triangle into the
-//! light's own buffers (grown geometrically, never shrunk); in the caller's pass three draws
-//! with the counting state: the sides as they are, the light caps from the scene's static
-//! position buffer with the light's index buffer, pushed to the far plane, and the dark caps
-//! from the same positions and indices extruded in the vertex shader and drawn with the front
-//! face flipped (shaders/cpu_draw.wgsl).
+//! Per light and frame: extract into a reused [`IndexedVolume`], expand it to its very
+//! vertices ([`IndexedVolume::expand_into`]: sides, light caps, dark caps as homogeneous world
+//! positions) and upload them into the light's own buffer (grown geometrically, never
+//! shrunk); in the caller's pass ONE draw with one vertex shader (shaders/cpu_draw.wgsl), so
+//! a vertex shared by a side and a cap is transformed by the same code into the same bits.
+//! umbra-gl draws the caps from the mesh's positions with 12 bytes of indices per cap and
+//! relies on GLSL's `invariant`; WGSL has no such guarantee, so wgpu pays 48 (directional) or
+//! 96 (point light) bytes per cap.
 
-use umbra_geom::silhouette::{extract_indexed, has_dark_caps, IndexedVolume};
+use umbra_geom::silhouette::{extract_indexed, IndexedVolume, VolumeGeometry};
 
 use crate::error::WgpuError;
 use crate::methods::{LightFrame, Method, MethodKind};
@@ -31,25 +32,19 @@ const DRAW: &str = include_str!("../shaders/cpu_draw.wgsl");
 /// A buffer rewritten every frame, grown geometrically and never shrunk.
 struct StreamBuffer {
     buffer: Option<wgpu::Buffer>,
-    usage: wgpu::BufferUsages,
-    label: &'static str,
 }
 
 impl StreamBuffer {
-    fn new(label: &'static str, usage: wgpu::BufferUsages) -> Self {
-        Self { buffer: None, usage: usage | wgpu::BufferUsages::COPY_DST, label }
-    }
-
     /// Uploads `bytes` at offset 0 (a bigger buffer when it does not fit).
     fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) -> Result<(), WgpuError> {
         let needed = (bytes.len() as u64).max(16).next_multiple_of(4);
         if self.buffer.as_ref().is_none_or(|b| b.size() < needed) {
             let size = needed.next_power_of_two();
-            check_size(device, self.label, size)?;
+            check_size(device, "cpu-silhouette volume", size)?;
             self.buffer = Some(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(self.label),
+                label: Some("cpu-silhouette volume"),
                 size,
-                usage: self.usage,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }));
         }
@@ -66,23 +61,19 @@ impl StreamBuffer {
 
 /// One light's volume.
 struct PerLight {
-    volume: IndexedVolume,
-    sides: StreamBuffer,
-    caps: StreamBuffer,
-    side_vertices: u32,
-    cap_indices: u32,
-    dark_caps: bool,
+    indexed: IndexedVolume,
+    expanded: VolumeGeometry,
+    /// Sides, light caps, dark caps, one after the other.
+    vertices: Vec<[f32; 4]>,
+    buffer: StreamBuffer,
+    count: u32,
 }
 
 /// See the module documentation.
 pub struct CpuSilhouette {
     /// [z-fail, z-pass].
-    sides: [wgpu::RenderPipeline; 2],
-    light_caps: wgpu::RenderPipeline,
-    dark_caps: wgpu::RenderPipeline,
+    pipelines: [wgpu::RenderPipeline; 2],
     prepared: Option<SceneId>,
-    /// The scene's position buffer (the caps' vertices).
-    positions: Option<wgpu::Buffer>,
     lights: Vec<PerLight>,
 }
 
@@ -96,30 +87,25 @@ impl CpuSilhouette {
             immediate_size: 0,
         });
         let vec4 = [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x4, offset: 0, shader_location: 0 }];
-        let vec3 = [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
-        let vertex = |attributes, stride| {
-            [Some(wgpu::VertexBufferLayout {
-                array_stride: stride,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes,
-            })]
-        };
-        let homogeneous = vertex(&vec4[..], 16);
-        let positions = vertex(&vec3[..], 12);
-        let (ccw, cw) = (wgpu::FrontFace::Ccw, wgpu::FrontFace::Cw);
-        let pipeline = |label, entry, buffers: &[Option<wgpu::VertexBufferLayout<'_>>], zpass, front| {
-            common.counting_pipeline(device, label, &module, entry, &layout, buffers, zpass, front)
-        };
-        Self {
-            sides: [false, true].map(|zpass| pipeline("cpu-silhouette sides", "vs_sides", &homogeneous, zpass, ccw)),
-            light_caps: pipeline("cpu-silhouette light caps", "vs_light_caps", &positions, false, ccw),
-            // Reason: the dark cap must face out of the volume (P0inf P2inf P1inf): the same
-            // indices as the light cap with the winding reversed by the front face.
-            dark_caps: pipeline("cpu-silhouette dark caps", "vs_dark_caps", &positions, false, cw),
-            prepared: None,
-            positions: None,
-            lights: Vec::new(),
-        }
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &vec4,
+        })];
+        let pipelines = [false, true].map(|zpass| {
+            let label = "cpu-silhouette volume";
+            common.counting_pipeline(
+                device,
+                label,
+                &module,
+                "vs_volume",
+                &layout,
+                &buffers,
+                zpass,
+                wgpu::FrontFace::Ccw,
+            )
+        });
+        Self { pipelines, prepared: None, lights: Vec::new() }
     }
 }
 
@@ -140,7 +126,6 @@ impl Method for CpuSilhouette {
         self.prepared = None;
         // Built once per mesh (shared through the scene): adjacency and slots.
         scene.slots()?;
-        self.positions = Some(scene.position_buffer().clone());
         self.prepared = Some(scene.id());
         Ok(())
     }
@@ -156,51 +141,44 @@ impl Method for CpuSilhouette {
     ) -> Result<(), WgpuError> {
         while self.lights.len() <= frame.slot {
             self.lights.push(PerLight {
-                volume: IndexedVolume::default(),
-                sides: StreamBuffer::new("cpu-silhouette sides", wgpu::BufferUsages::VERTEX),
-                caps: StreamBuffer::new("cpu-silhouette caps", wgpu::BufferUsages::INDEX),
-                side_vertices: 0,
-                cap_indices: 0,
-                dark_caps: false,
+                indexed: IndexedVolume::default(),
+                expanded: VolumeGeometry::default(),
+                vertices: Vec::new(),
+                buffer: StreamBuffer { buffer: None },
+                count: 0,
             });
         }
-        common.write_slot(queue, frame.slot, &frame.data);
         let light = frame.data.light;
         let l = &mut self.lights[frame.slot];
         let caps = !frame.plan.zpass;
-        extract_indexed(scene.mesh(), scene.adjacency(), scene.slots()?, light, caps, &mut l.volume);
-        l.sides.write(device, queue, bytemuck::cast_slice(&l.volume.sides))?;
-        l.caps.write(device, queue, bytemuck::cast_slice(&l.volume.caps))?;
-        l.side_vertices = l.volume.sides.len() as u32;
-        l.cap_indices = if caps { 3 * l.volume.caps.len() as u32 } else { 0 };
-        l.dark_caps = has_dark_caps(light);
+        extract_indexed(scene.mesh(), scene.adjacency(), scene.slots()?, light, caps, &mut l.indexed);
+        l.indexed.expand_into(&scene.mesh().positions, light, &mut l.expanded);
+        l.vertices.clear();
+        l.vertices.extend_from_slice(&l.expanded.sides);
+        l.vertices.extend_from_slice(&l.expanded.light_caps);
+        l.vertices.extend_from_slice(&l.expanded.dark_caps);
+        l.buffer.write(device, queue, bytemuck::cast_slice(&l.vertices))?;
+        l.count = l.vertices.len() as u32;
+        let mut data = frame.data;
+        data.first_light_cap = l.expanded.sides.len() as u32;
+        data.first_dark_cap = data.first_light_cap + l.expanded.light_caps.len() as u32;
+        common.write_slot(queue, frame.slot, &data);
         Ok(())
     }
 
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, common: &Common, slot: usize, plan: LightPlan) {
         let Some(l) = self.lights.get(slot) else { return };
-        let (Some(sides), Some(caps), Some(positions)) = (&l.sides.buffer, &l.caps.buffer, &self.positions) else {
+        let Some(buffer) = &l.buffer.buffer else { return };
+        if l.count == 0 {
             return;
-        };
+        }
         common.bind_slot_render(pass, slot);
-        if l.side_vertices > 0 {
-            pass.set_pipeline(&self.sides[plan.zpass as usize]);
-            pass.set_vertex_buffer(0, sides.slice(..));
-            pass.draw(0..l.side_vertices, 0..1);
-        }
-        if !plan.zpass && l.cap_indices > 0 {
-            pass.set_vertex_buffer(0, positions.slice(..));
-            pass.set_index_buffer(caps.slice(..), wgpu::IndexFormat::Uint32);
-            pass.set_pipeline(&self.light_caps);
-            pass.draw_indexed(0..l.cap_indices, 0, 0..1);
-            if l.dark_caps {
-                pass.set_pipeline(&self.dark_caps);
-                pass.draw_indexed(0..l.cap_indices, 0, 0..1);
-            }
-        }
+        pass.set_pipeline(&self.pipelines[plan.zpass as usize]);
+        pass.set_vertex_buffer(0, buffer.slice(..));
+        pass.draw(0..l.count, 0..1);
     }
 
     fn gpu_bytes(&self) -> u64 {
-        self.lights.iter().map(|l| l.sides.bytes() + l.caps.bytes()).sum()
+        self.lights.iter().map(|l| l.buffer.bytes()).sum()
     }
 }

@@ -26,14 +26,19 @@
 //! 3. "silhouette" (shaders/cs_sides.wgsl): one invocation per edge record sums the
 //!    orientations of its triangles and writes `|m|` quad records `(X, Y)`, compacted the same
 //!    way in the sides command;
-//! 4. in the caller's pass: two indirect draws (shaders/cs_draw.wgsl) with the counting state.
+//! 4. "transform" (shaders/transform.wgsl): every vertex to clip space, as a point and
+//!    extruded to infinity, once: sides and caps read these, so their shared vertices are the
+//!    same bits (the same reason as the orientation pass, for positions);
+//! 5. in the caller's pass: two indirect draws (shaders/cs_draw.wgsl) with the counting state.
 //!
 //! Buffers per light, sized for the worst case: orientation 4 bytes per triangle, quads 8
-//! bytes per opposite vertex (`Σ|m| <= Σk`), caps 12 bytes per triangle, two 16-byte commands.
+//! bytes per opposite vertex (`Σ|m| <= Σk`), caps 12 bytes per triangle, two 16-byte commands,
+//! clip positions 32 bytes per vertex.
 
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::WgpuError;
+use crate::methods::transform::{ClipPositions, Transform};
 use crate::methods::{LightFrame, Method, MethodKind};
 use crate::scene::{binding_bytes, buffer_init, check_size, SceneGpu, SceneId};
 use crate::volumes::{buffers_group, dispatch_size, storage_entry, Common, LightPlan};
@@ -88,6 +93,7 @@ struct PerLight {
     caps_command: wgpu::Buffer,
     quads: wgpu::Buffer,
     caps: wgpu::Buffer,
+    clip: ClipPositions,
     orient_group: wgpu::BindGroup,
     sides_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
@@ -95,7 +101,7 @@ struct PerLight {
 
 impl PerLight {
     fn bytes(&self) -> u64 {
-        [&self.orientation, &self.sides_command, &self.caps_command, &self.quads, &self.caps]
+        [&self.orientation, &self.sides_command, &self.caps_command, &self.quads, &self.caps, &self.clip.buffer]
             .iter()
             .map(|b| b.size())
             .sum()
@@ -110,6 +116,7 @@ pub struct CsSilhouette {
     orient: wgpu::ComputePipeline,
     orient_and_caps: wgpu::ComputePipeline,
     sides: wgpu::ComputePipeline,
+    transform: Transform,
     /// [z-fail, z-pass].
     draw_sides: [wgpu::RenderPipeline; 2],
     draw_caps: wgpu::RenderPipeline,
@@ -183,6 +190,7 @@ impl CsSilhouette {
         )
         .expect("16 bytes fit every device");
         Self {
+            transform: Transform::new(device, common),
             orient_layout,
             sides_layout,
             draw_layout,
@@ -241,9 +249,19 @@ impl CsSilhouette {
             &self.sides_layout,
             &[&mesh.records, &mesh.slots, &orientation, &sides_command, &quads],
         );
-        let draw_group =
-            buffers_group(device, "cs-silhouette draw", &self.draw_layout, &[scene.position_buffer(), &quads, &caps]);
-        Ok(PerLight { orientation, sides_command, caps_command, quads, caps, orient_group, sides_group, draw_group })
+        let clip = self.transform.buffers(device, scene)?;
+        let draw_group = buffers_group(device, "cs-silhouette draw", &self.draw_layout, &[&clip.buffer, &quads, &caps]);
+        Ok(PerLight {
+            orientation,
+            sides_command,
+            caps_command,
+            quads,
+            caps,
+            clip,
+            orient_group,
+            sides_group,
+            draw_group,
+        })
     }
 }
 
@@ -322,6 +340,7 @@ impl Method for CsSilhouette {
             let (x, y) = dispatch_size(mesh.record_count);
             pass.dispatch_workgroups(x, y, 1);
         }
+        self.transform.dispatch(&mut pass, &l.clip, data.vertices);
         Ok(())
     }
 

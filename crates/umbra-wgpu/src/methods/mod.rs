@@ -15,6 +15,7 @@ pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod none;
 pub mod shadow_map;
+mod transform;
 pub mod vs_silhouette;
 
 /// What a method's draw leaves in the stencil.

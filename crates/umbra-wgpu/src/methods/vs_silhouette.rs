@@ -12,15 +12,18 @@
 //! from positions (paper 003's sides-data); a compute pass orients every triangle once per
 //! light (shaders/orientation.wgsl) and the records name the triangles behind their opposite
 //! vertices ([`umbra_geom::silhouette::TriangleSlots`]), so every vertex of a record and every
-//! cap reads the same orientation. Per mesh: records `(A, B, first slot, count | split << 8)`
+//! cap reads the same orientation; likewise every vertex is transformed to clip space once per
+//! light, as a point and extruded (shaders/transform.wgsl), and the vertex shaders only pick
+//! those clip positions, so sides and caps share bit-identical vertices. Per mesh: records `(A, B, first slot, count | split << 8)`
 //! (16 bytes) and the slots (4 bytes per opposite) instead of Eq. 8's `16 (2 + maxMult)` bytes
 //! per record; the caps read the scene's index buffer instead of Eq. 9's caps-data. Per light:
-//! the orientations (4 bytes per triangle).
+//! the orientations (4 bytes per triangle) and clip positions (32 bytes per vertex).
 
 use umbra_geom::sides_data::{choose_max_mult, MAX_MULT_LIMIT};
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::WgpuError;
+use crate::methods::transform::{ClipPositions, Transform};
 use crate::methods::{LightFrame, Method, MethodKind};
 use crate::scene::{binding_bytes, buffer_init, check_size, SceneGpu, SceneId};
 use crate::volumes::{buffers_group, dispatch_size, storage_entry, Common, LightPlan};
@@ -67,6 +70,7 @@ struct PerLight {
     /// Triangles x cap vertices per triangle (6 for a point light, 3 for a directional one).
     cap_vertices: u32,
     orientation: wgpu::Buffer,
+    clip: ClipPositions,
     orient_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
 }
@@ -76,6 +80,7 @@ pub struct VsSilhouette {
     orient_layout: wgpu::BindGroupLayout,
     draw_layout: wgpu::BindGroupLayout,
     orient: wgpu::ComputePipeline,
+    transform: Transform,
     /// [z-fail, z-pass].
     sides: [wgpu::RenderPipeline; 2],
     caps: wgpu::RenderPipeline,
@@ -127,7 +132,16 @@ impl VsSilhouette {
         });
         let caps =
             common.counting_pipeline(device, "vs-silhouette caps", &draw_module, "vs_caps", &draw_pl, &[], false, ccw);
-        Self { orient_layout, draw_layout, orient, sides, caps, mesh: None, lights: Vec::new() }
+        Self {
+            transform: Transform::new(device, common),
+            orient_layout,
+            draw_layout,
+            orient,
+            sides,
+            caps,
+            mesh: None,
+            lights: Vec::new(),
+        }
     }
 
     fn make_light(&self, device: &wgpu::Device, scene: &SceneGpu) -> Result<PerLight, WgpuError> {
@@ -148,13 +162,14 @@ impl VsSilhouette {
             &self.orient_layout,
             &[scene.position_buffer(), scene.index_buffer(), &orientation],
         );
+        let clip = self.transform.buffers(device, scene)?;
         let draw_group = buffers_group(
             device,
             "vs-silhouette draw",
             &self.draw_layout,
-            &[scene.position_buffer(), &mesh.records, &mesh.slots, &orientation, scene.index_buffer()],
+            &[&clip.buffer, &mesh.records, &mesh.slots, &orientation, scene.index_buffer()],
         );
-        Ok(PerLight { cap_vertices: 0, orientation, orient_group, draw_group })
+        Ok(PerLight { cap_vertices: 0, orientation, clip, orient_group, draw_group })
     }
 }
 
@@ -228,6 +243,7 @@ impl Method for VsSilhouette {
             pass.set_bind_group(1, &self.lights[frame.slot].orient_group, &[]);
             let (x, y) = dispatch_size(data.triangles);
             pass.dispatch_workgroups(x, y, 1);
+            self.transform.dispatch(&mut pass, &self.lights[frame.slot].clip, data.vertices);
         }
         Ok(())
     }
@@ -248,6 +264,6 @@ impl Method for VsSilhouette {
 
     fn gpu_bytes(&self) -> u64 {
         let mesh = self.mesh.as_ref().map_or(0, |m| m.records.size() + m.slots.size());
-        mesh + self.lights.iter().map(|l| l.orientation.size()).sum::<u64>()
+        mesh + self.lights.iter().map(|l| l.orientation.size() + l.clip.buffer.size()).sum::<u64>()
     }
 }

@@ -26,8 +26,15 @@ struct UmbraLight {
     records: u32,
     // Opposite slots per edge record (vs-silhouette's maxMult).
     max_mult: u32,
+    // Welded vertices (the transform pass).
+    vertices: u32,
     pad0: u32,
+    // cpu-silhouette's one vertex stream: its light caps are vertices
+    // first_light_cap..first_dark_cap (sides before, dark caps after).
+    first_light_cap: u32,
+    first_dark_cap: u32,
     pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> u: UmbraLight;
@@ -79,7 +86,30 @@ fn umbra_volume_vertex(clip: vec4<f32>, near_distance: f32) -> UmbraVolumeVertex
 }
 
 // Counting pass: the stencil operations count (two-sided, INCR_WRAP / DECR_WRAP); no colour
-// is written (every colour target's write mask is empty), so there is nothing to compute.
+// is written (every colour target's write mask is empty). The one thing computed is the depth
+// the depth test sees: the rasterizer's own, except that a NaN becomes 0, the far plane.
+// Why: a side quad of a short silhouette edge has its two vertices at infinity a fraction of a
+// pixel apart, so one of its triangles is a needle; lavapipe gave such a needle a fragment with
+// a NaN depth (Conference, z-fail: three duplicate needles over one floor sample), the clamped
+// NaN passed the GREATER test, and the sample lost three back faces (a stencil of -3, a false
+// shadow). A needle's fragments lie at its far end, by the vertices at infinity (depth 0), so 0
+// is their depth up to the needle's width; and 0 is what z-fail counts as behind every sample,
+// like the caps at infinity. Any other depth passes through unchanged (the same bits).
+fn umbra_volume_depth(z: f32) -> f32 {
+    // A NaN test on the bits: a compiler may assume no NaN in floating-point comparisons.
+    let nan = (bitcast<u32>(z) & 0x7FFFFFFFu) > 0x7F800000u;
+    return select(z, 0.0, nan);
+}
+
 @fragment
-fn fs_volume() {
+fn fs_volume(@builtin(position) position: vec4<f32>) -> @builtin(frag_depth) f32 {
+    return umbra_volume_depth(position.z);
+}
+
+// Multisampled passes: a written depth holds for every sample of the fragment, so the shader
+// runs per sample (reading sample_index asks for it) and position.z is that sample's depth.
+@fragment
+fn fs_volume_per_sample(@builtin(position) position: vec4<f32>, @builtin(sample_index) sample: u32) -> @builtin(frag_depth) f32 {
+    _ = sample;
+    return umbra_volume_depth(position.z);
 }

@@ -10,10 +10,12 @@
 // (orientation.wgsl, once per triangle and light): a record holds (A, B, first slot, count |
 // split << 8) and the slots name the triangle behind each opposite vertex and its direction
 // (umbra_geom::silhouette::TriangleSlots), so Alg. 1's curMult is the sum of +-orientation, the
-// same bits every vertex of the record and every cap reads.
+// same bits every vertex of the record and every cap reads. The same for positions: no vertex
+// is transformed here, every clip position comes from the transform pass.
 // Prepended: `enable clip_distances;`, volume.wgsl.
 
-@group(1) @binding(0) var<storage, read> positions: array<f32>;
+// From the transform pass (transform.wgsl): clip[2 v] vertex v, clip[2 v + 1] it extruded.
+@group(1) @binding(0) var<storage, read> clip: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read> records: array<vec4<u32>>;
 @group(1) @binding(2) var<storage, read> slots: array<u32>;
 @group(1) @binding(3) var<storage, read> orientation: array<i32>;
@@ -25,10 +27,6 @@
 // rejected by the clip test before any setup (an all-zero vertex passes every clip test with
 // equality and reaches triangle setup with 0/0 coordinates).
 const UMBRA_CULLED = vec4<f32>(2.0, 2.0, 0.0, 1.0);
-
-fn umbra_position(i: u32) -> vec3<f32> {
-    return vec3<f32>(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
-}
 
 fn umbra_culled() -> UmbraVolumeVertex {
     return umbra_volume_vertex(UMBRA_CULLED, 1.0);
@@ -75,13 +73,10 @@ fn vs_sides(@builtin(vertex_index) vertex: u32) -> UmbraVolumeVertex {
     } else {
         id = UMBRA_ID_CW[v];
     }
-    // Eq. 1-2: P2, P3 extruded to infinity (w = 0); P0, P1 the edge itself (w = 1).
-    let p = umbra_position(select(rec.y, rec.x, id == 0u || id == 2u));
-    var world = vec4<f32>(p, 1.0);
-    if id >= 2u {
-        world = umbra_extrude(p, u.light);
-    }
-    return umbra_volume_vertex(u.clip_from_world * world, 1.0);
+    // Eq. 1-2: P2, P3 extruded to infinity (w = 0); P0, P1 the edge itself (w = 1); both
+    // transformed once by the transform pass.
+    let i = select(rec.y, rec.x, id == 0u || id == 2u);
+    return umbra_volume_vertex(clip[2u * i + select(0u, 1u, id >= 2u)], 1.0);
 }
 
 @vertex
@@ -99,11 +94,11 @@ fn vs_caps(@builtin(vertex_index) vertex: u32) -> UmbraVolumeVertex {
     let wound = select(tri.xzy, tri, o > 0);
     // Light cap P0 P1 P2 (v < 3); dark cap P2 P1 P0 extruded (Alg. 2, line 11: P_{5-v}).
     let k = select(5u - v, v, v < 3u);
-    let p = umbra_position(wound[k]);
+    let i = wound[k];
     if v < 3u {
         // Alg. 2, lines 8-9 / Eq. 6, clipped at the near plane first.
-        let clip = u.clip_from_world * vec4<f32>(p, 1.0);
-        return umbra_volume_vertex(umbra_push_to_far(clip), umbra_near_distance(clip));
+        let p = clip[2u * i];
+        return umbra_volume_vertex(umbra_push_to_far(p), umbra_near_distance(p));
     }
-    return umbra_volume_vertex(u.clip_from_world * umbra_extrude(p, u.light), 1.0);
+    return umbra_volume_vertex(clip[2u * i + 1u], 1.0);
 }
