@@ -258,7 +258,12 @@ pub fn overlap_exact_methods() -> Vec<&'static str> {
 pub fn counting_methods() -> Vec<&'static str> {
     shadow_methods()
         .into_iter()
-        .filter(|m| create_method(m).is_ok_and(|c| c.classification() == umbra_gl::Classification::StencilZero))
+        .filter(|m| {
+            create_method(m).is_ok_and(|c| {
+                // hier-triangle writes a 0/1 decision into the stencil: StencilZero, but no count
+                c.classification() == umbra_gl::Classification::StencilZero && c.fills_volumes()
+            })
+        })
         .collect()
 }
 
