@@ -14,7 +14,11 @@
 //! pass writing one value per triangle (`shaders/orientation.wgsl`); the sides (an edge's
 //! multiplicity is the sum of its triangles' ± orientations,
 //! [`umbra_geom::silhouette::TriangleSlots`]) and the caps read that same value, so no
-//! compiler can open a volume.
+//! compiler can open a volume. Likewise every vertex is transformed to clip space once per light
+//! (`shaders/transform.wgsl`; cpu-silhouette: one draw for its whole volume), and the volume
+//! fragment shader writes the depth the test sees, a NaN made the far plane (lavapipe gave
+//! needle side triangles NaN depths: a false shadow on Conference, pinned in
+//! `umbra-verify/tests/wgpu_regressions.rs`). docs/wgpu.md has the details and the numbers.
 //!
 //! * [`volumes`]: the host API, [`ShadowVolumes`] (`new(device, formats, sample_count)`,
 //!   `prepare(device, queue, encoder, ...)`, `draw(pass, light)`): shadow volumes counted into
