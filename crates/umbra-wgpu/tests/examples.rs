@@ -3,7 +3,7 @@
 //! light, one far from it lit.
 
 mod common;
-#[path = "../examples/headless.rs"]
+#[path = "../examples/wgpu_headless.rs"]
 mod headless;
 
 #[test]

@@ -3,7 +3,7 @@
 //! (`cs-silhouette`: paper 001's deterministic multiplicity), drawn headlessly on wgpu (Vulkan
 //! through Mesa's lavapipe when there is no GPU) by [`umbra_wgpu::Renderer::render`].
 //!
-//! `cargo run --release -p umbra-wgpu --example headless -- [OUT.png] [METHOD]` (default
+//! `cargo run --release -p umbra-wgpu --example wgpu_headless -- [OUT.png] [METHOD]` (default
 //! `headless-wgpu.png`, `cs-silhouette`)
 
 use std::path::Path;
