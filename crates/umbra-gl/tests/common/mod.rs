@@ -253,16 +253,15 @@ pub fn overlap_exact_methods() -> Vec<&'static str> {
     shadow_methods().into_iter().filter(|&m| m != "all-edges-invert").collect()
 }
 
-/// The shadow methods that count in the stencil (Classification::StencilZero): the ones whose
-/// stencil values (2 under the sphere, z-pass wrap-around, ...) tests may check.
+/// The shadow methods that count in the stencil (Classification::StencilZero, and volumes
+/// filled: not hier-triangle, which writes a 0/1 decision): the ones whose stencil values (2
+/// under the sphere, z-pass wrap-around, ...) tests may check.
 pub fn counting_methods() -> Vec<&'static str> {
     shadow_methods()
         .into_iter()
         .filter(|m| {
-            create_method(m).is_ok_and(|c| {
-                // hier-triangle writes a 0/1 decision into the stencil: StencilZero, but no count
-                c.classification() == umbra_gl::Classification::StencilZero && c.fills_volumes()
-            })
+            create_method(m)
+                .is_ok_and(|c| c.classification() == umbra_gl::Classification::StencilZero && c.fills_volumes())
         })
         .collect()
 }
