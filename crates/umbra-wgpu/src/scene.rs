@@ -65,6 +65,23 @@ pub(crate) fn buffer_init(
     Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage }))
 }
 
+/// A zero-filled buffer of `bytes` (padded to [`binding_bytes`]) with `usage`, checked against
+/// the device's limits first.
+pub(crate) fn buffer_zeroed(
+    device: &wgpu::Device,
+    label: &str,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer, WgpuError> {
+    check_size(device, label, bytes)?;
+    Ok(device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: binding_bytes(bytes as usize),
+        usage,
+        mapped_at_creation: false,
+    }))
+}
+
 /// `bytes` fits one buffer and one storage binding of `device`.
 pub(crate) fn check_size(device: &wgpu::Device, what: &str, bytes: u64) -> Result<(), WgpuError> {
     let limits = device.limits();
