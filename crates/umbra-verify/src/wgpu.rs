@@ -82,6 +82,5 @@ pub fn verify_method(
             })
         })
         .collect::<Result<_, VerifyError>>()?;
-    let rgba = umbra_gl::RgbaImage { width: images.rgba.width, height: images.rgba.height, pixels: images.rgba.pixels };
-    compare_decisions(volumes.method_name().to_string(), view, &decisions, rgba, render_ms)
+    compare_decisions(volumes.method_name().to_string(), view, &decisions, images.rgba, render_ms)
 }

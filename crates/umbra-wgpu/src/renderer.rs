@@ -26,8 +26,8 @@ use crate::volumes::{
     storage_entry, uniform_entry, uniform_slots, PassFormats, ShadowVolumes, View, VolumeFrame, ZMode, LIGHT_SLOT_BYTES,
 };
 
-/// The triangle id of a background sample.
-pub const NO_TRIANGLE: u32 = u32::MAX;
+/// The triangle id of a background sample (umbra-geom's, as umbra-gl's).
+pub use umbra_geom::image::NO_TRIANGLE;
 
 const SCENE: &str = include_str!("shaders/scene.wgsl");
 

@@ -67,9 +67,10 @@ impl ShadowMapConfig {
         Some(Self { pcf, ..Self::new(resolution) })
     }
 
-    /// `shadow-map-cube:RES[+pcf]` (bias does not change the name).
-    pub fn name(&self) -> String {
-        format!("{PREFIX}:{}{}", self.resolution, if self.pcf { "+pcf" } else { "" })
+    /// `shadow-map-cube:RES[+pcf]` (bias does not change the name;
+    /// [`umbra_geom::shadow_map::name`]).
+    pub fn name(&self) -> &'static str {
+        umbra_geom::shadow_map::name(self.resolution, self.pcf)
     }
 }
 
@@ -109,19 +110,6 @@ pub struct ShadowMapCube {
     positions: Option<wgpu::Buffer>,
     indices: Option<(wgpu::Buffer, u32)>,
     lights: Vec<PerLight>,
-}
-
-/// Names must be `&'static str`; each distinct configuration's name is leaked once.
-fn intern(name: String) -> &'static str {
-    use std::sync::Mutex;
-    static NAMES: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
-    let mut names = NAMES.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(n) = names.iter().find(|n| **n == name) {
-        return n;
-    }
-    let leaked: &'static str = Box::leak(name.into_boxed_str());
-    names.push(leaked);
-    leaked
 }
 
 impl ShadowMapCube {
@@ -287,7 +275,7 @@ impl ShadowMapCube {
             ..Default::default()
         });
         Ok(Self {
-            name: intern(config.name()),
+            name: config.name(),
             config,
             faces_layout,
             resolve_layout,
