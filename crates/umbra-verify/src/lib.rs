@@ -30,7 +30,8 @@ use umbra_geom::weld::WeldedMesh;
 use umbra_geom::Light;
 use umbra_gl::glow;
 use umbra_gl::{
-    create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
+    create_method, CaptureFlags, Classification, FrameParams, LightCapture, LitMaskImage, Renderer, RgbaImage,
+    SceneGpu, ShadowMethod, TriangleIdImage, WorldPosImage, NO_TRIANGLE,
 };
 
 pub mod wgpu;
@@ -142,11 +143,10 @@ pub fn view_reference(
     scene: &SceneGpu,
     params: &FrameParams,
 ) -> Result<ViewReference, VerifyError> {
-    let mut p = params.clone();
-    p.capture.world_pos = true;
-    p.capture.triangle_id = true;
-    p.capture.stencil = LightCapture::None;
-    p.capture.lit_mask = LightCapture::None;
+    let p = FrameParams {
+        capture: CaptureFlags { world_pos: true, triangle_id: true, ..CaptureFlags::default() },
+        ..params.clone()
+    };
     let mut none = create_method("none").map_err(gl_err)?;
     let images = renderer.render(gl, scene, none.as_mut(), &p, None).map_err(gl_err);
     none.destroy(gl);
@@ -154,31 +154,23 @@ pub fn view_reference(
     let (Some(world), Some(ids)) = (images.world_pos, images.triangle_id) else {
         return Err(VerifyError::Gl("the renderer returned no world-position / triangle-id images".into()));
     };
-    let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
-    let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
-    reference_from_samples(
-        scene.mesh(),
-        &params.camera,
-        params.width,
-        params.height,
-        &params.lights,
-        world_pos,
-        triangle,
-    )
+    reference_from_samples(scene.mesh(), &params.camera, &params.lights, &world, &ids)
 }
 
 /// The backend-neutral half of [`view_reference`]: the reference for every light of a view
-/// whose samples a backend rasterized (`world_pos` and `triangle` row-major, top row first,
-/// `u32::MAX` = background) with `camera` at `width x height`.
+/// whose samples a backend's depth pass captured with `camera` (the world position and the
+/// triangle id of every pixel, [`NO_TRIANGLE`] = background).
 pub fn reference_from_samples(
     mesh: &Arc<WeldedMesh>,
     camera: &Camera,
-    width: u32,
-    height: u32,
     lights: &[Light],
-    world_pos: Vec<[f32; 3]>,
-    triangle: Vec<u32>,
+    world: &WorldPosImage,
+    ids: &TriangleIdImage,
 ) -> Result<ViewReference, VerifyError> {
+    let (width, height) = (world.width, world.height);
+    let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    // The oracle's background is u32::MAX.
+    let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
     let start = Instant::now();
     let bvh = Bvh::build(&mesh.positions, &mesh.triangles)?;
     let bvh_ms = ms(start);
@@ -285,24 +277,30 @@ pub fn verify_method(
     let start = Instant::now();
     let images = renderer.render(gl, scene, method, &p, None).map_err(gl_err)?;
     let render_ms = ms(start);
-    let decisions: Vec<LightDecision> = view
-        .lights
-        .iter()
-        .map(|lr| {
-            let mask = images
-                .lit_masks
-                .iter()
-                .find(|m| m.light == lr.light)
-                .ok_or_else(|| VerifyError::Gl(format!("no lit mask captured for light {}", lr.light)))?;
-            let stencil_shadowed = images
-                .stencil
-                .iter()
-                .find(|s| s.light == lr.light)
-                .and_then(|st| stencil_shadowed(classification, &st.image.pixels));
-            Ok(LightDecision { light: lr.light, lit_mask: mask.image.pixels.clone(), stencil_shadowed })
-        })
-        .collect::<Result<_, VerifyError>>()?;
+    let decisions = light_decisions(
+        view,
+        |light| images.lit_masks.iter().find(|m| m.light == light).map(|m| &m.image),
+        |light| {
+            let stencil = images.stencil.iter().find(|s| s.light == light)?;
+            stencil_shadowed(classification, &stencil.image.pixels)
+        },
+    )
+    .map_err(VerifyError::Gl)?;
     compare_decisions(name, view, &decisions, images.rgba, render_ms)
+}
+
+/// What a frame decided for each of `view`'s lights: its lit mask (`lit_mask(light)`; missing
+/// is an error naming the light) and, for diagnosis, `stencil_shadowed(light)`.
+fn light_decisions<'a>(
+    view: &ViewReference,
+    lit_mask: impl Fn(usize) -> Option<&'a LitMaskImage>,
+    stencil_shadowed: impl Fn(usize) -> Option<Vec<bool>>,
+) -> Result<Vec<LightDecision>, String> {
+    let decide = |light| {
+        let mask = lit_mask(light).ok_or_else(|| format!("no lit mask captured for light {light}"))?;
+        Ok(LightDecision { light, lit_mask: mask.pixels.clone(), stencil_shadowed: stencil_shadowed(light) })
+    };
+    view.lights.iter().map(|lr| decide(lr.light)).collect()
 }
 
 /// What a backend's frame decided for one light: its lit mask (1 = the lighting pass shaded

@@ -25,8 +25,8 @@ use umbra_geom::EdgeAdjacency;
 use crate::error::WgpuError;
 use crate::methods::transform::{ClipPositions, Transform};
 use crate::methods::{LightFrame, Method, MethodKind};
-use crate::scene::{binding_bytes, buffer_init, check_size, SceneGpu, SceneId};
-use crate::volumes::{buffers_group, dispatch_size, storage_entry, Common, LightPlan};
+use crate::scene::{buffer_init, buffer_zeroed, SceneGpu, SceneId};
+use crate::volumes::{buffers_group, compute_pipeline, dispatch_size, storage_entry, Common, LightPlan};
 
 /// Registry name.
 pub const NAME: &str = "vs-silhouette";
@@ -106,26 +106,13 @@ impl VsSilhouette {
             label: Some("vs-silhouette draw"),
             entries: &(0..5).map(|i| storage_entry(i, vertex, true)).collect::<Vec<_>>(),
         });
-        let pipeline_layout = |label, group: &wgpu::BindGroupLayout| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(&common.light_layout), Some(group)],
-                immediate_size: 0,
-            })
-        };
         let enable = "enable clip_distances;";
         let orient_module =
             Common::module(device, "vs-silhouette orientation.wgsl", &[enable, VOLUME, MULTIPLICITY, ORIENTATION]);
         let draw_module = Common::module(device, "vs-silhouette vs_draw.wgsl", &[enable, VOLUME, DRAW]);
-        let orient = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("vs-silhouette orient"),
-            layout: Some(&pipeline_layout("vs-silhouette orientation", &orient_layout)),
-            module: &orient_module,
-            entry_point: Some("orient"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        let draw_pl = pipeline_layout("vs-silhouette draw", &draw_layout);
+        let orient_pl = common.pipeline_layout(device, "vs-silhouette orientation", &[&orient_layout]);
+        let orient = compute_pipeline(device, "vs-silhouette orient", &orient_pl, &orient_module, "orient");
+        let draw_pl = common.pipeline_layout(device, "vs-silhouette draw", &[&draw_layout]);
         let ccw = wgpu::FrontFace::Ccw;
         let sides = [false, true].map(|zpass| {
             common.counting_pipeline(device, "vs-silhouette sides", &draw_module, "vs_sides", &draw_pl, &[], zpass, ccw)
@@ -149,13 +136,7 @@ impl VsSilhouette {
             return Err(WgpuError::InvalidParams("vs-silhouette: per-light buffers before prepare_scene".into()));
         };
         let bytes = 4 * scene.triangle_count() as u64;
-        check_size(device, "vs-silhouette orientation", bytes)?;
-        let orientation = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("vs-silhouette orientation"),
-            size: binding_bytes(bytes as usize),
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
+        let orientation = buffer_zeroed(device, "vs-silhouette orientation", bytes, wgpu::BufferUsages::STORAGE)?;
         let orient_group = buffers_group(
             device,
             "vs-silhouette orientation",
