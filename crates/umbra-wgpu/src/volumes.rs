@@ -369,19 +369,25 @@ impl Common {
     }
 }
 
-/// The bind group layout entry of a uniform buffer at `binding` (`dynamic`: read at a
-/// dynamic offset, one slot of [`uniform_slots`]).
-pub(crate) fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
+/// The bind group layout entry of a buffer of type `ty` at `binding`.
+fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+    has_dynamic_offset: bool,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic,
-            min_binding_size: None,
-        },
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset, min_binding_size: None },
         count: None,
     }
+}
+
+/// The bind group layout entry of a uniform buffer at `binding` (`dynamic`: read at a
+/// dynamic offset, one slot of [`uniform_slots`]).
+pub(crate) fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Uniform, dynamic)
 }
 
 /// A uniform buffer of `slots` slots of [`LIGHT_SLOT_BYTES`] and its bind group for `layout`:
@@ -438,16 +444,7 @@ pub(crate) fn storage_entry(
     visibility: wgpu::ShaderStages,
     read_only: bool,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Storage { read_only }, false)
 }
 
 /// A bind group of whole buffers at bindings 0, 1, ...

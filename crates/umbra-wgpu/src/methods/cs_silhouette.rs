@@ -35,6 +35,7 @@
 //! bytes per opposite vertex (`Σ|m| <= Σk`), caps 12 bytes per triangle, two 16-byte commands,
 //! clip positions 32 bytes per vertex.
 
+use umbra_geom::sides_data::record_ranges;
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::WgpuError;
@@ -59,22 +60,16 @@ const DRAW: &str = include_str!("../shaders/cs_draw.wgsl");
 /// Bytes of one draw-indirect command (vertex count, instance count, first vertex, first instance).
 const COMMAND_BYTES: u64 = 16;
 
-/// The edge records of `adj`, split at `max` triangles: `(A, B, first slot, count)` with at
-/// least one record per edge (an edge without triangles contributes nothing).
+/// The edge records of `adj`, split at `max` triangles ([`record_ranges`]): `(A, B, first
+/// slot, count)` with at least one record per edge (an edge without triangles contributes
+/// nothing).
 pub fn edge_records(adj: &EdgeAdjacency, max: u32) -> Vec<[u32; 4]> {
-    let mut records = Vec::with_capacity(adj.len());
-    for (e, &[a, b]) in adj.edges.iter().enumerate() {
-        let (mut start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
-        loop {
-            let n = (end - start).min(max);
-            records.push([a, b, start, n]);
-            start += n;
-            if start >= end {
-                break;
-            }
-        }
-    }
-    records
+    record_ranges(adj, max as usize)
+        .map(|r| {
+            let [a, b] = adj.edges[r.edge];
+            [a, b, r.first, r.count]
+        })
+        .collect()
 }
 
 /// Per-mesh buffers.

@@ -19,7 +19,7 @@
 //! per record; the caps read the scene's index buffer instead of Eq. 9's caps-data. Per light:
 //! the orientations (4 bytes per triangle) and clip positions (32 bytes per vertex).
 
-use umbra_geom::sides_data::{choose_max_mult, MAX_MULT_LIMIT};
+use umbra_geom::sides_data::{choose_max_mult, record_ranges, MAX_MULT_LIMIT};
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::WgpuError;
@@ -37,25 +37,15 @@ const ORIENTATION: &str = include_str!("../shaders/orientation.wgsl");
 const DRAW: &str = include_str!("../shaders/vs_draw.wgsl");
 
 /// The records of `adj` at `max_mult` slots each: `(A, B, first slot, count | split << 8)`,
-/// an edge with more opposites split into consecutive chunks (umbra_geom::sides_data's split);
-/// an edge without opposites keeps one empty record.
+/// an edge with more opposites split into consecutive chunks (umbra_geom::sides_data's split,
+/// [`record_ranges`]); an edge without opposites keeps one empty record.
 pub fn records(adj: &EdgeAdjacency, max_mult: usize) -> Vec<[u32; 4]> {
-    let max_mult = max_mult.max(1) as u32;
-    let mut out = Vec::with_capacity(adj.len());
-    for (e, &[a, b]) in adj.edges.iter().enumerate() {
-        let (start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
-        let split = u32::from(end - start > max_mult);
-        let mut first = start;
-        loop {
-            let n = (end - first).min(max_mult);
-            out.push([a, b, first, n | split << 8]);
-            first += n;
-            if first >= end {
-                break;
-            }
-        }
-    }
-    out
+    record_ranges(adj, max_mult)
+        .map(|r| {
+            let [a, b] = adj.edges[r.edge];
+            [a, b, r.first, r.count | u32::from(r.split) << 8]
+        })
+        .collect()
 }
 
 struct Mesh {
