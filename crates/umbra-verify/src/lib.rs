@@ -26,7 +26,9 @@ use umbra_gl::glow;
 use umbra_gl::{
     create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
 };
-use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Reference, Samples};
+use umbra_oracle::{
+    compare_masked, reference_in_view, BandParts, Bvh, DepthFormat, Metrics, RasterView, Reference, Samples,
+};
 
 /// Why a verification could not run (not: a method that failed it).
 #[derive(Debug, thiserror::Error)]
@@ -102,6 +104,8 @@ pub struct LightResult {
 /// A method's verification over every light of a view.
 pub struct MethodReport {
     pub method: String,
+    /// The band parts the method is judged by ([`band_mask`]).
+    pub band_mask: BandParts,
     pub must_be_exact: bool,
     /// Summed over lights; from the lit masks (the renderer's final decision).
     pub metrics: Metrics,
@@ -153,9 +157,7 @@ pub fn view_reference(
     let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
     let samples = Samples { width: params.width, height: params.height, world_pos: &world_pos, triangle: &triangle };
     let eye = params.camera.eye.map(|c| c as f32);
-    // The renderer's own projection (x, y and w do not depend on the depth convention).
-    let aspect = params.width as f64 / params.height.max(1) as f64;
-    let raster = RasterView { clip_from_world: params.camera.clip_from_world(aspect).to_cols_array() };
+    let raster = raster_view(gl, params);
     let mut lights = Vec::new();
     for (i, &light) in params.lights.iter().enumerate() {
         let start = Instant::now();
@@ -174,6 +176,40 @@ pub fn view_reference(
         eye,
         light_positions: params.lights.clone(),
     })
+}
+
+/// The view and the precision the renderer rasterizes `params` with, for the band
+/// ([`umbra_oracle::envelope`]): its projection in the frame's depth convention, the depth
+/// format of the renderer's own target for that convention (DEPTH32F_STENCIL8 for
+/// reversed-Z, DEPTH24_STENCIL8 for the standard convention) and the context's
+/// `GL_SUBPIXEL_BITS`.
+pub fn raster_view(gl: &glow::Context, params: &FrameParams) -> RasterView {
+    use umbra_gl::glow::HasContext;
+    let aspect = params.width as f64 / params.height.max(1) as f64;
+    let clip_from_world = params.camera.clip_from_world_in(aspect, params.depth_convention).to_cols_array();
+    let depth = if params.depth_convention.depth_format() == glow::DEPTH32F_STENCIL8 {
+        DepthFormat::Float32
+    } else {
+        DepthFormat::Fixed(24)
+    };
+    // SAFETY: a plain integer query on the current context.
+    let bits = unsafe { gl.get_parameter_i32(glow::SUBPIXEL_BITS) };
+    let mut view = RasterView::new(clip_from_world);
+    view.depth = depth;
+    // The spec's minimum when the query returns less (it may not).
+    view.subpixel_bits = u32::try_from(bits).unwrap_or(0).max(view.subpixel_bits);
+    view
+}
+
+/// The band parts `method` is judged by ([`umbra_oracle::envelope`]): a silhouette method
+/// ([`ShadowMethod::silhouette_sides`]) draws no faces on edges that cast nothing, so the
+/// cancelling faces of per-triangle volumes are not its band.
+pub fn band_mask(method: &dyn ShadowMethod) -> BandParts {
+    if method.silhouette_sides() {
+        BandParts::SILHOUETTE
+    } else {
+        BandParts::ALL
+    }
 }
 
 /// What is known about the sample at pixel `(x, y)` for light `light` (an index into
@@ -213,7 +249,11 @@ pub fn explain(mesh: &WeldedMesh, view: &ViewReference, light: usize, x: u32, y:
         p,
         edge_px.map_or("?".into(), |d| format!("{d:.4}")),
         lr.reference.class[i],
-        if lr.reference.band[i] { " (band)" } else { "" },
+        match lr.reference.parts.get(i) {
+            Some(parts) if lr.reference.band[i] => format!(" (band: {})", parts.names().join(", ")),
+            _ if lr.reference.band[i] => " (band)".into(),
+            _ => String::new(),
+        },
     )
 }
 
@@ -246,6 +286,7 @@ pub fn verify_method(
 ) -> Result<MethodReport, VerifyError> {
     let name = method.name().to_string();
     let classification = method.classification();
+    let band = band_mask(method);
     let mut p = params.clone();
     p.capture.lit_mask = LightCapture::AllLights;
     // The stencil costs one more readback per light; only meaningful for stencil methods.
@@ -265,12 +306,12 @@ pub fn verify_method(
             .find(|m| m.light == lr.light)
             .ok_or_else(|| VerifyError::Gl(format!("no lit mask captured for light {}", lr.light)))?;
         let shadowed: Vec<bool> = mask.image.pixels.iter().map(|&lit| lit == 0).collect();
-        let m = compare(&lr.reference, &shadowed)?;
+        let m = compare_masked(&lr.reference, &shadowed, band)?;
         metrics = add(metrics, m);
         let stencil_metrics = match images.stencil.iter().find(|s| s.light == lr.light) {
             Some(st) => {
                 let from_stencil = stencil_shadowed(classification, &st.image.pixels);
-                from_stencil.map(|sh| compare(&lr.reference, &sh)).transpose()?
+                from_stencil.map(|sh| compare_masked(&lr.reference, &sh, band)).transpose()?
             }
             None => None,
         };
@@ -282,6 +323,7 @@ pub fn verify_method(
     Ok(MethodReport {
         must_be_exact: must_be_exact(&name),
         method: name,
+        band_mask: band,
         metrics,
         stencil_metrics: stencil_sum,
         per_light,
