@@ -85,8 +85,8 @@ def main():
     print(f"{len(methods)} exact methods: {', '.join(methods)}", file=sys.stderr)
     table = []
     failures = []
-    for name, path, extra in views(a.scenes):
-        for size in a.sizes.split(","):
+    for size in a.sizes.split(","):
+        for name, path, extra in views(a.scenes):
             slug = name.replace(" ", "-") + "-" + size
             t0 = datetime.datetime.now()
             res = run(a.umbra, path, extra, size, methods, os.path.join(a.out, slug + ".json"))
