@@ -207,6 +207,38 @@ fn verify_json_contract_and_exit_status() {
 }
 
 #[test]
+fn verify_json_per_light_and_the_default_light_by_name() {
+    // `--light default` is the light derived from the scene's bounds, so it can be combined
+    // with others; each row's `per_light` holds the counts of every light, which add up to the
+    // row's own.
+    let alone = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--json"]);
+    let alone = json(&alone)[0].clone();
+    let o = umbra(&[
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "cpu-silhouette",
+        "--light",
+        "default",
+        "--light",
+        "0.4,1,0.3,0",
+        "--json",
+    ]);
+    let row = json(&o)[0].clone();
+    let lights = row["per_light"].as_array().expect("per_light array");
+    assert_eq!(lights.len(), 2, "{row}");
+    assert_eq!(lights[1]["light"], serde_json::json!([0.4, 1.0, 0.3, 0.0]), "{row}");
+    for key in
+        ["samples", "shadowed_reference", "mismatches", "band_samples", "band_mismatches", "mismatches_outside_band"]
+    {
+        assert_eq!(lights[0][key], alone[key], "{key}: the default light alone gives the same counts");
+        let sum = lights[0][key].as_u64().unwrap() + lights[1][key].as_u64().unwrap();
+        assert_eq!(row[key].as_u64().unwrap(), sum, "{key}");
+    }
+}
+
+#[test]
 fn verify_zpass_with_camera_in_shadow_fails_with_status_1() {
     // Camera on the ground under the default scene's sphere, inside its shadow volume:
     // z-pass counting is wrong there (the documented reason z-fail is the default).

@@ -9,13 +9,36 @@
 
 use std::time::Instant;
 
+use umbra_geom::camera::DepthConvention;
 use umbra_gl::Classification;
+use umbra_oracle::{BandParts, DepthFormat, RasterView};
 use umbra_wgpu::{CaptureFlags, FrameParams, LightCapture, Renderer, SceneGpu, ShadowVolumes};
 
 use crate::{
     compare_decisions, light_decisions, reference_from_samples, stencil_shadowed, MethodReport, VerifyError,
     ViewReference,
 };
+
+/// The view and the precision the wgpu renderer rasterizes `params` with, for the band
+/// ([`umbra_oracle::envelope`]): its reversed-Z projection, the depth format
+/// [`Renderer::depth_format_for`] picks, and the sub-pixel precision: 8 bits on lavapipe
+/// (llvmpipe's rasterizer, whose `GL_SUBPIXEL_BITS` is 8), otherwise the least Vulkan allows
+/// (`subPixelPrecisionBits` >= 4; wgpu does not report it).
+pub fn raster_view(device: &wgpu::Device, params: &FrameParams) -> RasterView {
+    let aspect = params.width as f64 / params.height.max(1) as f64;
+    let clip_from_world = params.camera.clip_from_world_in(aspect, DepthConvention::ReversedZ).to_cols_array();
+    let mut view = RasterView::new(clip_from_world);
+    view.depth = if Renderer::depth_format_for(device) == wgpu::TextureFormat::Depth32FloatStencil8 {
+        DepthFormat::Float32
+    } else {
+        DepthFormat::Fixed(24)
+    };
+    let adapter = device.adapter_info();
+    if adapter.name.contains("llvmpipe") || adapter.driver.contains("llvmpipe") {
+        view.subpixel_bits = 8;
+    }
+    view
+}
 
 fn wgpu_err(e: umbra_wgpu::WgpuError) -> VerifyError {
     VerifyError::Wgpu(e.to_string())
@@ -38,7 +61,7 @@ pub fn view_reference(
     let (Some(world), Some(ids)) = (images.world_pos, images.triangle_id) else {
         return Err(VerifyError::Wgpu("the renderer returned no world-position / triangle-id images".into()));
     };
-    reference_from_samples(scene.mesh(), &params.camera, &params.lights, &world, &ids)
+    reference_from_samples(scene.mesh(), &params.camera, raster_view(device, params), &params.lights, &world, &ids)
 }
 
 /// Renders `volumes`' method once with every light of `params`, reads its per-sample decision
@@ -68,5 +91,13 @@ pub fn verify_method(
         },
     )
     .map_err(VerifyError::Wgpu)?;
-    compare_decisions(volumes.method_name().to_string(), view, &decisions, images.rgba, render_ms)
+    // Every wgpu volume method is a silhouette method (no faces on edges that cast nothing).
+    compare_decisions(
+        volumes.method_name().to_string(),
+        BandParts::SILHOUETTE,
+        view,
+        &decisions,
+        images.rgba,
+        render_ms,
+    )
 }
