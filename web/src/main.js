@@ -74,6 +74,9 @@ async function start() {
   });
   status.renderer = renderer.rendererName;
   status.depthClamp = !!renderer.depthClamp;
+  // The rasterizer's sub-pixel precision, which the oracle's band needs to judge this
+  // browser's mask (`umbra verify --subpixel-bits`): SwiftShader 4, llvmpipe 8.
+  status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
   status.depth = renderer.reversedZ ? 'reversed-z' : 'standard';
   // The scene's file name, not its path (`umbra export` records the spec it was given, which
   // for a mesh file is wherever it lay on the exporting machine).

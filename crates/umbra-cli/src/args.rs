@@ -186,6 +186,12 @@ pub struct VerifyArgs {
     /// shadowed (the WebGL2 viewer's `mask=1` view read back). One light only.
     #[arg(long)]
     pub external_mask: Option<String>,
+    /// The band's sub-pixel precision, as `GL_SUBPIXEL_BITS` (4 to 16), when the samples being
+    /// judged were rasterized by another implementation than this context: an
+    /// `--external-mask` from a browser, with the `SUBPIXEL_BITS` its WebGL 2 context reports
+    /// (SwiftShader: 4). Every row of the run is judged with it. Default: the context's own.
+    #[arg(long)]
+    pub subpixel_bits: Option<u32>,
     /// Drawing backend: `gl` (OpenGL 4.5 through EGL) or `wgpu` (Vulkan, Metal or DX12; Mesa's
     /// lavapipe without a GPU). wgpu has no geometry or tessellation shaders: their methods
     /// stay GL-only.

@@ -7,7 +7,7 @@ use serde::Serialize;
 use umbra_geom::weld::WeldedMesh;
 use umbra_gl::RgbaImage;
 use umbra_oracle::{diff_image_masked, mismatches_outside_band_masked};
-use umbra_verify::{verify_external_mask, verify_method, view_reference, MethodReport, ViewReference};
+use umbra_verify::{raster_view, verify_external_mask, verify_method, view_reference_in, MethodReport, ViewReference};
 
 use crate::args::VerifyArgs;
 use crate::config::{CliError, ViewConfig};
@@ -109,6 +109,21 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     };
     let sm = crate::methods::SmOptions::from_args(&a.sm)?;
     let view = ViewConfig::from_args(&a.view)?;
+    // GL 4.5 requires at least 4 bits (its state tables); 16 is beyond any rasterizer's grid.
+    if let Some(bits) = a.subpixel_bits {
+        if !(4..=16).contains(&bits) {
+            return Err(CliError::BadFlag {
+                flag: "--subpixel-bits",
+                message: format!("{bits}: expected 4 to 16 (GL_SUBPIXEL_BITS)"),
+            });
+        }
+        if backend == Backend::Wgpu {
+            return Err(CliError::BadFlag {
+                flag: "--subpixel-bits",
+                message: "applies to --backend gl (external masks)".into(),
+            });
+        }
+    }
     let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
     // Per method: (report, counter label, per-light z-pass); then the reference, the mesh and
     // the device that drew them.
@@ -121,8 +136,12 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             crate::methods::report_counter(&decision);
             params.counter = decision.counter;
             let gl = s.context.gl();
-            let reference =
-                view_reference(gl, &mut s.renderer, &s.scene, &params).map_err(|e| CliError::Other(e.to_string()))?;
+            let mut raster = raster_view(gl, &params);
+            if let Some(bits) = a.subpixel_bits {
+                raster.subpixel_bits = bits;
+            }
+            let reference = view_reference_in(gl, &mut s.renderer, &s.scene, &params, raster)
+                .map_err(|e| CliError::Other(e.to_string()))?;
             let mut results = Vec::new();
             for name in &methods {
                 let mut method = crate::methods::make_method(name, &sm, "--method")?;

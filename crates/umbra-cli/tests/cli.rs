@@ -206,6 +206,34 @@ fn verify_json_contract_and_exit_status() {
     assert!(stderr(&o).contains("int9"), "{}", stderr(&o));
 }
 
+/// `--subpixel-bits`: the band of a coarser rasterizer (an external mask from a browser that
+/// reports 4 bits) holds more samples than this context's own (llvmpipe: 8 bits); the decision
+/// of every sample outside both is the same, so the method still passes. Out of GL's range and
+/// with the wgpu backend it is an error naming the flag.
+#[test]
+fn verify_subpixel_bits_sets_the_bands_precision() {
+    let band = |extra: &[&str]| {
+        let mut args = vec!["verify", "--size", "160x120", "--method", "cpu-silhouette", "--json"];
+        args.extend_from_slice(extra);
+        let o = umbra(&args);
+        let v = json(&o);
+        assert_eq!(v[0]["mismatches_outside_band"], 0, "{extra:?}: {v}");
+        v[0]["band_samples"].as_u64().unwrap()
+    };
+    let (own, coarse) = (band(&[]), band(&["--subpixel-bits", "4"]));
+    assert!(coarse > own, "4 subpixel bits: {coarse} band samples, the context's own: {own}");
+    for bad in
+        [vec!["--subpixel-bits", "3"], vec!["--subpixel-bits", "17"], vec!["--subpixel-bits", "8", "--backend", "wgpu"]]
+    {
+        let mut args = vec!["verify", "--size", "16x16"];
+        args.extend_from_slice(&bad);
+        let o = umbra(&args);
+        assert!(!o.status.success(), "{bad:?} should fail");
+        let e = stderr(&o);
+        assert!(e.contains("--subpixel-bits") && !e.contains("panicked"), "{bad:?}: {e}");
+    }
+}
+
 #[test]
 fn verify_json_per_light_and_the_default_light_by_name() {
     // `--light default` is the light derived from the scene's bounds, so it can be combined

@@ -140,12 +140,25 @@ fn ms(since: Instant) -> f64 {
 }
 
 /// Renders the view's samples (world position + triangle id) and computes the reference for
-/// every light in `params`.
+/// every light in `params`, with the band of this context's precision ([`raster_view`]).
 pub fn view_reference(
     gl: &glow::Context,
     renderer: &mut Renderer,
     scene: &SceneGpu,
     params: &FrameParams,
+) -> Result<ViewReference, VerifyError> {
+    view_reference_in(gl, renderer, scene, params, raster_view(gl, params))
+}
+
+/// [`view_reference`] with the band of `raster`'s precision: for samples judged against
+/// another rasterizer's decisions (an external mask from a browser whose `GL_SUBPIXEL_BITS`
+/// differs from this context's).
+pub fn view_reference_in(
+    gl: &glow::Context,
+    renderer: &mut Renderer,
+    scene: &SceneGpu,
+    params: &FrameParams,
+    raster: RasterView,
 ) -> Result<ViewReference, VerifyError> {
     let p = FrameParams {
         capture: CaptureFlags { world_pos: true, triangle_id: true, ..CaptureFlags::default() },
@@ -158,7 +171,7 @@ pub fn view_reference(
     let (Some(world), Some(ids)) = (images.world_pos, images.triangle_id) else {
         return Err(VerifyError::Gl("the renderer returned no world-position / triangle-id images".into()));
     };
-    reference_from_samples(scene.mesh(), &params.camera, raster_view(gl, params), &params.lights, &world, &ids)
+    reference_from_samples(scene.mesh(), &params.camera, raster, &params.lights, &world, &ids)
 }
 
 /// The backend-neutral half of [`view_reference`]: the reference for every light of a view
