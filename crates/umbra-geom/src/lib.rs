@@ -93,6 +93,7 @@ pub mod adjacency;
 pub mod camera;
 pub mod clearance;
 pub mod edge_triangles;
+pub mod frame_images;
 pub mod image;
 pub mod load;
 pub mod mesh;

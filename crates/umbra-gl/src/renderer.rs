@@ -57,7 +57,7 @@ use crate::camera::{to_f32_cols, Camera, DepthConvention, DepthConventionGl};
 use crate::counter::{Counter, FloatCounter};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
 use crate::extra::GlExtra;
-use crate::image::{LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+use crate::image::StencilImage;
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::saved::{MethodBindings, SavedState};
@@ -68,48 +68,14 @@ use umbra_geom::camera::near_pyramid_points;
 
 pub(crate) const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
-/// For which lights a per-light image is read back.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum LightCapture {
-    /// No light.
-    #[default]
-    None,
-    /// Only the light with this index in [`FrameParams::lights`].
-    Light(usize),
-    /// Every light.
-    AllLights,
-}
 
-impl LightCapture {
-    /// Whether light `light` is captured.
-    pub fn includes(self, light: usize) -> bool {
-        match self {
-            LightCapture::None => false,
-            LightCapture::Light(i) => i == light,
-            LightCapture::AllLights => true,
-        }
-    }
-}
+pub use umbra_geom::frame_images::{CaptureFlags, FrameImages, LightCapture, LitMask, StencilMask};
 
 /// Which per-light stencil masks to read back (after the method's volume pass, before
 /// lighting).
 pub type StencilCapture = LightCapture;
 /// Which per-light lit masks to read back (after that light's lighting pass).
 pub type LitMaskCapture = LightCapture;
-
-/// Extra images [`Renderer::render`] reads back.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CaptureFlags {
-    /// Read back the world position per pixel ([`FrameImages::world_pos`]).
-    pub world_pos: bool,
-    /// Read back the triangle id per pixel ([`FrameImages::triangle_id`]).
-    pub triangle_id: bool,
-    /// Read back the stencil after these lights' volume passes ([`FrameImages::stencil`]).
-    pub stencil: StencilCapture,
-    /// The renderer's final per-pixel decision "lit by this light" ([`LitMask`]): what the
-    /// image shows, for every [`Classification`]. Own target only ([`Renderer::render`]).
-    pub lit_mask: LitMaskCapture,
-}
 
 /// Everything that defines one frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -179,41 +145,6 @@ impl Default for FrameParams {
             counter: Counter::default(),
         }
     }
-}
-
-/// Per-light stencil mask after the volume pass.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StencilMask {
-    /// Index of the light in [`FrameParams::lights`].
-    pub light: usize,
-    /// Its stencil, top row first.
-    pub image: StencilImage,
-}
-
-/// Per-light lit mask after that light's lighting pass: 1 where the pixel received the
-/// light's diffuse and specular term (the classification passed AND the seen side of the
-/// triangle faces the light), 0 elsewhere (shadowed, facing away, background).
-#[derive(Clone, Debug, PartialEq)]
-pub struct LitMask {
-    /// Index of the light in [`FrameParams::lights`].
-    pub light: usize,
-    /// Its lit mask (1 lit, 0 not), top row first.
-    pub image: LitMaskImage,
-}
-
-/// What [`Renderer::render`] reads back; all images top row first.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameImages {
-    /// The final colour.
-    pub rgba: RgbaImage,
-    /// World position per pixel, when captured.
-    pub world_pos: Option<WorldPosImage>,
-    /// Triangle id per pixel ([`crate::NO_TRIANGLE`] on background), when captured.
-    pub triangle_id: Option<TriangleIdImage>,
-    /// In light order, one per captured light.
-    pub stencil: Vec<StencilMask>,
-    /// In light order, one per captured light.
-    pub lit_masks: Vec<LitMask>,
 }
 
 /// Per-light images read during a frame.

@@ -19,7 +19,7 @@ use umbra_geom::camera::Camera;
 use umbra_geom::Light;
 
 use crate::error::{scoped, WgpuError};
-use crate::image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+use crate::image::Image;
 use crate::readback::Readback;
 use crate::scene::SceneGpu;
 use crate::volumes::{
@@ -27,48 +27,13 @@ use crate::volumes::{
 };
 
 /// The triangle id of a background sample (umbra-geom's, as umbra-gl's).
+pub use umbra_geom::frame_images::{CaptureFlags, FrameImages, LightCapture, LitMask, StencilMask};
 pub use umbra_geom::image::NO_TRIANGLE;
 
 const SCENE: &str = include_str!("shaders/scene.wgsl");
 
 /// Colour format of the frame.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
-/// For which lights a per-light image is read back.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum LightCapture {
-    /// No light.
-    #[default]
-    None,
-    /// Only the light with this index in [`FrameParams::lights`].
-    Light(usize),
-    /// Every light.
-    AllLights,
-}
-
-impl LightCapture {
-    /// Whether light `light` is captured.
-    pub fn includes(self, light: usize) -> bool {
-        match self {
-            LightCapture::None => false,
-            LightCapture::Light(i) => i == light,
-            LightCapture::AllLights => true,
-        }
-    }
-}
-
-/// Extra images [`Renderer::render`] reads back.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CaptureFlags {
-    /// World position per pixel ([`FrameImages::world_pos`]).
-    pub world_pos: bool,
-    /// Triangle id per pixel ([`FrameImages::triangle_id`]).
-    pub triangle_id: bool,
-    /// The stencil after these lights' volume passes ([`FrameImages::stencil`]).
-    pub stencil: LightCapture,
-    /// The final per-pixel decision "lit by this light" ([`FrameImages::lit_masks`]).
-    pub lit_mask: LightCapture,
-}
 
 /// Everything that defines one frame (umbra-gl's `FrameParams`, reversed-Z only, 8-bit
 /// stencil counter only).
@@ -155,39 +120,6 @@ impl FrameParams {
         }
         Ok(())
     }
-}
-
-/// Per-light stencil after the volume pass.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StencilMask {
-    /// Index of the light in [`FrameParams::lights`].
-    pub light: usize,
-    /// Its stencil, top row first.
-    pub image: StencilImage,
-}
-
-/// Per-light lit mask after that light's lighting pass (1 lit, 0 not).
-#[derive(Clone, Debug, PartialEq)]
-pub struct LitMask {
-    /// Index of the light in [`FrameParams::lights`].
-    pub light: usize,
-    /// Its lit mask, top row first.
-    pub image: LitMaskImage,
-}
-
-/// What [`Renderer::render`] reads back; all images top row first.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameImages {
-    /// The final colour.
-    pub rgba: RgbaImage,
-    /// World position per pixel, when captured.
-    pub world_pos: Option<WorldPosImage>,
-    /// Triangle id per pixel ([`NO_TRIANGLE`] on background), when captured.
-    pub triangle_id: Option<TriangleIdImage>,
-    /// In light order, one per captured light.
-    pub stencil: Vec<StencilMask>,
-    /// In light order, one per captured light.
-    pub lit_masks: Vec<LitMask>,
 }
 
 /// The frame uniform (`Frame` of shaders/scene.wgsl).
