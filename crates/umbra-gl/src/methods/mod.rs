@@ -37,6 +37,7 @@ pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod gs_silhouette;
 pub mod gs_triangle;
+pub mod hier;
 pub mod hier_triangle;
 pub mod none;
 pub mod shadow_map;
