@@ -33,8 +33,8 @@ pub struct ViewArgs {
     /// Scene: `default`, `box`, `spheres:N`, `spheres:N:T`, or a mesh file (.obj .ply .stl .gltf .glb, optionally .gz).
     #[arg(long, default_value = "default")]
     pub scene: String,
-    /// Light as X,Y,Z (point light, w = 1) or X,Y,Z,W (W = 0: directional, light coming from X,Y,Z).
-    /// Repeat for several lights. Default: derived from the scene's bounds.
+    /// Light as X,Y,Z (point light, w = 1) or X,Y,Z,W (W = 0: directional, light coming from X,Y,Z),
+    /// or `default`. Repeat for several lights. Default (and `default`): derived from the scene's bounds.
     #[arg(long, allow_hyphen_values = true)]
     pub light: Vec<String>,
     /// Camera position X,Y,Z. Default: derived from the scene's bounds.

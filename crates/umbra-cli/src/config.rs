@@ -197,7 +197,12 @@ impl ViewConfig {
         if up.iter().all(|&c| c == 0.0) {
             return Err(bad("--up", "must not be zero"));
         }
-        let explicit_lights = a.light.iter().map(|l| parse_light(l)).collect::<Result<Vec<_>, _>>()?;
+        // `default` names the light derived from the scene's bounds, resolved below.
+        let explicit_lights = a
+            .light
+            .iter()
+            .map(|l| if l.trim() == "default" { Ok(None) } else { parse_light(l).map(Some) })
+            .collect::<Result<Vec<_>, _>>()?;
         let eye = a.eye.as_deref().map(|s| parse_vec3("--eye", s)).transpose()?;
         let target = a.target.as_deref().map(|s| parse_vec3("--target", s)).transpose()?;
         let framing = Framing::of(&scene::parse(&a.scene)?);
@@ -219,7 +224,12 @@ impl ViewConfig {
         if camera.eye == camera.target {
             return Err(bad("--eye", "the eye and the target must differ"));
         }
-        let lights = if explicit_lights.is_empty() { vec![default_light(&bounds, framing)] } else { explicit_lights };
+        let derived = default_light(&bounds, framing);
+        let lights = if explicit_lights.is_empty() {
+            vec![derived]
+        } else {
+            explicit_lights.into_iter().map(|l| l.unwrap_or(derived)).collect()
+        };
         let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
         Ok(ViewConfig { scene_spec: a.scene.clone(), mesh, camera, lights, width, height, zpass, auto_zpass })
     }

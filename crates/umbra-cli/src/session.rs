@@ -22,19 +22,25 @@ fn gl_err(e: impl std::fmt::Display) -> CliError {
     CliError::Gl(e.to_string())
 }
 
+/// The view's mesh welded, as every backend draws it. An empty scene is an error that says so
+/// (there is nothing to draw).
+pub fn welded_scene(view: &ViewConfig) -> Result<Arc<WeldedMesh>, CliError> {
+    let welded = Arc::new(weld(&view.mesh));
+    if welded.triangles.is_empty() {
+        return Err(CliError::Other(format!(
+            "scene {:?} has no triangles to draw ({} triangles in the file, {} degenerate)",
+            view.scene_spec,
+            view.mesh.triangles.len(),
+            welded.degenerate_triangles
+        )));
+    }
+    Ok(welded)
+}
+
 impl Session {
-    /// Welds the mesh, creates the context and uploads the scene. An empty scene is an
-    /// error that says so (there is nothing to draw).
+    /// Welds the mesh ([`welded_scene`]), creates the context and uploads the scene.
     pub fn new(view: &ViewConfig) -> Result<Self, CliError> {
-        let welded = Arc::new(weld(&view.mesh));
-        if welded.triangles.is_empty() {
-            return Err(CliError::Other(format!(
-                "scene {:?} has no triangles to draw ({} triangles in the file, {} degenerate)",
-                view.scene_spec,
-                view.mesh.triangles.len(),
-                welded.degenerate_triangles
-            )));
-        }
+        let welded = welded_scene(view)?;
         let context = HeadlessContext::new().map_err(gl_err)?;
         let gl = context.gl();
         let scene = SceneGpu::upload(gl, welded.clone()).map_err(gl_err)?;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use umbra_geom::weld::WeldedMesh;
 use umbra_gl::RgbaImage;
-use umbra_oracle::{diff_image, mismatches_outside_band};
+use umbra_oracle::{diff_image_masked, mismatches_outside_band_masked};
 use umbra_verify::{verify_external_mask, verify_method, view_reference, MethodReport, ViewReference};
 
 use crate::args::VerifyArgs;
@@ -32,6 +32,20 @@ struct JsonRow<'a> {
     mismatches_outside_band: u64,
     reference_ms: f64,
     render_ms: f64,
+    /// The same counts per light, in `--light` order.
+    per_light: Vec<JsonLight>,
+}
+
+/// One light's counts in a `verify --json` row.
+#[derive(Serialize)]
+struct JsonLight {
+    light: [f32; 4],
+    samples: u64,
+    shadowed_reference: u64,
+    mismatches: u64,
+    band_samples: u64,
+    band_mismatches: u64,
+    mismatches_outside_band: u64,
 }
 
 /// `diff.png` → `diff.METHOD.png` when several images are written (and `.lightN` per light).
@@ -58,7 +72,8 @@ fn write_diff(
 ) -> Result<(), CliError> {
     let base: Vec<u8> = report.image.pixels.iter().flatten().copied().collect();
     let shadowed = &report.per_light[light].shadowed;
-    let rgba = diff_image(reference, shadowed, &base).map_err(|e| CliError::Other(e.to_string()))?;
+    let rgba =
+        diff_image_masked(reference, shadowed, &base, report.band_mask).map_err(|e| CliError::Other(e.to_string()))?;
     let pixels = rgba.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect();
     let img = RgbaImage { width: reference.width, height: reference.height, pixels };
     img.save_png(path).map_err(|e| CliError::Gl(e.to_string()))
@@ -74,8 +89,8 @@ fn explain(
     n: usize,
 ) -> Result<(), CliError> {
     for (lr, res) in reference.lights.iter().zip(&report.per_light) {
-        let outside =
-            mismatches_outside_band(&lr.reference, &res.shadowed).map_err(|e| CliError::Other(e.to_string()))?;
+        let outside = mismatches_outside_band_masked(&lr.reference, &res.shadowed, report.band_mask)
+            .map_err(|e| CliError::Other(e.to_string()))?;
         for &k in outside.iter().take(n) {
             let (x, y) = ((k % reference.width as usize) as u32, (k / reference.width as usize) as u32);
             let what = if res.shadowed[k] { "false shadow" } else { "false light" };
@@ -168,6 +183,19 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
                 mismatches_outside_band: r.metrics.mismatches_outside_band,
                 reference_ms: *reference_ms,
                 render_ms: r.render_ms,
+                per_light: r
+                    .per_light
+                    .iter()
+                    .map(|l| JsonLight {
+                        light: view.lights[l.light],
+                        samples: l.metrics.samples,
+                        shadowed_reference: l.metrics.shadowed_reference,
+                        mismatches: l.metrics.mismatches,
+                        band_samples: l.metrics.band_samples,
+                        band_mismatches: l.metrics.band_mismatches,
+                        mismatches_outside_band: l.metrics.mismatches_outside_band,
+                    })
+                    .collect(),
             })
             .collect();
         println!("{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Other(e.to_string()))?);

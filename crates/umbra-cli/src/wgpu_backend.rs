@@ -11,7 +11,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-use umbra_geom::weld::{weld, WeldedMesh};
+use umbra_geom::weld::WeldedMesh;
 use umbra_wgpu::methods::shadow_map::ShadowMapConfig;
 use umbra_wgpu::{HeadlessGpu, Renderer, SceneGpu, ShadowVolumes};
 
@@ -61,18 +61,10 @@ pub struct WgpuSession {
 }
 
 impl WgpuSession {
-    /// Welds the mesh, creates the device (a missing adapter is an error naming what to
-    /// install) and uploads the scene. An empty scene is an error that says so.
+    /// Welds the mesh ([`crate::session::welded_scene`]), creates the device (a missing adapter
+    /// is an error naming what to install) and uploads the scene.
     pub fn new(view: &ViewConfig) -> Result<Self, CliError> {
-        let welded = Arc::new(weld(&view.mesh));
-        if welded.triangles.is_empty() {
-            return Err(CliError::Other(format!(
-                "scene {:?} has no triangles to draw ({} triangles in the file, {} degenerate)",
-                view.scene_spec,
-                view.mesh.triangles.len(),
-                welded.degenerate_triangles
-            )));
-        }
+        let welded = crate::session::welded_scene(view)?;
         let gpu = HeadlessGpu::new().map_err(wgpu_err)?;
         let scene = SceneGpu::upload(&gpu.device, welded.clone()).map_err(wgpu_err)?;
         let renderer = Renderer::new(&gpu.device).map_err(wgpu_err)?;

@@ -3,28 +3,12 @@
 //! adapter exists (CI installs Mesa's lavapipe, so they run there).
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn umbra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_umbra")).args(args).output().expect("run umbra")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    serde_json::from_str(&stdout(o)).unwrap_or_else(|e| panic!("not JSON ({e}): {}\nstderr: {}", stdout(o), stderr(o)))
-}
+mod common;
+use common::*;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-wgpu");
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    tmp_dir("cli-wgpu").join(name)
 }
 
 /// Whether a wgpu adapter exists (else the test prints why it is skipped).

@@ -1,28 +1,12 @@
 //! The `umbra` binary as users run it: flags, JSON contracts, exit statuses, error messages.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn umbra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_umbra")).args(args).output().expect("run umbra")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::*;
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli");
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    serde_json::from_str(&stdout(o)).unwrap_or_else(|e| panic!("not JSON ({e}): {}\nstderr: {}", stdout(o), stderr(o)))
+    tmp_dir("cli").join(name)
 }
 
 #[test]
@@ -220,6 +204,38 @@ fn verify_json_contract_and_exit_status() {
     let o = umbra(&["verify", "--size", "160x120", "--counter", "int9"]);
     assert_eq!(o.status.code(), Some(2), "a bad --counter is a usage error");
     assert!(stderr(&o).contains("int9"), "{}", stderr(&o));
+}
+
+#[test]
+fn verify_json_per_light_and_the_default_light_by_name() {
+    // `--light default` is the light derived from the scene's bounds, so it can be combined
+    // with others; each row's `per_light` holds the counts of every light, which add up to the
+    // row's own.
+    let alone = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette", "--json"]);
+    let alone = json(&alone)[0].clone();
+    let o = umbra(&[
+        "verify",
+        "--size",
+        "160x120",
+        "--method",
+        "cpu-silhouette",
+        "--light",
+        "default",
+        "--light",
+        "0.4,1,0.3,0",
+        "--json",
+    ]);
+    let row = json(&o)[0].clone();
+    let lights = row["per_light"].as_array().expect("per_light array");
+    assert_eq!(lights.len(), 2, "{row}");
+    assert_eq!(lights[1]["light"], serde_json::json!([0.4, 1.0, 0.3, 0.0]), "{row}");
+    for key in
+        ["samples", "shadowed_reference", "mismatches", "band_samples", "band_mismatches", "mismatches_outside_band"]
+    {
+        assert_eq!(lights[0][key], alone[key], "{key}: the default light alone gives the same counts");
+        let sum = lights[0][key].as_u64().unwrap() + lights[1][key].as_u64().unwrap();
+        assert_eq!(row[key].as_u64().unwrap(), sum, "{key}");
+    }
 }
 
 #[test]

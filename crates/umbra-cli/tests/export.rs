@@ -5,16 +5,10 @@
 //! JSON path; Crytek Sponza exports in seconds (UMBRA_SCENES, skipped when absent).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::time::Instant;
 
-fn umbra(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_umbra")).args(args).output().expect("run umbra")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::*;
 
 fn tmp(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("export").join(name);

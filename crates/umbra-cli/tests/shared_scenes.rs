@@ -7,7 +7,9 @@
 //! Scenes come from UMBRA_SCENES (default ../shared/scenes beside the workspace); a missing
 //! scene is skipped with a message. The default test runs the methods that once failed here
 //! (one per family); `--ignored` runs every method:
-//! `cargo test --release -p umbra-cli --test shared_scenes -- --ignored`.
+//! `cargo test --release -p umbra-cli --test shared_scenes -- --ignored`. The whole grid of
+//! issue 16 (every exact method, default views and fly-through keyframes, four sizes, point
+//! and directional lights) is `scripts/exactness_grid.py` (hours).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -25,15 +27,23 @@ fn must_be_exact(method: &str) -> bool {
     !(method == "none" || method.starts_with("shadow-map") || method == "all-edges-invert")
 }
 
-/// Runs `umbra verify --json` on `file` with `methods`; asserts every exact method has no
-/// mismatch outside the band and band mismatches under 0.5 % of the band (issue 3's goal),
-/// and that the exit status says the same. Returns the number of methods checked.
+/// Runs `umbra verify --json` on `file` with `methods` at 1280x720 from the default camera;
+/// see [`verify_view`].
 fn verify_default_view(file: &str, methods: &str) -> usize {
+    verify_view(file, methods, (1280, 720), &[])
+}
+
+/// Runs `umbra verify --json` on `file` with `methods` at `size` with the extra `args`; asserts
+/// every exact method has no mismatch outside the band and band mismatches under 0.5 % of the
+/// band (issue 3's goal), and that the exit status says the same. Returns the number of
+/// methods checked.
+fn verify_view(file: &str, methods: &str, size: (u32, u32), args: &[&str]) -> usize {
     let path = scenes_dir().join(file);
     if !path.is_file() {
         eprintln!("SKIPPED: {} not found (set UMBRA_SCENES)", path.display());
         return 0;
     }
+    let size_arg = format!("{}x{}", size.0, size.1);
     let out = Command::new(env!("CARGO_BIN_EXE_umbra"))
         .args([
             "verify",
@@ -41,10 +51,13 @@ fn verify_default_view(file: &str, methods: &str) -> usize {
             path.to_str().expect("utf-8 path"),
             "--method",
             methods,
+            "--size",
+            &size_arg,
             "--json",
             "--explain",
             "5",
         ])
+        .args(args)
         .output()
         .expect("run umbra");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -60,7 +73,8 @@ fn verify_default_view(file: &str, methods: &str) -> usize {
         let band_mismatches = r["band_mismatches"].as_u64().expect("band_mismatches");
         eprintln!("{file} {method}: outside band {outside}, band mismatches {band_mismatches} / {band}");
         let samples = r["samples"].as_u64().expect("samples");
-        assert!(samples > 100_000 && samples <= 1280 * 720, "{file} {method}: {samples} samples at 1280x720");
+        let pixels = u64::from(size.0 * size.1) * (args.iter().filter(|&&a| a == "--light").count().max(1) as u64);
+        assert!(samples > pixels / 10 && samples <= pixels, "{file} {method}: {samples} samples at {size_arg}");
         if !must_be_exact(method) {
             continue;
         }
@@ -72,7 +86,7 @@ fn verify_default_view(file: &str, methods: &str) -> usize {
             failures.push(format!("{method}: {band_mismatches} band mismatches of {band} band samples (>= 0.5 %)"));
         }
     }
-    assert!(failures.is_empty(), "{file} at 1280x720, default view: {}\n{stderr}", failures.join("; "));
+    assert!(failures.is_empty(), "{file} at {size_arg} {args:?}: {}\n{stderr}", failures.join("; "));
     assert_eq!(out.status.code(), Some(0), "{file}: exit status with every exact method passing\n{stderr}");
     checked
 }
@@ -98,6 +112,24 @@ fn conference_default_view_is_exact() {
 fn sibenik_default_view_is_exact() {
     let n = verify_default_view("sibenik.obj.gz", ONCE_FAILED);
     assert!(n == 0 || n == 5, "{n} methods checked");
+}
+
+/// Issue 16: at the fly-through's first keyframe (bench/sponza.flythrough) at 1920x1080,
+/// gs-silhouette drew runs of false light along the curtains' edges: side faces of their
+/// double-layer edges (multiplicity 2) seen 7e-4 rad from edge-on, within 1e-6 pixel of the
+/// curtain samples, which llvmpipe's plane equations order differently for gs-silhouette's
+/// vertex order than for cpu-silhouette's. The envelope's side-face part makes them band
+/// (docs/exactness.md); every other sample must be exact, for the default point light and a
+/// directional one.
+#[test]
+fn crytek_sponza_flythrough_first_keyframe_at_1920x1080_is_exact() {
+    let n = verify_view(
+        "crytek-sponza.obj.gz",
+        "gs-silhouette,cpu-silhouette",
+        (1920, 1080),
+        &["--eye", "-8.5,1.5,-0.3", "--target", "4.0,2.5,0.0", "--light", "default", "--light", "0.3,1,0.2,0"],
+    );
+    assert!(n == 0 || n == 2, "{n} methods checked");
 }
 
 #[test]

@@ -11,6 +11,7 @@
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
 //! * [`camera`]: the infinite-far camera and its depth conventions, shared by every backend.
 //! * [`shadow_map`]: the cube and directional shadow-map matrices of the shadow-map baseline.
+//! * [`image`]: the images every backend reads back (top row first) and their PNG output.
 //!
 //! # Examples
 //!
@@ -92,6 +93,7 @@ pub mod adjacency;
 pub mod camera;
 pub mod clearance;
 pub mod edge_triangles;
+pub mod image;
 pub mod load;
 pub mod mesh;
 pub mod multiplicity;

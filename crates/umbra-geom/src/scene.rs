@@ -13,7 +13,8 @@
 //! * Anything else is a file path loaded with [`crate::load::load_path`].
 //!
 //! All solids are closed after an exact-position weld and wound counter-clockwise seen
-//! from outside; every generated mesh has per-vertex normals. Y is up.
+//! from outside; every generated solid has per-vertex normals ([`book`], a non-manifold test
+//! surface, has none). Y is up.
 
 use crate::load::{self, LoadError};
 use crate::Mesh;
@@ -398,6 +399,26 @@ pub fn tetrahedron(center: [f32; 3], radius: f32) -> Mesh {
         mesh.triangles.push([base, base + 1, base + 2]);
     }
     mesh
+}
+
+/// A "book": `pages` quads (two triangles each) hinged on the spine (0, 1, 0)-(0, 1, 1), page
+/// `i`'s free edge at `(cos a, 1 + 0.9 sin a)` with `a` spread evenly over 0.05π..0.95π: ONE
+/// edge with `pages` opposite vertices (multiplicities far beyond 3 bits), the torture input
+/// of the silhouette methods. No normals.
+pub fn book(pages: usize) -> Mesh {
+    let mut m = Mesh::default();
+    m.positions.push([0.0, 1.0, 0.0]);
+    m.positions.push([0.0, 1.0, 1.0]);
+    for i in 0..pages {
+        let angle = std::f32::consts::PI * (0.05 + 0.9 * i as f32 / (pages - 1).max(1) as f32);
+        let (x, y) = (angle.cos(), 1.0 + angle.sin() * 0.9);
+        let base = m.positions.len() as u32;
+        m.positions.push([x, y, 0.0]);
+        m.positions.push([x, y, 1.0]);
+        m.triangles.push([0, 1, base]);
+        m.triangles.push([1, base + 1, base]);
+    }
+    m
 }
 
 /// The `default` scene: a sphere, a box resting on the ground, a tilted torus and a

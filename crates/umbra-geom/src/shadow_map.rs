@@ -34,6 +34,21 @@ pub fn parse_name(name: &str) -> Option<(u32, bool)> {
     (resolution > 0).then_some((resolution, pcf))
 }
 
+/// `shadow-map-cube:RES[+pcf]` (what [`parse_name`] reads) as a method's registry name, a
+/// `&'static str`: each distinct name is allocated once and reused.
+pub fn name(resolution: u32, pcf: bool) -> &'static str {
+    use std::sync::Mutex;
+    static NAMES: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
+    let name = format!("{PREFIX}:{resolution}{}", if pcf { "+pcf" } else { "" });
+    let mut names = NAMES.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(n) = names.iter().find(|n| **n == name) {
+        return n;
+    }
+    let leaked: &'static str = Box::leak(name.into_boxed_str());
+    names.push(leaked);
+    leaked
+}
+
 /// The three rows (`x`, `y`, `w` of clip space) of cube face `face` as functions of the
 /// direction `r = p - L`, in GL face order +X -X +Y -Y +Z -Z: clip x / w = sc / |ma| and
 /// clip y / w = tc / |ma| of GL 4.5 Table 8.19, so texel (s, t) of a face receives the
@@ -113,6 +128,14 @@ pub fn map_clip_from_world(map: &DMat4, zero_to_one: bool) -> DMat4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn name_is_what_parse_name_reads_and_interned_once() {
+        assert_eq!(name(2048, false), "shadow-map-cube:2048");
+        assert_eq!(name(512, true), "shadow-map-cube:512+pcf");
+        assert_eq!(parse_name(name(77, true)), Some((77, true)));
+        assert!(std::ptr::eq(name(77, true), name(77, true)), "interned once");
+    }
 
     /// Every face maps a direction to clip x/w, y/w = the (sc, tc) / |ma| of GL's cube lookup,
     /// w = |ma| > 0 for the directions it owns, and window depth n / |ma| in both clip modes.

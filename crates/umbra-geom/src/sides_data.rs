@@ -133,6 +133,35 @@ pub fn record_count(adj: &EdgeAdjacency, max_mult: usize) -> usize {
     adj.opposite_start.windows(2).map(|w| records_for((w[1] - w[0]) as usize, max_mult)).sum()
 }
 
+/// One edge record of the split (see the module documentation): edge `edge` of the adjacency,
+/// its opposite slots `first..first + count`, and whether the edge needs several records.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecordRange {
+    /// Index of the edge in the adjacency.
+    pub edge: usize,
+    /// First opposite slot of the record (an index into `EdgeAdjacency::opposites`).
+    pub first: u32,
+    /// Opposite slots in the record, at most `max`.
+    pub count: u32,
+    /// The edge has more than `max` opposites (several records).
+    pub split: bool,
+}
+
+/// The edge records of `adj` at most `max` (at least 1) opposites each, in edge order: an edge
+/// with more opposites becomes consecutive records of consecutive opposites, all but the last
+/// full; an edge without opposites keeps one empty record. [`record_count`] of them.
+pub fn record_ranges(adj: &EdgeAdjacency, max: usize) -> impl Iterator<Item = RecordRange> + '_ {
+    let max = max.max(1) as u32;
+    (0..adj.len()).flat_map(move |edge| {
+        let (start, end) = (adj.opposite_start[edge], adj.opposite_start[edge + 1]);
+        let split = end - start > max;
+        (0..(end - start).div_ceil(max).max(1)).map(move |r| {
+            let first = start + r * max;
+            RecordRange { edge, first, count: (end - first).min(max), split }
+        })
+    })
+}
+
 /// The `maxMult` to use for `adj` with at most `limit` slots per record: the scene's largest
 /// number of opposite vertices, but no more than `limit`, and no more than the smallest
 /// count that holds 99.9 % of the edges in one record when larger counts are rare (each
@@ -308,6 +337,29 @@ mod tests {
         }
         // Unused slots of the last record are zero.
         assert_eq!(s.record(spine_records[2])[2 + 12..], [[0.0; 4]; 2]);
+    }
+
+    #[test]
+    fn record_ranges_split_like_the_sides_data() {
+        for (mesh, max) in [(book(1), 1), (book(7), 3), (book(7), 7), (weld(&reference_inputs()[0]), 2)] {
+            let adj = EdgeAdjacency::build(&mesh);
+            let ranges: Vec<RecordRange> = record_ranges(&adj, max).collect();
+            assert_eq!(ranges.len(), record_count(&adj, max), "max {max}");
+            let sides = build_sides_data(&mesh, &adj, max).expect("valid");
+            assert_eq!(sides.source_edge, ranges.iter().map(|r| r.edge as u32).collect::<Vec<_>>(), "max {max}");
+            for e in 0..adj.len() {
+                let of_edge: Vec<&RecordRange> = ranges.iter().filter(|r| r.edge == e).collect();
+                // Consecutive, covering the edge's opposites exactly, all but the last full.
+                let mut next = adj.opposite_start[e];
+                for (i, r) in of_edge.iter().enumerate() {
+                    assert_eq!(r.first, next);
+                    assert!(r.count as usize <= max && (i + 1 == of_edge.len() || r.count as usize == max));
+                    assert_eq!(r.split, of_edge.len() > 1);
+                    next += r.count;
+                }
+                assert_eq!(next, adj.opposite_start[e + 1], "edge {e}, max {max}");
+            }
+        }
     }
 
     #[test]

@@ -120,6 +120,37 @@ impl WeldedMesh {
     pub fn from_mesh(mesh: &Mesh) -> Self {
         weld(mesh)
     }
+
+    /// Every triangle's vertex indices are in range (a mesh built by hand may break what
+    /// [`weld`] guarantees): checked before a backend uploads it.
+    pub fn check_indices(&self) -> Result<(), IndexOutOfRange> {
+        match self.triangles.iter().flatten().find(|&&i| i as usize >= self.positions.len()) {
+            Some(&index) => Err(IndexOutOfRange { index, positions: self.positions.len() }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A triangle names a vertex the mesh does not have ([`WeldedMesh::check_indices`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("triangle index {index} out of range for {positions} positions")]
+pub struct IndexOutOfRange {
+    /// The first index out of range.
+    pub index: u32,
+    /// The mesh's number of positions.
+    pub positions: usize,
+}
+
+/// One unit normal per triangle ([`crate::mesh::flat_normal`]) as `[x, y, z, 0]`: the normal
+/// buffer the GPU scenes of umbra-gl and umbra-wgpu upload.
+pub fn triangle_normals(mesh: &WeldedMesh) -> Vec<[f32; 4]> {
+    mesh.triangles
+        .iter()
+        .map(|&t| {
+            let n = crate::mesh::flat_normal(&mesh.positions, t);
+            [n[0], n[1], n[2], 0.0]
+        })
+        .collect()
 }
 
 /// Bounds of the vertices the triangles use (what the GPU scenes of umbra-gl and umbra-wgpu report as their bounds); `None`
@@ -328,5 +359,26 @@ pub(crate) mod tests {
         let w = weld(&m);
         assert_eq!(w.triangles.len(), 0);
         assert_eq!(w.degenerate_triangles, 1);
+    }
+
+    #[test]
+    fn check_indices_names_the_first_index_out_of_range() {
+        let mut w = weld(&soup(&[[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]]));
+        assert_eq!(w.check_indices(), Ok(()));
+        w.triangles.push([0, 9, 3]);
+        let e = w.check_indices().unwrap_err();
+        assert_eq!(e, IndexOutOfRange { index: 9, positions: 3 });
+        assert_eq!(e.to_string(), "triangle index 9 out of range for 3 positions");
+    }
+
+    #[test]
+    fn triangle_normals_follow_the_winding_with_w_zero() {
+        // Counter-clockwise seen from +y, clockwise seen from +y, and zero-area (collinear).
+        let w = weld(&soup(&[
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
+            [[0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 1.0]],
+            [[0.0, 2.0, 0.0], [1.0, 2.0, 0.0], [2.0, 2.0, 0.0]],
+        ]));
+        assert_eq!(triangle_normals(&w), vec![[0.0, 1.0, 0.0, 0.0], [0.0, -1.0, 0.0, 0.0], [0.0; 4]]);
     }
 }

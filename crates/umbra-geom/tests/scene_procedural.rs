@@ -311,3 +311,17 @@ fn triangle_counts_never_overflow() {
     assert_eq!(scene::tessellation_for_target(u32::MAX, u64::MAX), None);
     assert_eq!(scene::tessellation_for_target(0, 1000), None);
 }
+
+#[test]
+fn book_has_one_spine_with_every_page_on_it() {
+    for pages in [3, 40] {
+        let mesh = umbra_geom::weld::weld(&scene::book(pages));
+        assert_eq!((mesh.triangles.len(), mesh.degenerate_triangles), (2 * pages, 0));
+        let adj = umbra_geom::EdgeAdjacency::build(&mesh);
+        // The spine, and per page its two sides, its diagonal and its outer edge.
+        assert_eq!(adj.len(), 1 + 4 * pages);
+        assert_eq!(adj.max_opposites(), pages);
+        assert_eq!((0..adj.len()).filter(|&e| adj.opposites(e).len() == pages).count(), 1, "one spine");
+        assert_eq!(adj.nonmanifold_edges(), 1);
+    }
+}

@@ -82,6 +82,12 @@ pub enum GlError {
     },
 }
 
+impl From<umbra_geom::image::PngError> for GlError {
+    fn from(e: umbra_geom::image::PngError) -> Self {
+        GlError::Png { path: e.path, detail: e.detail }
+    }
+}
+
 impl From<crate::camera::CameraError> for GlError {
     /// A camera that defines no view is an invalid parameter of the frame.
     fn from(e: crate::camera::CameraError) -> Self {

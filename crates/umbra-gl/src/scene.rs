@@ -22,6 +22,7 @@ use umbra_geom::{Aabb, EdgeAdjacency, WeldedMesh};
 /// Moved to umbra-geom (shared with umbra-wgpu); re-exported under their old paths.
 pub use umbra_geom::mesh::flat_normal;
 pub use umbra_geom::weld::triangle_bounds;
+use umbra_geom::weld::triangle_normals;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
@@ -67,12 +68,7 @@ impl SceneGpu {
     /// Uploads `mesh` (positions, indices, flat normals). Static data: `STATIC_DRAW`.
     pub fn upload(gl: &glow::Context, mesh: Arc<WeldedMesh>) -> Result<Self, GlError> {
         static NEXT_ID: AtomicU64 = AtomicU64::new(1);
-        if let Some(bad) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= mesh.positions.len()) {
-            return Err(GlError::InvalidParams(format!(
-                "triangle index {bad} out of range for {} positions",
-                mesh.positions.len()
-            )));
-        }
+        mesh.check_indices().map_err(|e| GlError::InvalidParams(e.to_string()))?;
         let index_count = mesh.triangles.len() * 3;
         if i32::try_from(index_count).is_err() {
             return Err(GlError::InvalidParams(format!(
@@ -80,14 +76,7 @@ impl SceneGpu {
                 mesh.triangles.len()
             )));
         }
-        let normals: Vec<[f32; 4]> = mesh
-            .triangles
-            .iter()
-            .map(|&t| {
-                let n = flat_normal(&mesh.positions, t);
-                [n[0], n[1], n[2], 0.0]
-            })
-            .collect();
+        let normals = triangle_normals(&mesh);
         let pos_bytes = as_bytes(&mesh.positions);
         let idx_bytes = as_bytes(&mesh.triangles);
         let nrm_bytes = as_bytes(&normals);

@@ -23,7 +23,7 @@ use crate::error::GlError;
 use crate::image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 
 /// Triangle id of a pixel where no triangle was drawn.
-pub const NO_TRIANGLE: u32 = u32::MAX;
+pub use umbra_geom::image::NO_TRIANGLE;
 
 /// Which optional attachments a [`RenderTarget`] has, and its depth format.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -13,29 +13,13 @@ mod common;
 use std::sync::Arc;
 
 use common::*;
+use umbra_geom::scene::book;
 use umbra_geom::silhouette::{extract, VolumeGeometry};
 use umbra_geom::{weld::weld, EdgeAdjacency, Mesh, WeldedMesh};
 use umbra_gl::methods::cs_silhouette::{CsSilhouette, MAX_OPPOSITES_PER_RECORD};
 use umbra_gl::{
     Camera, FrameParams, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilCapture, StencilImage,
 };
-
-/// `pages` quads hinged on the spine (0,1,0)-(0,1,1): one edge with `pages` opposites.
-fn book(pages: usize) -> Mesh {
-    let mut m = Mesh::default();
-    m.positions.push([0.0, 1.0, 0.0]);
-    m.positions.push([0.0, 1.0, 1.0]);
-    for i in 0..pages {
-        let angle = std::f32::consts::PI * (0.05 + 0.9 * i as f32 / (pages - 1).max(1) as f32);
-        let (x, y) = (angle.cos(), 1.0 + angle.sin() * 0.9);
-        let base = m.positions.len() as u32;
-        m.positions.push([x, y, 0.0]);
-        m.positions.push([x, y, 1.0]);
-        m.triangles.push([0, 1, base]);
-        m.triangles.push([1, base + 1, base]);
-    }
-    m
-}
 
 /// Sphere over ground plus a 40-page book.
 fn torture_mesh() -> Arc<WeldedMesh> {

@@ -10,8 +10,9 @@ mod common;
 use std::sync::Arc;
 
 use common::*;
+use umbra_geom::scene::book;
 use umbra_geom::sides_data::{caps_data_bytes, record_count, sides_data_bytes, MAX_MULT_LIMIT};
-use umbra_geom::{weld::weld, EdgeAdjacency, Mesh, WeldedMesh};
+use umbra_geom::{weld::weld, EdgeAdjacency, WeldedMesh};
 use umbra_gl::glow::{self, HasContext};
 use umbra_gl::methods::vs_silhouette::{
     caps_vertex_source, fragment_source, plan_layout, records_per_instance, sides_vertex_source, ShaderDialect,
@@ -21,23 +22,6 @@ use umbra_gl::program::{link_program, ShaderSource};
 use umbra_gl::{
     Camera, FrameParams, GlState, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilImage,
 };
-
-/// `pages` quads hinged on the spine (0,1,0)-(0,1,1): one edge with `pages` opposites.
-fn book(pages: usize) -> Mesh {
-    let mut m = Mesh::default();
-    m.positions.push([0.0, 1.0, 0.0]);
-    m.positions.push([0.0, 1.0, 1.0]);
-    for i in 0..pages {
-        let angle = std::f32::consts::PI * (0.05 + 0.9 * i as f32 / (pages - 1).max(1) as f32);
-        let (x, y) = (angle.cos(), 1.0 + angle.sin() * 0.9);
-        let base = m.positions.len() as u32;
-        m.positions.push([x, y, 0.0]);
-        m.positions.push([x, y, 1.0]);
-        m.triangles.push([0, 1, base]);
-        m.triangles.push([1, base + 1, base]);
-    }
-    m
-}
 
 /// Sphere over ground plus a 40-page book and a 3-fin edge, on the ground.
 fn torture_mesh() -> Arc<WeldedMesh> {

@@ -268,6 +268,97 @@ impl Bvh {
         });
     }
 
+    /// Calls `visit(triangle, vertices)` for every triangle but `ignore_triangle` whose
+    /// bounding box the segment `origin + t direction`, `t_min < t < t_max`, passes within
+    /// `margin` of (boxes grown by `margin`, conservative slab test), in the fixed traversal
+    /// order, until `visit` returns `true`. The candidates of a proximity test: the caller
+    /// measures the distances itself.
+    // The segment's four numbers, the triangle left out, the margin and the callback are the
+    // query itself, as in `near_edges`; a struct would only rename them.
+    #[allow(clippy::too_many_arguments)]
+    pub fn triangles_near_segment(
+        &self,
+        origin: [f64; 3],
+        direction: [f64; 3],
+        t_min: f64,
+        t_max: f64,
+        ignore_triangle: u32,
+        margin: f64,
+        mut visit: impl FnMut(u32, [[f32; 3]; 3]) -> bool,
+    ) {
+        self.traverse(origin, direction, t_min, t_max, margin, |bvh, i, _ray, _t_far| {
+            if bvh.ids[i] != ignore_triangle && visit(bvh.ids[i], bvh.vertices[i]) {
+                // Returning t_min as the new far limit empties the interval: traversal stops.
+                return Some(t_min);
+            }
+            None
+        });
+    }
+
+    /// Calls `visit(triangle, vertices)` for every triangle but `ignore_triangle` whose
+    /// bounding box lies within `radius` of `point`, until `visit` returns `true`.
+    pub fn triangles_near_point(
+        &self,
+        point: [f64; 3],
+        radius: f64,
+        ignore_triangle: u32,
+        mut visit: impl FnMut(u32, [[f32; 3]; 3]) -> bool,
+    ) {
+        if self.ids.is_empty() || radius.is_nan() {
+            return;
+        }
+        let near = |n: &Node| {
+            let d2: f64 = (0..3)
+                .map(|k| {
+                    let d = (f64::from(n.min[k]) - point[k]).max(point[k] - f64::from(n.max[k])).max(0.0);
+                    d * d
+                })
+                .sum();
+            d2 <= radius * radius
+        };
+        let mut stack = [0u32; STACK];
+        let mut top = 0usize;
+        if !near(&self.nodes[0]) {
+            return;
+        }
+        let mut node = 0usize;
+        loop {
+            let n = &self.nodes[node];
+            if n.count > 0 {
+                let first = n.first as usize;
+                for i in first..first + n.count as usize {
+                    if self.ids[i] != ignore_triangle && visit(self.ids[i], self.vertices[i]) {
+                        return;
+                    }
+                }
+            } else {
+                let left = n.first as usize;
+                match (near(&self.nodes[left]), near(&self.nodes[left + 1])) {
+                    (true, true) => {
+                        stack[top] = (left + 1) as u32;
+                        top += 1;
+                        node = left;
+                        continue;
+                    }
+                    (true, false) => {
+                        node = left;
+                        continue;
+                    }
+                    (false, true) => {
+                        node = left + 1;
+                        continue;
+                    }
+                    (false, false) => {}
+                }
+            }
+            if top == 0 {
+                return;
+            }
+            top -= 1;
+            node = stack[top] as usize;
+        }
+    }
+
     /// Closest-hit query over `t_min < t < t_max`. Among hits at exactly equal `t` (a ray through
     /// a shared edge) the one met first in the fixed traversal order wins, deterministically.
     pub fn intersect(&self, origin: [f64; 3], direction: [f64; 3], t_min: f64, t_max: f64) -> Option<Hit> {

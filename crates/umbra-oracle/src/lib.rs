@@ -4,25 +4,27 @@
 //! * [`watertight`]: Woop, Benthin, Wald 2013, "Watertight Ray/Triangle Intersection" (JCGT).
 //! * [`bvh`]: binned-SAH BVH (Wald 2007), parallel build, robust traversal (Ize 2013);
 //!   any-hit [`Bvh::occluded`] and closest-hit [`Bvh::intersect`].
-//! * [`mod@reference`]: per-sample shadow classes of the rasterized samples and the one-pixel
-//!   shadow-boundary band.
+//! * [`mod@reference`]: per-sample shadow classes of the rasterized samples and their band.
+//! * [`envelope`]: the precision envelope of a rasterized sample (GL's depth and sub-pixel
+//!   precision, llvmpipe's interpolation), which defines the band once.
 //! * [`metrics`]: mismatch counts of a method's stencil mask against the reference, and the
 //!   diff image.
 //! * [`synthetic`]: primary-ray samples from a pinhole camera, for tests and benchmarks only.
 
 pub mod bvh;
-pub mod edge_on;
+pub mod envelope;
 pub mod metrics;
 pub mod reference;
 pub mod synthetic;
 pub mod watertight;
 
 pub use bvh::{Bvh, Hit};
-pub use metrics::{compare, diff_image, mismatches_outside_band, Metrics};
-pub use reference::{
-    boundary_band, reference, reference_in_view, segment_epsilon, RasterView, Reference, SampleClass, Samples,
-    DEPTH_QUANTA,
+pub use envelope::{BandParts, DepthFormat, RasterView};
+pub use metrics::{
+    compare, compare_masked, diff_image, diff_image_masked, mismatches_outside_band, mismatches_outside_band_masked,
+    Metrics,
 };
+pub use reference::{boundary_band, reference, reference_in_view, segment_epsilon, Reference, SampleClass, Samples};
 
 /// Bad input to the oracle. Pixel coordinates are `(x, y)` with `y = 0` the top row.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -4,6 +4,7 @@
 //! band must match exactly") is `mismatches_outside_band == 0`. Background pixels are not
 //! samples: whatever the method's mask holds there is ignored.
 
+use crate::envelope::BandParts;
 use crate::reference::{Reference, SampleClass};
 use crate::OracleError;
 
@@ -39,15 +40,46 @@ fn check(reference: &Reference, what: &'static str, actual: usize) -> Result<(),
             });
         }
     }
+    // A reference built without parts (by hand) is judged by its band alone.
+    if !reference.parts.is_empty() && reference.parts.len() != expected {
+        return Err(OracleError::SizeMismatch {
+            what: "reference band parts",
+            expected,
+            actual: reference.parts.len(),
+            width: reference.width,
+            height: reference.height,
+        });
+    }
     Ok(())
 }
 
 /// Counts mismatches of `method_shadowed` (per pixel, same layout as the reference: row-major,
-/// top row first; `true` = the method put the pixel in shadow) against the reference.
+/// top row first; `true` = the method put the pixel in shadow) against the reference, with
+/// the band of every method ([`Reference::band`]).
 pub fn compare(reference: &Reference, method_shadowed: &[bool]) -> Result<Metrics, OracleError> {
+    compare_masked(reference, method_shadowed, BandParts::ALL)
+}
+
+/// Whether sample `i` is band for a method judged by the band parts in `mask`.
+fn band_at(reference: &Reference, i: usize, mask: BandParts) -> bool {
+    match reference.parts.get(i) {
+        Some(p) => p.intersects(mask),
+        // A reference built by hand without parts: its band as it is.
+        None => reference.band[i],
+    }
+}
+
+/// [`compare`] for a method judged by the band parts in `mask` (e.g.
+/// [`BandParts::SILHOUETTE`] for a method that draws no cancelling faces).
+pub fn compare_masked(
+    reference: &Reference,
+    method_shadowed: &[bool],
+    mask: BandParts,
+) -> Result<Metrics, OracleError> {
     check(reference, "method mask", method_shadowed.len())?;
     let mut m = Metrics::default();
-    for ((&class, &band), &shadowed) in reference.class.iter().zip(&reference.band).zip(method_shadowed) {
+    for (i, (&class, &shadowed)) in reference.class.iter().zip(method_shadowed).enumerate() {
+        let band = band_at(reference, i, mask);
         let reference_shadowed = match class {
             SampleClass::Background => continue,
             SampleClass::Lit => false,
@@ -71,12 +103,21 @@ pub fn compare(reference: &Reference, method_shadowed: &[bool]) -> Result<Metric
 /// The pixels (indices, row-major) where `method_shadowed` differs from the reference outside
 /// the band: the samples [`Metrics::mismatches_outside_band`] counts, for diagnosis.
 pub fn mismatches_outside_band(reference: &Reference, method_shadowed: &[bool]) -> Result<Vec<usize>, OracleError> {
+    mismatches_outside_band_masked(reference, method_shadowed, BandParts::ALL)
+}
+
+/// [`mismatches_outside_band`] for a method judged by the band parts in `mask`.
+pub fn mismatches_outside_band_masked(
+    reference: &Reference,
+    method_shadowed: &[bool],
+    mask: BandParts,
+) -> Result<Vec<usize>, OracleError> {
     check(reference, "method mask", method_shadowed.len())?;
     Ok((0..method_shadowed.len())
         .filter(|&i| {
             let class = reference.class[i];
             class != SampleClass::Background
-                && !reference.band[i]
+                && !band_at(reference, i, mask)
                 && method_shadowed[i] != (class == SampleClass::Shadowed)
         })
         .collect())
@@ -97,6 +138,16 @@ pub const DIM: u16 = 102;
 /// (matching samples and background) the `base_rgba` image dimmed, alpha opaque.
 /// `base_rgba` must use the same layout (flip `glReadPixels` rows first).
 pub fn diff_image(reference: &Reference, method_shadowed: &[bool], base_rgba: &[u8]) -> Result<Vec<u8>, OracleError> {
+    diff_image_masked(reference, method_shadowed, base_rgba, BandParts::ALL)
+}
+
+/// [`diff_image`] for a method judged by the band parts in `mask`.
+pub fn diff_image_masked(
+    reference: &Reference,
+    method_shadowed: &[bool],
+    base_rgba: &[u8],
+    mask: BandParts,
+) -> Result<Vec<u8>, OracleError> {
     check(reference, "method mask", method_shadowed.len())?;
     let pixels = reference.class.len();
     if base_rgba.len() != 4 * pixels {
@@ -112,7 +163,7 @@ pub fn diff_image(reference: &Reference, method_shadowed: &[bool], base_rgba: &[
     for i in 0..pixels {
         let shadowed = method_shadowed[i];
         let colour = match reference.class[i] {
-            _ if reference.band[i] && reference.class[i] != SampleClass::Background => BAND,
+            _ if band_at(reference, i, mask) && reference.class[i] != SampleClass::Background => BAND,
             SampleClass::Lit if shadowed => FALSE_SHADOW,
             SampleClass::Shadowed if !shadowed => FALSE_LIGHT,
             _ => {

@@ -15,7 +15,7 @@ use SampleClass::{Background as B, Lit as L, Shadowed as S};
 fn four_by_three() -> Reference {
     let class = vec![L, L, S, S, L, L, S, S, B, B, B, B];
     let band = boundary_band(4, 3, &class, &[false; 12]);
-    Reference { width: 4, height: 3, class, band }
+    Reference { width: 4, height: 3, class, band, parts: Vec::new() }
 }
 
 #[test]

@@ -91,30 +91,6 @@ fn run(scene: &Scene, pos: &[[f32; 3]], tri: &[u32], w: u32, h: u32, light: [f32
     reference(&mesh, &bvh, &samples, light, eye).unwrap()
 }
 
-/// Expected band from an expected class image: 3x3 neighbourhood (clipped) holds both classes.
-fn band_of(class: &[SampleClass], w: usize, h: usize) -> Vec<bool> {
-    let mut band = vec![false; w * h];
-    for y in 0..h {
-        for x in 0..w {
-            if class[y * w + x] == SampleClass::Background {
-                continue;
-            }
-            let mut seen = (false, false);
-            for ny in y.saturating_sub(1)..=(y + 1).min(h - 1) {
-                for nx in x.saturating_sub(1)..=(x + 1).min(w - 1) {
-                    match class[ny * w + nx] {
-                        SampleClass::Lit => seen.0 = true,
-                        SampleClass::Shadowed => seen.1 = true,
-                        SampleClass::Background => {}
-                    }
-                }
-            }
-            band[y * w + x] = seen.0 && seen.1;
-        }
-    }
-    band
-}
-
 fn count(class: &[SampleClass], c: SampleClass) -> usize {
     class.iter().filter(|&&k| k == c).count()
 }
@@ -136,14 +112,18 @@ fn point_light_above_square_occluder() {
         assert_eq!(r.class, expected, "flip = {flip}");
         // Shadowed: pixel centres -1.05..=1.05 on both axes, 22 x 22 = 484.
         assert_eq!(count(&r.class, SampleClass::Shadowed), 484);
-        // Band: the inner ring of the 22x22 square (22*4 - 4 = 84) and the ring around it
-        // (24*4 - 4 = 92; its corners see the inner square's corners diagonally) = 176.
-        assert_eq!(r.band, band_of(&expected, 60, 60));
-        assert_eq!(r.band.iter().filter(|&&b| b).count(), 176);
+        // Band: no sample. The nearest pixel centres lie 0.05 from the boundary, while without
+        // a view the envelope is only the position's rounding (2^-20 of ~20 units): a whole
+        // pixel next to a shadow boundary is judged like any other (the 3x3 rule of earlier
+        // versions would have excused 176 of them).
+        // (Pixel centres on a ground cell's diagonal are CANCELLING band: see
+        // sample_on_its_own_triangles_edge_is_band_where_faces_are_drawn.)
+        assert!(r.parts.iter().all(|p| !p.intersects(umbra_oracle::BandParts::SILHOUETTE)), "flip = {flip}");
+        assert_eq!(umbra_oracle::boundary_band(60, 60, &expected, &[false; 3600]).iter().filter(|&&b| b).count(), 176);
         // Far samples: corner is lit and not band, centre is shadowed and not band.
         assert_eq!((r.class[0], r.band[0]), (SampleClass::Lit, false));
         let centre = 30 * 60 + 30;
-        assert_eq!((r.class[centre], r.band[centre]), (SampleClass::Shadowed, false));
+        assert_eq!(r.class[centre], SampleClass::Shadowed);
     }
 }
 
@@ -156,7 +136,7 @@ fn occluder_beyond_a_point_light_casts_no_shadow() {
     let (pos, tri) = ground_samples();
     let r = run(&scene, &pos, &tri, 60, 60, [0.0, 0.5, 0.0, 1.0], [0.0, 20.0, 5.0]);
     assert_eq!(count(&r.class, SampleClass::Lit), 3600);
-    assert!(r.band.iter().all(|&b| !b));
+    assert!(r.parts.iter().all(|p| !p.intersects(umbra_oracle::BandParts::SILHOUETTE)));
 }
 
 #[test]
@@ -183,9 +163,10 @@ fn directional_light_shifts_the_shadow() {
         .map(|p| if (p[0] + 0.5).abs() < 1.0 && p[2].abs() < 1.0 { SampleClass::Shadowed } else { SampleClass::Lit })
         .collect();
     assert_eq!(r.class, expected);
-    // 20 x 20 pixel centres inside.
+    // 20 x 20 pixel centres inside, none near the boundary: no band (but the cancelling faces
+    // of the ground's own diagonals).
     assert_eq!(count(&r.class, SampleClass::Shadowed), 400);
-    assert_eq!(r.band, band_of(&expected, 60, 60));
+    assert!(r.parts.iter().all(|p| !p.intersects(umbra_oracle::BandParts::SILHOUETTE)));
 }
 
 #[test]
@@ -271,14 +252,17 @@ fn concave_crease_neighbour_does_shadow() {
 
 #[test]
 fn grazing_samples_are_band() {
-    // One-pixel images, so no neighbour can put the sample in the band: band == grazing.
     // Ground normal (0,1,0); directional light (1, ly, 0): |N.L| / |N||L| = ly / sqrt(1 + ly^2).
+    // FACING: the lighting pass's f32 dot product is good to 2^-20 (~1e-6); the ground cell's
+    // f32 orientation (legs 1 and sqrt 2, light length 1) to 32 2^-24 sqrt 2 ~ 2.7e-6. Below
+    // that the method's facing is rounding; above it, it is not.
     let scene = Scene::with_ground();
     let pos = vec![[0.3f32, 0.0, 0.2]];
     let tri = vec![Scene::ground_triangle(0.3, 0.2)];
-    for (ly, grazing) in [(0.0f32, true), (1e-5, true), (-1e-5, true), (1e-3, false), (1.0, false)] {
+    for (ly, grazing) in [(0.0f32, true), (1e-6, true), (-1e-6, true), (1e-4, false), (-1e-4, false), (1.0, false)] {
         let r = run(&scene, &pos, &tri, 1, 1, [1.0, ly, 0.0, 0.0], [0.0, 5.0, 0.0]);
         assert_eq!(r.band[0], grazing, "ly = {ly}");
+        assert_eq!(r.parts[0].contains(umbra_oracle::BandParts::FACING), grazing, "ly = {ly}");
     }
     // Point light in the ground's plane.
     let r = run(&scene, &pos, &tri, 1, 1, [5.0, 0.0, 5.0, 1.0], [0.0, 5.0, 0.0]);
@@ -348,19 +332,19 @@ fn epsilon_scales_with_the_scene() {
 }
 
 /// One ground sample at (x, 0, z) under the square occluder at y = 1, point light (0, 10, 0):
-/// (class, band) of a 1x1 image, where the 3x3 rule cannot put anything in the band.
+/// (class, band for a silhouette method) of a 1x1 image.
 fn single_sample_under_square(x: f32, z: f32) -> (SampleClass, bool) {
     let mut scene = Scene::with_ground();
     scene.add_square_occluder(1.0, false);
     let r = run(&scene, &[[x, 0.0, z]], &[Scene::ground_triangle(x, z)], 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
-    (r.class[0], r.band[0])
+    (r.class[0], r.parts[0].intersects(umbra_oracle::BandParts::SILHOUETTE))
 }
 
 #[test]
-fn near_boundary_sample_is_band_where_the_3x3_rule_sees_one_class() {
+fn sample_on_a_shadow_boundary_is_band() {
     // The shadow boundary on the ground is x = 10/9: the segment from there to the light grazes
-    // the occluder's edge x = 1. Nearest f32 to 10/9 lies within 1e-7 of it: band, whatever
-    // its class.
+    // the occluder's edge x = 1, so the edge's side face passes through the sample. Nearest f32
+    // to 10/9 lies within 1e-7 of it: band, whatever its class.
     let (_, band) = single_sample_under_square(10.0 / 9.0, 0.0);
     assert!(band, "a sample on the shadow boundary must be band");
     // 1e-3 away (far above the 2^-20 relative margin, ~2e-5 here): a plain sample again.
@@ -369,18 +353,33 @@ fn near_boundary_sample_is_band_where_the_3x3_rule_sees_one_class() {
 }
 
 #[test]
-fn ray_through_an_occluders_interior_edge_is_not_band() {
+fn ray_through_an_occluders_interior_edge_is_band_for_per_triangle_volumes_only() {
+    use umbra_oracle::BandParts;
     // (0, 0, 0) -> light passes exactly through the occluder's diagonal (its two triangles'
-    // shared edge): near an edge of each triangle, yet every nearby segment is occluded.
-    assert_eq!(single_sample_under_square(0.0, 0.0), (SampleClass::Shadowed, false));
-    assert_eq!(single_sample_under_square(0.5, 0.5), (SampleClass::Shadowed, false));
+    // shared edge, which casts nothing: both face the light). A silhouette method draws no
+    // face there; a per-triangle method draws two opposite ones through the sample, which
+    // cancel only if the depth test orders both alike: CANCELLING, nothing else.
+    for (x, z) in [(0.0, 0.0), (0.5, 0.5)] {
+        let mut scene = Scene::with_ground();
+        scene.add_square_occluder(1.0, false);
+        let r =
+            run(&scene, &[[x, 0.0, z]], &[Scene::ground_triangle(x, z)], 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
+        assert_eq!((r.class[0], r.parts[0]), (SampleClass::Shadowed, BandParts::CANCELLING), "({x}, {z})");
+        assert!(!r.parts[0].intersects(BandParts::SILHOUETTE));
+    }
+    // Off the diagonal: nothing.
+    assert_eq!(single_sample_under_square(0.5, 0.3), (SampleClass::Shadowed, false));
 }
 
 #[test]
-fn snapped_samples_on_their_own_triangles_edge_are_band() {
-    use umbra_oracle::{reference_in_view, RasterView};
+fn sample_on_its_own_triangles_edge_is_band_where_faces_are_drawn() {
+    use umbra_oracle::{reference_in_view, BandParts, RasterView};
     // Top-down orthographic view of ground_samples(): clip x = x / 3, clip y = -z / 3, w = 1,
     // so pixel centres are exactly the sample positions. Ground only, light above: all lit.
+    // Pixel centres on a cell's diagonal lie on an edge shared by two ground triangles facing
+    // the light: it casts nothing, but per-triangle methods draw two opposite faces through
+    // it (CANCELLING). The ground's outer edges cast, but no centre comes within the lateral
+    // bound of them (nor of a grid line x or z = integer: 0.5 pixel away).
     let scene = Scene::with_ground();
     let (pos, tri) = ground_samples();
     let mesh = scene.mesh();
@@ -390,19 +389,17 @@ fn snapped_samples_on_their_own_triangles_edge_are_band() {
     clip_from_world[0] = 1.0 / 3.0; // x_clip from x
     clip_from_world[9] = -1.0 / 3.0; // y_clip from z (column 2, row 1)
     clip_from_world[15] = 1.0; // w = 1
-    let view = RasterView { clip_from_world };
+    let view = RasterView::new(clip_from_world);
     let light = [0.0, 10.0, 0.0, 1.0];
     let eye = [0.0, 20.0, 5.0];
     let plain = reference(&mesh, &bvh, &samples, light, eye).unwrap();
-    assert!(plain.band.iter().all(|&b| !b), "without the view nothing is band");
     let r = reference_in_view(&mesh, &bvh, &samples, light, eye, Some(&view)).unwrap();
     assert_eq!(r.class, plain.class, "the view changes the band only");
-    // Pixel centres on a cell's diagonal x + z = integer: px + py + 1 a multiple of 10. No
-    // centre comes near a grid line x or z = integer (0.5 pixel away).
     for py in 0..60usize {
         for px in 0..60usize {
             let on_diagonal = (px + py + 1) % 10 == 0;
-            assert_eq!(r.band[py * 60 + px], on_diagonal, "pixel ({px}, {py})");
+            let parts = r.parts[py * 60 + px];
+            assert_eq!(parts, if on_diagonal { BandParts::CANCELLING } else { BandParts::NONE }, "pixel ({px}, {py})");
         }
     }
 }
@@ -438,20 +435,39 @@ fn clip_from_world_looking(eye: [f64; 3], target: [f64; 3], fovy_degrees: f64, a
 }
 
 #[test]
-fn depth_margin_is_a_few_depth_steps_along_the_view_ray() {
-    use umbra_oracle::{RasterView, DEPTH_QUANTA};
+fn depth_margin_is_two_depth_steps_along_the_view_ray() {
+    use umbra_oracle::envelope::DEPTH_STEPS;
+    use umbra_oracle::{DepthFormat, RasterView};
     // Standard infinite projection: window depth 1 - near / d on the axis, d(depth)/dd =
-    // near / d^2, depth steps of 2^-24 (24-bit, and f32 just below 1): the margin is
-    // DEPTH_QUANTA 2^-24 d^2 / near.
+    // near / d^2. DEPTH24: r = 2^-24; a float buffer: r = 2^-23 for a face that may reach
+    // depth 1 (GL 4.5 Section 14.6.5). The margin is DEPTH_STEPS r d^2 / near.
     let (eye, near) = ([0.0, 0.0, 0.0], 0.1);
-    let view = RasterView { clip_from_world: clip_from_world_looking(eye, [0.0, 0.0, -1.0], 60.0, 1.0, near) };
-    for d in [1.0, 10.0, 100.0] {
-        let expected = DEPTH_QUANTA / 16_777_216.0 * d * d / near;
-        let m = view.depth_margin([0.0, 0.0, -d], eye);
-        assert!((m / expected - 1.0).abs() < 1e-6, "d = {d}: margin {m}, expected {expected}");
+    let mut view = RasterView::new(clip_from_world_looking(eye, [0.0, 0.0, -1.0], 60.0, 1.0, near));
+    for (format, r) in [(DepthFormat::Fixed(24), 2f64.powi(-24)), (DepthFormat::Float32, 2f64.powi(-23))] {
+        view.depth = format;
+        for d in [1.0, 10.0, 100.0] {
+            let expected = DEPTH_STEPS * r * d * d / near;
+            let m = view.depth_margin([0.0, 0.0, -d], eye);
+            assert!((m / expected - 1.0).abs() < 1e-6, "d = {d}: margin {m}, expected {expected}");
+        }
     }
     // Behind the eye: no depth, no margin.
     assert_eq!(view.depth_margin([0.0, 0.0, 5.0], eye), 0.0);
+}
+
+#[test]
+fn lateral_bound_is_the_snapping_and_llvmpipes_plane_equations() {
+    use umbra_oracle::RasterView;
+    let mut view = RasterView::new(clip_from_world_looking([0.0; 3], [0.0, 0.0, -1.0], 60.0, 16.0 / 9.0, 0.1));
+    view.subpixel_bits = 8;
+    // Two primitives snapped to 1/256 pixel: 2 sqrt 2 / 512; two plane equations with 8 f32
+    // roundings of |grad z| (W + H) each: 16 2^-24 (W + H).
+    let expected = 2.0 * 2f64.sqrt() / 512.0 + 16.0 * 2f64.powi(-24) * (1920.0 + 1080.0);
+    assert!((view.lateral_pixels(1920, 1080) - expected).abs() < 1e-15);
+    assert!(view.lateral_pixels(1920, 1080) < 0.01, "far below a pixel");
+    // The footprint of a pixel 10 units down the axis: 2 tan(30 deg) 10 / 1080.
+    let fp = view.footprint([0.0, 0.0, -10.0], 1920, 1080);
+    assert!((fp - 2.0 * 30f64.to_radians().tan() * 10.0 / 1080.0).abs() < 1e-12, "{fp}");
 }
 
 /// The ground sample (x, 0, 0.3) under the square occluder at y = 1, point light (0, 10, 0)
@@ -459,6 +475,8 @@ fn depth_margin_is_a_few_depth_steps_along_the_view_ray() {
 /// (0, 20, 5) with near plane `near`: (class, band) with the view.
 fn depth_limited_sample(x: f32, near: f64) -> (SampleClass, bool) {
     use umbra_oracle::{reference_in_view, RasterView};
+    let mut view = RasterView::new(clip_from_world_looking([0.0, 20.0, 5.0], [0.0, 0.0, 0.0], 60.0, 1.0, near));
+    view.subpixel_bits = 8;
     let mut scene = Scene::with_ground();
     scene.add_square_occluder(1.0, false);
     let mesh = scene.mesh();
@@ -475,21 +493,22 @@ fn depth_limited_sample(x: f32, near: f64) -> (SampleClass, bool) {
     pos[py * 64 + px] = s;
     tri[py * 64 + px] = Scene::ground_triangle(s[0], s[2]);
     let samples = Samples { width: 64, height: 64, world_pos: &pos, triangle: &tri };
-    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world }))
-        .unwrap();
+    assert_eq!(view.clip_from_world, clip_from_world);
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&view)).unwrap();
     (r.class[py * 64 + px], r.band[py * 64 + px])
 }
 
 #[test]
 fn depth_limited_sample_near_a_boundary_is_band() {
-    // 1e-3 beyond the boundary x = 10/9 at ~20.6 units from the eye. A 0.01 near plane makes
-    // 4 depth steps there 4 * 2^-24 * 20.6^2 / 0.01 ~ 1e-2 units: the depth test cannot say on
-    // which side of the volume's side face the sample lies: band.
-    assert_eq!(depth_limited_sample(10.0 / 9.0 + 1e-3, 0.01), (SampleClass::Lit, true));
-    assert_eq!(depth_limited_sample(10.0 / 9.0 - 1e-3, 0.01), (SampleClass::Shadowed, true));
-    // A 1.0 near plane: 1e-4 units, far below 1e-3: a plain sample.
-    assert_eq!(depth_limited_sample(10.0 / 9.0 + 1e-3, 1.0), (SampleClass::Lit, false));
-    assert_eq!(depth_limited_sample(10.0 / 9.0 - 1e-3, 1.0), (SampleClass::Shadowed, false));
+    // 5e-3 beyond the boundary x = 10/9 at ~20.6 units from the eye (the side face ~4.5e-3
+    // away). A 0.01 near plane makes 2 float depth steps there 2 * 2^-23 * 20.6^2 / 0.01 ~
+    // 1e-2 units: the depth test cannot say on which side of the face the sample lies: band.
+    // (The lateral bound, 2 sqrt 2 / 512 pixel of ~0.37 units, adds 2e-3.)
+    assert_eq!(depth_limited_sample(10.0 / 9.0 + 5e-3, 0.01), (SampleClass::Lit, true));
+    assert_eq!(depth_limited_sample(10.0 / 9.0 - 5e-3, 0.01), (SampleClass::Shadowed, true));
+    // A 1.0 near plane: 1e-4 units of depth, 2.1e-3 in all: a plain sample.
+    assert_eq!(depth_limited_sample(10.0 / 9.0 + 5e-3, 1.0), (SampleClass::Lit, false));
+    assert_eq!(depth_limited_sample(10.0 / 9.0 - 5e-3, 1.0), (SampleClass::Shadowed, false));
     // Far from the boundary nothing changes, whatever the near plane.
     assert_eq!(depth_limited_sample(1.5, 0.01), (SampleClass::Lit, false));
 }
@@ -505,8 +524,8 @@ fn sample_lit_only_by_the_epsilon_is_band() {
     let tri = [Scene::ground_triangle(s[0], s[2])];
     let r = run(&scene, &[s], &tri, 1, 1, [0.0, 10.0, 0.0, 1.0], [0.0, 20.0, 5.0]);
     assert_eq!((r.class[0], r.band[0]), (SampleClass::Lit, true));
-    // Its edge passing 1e-6 beside the segment (no hit) within eps: a method may still count
-    // the sample in the occluder's volume (the probes moved by the ~2e-5 margin hit it): band.
+    // Its edge passing 1e-6 beside the segment (no hit) within eps: the side face of that open
+    // edge passes within the sample's envelope (2^-20 of ~21 units, 2e-5): band.
     let p = [0, 1, 2].map(|k| f64::from(s[k]) + f64::from(h) / 10.0 * ([0.0, 10.0, 0.0][k] - f64::from(s[k])));
     let x_edge = (p[0] + 1e-6) as f32;
     let mut scene = Scene::with_ground();
@@ -520,68 +539,13 @@ fn sample_lit_only_by_the_epsilon_is_band() {
     assert_eq!((r.class[0], r.band[0]), (SampleClass::Shadowed, false));
 }
 
-#[test]
-fn side_face_seen_edge_on_marks_its_line() {
-    use umbra_oracle::edge_on::{mark_edge_on, side_casting_edges, EDGE_ON_PIXELS};
-    use umbra_oracle::RasterView;
-    // The square occluder's edge x = 1 (y = 1) and the light (0, 10, 0) span the plane
-    // x = 1 - (y - 1) / 9. An eye in that plane sees the edge's side face edge-on: its image
-    // is a line of the 64x64 image; every sample pixel within EDGE_ON_PIXELS of it is marked.
-    let mut scene = Scene::new();
-    scene.add_square_occluder(1.0, false);
-    let mesh = scene.mesh();
-    let light = [0.0, 10.0, 0.0, 1.0];
-    let run_at = |eye: [f64; 3]| {
-        let clip_from_world = clip_from_world_looking(eye, [1.0, 0.0, 0.0], 60.0, 1.0, 0.1);
-        let view = RasterView { clip_from_world };
-        let mut band = vec![false; 64 * 64];
-        let casting = side_casting_edges(&mesh, light);
-        let faces = mark_edge_on(&mesh, &casting, light, eye, &view, 64, 64, &mut band, |_| true);
-        (faces, band, clip_from_world)
-    };
-    let in_plane = [1.0 - 19.0 / 9.0, 20.0, 5.0];
-    let (faces, band, m) = run_at(in_plane);
-    assert_eq!(faces, 1, "only the x = 1 edge's side face is edge-on");
-    // The plane's image: project two points of the plane (the wedge's foot on the ground lies
-    // on it too), then compare per pixel. Only the face's own extent is marked.
-    let project = |p: [f64; 3]| {
-        let row = |r: usize| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
-        [(row(0) / row(3) + 1.0) * 32.0, (1.0 - row(1) / row(3)) * 32.0]
-    };
-    let (a, b) = (project([10.0 / 9.0, 0.0, -3.0]), project([10.0 / 9.0, 0.0, 3.0]));
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let len = dx.hypot(dy);
-    let mut marked = 0;
-    for y in 0..64 {
-        for x in 0..64 {
-            if band[y * 64 + x] {
-                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
-                let d = ((cx - a[0]) * dy - (cy - a[1]) * dx).abs() / len;
-                assert!(d < EDGE_ON_PIXELS + 1e-6, "pixel ({x}, {y}) marked {d} px from the line");
-                marked += 1;
-            }
-        }
-    }
-    // Points of the face itself (L + s ((1, 1, 0) - L), s > 1): their pixels are marked.
-    for s in [1.02, 1.05, 1.1] {
-        let p = project([s, 10.0 - 9.0 * s, 0.0]);
-        let (x, y) = (p[0] as usize, p[1] as usize);
-        assert!(band[y * 64 + x], "face point s = {s} at pixel ({x}, {y}) not marked");
-    }
-    assert!(marked >= 20, "a piece of line: {marked} pixels");
-    // One unit out of the plane, the face is seen at a visible angle: nothing is marked.
-    let (faces, band, _) = run_at([in_plane[0] - 1.0, 20.0, 5.0]);
-    assert_eq!(faces, 0);
-    assert!(band.iter().all(|&b| !b));
-}
-
 /// A ground triangle at y = 0 and, under it, a vertical quad x = 1, y in [-1, 0], whose top
 /// edge lies in the ground's plane (a T-junction: an object's face meeting a floor). Point
 /// light (0, 10, 0) above: the quad's top edge is open, so it casts a side face, down and
 /// away from the light, passing through the ground's plane along that edge. The sample
 /// (1 + delta, 0, 0.3) on the ground is lit (nothing above it); seen from (0, 20, 5) with near
 /// plane `near` at its own pixel of a 64x64 view: (class, band).
-fn t_junction_sample(delta: f32, near: f64, flat_neighbour: bool) -> (SampleClass, bool) {
+fn t_junction_sample(delta: f32, near: f64, flat_neighbour: bool) -> (SampleClass, umbra_oracle::BandParts) {
     use umbra_oracle::{reference_in_view, RasterView};
     let mut scene = Scene::new();
     let ground = scene.add([[-3.0, 0.0, -3.0], [-3.0, 0.0, 3.0], [3.0, 0.0, -3.0]]);
@@ -609,21 +573,180 @@ fn t_junction_sample(delta: f32, near: f64, flat_neighbour: bool) -> (SampleClas
     // The sample lies on the first ground triangle (x + z <= 0 ... no: pick by the diagonal).
     tri[py * 64 + px] = if s[0] + s[2] <= 0.0 { ground } else { ground + 1 };
     let samples = Samples { width: 64, height: 64, world_pos: &pos, triangle: &tri };
-    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&RasterView { clip_from_world }))
-        .unwrap();
-    (r.class[py * 64 + px], r.band[py * 64 + px])
+    let mut view = RasterView::new(clip_from_world);
+    view.subpixel_bits = 8;
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 10.0, 0.0, 1.0], eye, Some(&view)).unwrap();
+    (r.class[py * 64 + px], r.parts[py * 64 + px])
 }
 
 #[test]
-fn sample_touching_a_side_casting_edge_within_a_depth_step_is_band() {
-    // 1e-3 from the T-junction's edge; 4 depth steps at ~20.6 units are 1e-2 units with a 0.01
-    // near plane: the side face through the edge cannot be ordered against the sample.
-    assert_eq!(t_junction_sample(1e-3, 0.01, false), (SampleClass::Lit, true));
-    // With a 1.0 near plane (1e-4 units) it can: a plain sample.
-    assert_eq!(t_junction_sample(1e-3, 1.0, false), (SampleClass::Lit, false));
+fn sample_touching_a_side_casting_edge_within_the_envelope_is_band() {
+    use umbra_oracle::BandParts;
+    // 5e-3 from the T-junction's edge; 2 float depth steps at ~20.6 units are 1e-2 units with a
+    // 0.01 near plane: the side face through the edge cannot be ordered against the sample,
+    // nor the quad itself (SURFACE: it meets the ground there, not in its plane).
+    let both = BandParts::SIDE_FACE | BandParts::SURFACE;
+    assert_eq!(t_junction_sample(5e-3, 0.01, false), (SampleClass::Lit, both));
+    // With a 1.0 near plane (1e-4 units, 2.1e-3 with the lateral bound) it can.
+    assert_eq!(t_junction_sample(5e-3, 1.0, false), (SampleClass::Lit, BandParts::NONE));
     // Half a unit away: plain, whatever the near plane.
-    assert_eq!(t_junction_sample(0.5, 0.01, false), (SampleClass::Lit, false));
+    assert_eq!(t_junction_sample(0.5, 0.01, false), (SampleClass::Lit, BandParts::NONE));
     // The same distance from an edge shared by two coplanar triangles facing the light: that
-    // edge casts no side face, so the sample is plain.
-    assert_eq!(t_junction_sample(1e-3, 0.01, true), (SampleClass::Lit, false));
+    // edge casts no side face and the triangles lie in the sample's plane: only a
+    // per-triangle method's cancelling pair passes there.
+    assert_eq!(t_junction_sample(5e-3, 0.01, true), (SampleClass::Lit, BandParts::CANCELLING));
+}
+
+#[test]
+fn crease_within_the_envelope_is_surface_band() {
+    use umbra_oracle::BandParts;
+    // A wall x = 0 standing on the ground; the light on the -x side, so ground samples at
+    // x < 0 are lit. A sample 1e-6 from the crease (within 2^-20 of ~7 units, 7e-6) could be
+    // seen on either surface by the depth pass, and the wall's light cap pushed to the far
+    // plane assumes it hides what lies behind it: SURFACE. 1e-3 away it is plain.
+    let band_at = |x: f32| {
+        let mut scene = Scene::with_ground();
+        let wall = [[0.0, 0.0, -3.0], [0.0, 0.0, 3.0], [0.0, 3.0, 3.0], [0.0, 3.0, -3.0]];
+        scene.add([wall[0], wall[1], wall[2]]);
+        scene.add([wall[0], wall[2], wall[3]]);
+        let r = run(
+            &scene,
+            &[[x, 0.0, 0.3]],
+            &[Scene::ground_triangle(x, 0.3)],
+            1,
+            1,
+            [-1.0, 1.0, 0.0, 0.0],
+            [-5.0, 5.0, 0.0],
+        );
+        (r.class[0], r.parts[0])
+    };
+    let (class, parts) = band_at(-1e-6);
+    assert_eq!(class, SampleClass::Lit);
+    assert!(parts.contains(BandParts::SURFACE), "{:?}", parts.names());
+    let (class, parts) = band_at(-1e-3);
+    assert_eq!((class, parts.intersects(BandParts::SURFACE)), (SampleClass::Lit, false), "{:?}", parts.names());
+}
+
+#[test]
+fn occluder_edge_on_to_the_light_is_orientation_band() {
+    use umbra_oracle::BandParts;
+    // A wall in the plane x = 0 containing the point light (0, 5, 0): no f32 evaluation can
+    // orient it towards the light, so a method may build its volume either way round. The
+    // segment from a ground sample at x = 0 to the light runs inside the wall's plane and
+    // crosses it: ORIENTATION. At x = 0.5 the segment stays clear of it.
+    let parts_at = |x: f32| {
+        let mut scene = Scene::with_ground();
+        scene.add([[0.0, 0.5, -1.0], [0.0, 2.5, -1.0], [0.0, 0.5, 1.0]]);
+        let r = run(
+            &scene,
+            &[[x, 0.0, 0.3]],
+            &[Scene::ground_triangle(x, 0.3)],
+            1,
+            1,
+            [0.0, 5.0, 0.0, 1.0],
+            [5.0, 4.0, 6.0],
+        );
+        r.parts[0]
+    };
+    assert!(parts_at(0.0).contains(BandParts::ORIENTATION), "{:?}", parts_at(0.0).names());
+    assert!(!parts_at(0.5).intersects(BandParts::ORIENTATION | BandParts::SIDE_FACE), "{:?}", parts_at(0.5).names());
+}
+
+#[test]
+fn cut_by_the_near_plane_marks_its_image() {
+    use umbra_oracle::{reference_in_view, BandParts, RasterView};
+    // Eye at the origin looking down -z, near plane 0.1. A back wall z = -10 fills the view
+    // (every pixel a sample); a triangle crosses the near plane obliquely. Only pixels within
+    // the lateral bound of the image of its cut are NEAR_CUT.
+    let mut scene = Scene::new();
+    let wall = scene.add([[-50.0, -50.0, -10.0], [50.0, -50.0, -10.0], [0.0, 50.0, -10.0]]);
+    scene.add([[-0.03, -0.03, -0.05], [0.03, -0.01, -0.3], [0.005, 0.03, -0.15]]);
+    let mesh = scene.mesh();
+    let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
+    let clip_from_world = clip_from_world_looking([0.0; 3], [0.0, 0.0, -1.0], 60.0, 1.0, 0.1);
+    let view = RasterView::new(clip_from_world);
+    let m = &clip_from_world;
+    let row = |r: usize, p: [f64; 3]| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+    let (w, h) = (64u32, 64u32);
+    let mut pos = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            // The wall point seen through pixel (x, y).
+            let (nx, ny) = ((x as f64 + 0.5) / 32.0 - 1.0, 1.0 - (y as f64 + 0.5) / 32.0);
+            let t = 10.0 * (30f64.to_radians()).tan();
+            pos.push([(nx * t) as f32, (ny * t) as f32, -10.0]);
+        }
+    }
+    let tri = vec![wall; (w * h) as usize];
+    let samples = Samples { width: w, height: h, world_pos: &pos, triangle: &tri };
+    let r = reference_in_view(&mesh, &bvh, &samples, [0.0, 5.0, 5.0, 1.0], [0.0; 3], Some(&view)).unwrap();
+    // The cut: where the triangle's edges cross z = -0.1, projected.
+    let v = [[-0.03, -0.03, -0.05], [0.03, -0.01, -0.3], [0.005, 0.03, -0.15]];
+    let mut ends = Vec::new();
+    for k in 0..3 {
+        let (p, q): ([f64; 3], [f64; 3]) = (v[k], v[(k + 1) % 3]);
+        let s = (-0.1 - p[2]) / (q[2] - p[2]);
+        if (0.0..=1.0).contains(&s) {
+            let c = [0, 1, 2].map(|i| p[i] + s * (q[i] - p[i]));
+            ends.push([(row(0, c) / row(3, c) + 1.0) * 32.0, (1.0 - row(1, c) / row(3, c)) * 32.0]);
+        }
+    }
+    assert_eq!(ends.len(), 2);
+    let (a, b) = (ends[0], ends[1]);
+    let reach = view.lateral_pixels(w, h);
+    let mut marked = 0;
+    for y in 0..h as usize {
+        for x in 0..w as usize {
+            let c = [x as f64 + 0.5, y as f64 + 0.5];
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let s = (((c[0] - a[0]) * dx + (c[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+            let d = (c[0] - a[0] - s * dx).hypot(c[1] - a[1] - s * dy);
+            let near_cut = r.parts[y * w as usize + x].contains(BandParts::NEAR_CUT);
+            assert_eq!(near_cut, d <= reach, "pixel ({x}, {y}) {d} px from the cut");
+            marked += near_cut as usize;
+        }
+    }
+    assert!(marked > 0, "the cut crosses {:.0} pixels", (b[0] - a[0]).hypot(b[1] - a[1]));
+}
+
+#[test]
+fn sample_on_a_wall_seen_at_a_grazing_angle_has_a_stretched_envelope() {
+    use umbra_oracle::{reference_in_view, BandParts, RasterView};
+    // Crytek Sponza, torture pose 2 at 240 x 180 (eye 0.0099 outside a wall): pixel (116, 56)
+    // holds a sample of a wall (triangle 63483, plane z = -1.5635) seen at ~6 degrees, 0.0007
+    // pixel from the wall's edge x = -6.1289 on the screen but, along the wall, 4.7e-4 units
+    // beyond it: inside the corner, where the perpendicular wall (triangle 63681, x = -6.1289)
+    // shadows it. The rasterizer's snapping of the wall alone moves a sample that far: band. A
+    // round envelope (lateral bound times the pixel's footprint, 4.6e-4 here) missed it by 2 %.
+    let wall = [[-5.984375f32, 3.251953, -1.563476], [-6.128906, 3.251953, -1.563476], [-6.128906, 4.125, -1.563476]];
+    let corner = [[-6.128906f32, 4.125, -1.563476], [-6.128906, 3.251953, -1.563476], [-6.128906, 3.251953, -1.419922]];
+    let mut scene = Scene::new();
+    let t = scene.add(wall);
+    scene.add(corner);
+    let mesh = scene.mesh();
+    let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
+    let eye = [5.431641f32, 4.555811, -0.2421875];
+    let mut clip_from_world = clip_from_world_looking(
+        eye.map(f64::from),
+        [-5.0273436, 1.1539064, -1.671875],
+        60.0,
+        240.0 / 180.0,
+        0.028966757,
+    );
+    // Reversed-Z with a float buffer, as rendered: clip z = near, window depth near / d.
+    (clip_from_world[2], clip_from_world[6], clip_from_world[10], clip_from_world[14]) = (0.0, 0.0, 0.0, 0.028966757);
+    let mut view = RasterView::new(clip_from_world);
+    view.subpixel_bits = 8;
+    let (w, h) = (240u32, 180u32);
+    let (px, py) = (116usize, 56usize);
+    let mut pos = vec![[0.0f32; 3]; (w * h) as usize];
+    let mut tri = vec![BG; (w * h) as usize];
+    pos[py * w as usize + px] = [-6.129376, 3.387719, -1.5634769];
+    tri[py * w as usize + px] = t;
+    let samples = Samples { width: w, height: h, world_pos: &pos, triangle: &tri };
+    let r =
+        reference_in_view(&mesh, &bvh, &samples, [-0.37890625, 4.0698245, -0.2421875, 1.0], eye, Some(&view)).unwrap();
+    let i = py * w as usize + px;
+    assert_eq!(r.class[i], SampleClass::Shadowed);
+    assert!(r.parts[i].contains(BandParts::SURFACE), "{:?}", r.parts[i].names());
 }

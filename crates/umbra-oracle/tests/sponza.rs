@@ -74,8 +74,10 @@ fn sponza_reference_timing_and_brute_force_subset() {
     // position lifted by 10 eps along the light direction, and a Shadowed one not decided by the
     // plane test has one (checked with the BVH-free brute force).
     // A "method" that is the reference shifted one pixel to the right (where the pixel to the
-    // left is a sample) differs from it only where two horizontally adjacent samples differ,
-    // and each of those sees the other in its 3x3 neighbourhood: every mismatch is in the band.
+    // left is a sample) differs from it only where two horizontally adjacent samples differ.
+    // The band is the machinery's precision, far below a pixel, not a one-pixel tolerance
+    // (crate::envelope): most of those whole-pixel errors lie outside it, and the diff image
+    // shows them.
     for (light, r) in &results {
         let shadowed = |i: usize| r.class[i] == SampleClass::Shadowed;
         let method: Vec<bool> =
@@ -90,15 +92,14 @@ fn sponza_reference_timing_and_brute_force_subset() {
                 .collect();
         let m = umbra_oracle::compare(r, &method).unwrap();
         println!("shifted mask, light {light:?}: {m:?}");
-        assert_eq!(m.mismatches_outside_band, 0);
-        assert!(m.band_mismatches > 1000 && m.band_mismatches == m.mismatches, "{m:?}");
+        assert!(m.mismatches > 1000 && m.mismatches_outside_band > m.mismatches / 2, "{m:?}");
         let base = vec![200u8; 4 * r.class.len()];
         let diff = umbra_oracle::diff_image(r, &method, &base).unwrap();
         let coloured = diff
             .chunks(4)
             .filter(|c| *c == umbra_oracle::metrics::FALSE_SHADOW || *c == umbra_oracle::metrics::FALSE_LIGHT)
             .count();
-        assert_eq!(coloured, 0);
+        assert_eq!(coloured as u64, m.mismatches_outside_band);
     }
 
     let (light, r) = &results[1];

@@ -30,11 +30,14 @@ use umbra_geom::weld::WeldedMesh;
 use umbra_geom::Light;
 use umbra_gl::glow;
 use umbra_gl::{
-    create_method, Classification, FrameParams, LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, NO_TRIANGLE,
+    create_method, CaptureFlags, Classification, FrameParams, LightCapture, LitMaskImage, Renderer, RgbaImage,
+    SceneGpu, ShadowMethod, TriangleIdImage, WorldPosImage, NO_TRIANGLE,
 };
 
 pub mod wgpu;
-use umbra_oracle::{compare, reference_in_view, Bvh, Metrics, RasterView, Reference, Samples};
+use umbra_oracle::{
+    compare_masked, reference_in_view, BandParts, Bvh, DepthFormat, Metrics, RasterView, Reference, Samples,
+};
 
 /// Why a verification could not run (not: a method that failed it).
 #[derive(Debug, thiserror::Error)]
@@ -112,6 +115,8 @@ pub struct LightResult {
 /// A method's verification over every light of a view.
 pub struct MethodReport {
     pub method: String,
+    /// The band parts the method is judged by ([`band_mask`]).
+    pub band_mask: BandParts,
     pub must_be_exact: bool,
     /// Summed over lights; from the lit masks (the renderer's final decision).
     pub metrics: Metrics,
@@ -142,11 +147,10 @@ pub fn view_reference(
     scene: &SceneGpu,
     params: &FrameParams,
 ) -> Result<ViewReference, VerifyError> {
-    let mut p = params.clone();
-    p.capture.world_pos = true;
-    p.capture.triangle_id = true;
-    p.capture.stencil = LightCapture::None;
-    p.capture.lit_mask = LightCapture::None;
+    let p = FrameParams {
+        capture: CaptureFlags { world_pos: true, triangle_id: true, ..CaptureFlags::default() },
+        ..params.clone()
+    };
     let mut none = create_method("none").map_err(gl_err)?;
     let images = renderer.render(gl, scene, none.as_mut(), &p, None).map_err(gl_err);
     none.destroy(gl);
@@ -154,39 +158,30 @@ pub fn view_reference(
     let (Some(world), Some(ids)) = (images.world_pos, images.triangle_id) else {
         return Err(VerifyError::Gl("the renderer returned no world-position / triangle-id images".into()));
     };
-    let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
-    let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
-    reference_from_samples(
-        scene.mesh(),
-        &params.camera,
-        params.width,
-        params.height,
-        &params.lights,
-        world_pos,
-        triangle,
-    )
+    reference_from_samples(scene.mesh(), &params.camera, raster_view(gl, params), &params.lights, &world, &ids)
 }
 
 /// The backend-neutral half of [`view_reference`]: the reference for every light of a view
-/// whose samples a backend rasterized (`world_pos` and `triangle` row-major, top row first,
-/// `u32::MAX` = background) with `camera` at `width x height`.
+/// whose samples a backend's depth pass captured with `camera` (the world position and the
+/// triangle id of every pixel, [`NO_TRIANGLE`] = background), rasterized with the precision
+/// `raster` describes (the band's envelope, [`umbra_oracle::envelope`]).
 pub fn reference_from_samples(
     mesh: &Arc<WeldedMesh>,
     camera: &Camera,
-    width: u32,
-    height: u32,
+    raster: RasterView,
     lights: &[Light],
-    world_pos: Vec<[f32; 3]>,
-    triangle: Vec<u32>,
+    world: &WorldPosImage,
+    ids: &TriangleIdImage,
 ) -> Result<ViewReference, VerifyError> {
+    let (width, height) = (world.width, world.height);
+    let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    // The oracle's background is u32::MAX.
+    let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
     let start = Instant::now();
     let bvh = Bvh::build(&mesh.positions, &mesh.triangles)?;
     let bvh_ms = ms(start);
     let samples = Samples { width, height, world_pos: &world_pos, triangle: &triangle };
     let eye = camera.eye.map(|c| c as f32);
-    // The renderer's own projection (x, y and w do not depend on the depth convention).
-    let aspect = width as f64 / height.max(1) as f64;
-    let raster = RasterView { clip_from_world: camera.clip_from_world(aspect).to_cols_array() };
     let mut references = Vec::new();
     for (i, &light) in lights.iter().enumerate() {
         let start = Instant::now();
@@ -205,6 +200,41 @@ pub fn reference_from_samples(
         eye,
         light_positions: lights.to_vec(),
     })
+}
+
+/// The view and the precision the renderer rasterizes `params` with, for the band
+/// ([`umbra_oracle::envelope`]): its projection in the frame's depth convention, the depth
+/// format of the renderer's own target for that convention (DEPTH32F_STENCIL8 for
+/// reversed-Z, DEPTH24_STENCIL8 for the standard convention) and the context's
+/// `GL_SUBPIXEL_BITS`.
+pub fn raster_view(gl: &glow::Context, params: &FrameParams) -> RasterView {
+    use umbra_gl::camera::DepthConventionGl;
+    use umbra_gl::glow::HasContext;
+    let aspect = params.width as f64 / params.height.max(1) as f64;
+    let clip_from_world = params.camera.clip_from_world_in(aspect, params.depth_convention).to_cols_array();
+    let depth = if params.depth_convention.depth_format() == glow::DEPTH32F_STENCIL8 {
+        DepthFormat::Float32
+    } else {
+        DepthFormat::Fixed(24)
+    };
+    // SAFETY: a plain integer query on the current context.
+    let bits = unsafe { gl.get_parameter_i32(glow::SUBPIXEL_BITS) };
+    let mut view = RasterView::new(clip_from_world);
+    view.depth = depth;
+    // The spec's minimum when the query returns less (it may not).
+    view.subpixel_bits = u32::try_from(bits).unwrap_or(0).max(view.subpixel_bits);
+    view
+}
+
+/// The band parts `method` is judged by ([`umbra_oracle::envelope`]): a silhouette method
+/// ([`ShadowMethod::silhouette_sides`]) draws no faces on edges that cast nothing, so the
+/// cancelling faces of per-triangle volumes are not its band.
+pub fn band_mask(method: &dyn ShadowMethod) -> BandParts {
+    if method.silhouette_sides() {
+        BandParts::SILHOUETTE
+    } else {
+        BandParts::ALL
+    }
 }
 
 /// What is known about the sample at pixel `(x, y)` for light `light` (an index into
@@ -244,7 +274,11 @@ pub fn explain(mesh: &WeldedMesh, view: &ViewReference, light: usize, x: u32, y:
         p,
         edge_px.map_or("?".into(), |d| format!("{d:.4}")),
         lr.reference.class[i],
-        if lr.reference.band[i] { " (band)" } else { "" },
+        match lr.reference.parts.get(i) {
+            Some(parts) if lr.reference.band[i] => format!(" (band: {})", parts.names().join(", ")),
+            _ if lr.reference.band[i] => " (band)".into(),
+            _ => String::new(),
+        },
     )
 }
 
@@ -277,6 +311,7 @@ pub fn verify_method(
 ) -> Result<MethodReport, VerifyError> {
     let name = method.name().to_string();
     let classification = method.classification();
+    let band = band_mask(method);
     let mut p = params.clone();
     p.capture.lit_mask = LightCapture::AllLights;
     // The stencil costs one more readback per light; only meaningful for stencil methods.
@@ -285,24 +320,30 @@ pub fn verify_method(
     let start = Instant::now();
     let images = renderer.render(gl, scene, method, &p, None).map_err(gl_err)?;
     let render_ms = ms(start);
-    let decisions: Vec<LightDecision> = view
-        .lights
-        .iter()
-        .map(|lr| {
-            let mask = images
-                .lit_masks
-                .iter()
-                .find(|m| m.light == lr.light)
-                .ok_or_else(|| VerifyError::Gl(format!("no lit mask captured for light {}", lr.light)))?;
-            let stencil_shadowed = images
-                .stencil
-                .iter()
-                .find(|s| s.light == lr.light)
-                .and_then(|st| stencil_shadowed(classification, &st.image.pixels));
-            Ok(LightDecision { light: lr.light, lit_mask: mask.image.pixels.clone(), stencil_shadowed })
-        })
-        .collect::<Result<_, VerifyError>>()?;
-    compare_decisions(name, view, &decisions, images.rgba, render_ms)
+    let decisions = light_decisions(
+        view,
+        |light| images.lit_masks.iter().find(|m| m.light == light).map(|m| &m.image),
+        |light| {
+            let stencil = images.stencil.iter().find(|s| s.light == light)?;
+            stencil_shadowed(classification, &stencil.image.pixels)
+        },
+    )
+    .map_err(VerifyError::Gl)?;
+    compare_decisions(name, band, view, &decisions, images.rgba, render_ms)
+}
+
+/// What a frame decided for each of `view`'s lights: its lit mask (`lit_mask(light)`; missing
+/// is an error naming the light) and, for diagnosis, `stencil_shadowed(light)`.
+fn light_decisions<'a>(
+    view: &ViewReference,
+    lit_mask: impl Fn(usize) -> Option<&'a LitMaskImage>,
+    stencil_shadowed: impl Fn(usize) -> Option<Vec<bool>>,
+) -> Result<Vec<LightDecision>, String> {
+    let decide = |light| {
+        let mask = lit_mask(light).ok_or_else(|| format!("no lit mask captured for light {light}"))?;
+        Ok(LightDecision { light, lit_mask: mask.pixels.clone(), stencil_shadowed: stencil_shadowed(light) })
+    };
+    view.lights.iter().map(|lr| decide(lr.light)).collect()
 }
 
 /// What a backend's frame decided for one light: its lit mask (1 = the lighting pass shaded
@@ -318,9 +359,11 @@ pub struct LightDecision {
 }
 
 /// The backend-neutral half of [`verify_method`]: a method's per-light decisions compared
-/// with `view`, under the one set of band rules.
+/// with `view`, under the one set of band rules: the parts `band` names
+/// ([`band_mask`] for a GL method).
 pub fn compare_decisions(
     name: String,
+    band: BandParts,
     view: &ViewReference,
     decisions: &[LightDecision],
     image: RgbaImage,
@@ -335,9 +378,10 @@ pub fn compare_decisions(
             message: format!("no decision for light {}", lr.light),
         })?;
         let shadowed: Vec<bool> = d.lit_mask.iter().map(|&lit| lit == 0).collect();
-        let m = compare(&lr.reference, &shadowed)?;
+        let m = compare_masked(&lr.reference, &shadowed, band)?;
         metrics = add(metrics, m);
-        let stencil_metrics = d.stencil_shadowed.as_ref().map(|sh| compare(&lr.reference, sh)).transpose()?;
+        let stencil_metrics =
+            d.stencil_shadowed.as_ref().map(|sh| compare_masked(&lr.reference, sh, band)).transpose()?;
         if let Some(sm) = stencil_metrics {
             stencil_sum = Some(add(stencil_sum.unwrap_or_default(), sm));
         }
@@ -346,6 +390,7 @@ pub fn compare_decisions(
     Ok(MethodReport {
         must_be_exact: must_be_exact(&name),
         method: name,
+        band_mask: band,
         metrics,
         stencil_metrics: stencil_sum,
         per_light,
@@ -376,9 +421,13 @@ pub fn verify_external_mask(name: &str, mask: &RgbaImage, view: &ViewReference) 
         return Err(fail(format!("a mask holds one light's decision, the view has {} lights", view.lights.len())));
     };
     let shadowed: Vec<bool> = mask.pixels.iter().map(|p| p[..3] != EXTERNAL_LIT).collect();
-    let metrics = compare(&lr.reference, &shadowed)?;
+    // The WebGL viewer draws paper 003's silhouette volumes: no faces on edges that cast
+    // nothing, so no cancelling faces' band (as `band_mask` for a silhouette method).
+    let band = BandParts::SILHOUETTE;
+    let metrics = compare_masked(&lr.reference, &shadowed, band)?;
     Ok(MethodReport {
         method: name.to_string(),
+        band_mask: band,
         must_be_exact: true,
         metrics,
         stencil_metrics: None,
@@ -441,6 +490,7 @@ mod tests {
             height: 1,
             class: vec![Background, Lit, Shadowed, Shadowed],
             band: vec![false, false, true, false],
+            parts: vec![BandParts::NONE, BandParts::NONE, BandParts::ORIENTATION, BandParts::NONE],
         };
         ViewReference {
             width: 4,
@@ -452,7 +502,7 @@ mod tests {
             world_pos: vec![[0.0; 3]; 4],
             triangle: vec![u32::MAX; 4],
             bvh: Bvh::build(&[], &[]).expect("empty BVH"),
-            raster: RasterView { clip_from_world: [0.0; 16] },
+            raster: RasterView::new([0.0; 16]),
             eye: [0.0; 3],
             light_positions: vec![[0.0, 1.0, 0.0, 1.0]; lights],
         }

@@ -9,9 +9,36 @@
 
 use std::time::Instant;
 
-use umbra_wgpu::{FrameParams, LightCapture, Renderer, SceneGpu, ShadowVolumes, NO_TRIANGLE};
+use umbra_geom::camera::DepthConvention;
+use umbra_gl::Classification;
+use umbra_oracle::{BandParts, DepthFormat, RasterView};
+use umbra_wgpu::{CaptureFlags, FrameParams, LightCapture, Renderer, SceneGpu, ShadowVolumes};
 
-use crate::{compare_decisions, reference_from_samples, LightDecision, MethodReport, VerifyError, ViewReference};
+use crate::{
+    compare_decisions, light_decisions, reference_from_samples, stencil_shadowed, MethodReport, VerifyError,
+    ViewReference,
+};
+
+/// The view and the precision the wgpu renderer rasterizes `params` with, for the band
+/// ([`umbra_oracle::envelope`]): its reversed-Z projection, the depth format
+/// [`Renderer::depth_format_for`] picks, and the sub-pixel precision: 8 bits on lavapipe
+/// (llvmpipe's rasterizer, whose `GL_SUBPIXEL_BITS` is 8), otherwise the least Vulkan allows
+/// (`subPixelPrecisionBits` >= 4; wgpu does not report it).
+pub fn raster_view(device: &wgpu::Device, params: &FrameParams) -> RasterView {
+    let aspect = params.width as f64 / params.height.max(1) as f64;
+    let clip_from_world = params.camera.clip_from_world_in(aspect, DepthConvention::ReversedZ).to_cols_array();
+    let mut view = RasterView::new(clip_from_world);
+    view.depth = if Renderer::depth_format_for(device) == wgpu::TextureFormat::Depth32FloatStencil8 {
+        DepthFormat::Float32
+    } else {
+        DepthFormat::Fixed(24)
+    };
+    let adapter = device.adapter_info();
+    if adapter.name.contains("llvmpipe") || adapter.driver.contains("llvmpipe") {
+        view.subpixel_bits = 8;
+    }
+    view
+}
 
 fn wgpu_err(e: umbra_wgpu::WgpuError) -> VerifyError {
     VerifyError::Wgpu(e.to_string())
@@ -25,27 +52,16 @@ pub fn view_reference(
     scene: &SceneGpu,
     params: &FrameParams,
 ) -> Result<ViewReference, VerifyError> {
-    let mut p = params.clone();
-    p.capture.world_pos = true;
-    p.capture.triangle_id = true;
-    p.capture.stencil = LightCapture::None;
-    p.capture.lit_mask = LightCapture::None;
+    let p = FrameParams {
+        capture: CaptureFlags { world_pos: true, triangle_id: true, ..CaptureFlags::default() },
+        ..params.clone()
+    };
     let mut none = renderer.volumes(device, "none").map_err(wgpu_err)?;
     let images = renderer.render(device, queue, scene, &mut none, &p).map_err(wgpu_err)?;
     let (Some(world), Some(ids)) = (images.world_pos, images.triangle_id) else {
         return Err(VerifyError::Wgpu("the renderer returned no world-position / triangle-id images".into()));
     };
-    let world_pos: Vec<[f32; 3]> = world.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
-    let triangle: Vec<u32> = ids.pixels.iter().map(|&t| if t == NO_TRIANGLE { u32::MAX } else { t }).collect();
-    reference_from_samples(
-        scene.mesh(),
-        &params.camera,
-        params.width,
-        params.height,
-        &params.lights,
-        world_pos,
-        triangle,
-    )
+    reference_from_samples(scene.mesh(), &params.camera, raster_view(device, params), &params.lights, &world, &ids)
 }
 
 /// Renders `volumes`' method once with every light of `params`, reads its per-sample decision
@@ -64,24 +80,24 @@ pub fn verify_method(
     p.capture.stencil = LightCapture::AllLights;
     let start = Instant::now();
     let images = renderer.render(device, queue, scene, volumes, &p).map_err(wgpu_err)?;
-    let render_ms = start.elapsed().as_secs_f64() * 1e3;
-    let decisions: Vec<LightDecision> = view
-        .lights
-        .iter()
-        .map(|lr| {
-            let mask = images
-                .lit_masks
-                .iter()
-                .find(|m| m.light == lr.light)
-                .ok_or_else(|| VerifyError::Wgpu(format!("no lit mask captured for light {}", lr.light)))?;
-            let stencil = images.stencil.iter().find(|s| s.light == lr.light);
-            Ok(LightDecision {
-                light: lr.light,
-                lit_mask: mask.image.pixels.clone(),
-                stencil_shadowed: stencil.map(|s| s.image.pixels.iter().map(|&v| v != 0).collect()),
-            })
-        })
-        .collect::<Result<_, VerifyError>>()?;
-    let rgba = umbra_gl::RgbaImage { width: images.rgba.width, height: images.rgba.height, pixels: images.rgba.pixels };
-    compare_decisions(volumes.method_name().to_string(), view, &decisions, rgba, render_ms)
+    let render_ms = crate::ms(start);
+    // Every wgpu method leaves "lit" as stencil 0 (shadow maps resolve into it).
+    let decisions = light_decisions(
+        view,
+        |light| images.lit_masks.iter().find(|m| m.light == light).map(|m| &m.image),
+        |light| {
+            let stencil = images.stencil.iter().find(|s| s.light == light)?;
+            stencil_shadowed(Classification::StencilZero, &stencil.image.pixels)
+        },
+    )
+    .map_err(VerifyError::Wgpu)?;
+    // Every wgpu volume method is a silhouette method (no faces on edges that cast nothing).
+    compare_decisions(
+        volumes.method_name().to_string(),
+        BandParts::SILHOUETTE,
+        view,
+        &decisions,
+        images.rgba,
+        render_ms,
+    )
 }

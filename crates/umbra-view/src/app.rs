@@ -412,7 +412,7 @@ impl App {
             if let Some(path) = self.config.screenshot.clone() {
                 // The window's back buffer, exactly what is about to be shown.
                 let shot = read_rgba8(&r.win.gl, None, glow::BACK, w, h);
-                shot.save_png(Path::new(&path))?;
+                shot.save_png(Path::new(&path)).map_err(umbra_gl::GlError::from)?;
                 self.summary.screenshot = Some((path, w, h));
                 done = true;
             }

@@ -76,6 +76,12 @@ impl From<umbra_geom::camera::CameraError> for WgpuError {
     }
 }
 
+impl From<umbra_geom::image::PngError> for WgpuError {
+    fn from(e: umbra_geom::image::PngError) -> Self {
+        WgpuError::Png { path: e.path, detail: e.detail }
+    }
+}
+
 impl From<umbra_geom::InvalidLight> for WgpuError {
     fn from(e: umbra_geom::InvalidLight) -> Self {
         WgpuError::InvalidParams(e.0)

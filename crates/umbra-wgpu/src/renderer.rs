@@ -22,10 +22,12 @@ use crate::error::{scoped, WgpuError};
 use crate::image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 use crate::readback::Readback;
 use crate::scene::SceneGpu;
-use crate::volumes::{PassFormats, ShadowVolumes, View, VolumeFrame, ZMode, LIGHT_SLOT_BYTES};
+use crate::volumes::{
+    storage_entry, uniform_entry, uniform_slots, PassFormats, ShadowVolumes, View, VolumeFrame, ZMode, LIGHT_SLOT_BYTES,
+};
 
-/// The triangle id of a background sample.
-pub const NO_TRIANGLE: u32 = u32::MAX;
+/// The triangle id of a background sample (umbra-geom's, as umbra-gl's).
+pub use umbra_geom::image::NO_TRIANGLE;
 
 const SCENE: &str = include_str!("shaders/scene.wgsl");
 
@@ -243,6 +245,29 @@ fn view_of(t: &wgpu::Texture) -> wgpu::TextureView {
     t.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
+/// A render pass of the frame on `depth`, its depth and stencil loaded as said and stored.
+fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    color_attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+    depth: &wgpu::TextureView,
+    depth_load: wgpu::LoadOp<f32>,
+    stencil_load: wgpu::LoadOp<u32>,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments,
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
+            stencil_ops: Some(wgpu::Operations { load: stencil_load, store: wgpu::StoreOp::Store }),
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 /// The stand-alone renderer: scene pipelines and (for [`Renderer::render`]) its own target.
 /// Make the methods it draws with [`Renderer::volumes`].
 pub struct Renderer {
@@ -301,24 +326,14 @@ impl Renderer {
 
     fn build(device: &wgpu::Device) -> Self {
         let depth_format = Self::depth_format_for(device);
-        let uniform = |binding, visibility, dynamic| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: dynamic,
-                min_binding_size: None,
-            },
-            count: None,
-        };
         let vf = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("umbra frame"),
-            entries: &[uniform(0, vf, false), crate::volumes::storage_entry(1, wgpu::ShaderStages::FRAGMENT, true)],
+            entries: &[uniform_entry(0, vf, false), storage_entry(1, wgpu::ShaderStages::FRAGMENT, true)],
         });
         let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("umbra lighting light"),
-            entries: &[uniform(0, wgpu::ShaderStages::FRAGMENT, true)],
+            entries: &[uniform_entry(0, wgpu::ShaderStages::FRAGMENT, true)],
         });
         let module = crate::volumes::Common::module(device, "scene.wgsl", &["enable primitive_index;", SCENE]);
         let depth_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -357,6 +372,26 @@ impl Renderer {
             polygon_mode: wgpu::PolygonMode::Fill,
             conservative: false,
         };
+        // The depth and lighting pipelines differ in their depth-stencil state, fragment entry
+        // and colour targets only.
+        let pipeline = |label, layout, depth_stencil, entry, targets: &[Option<wgpu::ColorTargetState>]| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: vertex.clone(),
+                primitive,
+                depth_stencil: Some(depth_stencil),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
         let depth_pipelines = [false, true].map(|capture| {
             let mut targets = vec![Some(wgpu::ColorTargetState {
                 format: COLOR_FORMAT,
@@ -373,13 +408,10 @@ impl Renderer {
                     }));
                 }
             }
-            let entry = if capture { "fs_depth" } else { "fs_depth_color" };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(if capture { "umbra depth+ambient+captures" } else { "umbra depth+ambient" }),
-                layout: Some(&depth_layout),
-                vertex: vertex.clone(),
-                primitive,
-                depth_stencil: Some(wgpu::DepthStencilState {
+            pipeline(
+                if capture { "umbra depth+ambient+captures" } else { "umbra depth+ambient" },
+                &depth_layout,
+                wgpu::DepthStencilState {
                     format: depth_format,
                     depth_write_enabled: Some(true),
                     // Reason: nearest surface wins (reversed-Z: GREATER); ties keep the first
@@ -389,17 +421,10 @@ impl Renderer {
                     stencil: wgpu::StencilState::default(),
                     // Reason: depths must match the lighting pass and the volumes exactly.
                     bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                },
+                if capture { "fs_depth" } else { "fs_depth_color" },
+                &targets,
+            )
         });
         let one_per_pixel = wgpu::StencilFaceState {
             // Reason: lit where the count is 0.
@@ -432,13 +457,10 @@ impl Renderer {
                     write_mask: wgpu::ColorWrites::RED,
                 }));
             }
-            let entry = if lit_mask { "fs_lighting" } else { "fs_lighting_color" };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(if lit_mask { "umbra lighting+lit mask" } else { "umbra lighting" }),
-                layout: Some(&lighting_layout),
-                vertex: vertex.clone(),
-                primitive,
-                depth_stencil: Some(wgpu::DepthStencilState {
+            pipeline(
+                if lit_mask { "umbra lighting+lit mask" } else { "umbra lighting" },
+                &lighting_layout,
+                wgpu::DepthStencilState {
                     format: depth_format,
                     // Reason: depth is final after pass 1.
                     depth_write_enabled: Some(false),
@@ -452,17 +474,10 @@ impl Renderer {
                         write_mask: 0xFF,
                     },
                     bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                },
+                if lit_mask { "fs_lighting" } else { "fs_lighting_color" },
+                &targets,
+            )
         });
         let frame_uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("umbra frame uniform"),
@@ -486,24 +501,8 @@ impl Renderer {
     fn lights_uniform(&mut self, device: &wgpu::Device, lights: usize) -> (wgpu::Buffer, wgpu::BindGroup) {
         let needed = lights.max(1);
         if self.lights_uniform.as_ref().is_none_or(|(_, _, n)| *n < needed) {
-            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("umbra lighting lights"),
-                size: LIGHT_SLOT_BYTES * needed as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("umbra lighting lights"),
-                layout: &self.light_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &buffer,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(16),
-                    }),
-                }],
-            });
+            // One vec4 per light (`Light` of shaders/scene.wgsl).
+            let (buffer, group) = uniform_slots(device, "umbra lighting lights", &self.light_layout, needed, 16);
             self.lights_uniform = Some((buffer, group, needed));
         }
         let (b, g, _) = self.lights_uniform.as_ref().expect("made above");
@@ -687,40 +686,35 @@ impl Renderer {
             view_of(&target.lit_mask),
             view_of(&target.depth),
         );
-        let attachment = |view, clear: wgpu::Color| {
+        use wgpu::LoadOp::{Clear, Load};
+        let attachment = |view, load| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
             })
         };
-        {
-            let bg = params.background.map(f64::from);
-            let mut attachments = vec![attachment(&color, wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: bg[3] })];
-            if capture_samples {
-                attachments.push(attachment(&world, wgpu::Color::TRANSPARENT));
-                attachments.push(attachment(&ids, wgpu::Color { r: f64::from(NO_TRIANGLE), g: 0.0, b: 0.0, a: 0.0 }));
-            }
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("umbra depth+ambient"),
-                color_attachments: &attachments,
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth,
-                    // Reason: reversed-Z: the far plane (and the background) is depth 0, which is
-                    // also where light caps are pushed (so they fail the strict test there too).
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.depth_pipelines[capture_samples as usize]);
-            pass.set_bind_group(0, &frame_group, &[]);
+        let draw_scene = |pass: &mut wgpu::RenderPass<'_>| {
             pass.set_vertex_buffer(0, scene.position_buffer().slice(..));
             pass.set_index_buffer(scene.index_buffer().slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..scene.index_count(), 0, 0..1);
+        };
+        {
+            let bg = params.background.map(f64::from);
+            let mut attachments =
+                vec![attachment(&color, Clear(wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: bg[3] }))];
+            if capture_samples {
+                attachments.push(attachment(&world, Clear(wgpu::Color::TRANSPARENT)));
+                attachments
+                    .push(attachment(&ids, Clear(wgpu::Color { r: f64::from(NO_TRIANGLE), g: 0.0, b: 0.0, a: 0.0 })));
+            }
+            // Reason: reversed-Z: the far plane (and the background) is depth 0, which is also
+            // where light caps are pushed (so they fail the strict test there too).
+            let mut pass = begin_pass(&mut encoder, "umbra depth+ambient", &attachments, &depth, Clear(0.0), Clear(0));
+            pass.set_pipeline(&self.depth_pipelines[capture_samples as usize]);
+            pass.set_bind_group(0, &frame_group, &[]);
+            draw_scene(&mut pass);
         }
 
         let mut stencil = Vec::new();
@@ -729,22 +723,8 @@ impl Renderer {
             // ---- Pass 2: this light's volumes into a freshly cleared stencil.
             stamp(&mut encoder, "volumes");
             {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("umbra volumes"),
-                    color_attachments: &[],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth,
-                        // Reason: the scene's depth, read by the volumes' depth test, never written.
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                        stencil_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(plan.stencil_clear),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                // Reason: the scene's depth, read by the volumes' depth test, never written.
+                let mut pass = begin_pass(&mut encoder, "umbra volumes", &[], &depth, Load, Clear(plan.stencil_clear));
                 volumes.draw(&mut pass, i);
             }
             if params.capture.stencil.includes(i) {
@@ -756,34 +736,16 @@ impl Renderer {
             stamp(&mut encoder, "lighting");
             let capture_lit = params.capture.lit_mask.includes(i);
             {
-                let mut attachments = vec![Some(wgpu::RenderPassColorAttachment {
-                    view: &color,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                })];
+                let mut attachments = vec![attachment(&color, Load)];
                 if capture_lit {
-                    attachments.push(attachment(&lit, wgpu::Color::TRANSPARENT));
+                    attachments.push(attachment(&lit, Clear(wgpu::Color::TRANSPARENT)));
                 }
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("umbra lighting"),
-                    color_attachments: &attachments,
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut pass = begin_pass(&mut encoder, "umbra lighting", &attachments, &depth, Load, Load);
                 pass.set_pipeline(&self.lighting_pipelines[capture_lit as usize]);
                 pass.set_stencil_reference(0);
                 pass.set_bind_group(0, &frame_group, &[]);
                 pass.set_bind_group(1, &lights_group, &[(i as u64 * LIGHT_SLOT_BYTES) as u32]);
-                pass.set_vertex_buffer(0, scene.position_buffer().slice(..));
-                pass.set_index_buffer(scene.index_buffer().slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..scene.index_count(), 0, 0..1);
+                draw_scene(&mut pass);
             }
             if capture_lit {
                 let r = Readback::copy(device, &mut encoder, &target.lit_mask, wgpu::TextureAspect::All, 1, "lit mask");

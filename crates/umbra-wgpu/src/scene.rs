@@ -11,9 +11,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 
 use umbra_geom::clearance::ClearanceIndex;
-use umbra_geom::mesh::flat_normal;
 use umbra_geom::silhouette::TriangleSlots;
-use umbra_geom::weld::triangle_bounds;
+use umbra_geom::weld::{triangle_bounds, triangle_normals};
 use umbra_geom::{Aabb, EdgeAdjacency, WeldedMesh};
 use wgpu::util::DeviceExt;
 
@@ -65,6 +64,23 @@ pub(crate) fn buffer_init(
     Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage }))
 }
 
+/// A zero-filled buffer of `bytes` (padded to [`binding_bytes`]) with `usage`, checked against
+/// the device's limits first.
+pub(crate) fn buffer_zeroed(
+    device: &wgpu::Device,
+    label: &str,
+    bytes: u64,
+    usage: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer, WgpuError> {
+    check_size(device, label, bytes)?;
+    Ok(device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: binding_bytes(bytes as usize),
+        usage,
+        mapped_at_creation: false,
+    }))
+}
+
 /// `bytes` fits one buffer and one storage binding of `device`.
 pub(crate) fn check_size(device: &wgpu::Device, what: &str, bytes: u64) -> Result<(), WgpuError> {
     let limits = device.limits();
@@ -81,26 +97,14 @@ impl SceneGpu {
     /// Uploads `mesh` (positions, indices, flat normals).
     pub fn upload(device: &wgpu::Device, mesh: Arc<WeldedMesh>) -> Result<Self, WgpuError> {
         static NEXT_ID: AtomicU64 = AtomicU64::new(1);
-        if let Some(bad) = mesh.triangles.iter().flatten().find(|&&i| i as usize >= mesh.positions.len()) {
-            return Err(WgpuError::InvalidParams(format!(
-                "triangle index {bad} out of range for {} positions",
-                mesh.positions.len()
-            )));
-        }
+        mesh.check_indices().map_err(|e| WgpuError::InvalidParams(e.to_string()))?;
         if mesh.triangles.len() >= (u32::MAX / 3) as usize {
             return Err(WgpuError::InvalidParams(format!(
                 "{} triangles exceed one indexed draw",
                 mesh.triangles.len()
             )));
         }
-        let normals: Vec<[f32; 4]> = mesh
-            .triangles
-            .iter()
-            .map(|&t| {
-                let n = flat_normal(&mesh.positions, t);
-                [n[0], n[1], n[2], 0.0]
-            })
-            .collect();
+        let normals = triangle_normals(&mesh);
         let storage = wgpu::BufferUsages::STORAGE;
         let upload = || -> Result<_, WgpuError> {
             Ok((

@@ -177,7 +177,7 @@ pub(crate) struct LightSlot {
 pub(crate) struct Common {
     pub formats: PassFormats,
     pub sample_count: u32,
-    pub light_layout: wgpu::BindGroupLayout,
+    light_layout: wgpu::BindGroupLayout,
     light_buffer: wgpu::Buffer,
     light_group: wgpu::BindGroup,
     slots: usize,
@@ -207,25 +207,7 @@ impl Common {
         layout: &wgpu::BindGroupLayout,
         slots: usize,
     ) -> (wgpu::Buffer, wgpu::BindGroup) {
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("umbra light slots"),
-            size: LIGHT_SLOT_BYTES * slots as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("umbra light slots"),
-            layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &buffer,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(std::mem::size_of::<LightSlot>() as u64),
-                }),
-            }],
-        });
-        (buffer, group)
+        uniform_slots(device, "umbra light slots", layout, slots, std::mem::size_of::<LightSlot>() as u64)
     }
 
     /// Room for `slots` lights.
@@ -257,6 +239,22 @@ impl Common {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(parts.join("\n").into()),
+        })
+    }
+
+    /// A method's pipeline layout: the light slot as group 0, then `groups` from group 1 on.
+    pub fn pipeline_layout(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        groups: &[&wgpu::BindGroupLayout],
+    ) -> wgpu::PipelineLayout {
+        let layouts: Vec<Option<&wgpu::BindGroupLayout>> =
+            std::iter::once(&self.light_layout).chain(groups.iter().copied()).map(Some).collect();
+        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &layouts,
+            immediate_size: 0,
         })
     }
 
@@ -371,22 +369,82 @@ impl Common {
     }
 }
 
+/// The bind group layout entry of a buffer of type `ty` at `binding`.
+fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+    has_dynamic_offset: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// The bind group layout entry of a uniform buffer at `binding` (`dynamic`: read at a
+/// dynamic offset, one slot of [`uniform_slots`]).
+pub(crate) fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Uniform, dynamic)
+}
+
+/// A uniform buffer of `slots` slots of [`LIGHT_SLOT_BYTES`] and its bind group for `layout`:
+/// binding 0 sees `binding_bytes` from the dynamic offset of a slot.
+pub(crate) fn uniform_slots(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    slots: usize,
+    binding_bytes: u64,
+) -> (wgpu::Buffer, wgpu::BindGroup) {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: LIGHT_SLOT_BYTES * slots as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &buffer,
+                offset: 0,
+                size: wgpu::BufferSize::new(binding_bytes),
+            }),
+        }],
+    });
+    (buffer, group)
+}
+
+/// A compute pipeline: `entry` of `module` with `layout`.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
 /// The bind group layout entry of a storage buffer at `binding`.
 pub(crate) fn storage_entry(
     binding: u32,
     visibility: wgpu::ShaderStages,
     read_only: bool,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Storage { read_only }, false)
 }
 
 /// A bind group of whole buffers at bindings 0, 1, ...
@@ -405,7 +463,7 @@ pub(crate) fn buffers_group(
 }
 
 /// Workgroups (x, y) of 256 invocations covering `items` (a dimension holds at most 65,535;
-/// the shaders index `gid.x + gid.y * groups.x * 256`).
+/// the shaders index `gid.x + gid.y * groups.x * 256`, volume.wgsl's `umbra_item`).
 pub(crate) fn dispatch_size(items: u32) -> (u32, u32) {
     let groups = items.div_ceil(256);
     let x = groups.clamp(1, 65_535);

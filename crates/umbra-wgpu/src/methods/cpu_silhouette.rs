@@ -81,11 +81,7 @@ impl CpuSilhouette {
     /// Pipelines for the pass formats of `common`.
     pub(crate) fn new(device: &wgpu::Device, common: &Common) -> Self {
         let module = Common::module(device, "cpu-silhouette cpu_draw.wgsl", &["enable clip_distances;", VOLUME, DRAW]);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("cpu-silhouette"),
-            bind_group_layouts: &[Some(&common.light_layout)],
-            immediate_size: 0,
-        });
+        let layout = common.pipeline_layout(device, "cpu-silhouette", &[]);
         let vec4 = [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x4, offset: 0, shader_location: 0 }];
         let buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: 16,

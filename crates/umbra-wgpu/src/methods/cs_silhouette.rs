@@ -35,13 +35,14 @@
 //! bytes per opposite vertex (`Σ|m| <= Σk`), caps 12 bytes per triangle, two 16-byte commands,
 //! clip positions 32 bytes per vertex.
 
+use umbra_geom::sides_data::record_ranges;
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::WgpuError;
 use crate::methods::transform::{ClipPositions, Transform};
 use crate::methods::{LightFrame, Method, MethodKind};
-use crate::scene::{binding_bytes, buffer_init, check_size, SceneGpu, SceneId};
-use crate::volumes::{buffers_group, dispatch_size, storage_entry, Common, LightPlan};
+use crate::scene::{buffer_init, buffer_zeroed, SceneGpu, SceneId};
+use crate::volumes::{buffers_group, compute_pipeline, dispatch_size, storage_entry, Common, LightPlan};
 
 /// Registry name.
 pub const NAME: &str = "cs-silhouette";
@@ -59,22 +60,16 @@ const DRAW: &str = include_str!("../shaders/cs_draw.wgsl");
 /// Bytes of one draw-indirect command (vertex count, instance count, first vertex, first instance).
 const COMMAND_BYTES: u64 = 16;
 
-/// The edge records of `adj`, split at `max` triangles: `(A, B, first slot, count)` with at
-/// least one record per edge (an edge without triangles contributes nothing).
+/// The edge records of `adj`, split at `max` triangles ([`record_ranges`]): `(A, B, first
+/// slot, count)` with at least one record per edge (an edge without triangles contributes
+/// nothing).
 pub fn edge_records(adj: &EdgeAdjacency, max: u32) -> Vec<[u32; 4]> {
-    let mut records = Vec::with_capacity(adj.len());
-    for (e, &[a, b]) in adj.edges.iter().enumerate() {
-        let (mut start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
-        loop {
-            let n = (end - start).min(max);
-            records.push([a, b, start, n]);
-            start += n;
-            if start >= end {
-                break;
-            }
-        }
-    }
-    records
+    record_ranges(adj, max as usize)
+        .map(|r| {
+            let [a, b] = adj.edges[r.edge];
+            [a, b, r.first, r.count]
+        })
+        .collect()
 }
 
 /// Per-mesh buffers.
@@ -147,35 +142,18 @@ impl CsSilhouette {
             label: Some("cs-silhouette draw"),
             entries: &[storage_entry(0, vertex, true), storage_entry(1, vertex, true), storage_entry(2, vertex, true)],
         });
-        let pipeline_layout = |label, group: &wgpu::BindGroupLayout| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(&common.light_layout), Some(group)],
-                immediate_size: 0,
-            })
-        };
         let enable = "enable clip_distances;";
         let orient_module =
             Common::module(device, "cs-silhouette orientation.wgsl", &[enable, VOLUME, MULTIPLICITY, ORIENTATION]);
         let sides_module = Common::module(device, "cs-silhouette cs_sides.wgsl", &[enable, VOLUME, SIDES]);
         let draw_module = Common::module(device, "cs-silhouette cs_draw.wgsl", &[enable, VOLUME, DRAW]);
-        let orient_pl = pipeline_layout("cs-silhouette orientation", &orient_layout);
-        let compute_pipeline = |label, layout, module, entry| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: Some(layout),
-                module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let orient = compute_pipeline("cs-silhouette orient", &orient_pl, &orient_module, "orient");
+        let orient_pl = common.pipeline_layout(device, "cs-silhouette orientation", &[&orient_layout]);
+        let orient = compute_pipeline(device, "cs-silhouette orient", &orient_pl, &orient_module, "orient");
         let orient_and_caps =
-            compute_pipeline("cs-silhouette orient+caps", &orient_pl, &orient_module, "orient_and_caps");
-        let sides_pl = pipeline_layout("cs-silhouette sides", &sides_layout);
-        let sides = compute_pipeline("cs-silhouette sides", &sides_pl, &sides_module, "sides");
-        let draw_pl = pipeline_layout("cs-silhouette draw", &draw_layout);
+            compute_pipeline(device, "cs-silhouette orient+caps", &orient_pl, &orient_module, "orient_and_caps");
+        let sides_pl = common.pipeline_layout(device, "cs-silhouette sides", &[&sides_layout]);
+        let sides = compute_pipeline(device, "cs-silhouette sides", &sides_pl, &sides_module, "sides");
+        let draw_pl = common.pipeline_layout(device, "cs-silhouette draw", &[&draw_layout]);
         let ccw = wgpu::FrontFace::Ccw;
         let draw_sides = [false, true].map(|zpass| {
             common.counting_pipeline(device, "cs-silhouette sides", &draw_module, "vs_sides", &draw_pl, &[], zpass, ccw)
@@ -221,15 +199,7 @@ impl CsSilhouette {
         };
         let triangles = scene.triangle_count() as u64;
         let storage = wgpu::BufferUsages::STORAGE;
-        let buffer = |label: &str, bytes: u64, usage| -> Result<wgpu::Buffer, WgpuError> {
-            check_size(device, label, bytes)?;
-            Ok(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: binding_bytes(bytes as usize),
-                usage,
-                mapped_at_creation: false,
-            }))
-        };
+        let buffer = |label, bytes, usage| buffer_zeroed(device, label, bytes, usage);
         let command =
             storage | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
         let orientation = buffer("cs-silhouette orientation", 4 * triangles, storage)?;

@@ -24,7 +24,7 @@ use umbra_geom::Aabb;
 use crate::error::WgpuError;
 use crate::methods::{LightFrame, Method, MethodKind};
 use crate::scene::{SceneGpu, SceneId};
-use crate::volumes::{Common, LightPlan, LIGHT_SLOT_BYTES};
+use crate::volumes::{uniform_entry, uniform_slots, Common, LightPlan, LIGHT_SLOT_BYTES};
 
 /// Name prefix of the family: `shadow-map-cube:RES[+pcf]`, RES texels per face side.
 pub const PREFIX: &str = umbra_geom::shadow_map::PREFIX;
@@ -67,9 +67,10 @@ impl ShadowMapConfig {
         Some(Self { pcf, ..Self::new(resolution) })
     }
 
-    /// `shadow-map-cube:RES[+pcf]` (bias does not change the name).
-    pub fn name(&self) -> String {
-        format!("{PREFIX}:{}{}", self.resolution, if self.pcf { "+pcf" } else { "" })
+    /// `shadow-map-cube:RES[+pcf]` (bias does not change the name;
+    /// [`umbra_geom::shadow_map::name`]).
+    pub fn name(&self) -> &'static str {
+        umbra_geom::shadow_map::name(self.resolution, self.pcf)
     }
 }
 
@@ -111,19 +112,6 @@ pub struct ShadowMapCube {
     lights: Vec<PerLight>,
 }
 
-/// Names must be `&'static str`; each distinct configuration's name is leaked once.
-fn intern(name: String) -> &'static str {
-    use std::sync::Mutex;
-    static NAMES: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
-    let mut names = NAMES.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(n) = names.iter().find(|n| **n == name) {
-        return n;
-    }
-    let leaked: &'static str = Box::leak(name.into_boxed_str());
-    names.push(leaked);
-    leaked
-}
-
 impl ShadowMapCube {
     /// Pipelines for the pass formats of `common`; the resolution is checked against the
     /// device's largest 2D texture.
@@ -140,19 +128,9 @@ impl ShadowMapCube {
             return Err(WgpuError::InvalidParams(format!("{}: slope bias {}", config.name(), config.bias_slope)));
         }
         let module = Common::module(device, "shadow_map.wgsl", &["enable clip_distances;", VOLUME, SHADER]);
-        let uniform = |binding, visibility, dynamic| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: dynamic,
-                min_binding_size: None,
-            },
-            count: None,
-        };
         let faces_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadow map faces"),
-            entries: &[uniform(0, wgpu::ShaderStages::VERTEX, true)],
+            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX, true)],
         });
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -174,7 +152,7 @@ impl ShadowMapCube {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
-                uniform(2, fragment, false),
+                uniform_entry(2, fragment, false),
             ],
         });
         let positions =
@@ -232,11 +210,7 @@ impl ShadowMapCube {
             multiview_mask: None,
             cache: None,
         });
-        let resolve_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shadow map resolve"),
-            bind_group_layouts: &[Some(&common.light_layout), Some(&resolve_layout)],
-            immediate_size: 0,
-        });
+        let resolve_pl = common.pipeline_layout(device, "shadow map resolve", &[&resolve_layout]);
         let to_zero = wgpu::StencilFaceState {
             // Reason: every fragment that survives the map test marks its pixel lit (0).
             compare: wgpu::CompareFunction::Always,
@@ -301,7 +275,7 @@ impl ShadowMapCube {
             ..Default::default()
         });
         Ok(Self {
-            name: intern(config.name()),
+            name: config.name(),
             config,
             faces_layout,
             resolve_layout,
@@ -356,24 +330,8 @@ impl ShadowMapCube {
                 })
             })
             .collect();
-        let faces = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("shadow map faces"),
-            size: LIGHT_SLOT_BYTES * u64::from(layers),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let faces_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow map faces"),
-            layout: &self.faces_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &faces,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(64),
-                }),
-            }],
-        });
+        // One light clip matrix per layer.
+        let (faces, faces_group) = uniform_slots(device, "shadow map faces", &self.faces_layout, layers as usize, 64);
         let lookup = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shadow map lookup"),
             size: std::mem::size_of::<Lookup>() as u64,

@@ -4,8 +4,8 @@
 //! vertices (a watertight volume whatever the compiler contracts).
 
 use crate::error::WgpuError;
-use crate::scene::{binding_bytes, check_size, SceneGpu};
-use crate::volumes::{buffers_group, dispatch_size, storage_entry, Common};
+use crate::scene::{buffer_zeroed, SceneGpu};
+use crate::volumes::{buffers_group, compute_pipeline, dispatch_size, storage_entry, Common};
 
 const VOLUME: &str = include_str!("../shaders/volume.wgsl");
 const TRANSFORM: &str = include_str!("../shaders/transform.wgsl");
@@ -30,32 +30,15 @@ impl Transform {
             entries: &[storage_entry(0, compute, true), storage_entry(1, compute, false)],
         });
         let module = Common::module(device, "transform.wgsl", &["enable clip_distances;", VOLUME, TRANSFORM]);
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("umbra transform"),
-            bind_group_layouts: &[Some(&common.light_layout), Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("umbra transform"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("transform"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline_layout = common.pipeline_layout(device, "umbra transform", &[&layout]);
+        let pipeline = compute_pipeline(device, "umbra transform", &pipeline_layout, &module, "transform");
         Self { layout, pipeline }
     }
 
     /// A light's clip-position buffer for `scene`.
     pub fn buffers(&self, device: &wgpu::Device, scene: &SceneGpu) -> Result<ClipPositions, WgpuError> {
         let bytes = 32 * scene.mesh().positions.len() as u64;
-        check_size(device, "umbra clip positions", bytes)?;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("umbra clip positions"),
-            size: binding_bytes(bytes as usize),
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
+        let buffer = buffer_zeroed(device, "umbra clip positions", bytes, wgpu::BufferUsages::STORAGE)?;
         let group = buffers_group(device, "umbra transform", &self.layout, &[scene.position_buffer(), &buffer]);
         Ok(ClipPositions { buffer, group })
     }

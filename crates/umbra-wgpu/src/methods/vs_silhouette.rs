@@ -19,14 +19,14 @@
 //! per record; the caps read the scene's index buffer instead of Eq. 9's caps-data. Per light:
 //! the orientations (4 bytes per triangle) and clip positions (32 bytes per vertex).
 
-use umbra_geom::sides_data::{choose_max_mult, MAX_MULT_LIMIT};
+use umbra_geom::sides_data::{choose_max_mult, record_ranges, MAX_MULT_LIMIT};
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::WgpuError;
 use crate::methods::transform::{ClipPositions, Transform};
 use crate::methods::{LightFrame, Method, MethodKind};
-use crate::scene::{binding_bytes, buffer_init, check_size, SceneGpu, SceneId};
-use crate::volumes::{buffers_group, dispatch_size, storage_entry, Common, LightPlan};
+use crate::scene::{buffer_init, buffer_zeroed, SceneGpu, SceneId};
+use crate::volumes::{buffers_group, compute_pipeline, dispatch_size, storage_entry, Common, LightPlan};
 
 /// Registry name.
 pub const NAME: &str = "vs-silhouette";
@@ -37,25 +37,15 @@ const ORIENTATION: &str = include_str!("../shaders/orientation.wgsl");
 const DRAW: &str = include_str!("../shaders/vs_draw.wgsl");
 
 /// The records of `adj` at `max_mult` slots each: `(A, B, first slot, count | split << 8)`,
-/// an edge with more opposites split into consecutive chunks (umbra_geom::sides_data's split);
-/// an edge without opposites keeps one empty record.
+/// an edge with more opposites split into consecutive chunks (umbra_geom::sides_data's split,
+/// [`record_ranges`]); an edge without opposites keeps one empty record.
 pub fn records(adj: &EdgeAdjacency, max_mult: usize) -> Vec<[u32; 4]> {
-    let max_mult = max_mult.max(1) as u32;
-    let mut out = Vec::with_capacity(adj.len());
-    for (e, &[a, b]) in adj.edges.iter().enumerate() {
-        let (start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
-        let split = u32::from(end - start > max_mult);
-        let mut first = start;
-        loop {
-            let n = (end - first).min(max_mult);
-            out.push([a, b, first, n | split << 8]);
-            first += n;
-            if first >= end {
-                break;
-            }
-        }
-    }
-    out
+    record_ranges(adj, max_mult)
+        .map(|r| {
+            let [a, b] = adj.edges[r.edge];
+            [a, b, r.first, r.count | u32::from(r.split) << 8]
+        })
+        .collect()
 }
 
 struct Mesh {
@@ -106,26 +96,13 @@ impl VsSilhouette {
             label: Some("vs-silhouette draw"),
             entries: &(0..5).map(|i| storage_entry(i, vertex, true)).collect::<Vec<_>>(),
         });
-        let pipeline_layout = |label, group: &wgpu::BindGroupLayout| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(&common.light_layout), Some(group)],
-                immediate_size: 0,
-            })
-        };
         let enable = "enable clip_distances;";
         let orient_module =
             Common::module(device, "vs-silhouette orientation.wgsl", &[enable, VOLUME, MULTIPLICITY, ORIENTATION]);
         let draw_module = Common::module(device, "vs-silhouette vs_draw.wgsl", &[enable, VOLUME, DRAW]);
-        let orient = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("vs-silhouette orient"),
-            layout: Some(&pipeline_layout("vs-silhouette orientation", &orient_layout)),
-            module: &orient_module,
-            entry_point: Some("orient"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        let draw_pl = pipeline_layout("vs-silhouette draw", &draw_layout);
+        let orient_pl = common.pipeline_layout(device, "vs-silhouette orientation", &[&orient_layout]);
+        let orient = compute_pipeline(device, "vs-silhouette orient", &orient_pl, &orient_module, "orient");
+        let draw_pl = common.pipeline_layout(device, "vs-silhouette draw", &[&draw_layout]);
         let ccw = wgpu::FrontFace::Ccw;
         let sides = [false, true].map(|zpass| {
             common.counting_pipeline(device, "vs-silhouette sides", &draw_module, "vs_sides", &draw_pl, &[], zpass, ccw)
@@ -149,13 +126,7 @@ impl VsSilhouette {
             return Err(WgpuError::InvalidParams("vs-silhouette: per-light buffers before prepare_scene".into()));
         };
         let bytes = 4 * scene.triangle_count() as u64;
-        check_size(device, "vs-silhouette orientation", bytes)?;
-        let orientation = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("vs-silhouette orientation"),
-            size: binding_bytes(bytes as usize),
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
+        let orientation = buffer_zeroed(device, "vs-silhouette orientation", bytes, wgpu::BufferUsages::STORAGE)?;
         let orient_group = buffers_group(
             device,
             "vs-silhouette orientation",

@@ -13,19 +13,12 @@
 // the quads of its partial multiplicity with its own sign; the stencil counts of an edge's
 // records add up to its multiplicity. Compaction: a record with m != 0 reserves |m| slots with
 // one atomicAdd on the sides draw command's vertex count (6 per quad).
-// Prepended: volume.wgsl (the light slot `u`: u.records).
+// Prepended: volume.wgsl (the light slot `u`: u.records; umbra_item, DrawCommand).
 
 // Per edge record: (A, B, first slot, slot count), A < B in the vertex order.
 @group(1) @binding(0) var<storage, read> records: array<vec4<u32>>;
 @group(1) @binding(1) var<storage, read> slots: array<u32>;
 @group(1) @binding(2) var<storage, read> orientation: array<i32>;
-
-struct DrawCommand {
-    vertex_count: atomic<u32>,
-    instance_count: u32,
-    first_vertex: u32,
-    first_instance: u32,
-}
 @group(1) @binding(3) var<storage, read_write> sides_command: DrawCommand;
 // One record per side quad: (X, Y) vertex indices, the quad is Y X X_inf Y_inf
 // (m > 0: X = A, Y = B; m < 0: X = B, Y = A).
@@ -33,7 +26,7 @@ struct DrawCommand {
 
 @compute @workgroup_size(256)
 fn sides(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let e = gid.x + gid.y * groups.x * 256u;
+    let e = umbra_item(gid, groups);
     if e >= u.records {
         return;
     }

@@ -13,30 +13,19 @@
 //                    (orientation 0) gets no cap, every other one writes its three vertex
 //                    indices wound to face the light, reserved with one atomicAdd on the caps
 //                    draw command's vertex count (vertices_per_cap per cap).
-// Prepended: volume.wgsl (the light slot `u`: light and u.triangles), multiplicity.wgsl.
+// Prepended: volume.wgsl (the light slot `u`: light and u.triangles; umbra_item,
+// DrawCommand), multiplicity.wgsl.
 
 @group(1) @binding(0) var<storage, read> positions: array<f32>;
 // The scene's index buffer: 3 vertex indices per triangle.
 @group(1) @binding(1) var<storage, read> indices: array<u32>;
 @group(1) @binding(2) var<storage, read_write> orientation: array<i32>;
-
-struct DrawCommand {
-    vertex_count: atomic<u32>,
-    instance_count: u32,
-    first_vertex: u32,
-    first_instance: u32,
-}
 @group(1) @binding(3) var<storage, read_write> caps_command: DrawCommand;
 // Per cap: 3 vertex indices, the light cap's counter-clockwise order.
 @group(1) @binding(4) var<storage, read_write> caps: array<u32>;
 
 fn umbra_position(i: u32) -> vec3<f32> {
     return vec3<f32>(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
-}
-
-// Invocation index over a 2D grid of 256-wide workgroups (a dimension holds at most 65,535).
-fn umbra_item(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
-    return gid.x + gid.y * groups.x * 256u;
 }
 
 fn umbra_orient(t: u32) -> i32 {

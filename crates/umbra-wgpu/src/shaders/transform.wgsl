@@ -13,14 +13,14 @@
 // does (the orientation pass's argument, for positions). No failure was traced to this; it
 // closes the door by construction, and the draws get cheaper (vs-silhouette's sides run
 // 6 * maxMult vertices per record).
-// Prepended: volume.wgsl (the light slot `u`: matrix, light, u.vertices).
+// Prepended: volume.wgsl (the light slot `u`: matrix, light, u.vertices; umbra_item).
 
 @group(1) @binding(0) var<storage, read> positions: array<f32>;
 @group(1) @binding(1) var<storage, read_write> clip: array<vec4<f32>>;
 
 @compute @workgroup_size(256)
 fn transform(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let v = gid.x + gid.y * groups.x * 256u;
+    let v = umbra_item(gid, groups);
     if v >= u.vertices {
         return;
     }

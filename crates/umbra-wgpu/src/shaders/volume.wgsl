@@ -1,8 +1,10 @@
 // What every shadow-volume vertex shader of umbra-wgpu shares: the per-light uniforms, the
 // extrusion to infinity (001 Eq. 2), light caps pushed to the far plane (paper 003 Eq. 6), the
 // near-plane clip of light caps and the scene-box clip of z-pass volumes (clip distances), and
-// the counting fragment shader. The WGSL twin of umbra-gl's methods/shared/depth.glsl. No
-// enable directives: the Rust side prepends `enable clip_distances;`.
+// the counting fragment shader; and what the compute passes share: their invocation index and
+// the indirect draw command they compact into. The WGSL twin of umbra-gl's
+// methods/shared/depth.glsl. No enable directives: the Rust side prepends
+// `enable clip_distances;`.
 
 // Per light (group 0, binding 0, one 256-byte slot per light, dynamic offset).
 struct UmbraLight {
@@ -112,4 +114,19 @@ fn fs_volume(@builtin(position) position: vec4<f32>) -> @builtin(frag_depth) f32
 fn fs_volume_per_sample(@builtin(position) position: vec4<f32>, @builtin(sample_index) sample: u32) -> @builtin(frag_depth) f32 {
     _ = sample;
     return umbra_volume_depth(position.z);
+}
+
+// Invocation index over a 2D grid of 256-wide workgroups (a dimension holds at most 65,535;
+// volumes.rs, dispatch_size).
+fn umbra_item(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return gid.x + gid.y * groups.x * 256u;
+}
+
+// A draw-indirect command whose vertex count a compute pass reserves with atomicAdd
+// (cs-silhouette: cs_sides.wgsl, orientation.wgsl).
+struct DrawCommand {
+    vertex_count: atomic<u32>,
+    instance_count: u32,
+    first_vertex: u32,
+    first_instance: u32,
 }
