@@ -95,11 +95,17 @@ uniform vec3 u_eye_world;
 // 2^-6. On the view ray of S's pixel, between the eye and S: off S's own surface, in the
 // empty space in front of it. Computed once per use with one fixed order of operations
 // (precise): every pass gets the same f32 point.
+// The fraction mu of the way to the eye (to_eye = u_eye_world - s) a lifted point moves.
+float lift_fraction(vec3 s, vec3 to_eye) {
+    precise float dist = length(to_eye);
+    precise float big = max(max(abs(s.x), abs(s.y)), abs(s.z));
+    precise float mu = dist > 0.0 ? min(1.0 / 4096.0 + big * (1.0 / 131072.0) / dist, 1.0 / 64.0) : 0.0;
+    return mu;
+}
+
 vec3 lifted(vec3 s) {
     precise vec3 to_eye = u_eye_world - s;
-    float dist = length(to_eye);
-    float big = max(max(abs(s.x), abs(s.y)), abs(s.z));
-    float mu = dist > 0.0 ? min(1.0 / 4096.0 + big * (1.0 / 131072.0) / dist, 1.0 / 64.0) : 0.0;
+    float mu = lift_fraction(s, to_eye);
     precise vec3 p = s + mu * to_eye;
     return p;
 }

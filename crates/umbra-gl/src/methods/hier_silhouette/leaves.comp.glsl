@@ -1,6 +1,6 @@
 // hier-silhouette, per light and batch: each active leaf (one with pairs in this batch) against
 // its list of faces: per sample, the signed crossings of the bridge from the leaf's point to the
-// sample (faces.glsl sample_crossings), summed over the list and added to the sample's count.
+// sample's count point (faces.glsl count_point, sample_crossings), summed over the list and added to the sample's count.
 // Faces turned away by a full queue (their redo flag set) are skipped: the redo rounds count
 // them whole. One workgroup per active leaf (indirect, args.comp.glsl), one invocation per
 // sample, walking the list together (the same face in every invocation: coherent loads). The
@@ -28,7 +28,7 @@ void main() {
     if (s.w == NO_TRIANGLE) {
         return;
     }
-    vec3 sp = uintBitsToFloat(s.xyz);
+    vec3 sp = count_point(uintBitsToFloat(s.xyz), s.w);
     vec3 cp = node_point(0u, leaf);
     int sum = 0;
     uint link = state[u_heads_offset + leaf];
@@ -36,7 +36,7 @@ void main() {
         for (uint inner = 0u; inner < 65535u && link != 0u; ++inner) {
             uvec2 pair = queue[u_level[0].w + link - 1u];
             if ((state[u_redo_flags_offset + pair.x / 32u] & (1u << (pair.x % 32u))) == 0u) {
-                sum += sample_crossings(load_face(pair.x), cp, sp, s.w);
+                sum += sample_crossings(load_face(pair.x), cp, sp);
             }
             link = pair.y;
         }

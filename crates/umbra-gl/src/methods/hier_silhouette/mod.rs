@@ -34,9 +34,21 @@
 //!   the node's bounds and a face that misses the bounds crosses none of them;
 //! * a point on a face's plane counts as moved towards the eye, a bridge through an edge's line
 //!   passes on one fixed side of the edge's canonical orientation, the same for every face
-//!   sharing it; a sample's own triangle (and any plane within 2^-20 of its magnitudes) sees it
-//!   moved towards the eye: its count is the count in front of its surface, the stencil's;
+//!   sharing it; a sample's count is taken at a point moved along its ray towards the eye,
+//!   2^-21 of its coordinates in front of its own plane (within its envelope): the count in
+//!   front of its surface, the stencil's (`faces.glsl`, `count_point`);
 //! * unsure decisions the rules had to resolve are counted ([`HierSilhouette::unsure_counts`]).
+//!
+//! Band (umbra_oracle::envelope; judged with `BandParts::SILHOUETTE`, as the rasterizing
+//! silhouette methods). It rasterizes no face, so nothing in its decision is a depth test's
+//! resolution: of the parts that come from depth-testing rasterized faces, CANCELLING does not
+//! apply (no faces on edges that cast nothing, [`ShadowMethod::silhouette_sides`]); SIDE_FACE
+//! and SURFACE stay in its band because their size is the sample's envelope, whose position
+//! part (the f32 world position interpolated by the depth pass, moved onto its own plane) is
+//! this method's own uncertainty too — a face passing that close to the sample decides it by
+//! rounding. FACING, ORIENTATION (it orients faces with the same f32 test, bit for bit
+//! cpu-silhouette's), REFERENCE_EPS (no eps) and NEAR_CUT (its samples are the depth pass's,
+//! clipped by the near plane) apply as to every method.
 //!
 //! Per frame (shared with hier-triangle, [`crate::methods::hier`]): "samples", "hierarchy"
 //! (with the lifted points and the nodes' points). Per light:
@@ -129,7 +141,7 @@ fn fallback_chain() -> String {
         if (s.w == NO_TRIANGLE) {
             continue;
         }
-        int c = sample_crossings(F, cp, uintBitsToFloat(s.xyz), s.w);
+        int c = sample_crossings(F, cp, count_point(uintBitsToFloat(s.xyz), s.w));
         if (c != 0) {
             atomicAdd(counts[u_counts_partial + pixel], c);
         }
@@ -309,9 +321,9 @@ impl HierSilhouette {
     /// Faces of the last light that a full queue turned away during the batches (counted again
     /// by the redo rounds).
     pub fn redo_faces(&self, gl: &glow::Context) -> u32 {
-        self.frame.as_ref().map_or(0, |f| {
-            f.hierarchy.control_words(gl).get(hier::layout::REDO_CONTROL).copied().unwrap_or(0)
-        })
+        self.frame
+            .as_ref()
+            .map_or(0, |f| f.hierarchy.control_words(gl).get(hier::layout::REDO_CONTROL).copied().unwrap_or(0))
     }
 
     /// The last light's per-sample counts `W` (the stencil counts of cpu-silhouette): rows top
@@ -406,8 +418,12 @@ impl HierSilhouette {
         let layout = Layout::with_points(width, height, faces.count(), self.queue_scale);
         let regions = Counts::new(&layout, &faces);
         let counts = hier::allocate_buffers(gl, &[regions.bytes()], &["hier-silhouette counts"])?[0];
-        let names =
-            ["hier-silhouette samples", "hier-silhouette node bounds", "hier-silhouette state", "hier-silhouette queues"];
+        let names = [
+            "hier-silhouette samples",
+            "hier-silhouette node bounds",
+            "hier-silhouette state",
+            "hier-silhouette queues",
+        ];
         match FrameObjects::allocate(gl, layout, names) {
             Ok(hierarchy) => {
                 self.frame = Some(FrameCounts { hierarchy, counts, regions });
@@ -449,6 +465,14 @@ impl ShadowMethod for HierSilhouette {
 
     fn fills_volumes(&self) -> bool {
         false
+    }
+
+    /// True: its faces are paper 001's silhouette sides (edges of nonzero multiplicity) and the
+    /// light caps, none on an edge that casts nothing, so the reference's CANCELLING band part
+    /// (two opposite per-triangle faces that cancel only if ordered alike) does not apply to it
+    /// (umbra_verify::band_mask: `BandParts::SILHOUETTE`). See the module doc, "Band".
+    fn silhouette_sides(&self) -> bool {
+        true
     }
 
     fn classification(&self) -> Classification {
