@@ -272,6 +272,9 @@ struct FrameCounts {
     regions: Counts,
 }
 
+/// A node's point (world space) and the count `W` there ([`HierSilhouette::node_counts`]).
+pub type NodeCount = ([f32; 3], i32);
+
 /// See the module documentation.
 pub struct HierSilhouette {
     prepared: Option<SceneId>,
@@ -359,7 +362,7 @@ impl HierSilhouette {
     /// The last light's count `W` at every node's point, level by level (leaves first, each
     /// level row by row), with the point: `None` for an empty node. A read-back (a stall): for
     /// tests, which check the bridges against a brute-force count at the points.
-    pub fn node_counts(&self, gl: &glow::Context) -> Option<Vec<Vec<Option<([f32; 3], i32)>>>> {
+    pub fn node_counts(&self, gl: &glow::Context) -> Option<Vec<Vec<Option<NodeCount>>>> {
         let f = self.frame.as_ref()?;
         let layout = &f.hierarchy.layout;
         let nodes = hier::read_words(gl, f.hierarchy.nodes, 0, 4 * NODE_VEC4S * layout.nodes() as usize);
