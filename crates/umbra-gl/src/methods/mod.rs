@@ -233,9 +233,9 @@ pub trait ShadowMethod {
     /// or its own stencil test): the renderer then chooses z-pass or z-fail (and the stencil's
     /// start value `W0`), the wide counter and the clip planes for it. False for a method that
     /// decides per sample some other way and writes its [`Classification::StencilZero`]
-    /// decision into the stencil itself (hier-triangle): the stencil is cleared to 0 and no
-    /// counting state, counter or clip plane is set up for it; it has no volumes to show as a
-    /// wireframe either.
+    /// decision into the stencil itself (hier-triangle, hier-silhouette): the stencil is
+    /// cleared to 0 and no counting state, counter or clip plane is set up for it; it has no
+    /// volumes to show as a wireframe either.
     fn fills_volumes(&self) -> bool {
         true
     }
