@@ -1,6 +1,7 @@
 // hier-silhouette, per light and batch: each active leaf (one with pairs in this batch) against
 // its list of faces: per sample, the signed crossings of the bridge from the leaf's point to the
-// sample's count point (faces.glsl count_point, sample_crossings), summed over the list and added to the sample's count.
+// sample's count point (faces.glsl count_point, sample_crossings), summed over the list and
+// added to the sample's count.
 // Faces turned away by a full queue (their redo flag set) are skipped: the redo rounds count
 // them whole. One workgroup per active leaf (indirect, args.comp.glsl), one invocation per
 // sample, walking the list together (the same face in every invocation: coherent loads). The
