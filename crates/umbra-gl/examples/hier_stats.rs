@@ -1,6 +1,6 @@
-//! hier-triangle's traversal statistics for one view: pairs queued per level (against the
-//! queues' capacity), per-stage times (glFinish at every stage), and the frame time of
-//! `none` and `cpu-silhouette` in the same run for comparison.
+//! hier-triangle's and hier-silhouette's traversal statistics for one view: pairs queued per
+//! level (against the queues' capacity), per-stage times (glFinish at every stage), and the
+//! frame time of `none` and `cpu-silhouette` in the same run for comparison.
 //!
 //! `cargo run --release -p umbra-gl --example hier_stats -- SCENE [WIDTHxHEIGHT] [EYE_X,Y,Z TARGET_X,Y,Z]`
 //! The light is the CLI's default interior light (70 % of the height, slightly off-centre);
@@ -9,6 +9,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use umbra_gl::methods::hier_silhouette::HierSilhouette;
 use umbra_gl::methods::hier_triangle::HierTriangle;
 use umbra_gl::{create_method, Camera, FrameParams, HeadlessContext, Renderer, SceneGpu, ShadowMethod, TimestampHook};
 
@@ -71,6 +72,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let dims: Vec<String> = layout.levels.iter().map(|l| format!("{}x{}", l.width, l.height)).collect();
         println!("  levels {}; {} MiB", dims.join(" "), hier.gpu_bytes() >> 20);
     }
+    let mut sil = HierSilhouette::with_queue_scale(scale);
+    for frame in 0..3 {
+        let t = Instant::now();
+        renderer.render(gl, &scene, &mut sil, &params, Some(&mut hook))?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let stages: Vec<String> = hook
+            .finish(gl)
+            .iter()
+            .map(|s| format!("{} {:.1}/{:.1}", s.mark.label, s.gpu_ns as f64 / 1e6, s.cpu_ns as f64 / 1e6))
+            .collect();
+        println!("hier-silhouette frame {frame}: {ms:.1} ms; {}", stages.join(", "));
+    }
+    println!("  redo list: {} faces; unsure decisions {:?}", sil.redo_faces(gl), sil.unsure_counts(gl));
+    for (l, (pairs, capacity)) in sil.queue_counts(gl).iter().enumerate() {
+        println!("  level {l}: {pairs} pairs queued, capacity {capacity}");
+    }
+    if let Some(faces) = sil.faces() {
+        println!(
+            "  {} faces ({} caps, {} edge records); {} MiB",
+            faces.count(),
+            faces.triangles,
+            faces.records,
+            sil.gpu_bytes() >> 20
+        );
+    }
+    sil.destroy(gl);
     for name in ["none", "cpu-silhouette"] {
         let mut m = create_method(name)?;
         let mut best = f64::INFINITY;

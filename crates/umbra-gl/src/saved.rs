@@ -191,8 +191,8 @@ pub(crate) struct MethodBindings {
 }
 
 /// Indexed storage-buffer bindings saved: 0 (in SavedState) up to this, exclusive; the
-/// methods use 1-7.
-const SAVED_SSBO_BINDINGS: u32 = 8;
+/// methods use 1-8 (8: hier-silhouette's counts).
+const SAVED_SSBO_BINDINGS: u32 = 9;
 
 impl MethodBindings {
     pub(crate) fn capture(gl: &glow::Context) -> Self {

@@ -258,6 +258,12 @@ impl App {
                     self.set_method(i);
                 }
             }
+            KeyCode::KeyR => {
+                // hier-silhouette (the RSSV idea), beyond the number keys' first ten methods.
+                if let Some(i) = method_names().iter().position(|&n| n == umbra_gl::methods::hier_silhouette::NAME) {
+                    self.set_method(i);
+                }
+            }
             KeyCode::KeyV => self.show_mask = !self.show_mask,
             KeyCode::KeyF => {
                 self.wireframe = !self.wireframe;

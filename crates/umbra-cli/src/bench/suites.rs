@@ -4,10 +4,10 @@
 //! | --- | --- | --- |
 //! | `001-spheres` | 001 Table 3 | 10 x 10 spheres, 32,400 ... 1,960,000 triangles; TS/GS silhouettes, reference edge and 3-edge |
 //! | `001-objects` | 001 Table 5 | 1M triangles over 1 ... 15,625 spheres |
-//! | `001-vs-sm` | 001 Table 6 | ts-silhouette and hier-triangle vs 8K cube shadow map over the sphere sweep |
+//! | `001-vs-sm` | 001 Table 6 | ts-silhouette, hier-triangle and hier-silhouette vs 8K cube shadow map over the sphere sweep |
 //! | `001-overall` | 001 Table 8 | per-triangle vs silhouette methods vs 8K shadow maps, Sponza and 4M-triangle spheres |
 //! | `003-scenes` | 003 Tables 1-2 | Sponza, Conference, Sibenik fly-throughs: none, cube SM 1K-8K, every volume method |
-//! | `003-stages` | 003 Tables 3-4 | stage breakdown of vs-silhouette and hier-triangle on the Sponza fly-through at 4 resolutions |
+//! | `003-stages` | 003 Tables 3-4 | stage breakdown of vs-silhouette, hier-triangle and hier-silhouette on the Sponza fly-through at 4 resolutions |
 //!
 //! Methods that are not registered are skipped with a note (checked at run time), so the
 //! suites grow with the registry. Scene files are found in `$UMBRA_SCENES` (default
@@ -67,7 +67,7 @@ pub struct Suite {
 pub const SUITES: [(&str, &str); 6] = [
     ("001-spheres", "paper 001 Table 3: 10x10 spheres, 32,400 ... 1,960,000 triangles, TS/GS silhouettes"),
     ("001-objects", "paper 001 Table 5: 1M triangles over 1 ... 15,625 objects"),
-    ("001-vs-sm", "paper 001 Table 6: ts-silhouette and hier-triangle vs 8K cube shadow map over the sphere sweep"),
+    ("001-vs-sm", "paper 001 Table 6: ts-silhouette, hier-triangle and hier-silhouette vs 8K cube shadow map over the sphere sweep"),
     ("001-overall", "paper 001 Table 8: per-triangle vs silhouette methods vs 8K shadow maps"),
     ("003-scenes", "paper 003 Tables 1-2: Sponza, Conference, Sibenik fly-throughs"),
     ("003-stages", "paper 003 Tables 3-4: stage breakdown on the Sponza fly-through at 4 resolutions"),
@@ -164,8 +164,9 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
             ],
         },
         "001-vs-sm" => {
-            // hier-triangle: issue 15's target "ahead of the 8K map at every size".
-            let methods = strings(&["ts-silhouette", "hier-triangle", "shadow-map-cube:8192"]);
+            // hier-triangle and hier-silhouette: issue 15's target "ahead of the 8K map at every
+            // size".
+            let methods = strings(&["ts-silhouette", "hier-triangle", "hier-silhouette", "shadow-map-cube:8192"]);
             Suite {
                 name: "001-vs-sm",
                 title: SUITES[2].1,
@@ -182,14 +183,17 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
             }
         }
         "001-overall" => {
-            // Paper 001's per-triangle methods (not hier-triangle, which is 001-vs-sm's and
-            // 003-scenes' and would add hours on the 4M spheres: docs/benchmarks.md).
+            // Paper 001's per-triangle and silhouette methods (not hier-triangle and
+            // hier-silhouette, which are 001-vs-sm's and 003-scenes' and would add hours on the
+            // 4M spheres: docs/benchmarks.md).
             let mut methods: Vec<String> = method_names()
                 .iter()
                 .filter(|n| n.contains("triangle") && !n.starts_with("hier"))
                 .map(|s| s.to_string())
                 .collect();
-            methods.extend(method_names().iter().filter(|n| n.contains("silhouette")).map(|s| s.to_string()));
+            methods.extend(
+                method_names().iter().filter(|n| n.contains("silhouette") && !n.starts_with("hier")).map(|s| s.to_string()),
+            );
             methods.push("shadow-map-cube:8192".into());
             let (sponza, fly) = real("sponza");
             Suite {
@@ -242,8 +246,9 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
         }
         "003-stages" => {
             let (sponza, fly) = real("sponza");
-            // hier-triangle: issue 15's target "the shadow stage grows no faster than the pixels".
-            let methods = strings(&["vs-silhouette", "hier-triangle"]);
+            // hier-triangle and hier-silhouette: issue 15's target "the shadow stage grows no
+            // faster than the pixels".
+            let methods = strings(&["vs-silhouette", "hier-triangle", "hier-silhouette"]);
             Suite {
                 name: "003-stages",
                 title: SUITES[5].1,

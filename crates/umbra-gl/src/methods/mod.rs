@@ -37,6 +37,8 @@ pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod gs_silhouette;
 pub mod gs_triangle;
+pub mod hier;
+pub mod hier_silhouette;
 pub mod hier_triangle;
 pub mod none;
 pub mod shadow_map;
@@ -231,9 +233,9 @@ pub trait ShadowMethod {
     /// or its own stencil test): the renderer then chooses z-pass or z-fail (and the stencil's
     /// start value `W0`), the wide counter and the clip planes for it. False for a method that
     /// decides per sample some other way and writes its [`Classification::StencilZero`]
-    /// decision into the stencil itself (hier-triangle): the stencil is cleared to 0 and no
-    /// counting state, counter or clip plane is set up for it; it has no volumes to show as a
-    /// wireframe either.
+    /// decision into the stencil itself (hier-triangle, hier-silhouette): the stencil is
+    /// cleared to 0 and no counting state, counter or clip plane is set up for it; it has no
+    /// volumes to show as a wireframe either.
     fn fills_volumes(&self) -> bool {
         true
     }
@@ -294,6 +296,7 @@ pub fn method_names() -> &'static [&'static str] {
         vs_triangle::NAME,
         all_edges_invert::NAME,
         hier_triangle::NAME,
+        hier_silhouette::NAME,
     ]
 }
 
@@ -314,6 +317,7 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
         vs_triangle::NAME => Ok(Box::new(vs_triangle::VsTriangle::new())),
         all_edges_invert::NAME => Ok(Box::new(all_edges_invert::AllEdgesInvert::new())),
         hier_triangle::NAME => Ok(Box::new(hier_triangle::HierTriangle::new())),
+        hier_silhouette::NAME => Ok(Box::new(hier_silhouette::HierSilhouette::new())),
         n if n.starts_with(shadow_map::PREFIX) => shadow_map::ShadowMapCube::from_name(n)
             .map(|m| Box::new(m) as Box<dyn ShadowMethod>)
             .ok_or_else(|| UnknownMethod { name: n.to_string() }),

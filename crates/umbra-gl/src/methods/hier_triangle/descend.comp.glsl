@@ -1,9 +1,10 @@
 // hier-triangle, per light and level (u_pass_level >= 1), top-down: one invocation per queued
 // pair: the pair's triangle against the 16 children of its node (Sintorn et al. 2014, Section
 // 4: the hierarchy traversed breadth-first, a frustum cutting a node is tested against its
-// children), the triangle's data loaded once. A child inside the frustum is marked covered, one it cuts is queued
-// for the next level (descend_into). Prepended: the header and common.glsl. Dispatched
-// indirectly (args.comp.glsl): 64 pairs per workgroup, the group index spread over x and y.
+// children), the triangle's data loaded once. A child inside the frustum is marked covered,
+// one it cuts is queued for the next level (descend_into). Prepended: hier/hierarchy.glsl,
+// hier/region.glsl, frustum.glsl. Dispatched indirectly (args.comp.glsl): 64 pairs per
+// workgroup, the group index spread over x and y.
 
 layout(local_size_x = 64) in;
 

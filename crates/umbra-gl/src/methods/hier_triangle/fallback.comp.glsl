@@ -1,11 +1,12 @@
 // hier-triangle, per light: the triangles a full queue turned away in the last redo round (redo
 // list u_redo_in,
-// common.glsl descend_into), each processed whole by one invocation: its frustum against every
+// hier/hierarchy.glsl descend_into), each processed whole by one invocation: its frustum against every
 // top node and, depth-first, down to the samples (Sintorn et al. 2014's traversal, without the
 // queues). The generated chain inline_level{l} (mod.rs, fallback_chain) descends through
 // nested loops of at most 64 iterations each — no recursion in GLSL, and no loop near
 // llvmpipe's 65,535. Normally the list is empty and this pass has no workgroup at all
-// (indirect dispatch of args.comp.glsl's count). Prepended: the header, common.glsl, the chain.
+// (indirect dispatch of args.comp.glsl's count). Prepended: hier/hierarchy.glsl,
+// hier/region.glsl, frustum.glsl, the chain.
 
 layout(local_size_x = 64) in;
 

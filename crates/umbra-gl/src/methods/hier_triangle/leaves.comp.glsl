@@ -1,4 +1,4 @@
-// hier-triangle, per light and batch: the exact per-sample test (common.glsl, shadows_sample)
+// hier-triangle, per light and batch: the exact per-sample test (frustum.glsl, shadows_sample)
 // of each active leaf (one with pairs in this batch) against every triangle in its list (the
 // pairs whose frustum cuts the leaf: Sintorn et al. 2014, Section 4, at the leaves each view
 // sample is tested against the triangle's frustum). One workgroup per active leaf (indirect,
@@ -7,7 +7,8 @@
 // triangle. The walk is two nested loops of at most 65,535 steps each, so llvmpipe's limit on
 // one loop's iterations can never cut a list short. Afterwards the leaf is marked covered if
 // all its samples are shadowed, and so is each ancestor whose non-empty children all are
-// (the smaller triangles of later batches then skip them). Prepended: the header, common.glsl.
+// (the smaller triangles of later batches then skip them). Prepended: hier/hierarchy.glsl,
+// hier/region.glsl, frustum.glsl.
 
 layout(local_size_x = LEAF_SAMPLES) in;
 
@@ -76,7 +77,7 @@ void main() {
             uint child;
             if (child_of(level, parent, k, child)) {
                 uint c = node_index(level - 1u, child);
-                all = all && (nodes[3u * c].w > nodes[3u * c + 1u].w || state[u_covered_offset + c] != 0u);
+                all = all && (nodes[NODE_VEC4S * c].w > nodes[NODE_VEC4S * c + 1u].w || state[u_covered_offset + c] != 0u);
             }
         }
         if (!all) {

@@ -1,8 +1,8 @@
 // hier-triangle, per light: the decision into the stencil (Classification::StencilZero: lit
 // where 0). Full-screen; a pixel whose sample is shadowed — its bit in the leaf's mask, or its
 // leaf or an ancestor covered — survives and the stencil state writes 1 (REPLACE); the others
-// (background included) are discarded and keep the cleared 0. No colour, no depth. Prepended: the header and
-// common.glsl.
+// (background included) are discarded and keep the cleared 0. No colour, no depth. Prepended:
+// hier/hierarchy.glsl, hier/region.glsl, frustum.glsl.
 
 void main() {
     uvec2 p = uvec2(gl_FragCoord.xy);

@@ -3,18 +3,18 @@
 // triangle's shadow frustum as four
 // planes (Sintorn et al. 2014, Section 3: the triangle's plane and the three planes through the
 // light and an edge; for a directional light, through the edge along the light's direction),
-// then its test against every top node of the hierarchy. Prepended: the header and
-// common.glsl.
+// then its test against every top node of the hierarchy. Prepended:
+// hier/hierarchy.glsl, hier/region.glsl, frustum.glsl.
 //
 // The planes are computed in double precision from the f32 vertices (differences and products
 // exact, one rounding per sum), normalised, and rounded to f32 once. An edge plane is computed
 // from the edge's endpoints in lexicographic order of their positions and only then oriented
 // towards the third vertex (the triangle's interior): two triangles sharing an edge — welded or
-// not — store the same plane up to its sign (see common.glsl). A triangle of zero area, or one
+// not — store the same plane up to its sign (see frustum.glsl). A triangle of zero area, or one
 // whose plane holds the light, has no shadow frustum (the reference's watertight test never
 // reports a hit on it either) and is skipped.
 //
-// Each plane is also stored over the view's rays for the nodes' frustum slabs (common.glsl):
+// Each plane is also stored over the view's rays for the nodes' frustum slabs (hier/region.glsl):
 // with the point eye + w D(x, y), D = x u_ray_x + y u_ray_y + u_ray_c, a plane (n, w_p) at the
 // origin takes the value E + w (a x + b y + c) with E = n.(eye - origin) + w_p, a = n.u_ray_x,
 // b = n.u_ray_y, c = n.u_ray_c — computed in double too, rounded once.
@@ -106,7 +106,7 @@ void main() {
                                                dot(nk, dvec3(u_ray_y)), dot(nk, dvec3(u_ray_c)));
     }
 
-    // The bound of the triangle's directions from the light (common.glsl, directions_meet).
+    // The bound of the triangle's directions from the light (hier/region.glsl, directions_meet).
     vec4 bound;
     if (point) {
         dvec3 t[3];

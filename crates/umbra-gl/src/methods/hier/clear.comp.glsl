@@ -1,7 +1,7 @@
-// hier-triangle: fills a range of a buffer — the samples with "no sample" (u_what 0, once per
+// The view-sample hierarchy: fills a range of a buffer — the samples with "no sample" (u_what 0, once per
 // frame before the sample pass) or the state words with 0 (u_what 1, once per light: queue
 // counts, covered flags, leaf masks). A compute pass because glClearBufferData is not among the
-// entry points umbra loads. One invocation per element. Prepended: the header and common.glsl.
+// entry points umbra loads. One invocation per element. Prepended: hierarchy.glsl.
 
 layout(local_size_x = 64) in;
 

@@ -1,5 +1,5 @@
-// hier-triangle, per light, bottom-up: each node's bound of its samples' directions from the
-// light (common.glsl, Nodes), which decides the edge planes tightly where the world box and the
+// The view-sample hierarchy, per light, bottom-up: each node's bound of its samples' directions from the
+// light (hierarchy.glsl, Nodes), which decides the edge planes tightly where the world box and the
 // frustum slab hold much empty space: an edge plane passes through the light (point) or along
 // it (directional), so only a sample's direction from the light, not its distance, says on
 // which side it lies. Point light: the axis a = the normalised sum of the unit directions and
@@ -7,12 +7,31 @@
 // 1 - cos would not); above the leaves, the children's axes summed and h = the largest
 // |a - a_child| + h_child. Directional light: the box of (S - origin) along u_light_u,
 // u_light_v, united over the children. Widened by 2^-20 (rounding). A sample at the light
-// itself (no direction) is skipped: it is lit (common.glsl). Prepended: header, common.glsl.
+// itself (no direction) is skipped: it is lit (hier-triangle's frustum.glsl; hier-silhouette's
+// faces never separate it). With LIFT, every sample's lifted point is bounded as well (the
+// lifted points are hier-silhouette's bridge ends). Prepended: hierarchy.glsl, region.glsl.
 
 layout(local_size_x = 64) in;
 
 uniform uint u_first;
 uniform uint u_bounds_level;
+
+#if LIFT
+const uint POINTS_PER_SAMPLE = 2u;
+#else
+const uint POINTS_PER_SAMPLE = 1u;
+#endif
+
+// Point j of a sample: the sample itself (j = 0) or its lifted point (j = 1, LIFT only).
+vec3 sample_point(uvec4 s, uint j) {
+    vec3 p = uintBitsToFloat(s.xyz);
+#if LIFT
+    if (j == 1u) {
+        return lifted(p);
+    }
+#endif
+    return p;
+}
 
 void main() {
     uint level = u_bounds_level;
@@ -21,7 +40,7 @@ void main() {
         return;
     }
     uint g = node_index(level, node);
-    if (nodes[3u * g].w > nodes[3u * g + 1u].w) {
+    if (nodes[NODE_VEC4S * g].w > nodes[NODE_VEC4S * g + 1u].w) {
         return;
     }
     bool point = u_light.w != 0.0;
@@ -36,8 +55,8 @@ void main() {
             uint y = y0 + k / LEAF_SIDE;
             if (x < u_frame.x && y < u_frame.y) {
                 uvec4 s = samples[y * u_frame.x + x];
-                if (s.w != NO_TRIANGLE) {
-                    vec3 rel = uintBitsToFloat(s.xyz) - u_origin;
+                for (uint j = 0u; j < POINTS_PER_SAMPLE && s.w != NO_TRIANGLE; ++j) {
+                    vec3 rel = sample_point(s, j) - u_origin;
                     if (point) {
                         float r = length(rel);
                         if (r > 0.0) {
@@ -59,10 +78,12 @@ void main() {
                 uint y = y0 + k / LEAF_SIDE;
                 if (x < u_frame.x && y < u_frame.y) {
                     uvec4 s = samples[y * u_frame.x + x];
-                    vec3 rel = uintBitsToFloat(s.xyz) - u_origin;
-                    float r = length(rel);
-                    if (s.w != NO_TRIANGLE && r > 0.0) {
-                        h = max(h, length(rel / r - axis));
+                    for (uint j = 0u; j < POINTS_PER_SAMPLE && s.w != NO_TRIANGLE; ++j) {
+                        vec3 rel = sample_point(s, j) - u_origin;
+                        float r = length(rel);
+                        if (r > 0.0) {
+                            h = max(h, length(rel / r - axis));
+                        }
                     }
                 }
             }
@@ -79,8 +100,8 @@ void main() {
             uint child;
             if (child_of(level, node, k, child)) {
                 uint c = node_index(level - 1u, child);
-                if (nodes[3u * c].w <= nodes[3u * c + 1u].w) {
-                    vec4 b = nodes[3u * c + 2u];
+                if (nodes[NODE_VEC4S * c].w <= nodes[NODE_VEC4S * c + 1u].w) {
+                    vec4 b = nodes[NODE_VEC4S * c + 2u];
                     sum += b.xyz;
                     box = vec4(min(box.x, b.x), max(box.y, b.y), min(box.z, b.z), max(box.w, b.w));
                 }
@@ -94,8 +115,8 @@ void main() {
                 uint child;
                 if (child_of(level, node, k, child)) {
                     uint c = node_index(level - 1u, child);
-                    if (nodes[3u * c].w <= nodes[3u * c + 1u].w) {
-                        vec4 b = nodes[3u * c + 2u];
+                    if (nodes[NODE_VEC4S * c].w <= nodes[NODE_VEC4S * c + 1u].w) {
+                        vec4 b = nodes[NODE_VEC4S * c + 2u];
                         h = max(h, length(b.xyz - axis) + b.w);
                     }
                 }
@@ -105,5 +126,5 @@ void main() {
             bound = box;
         }
     }
-    nodes[3u * g + 2u] = bound;
+    nodes[NODE_VEC4S * g + 2u] = bound;
 }

@@ -1,4 +1,4 @@
-// hier-triangle: one triangle covering the whole frame (vertex ids 0-2, no attributes), for
+// The view-sample hierarchy: one triangle covering the whole frame (vertex ids 0-2, no attributes), for
 // the resolve of the per-sample decision into the stencil (resolve.frag.glsl).
 #version 450 core
 

@@ -1,4 +1,4 @@
-// hier-triangle, per frame: the view samples. Drawn with the scene's own vertex shader
+// The view-sample hierarchy, per frame: the view samples. Drawn with the scene's own vertex shader
 // (shaders/scene.vert.glsl, invariant gl_Position: bit-identical depths) over the frame's depth
 // with depth func EQUAL and every write masked, so exactly the visible surface of each pixel
 // reaches this shader — early_fragment_tests makes the depth test run BEFORE it, which is

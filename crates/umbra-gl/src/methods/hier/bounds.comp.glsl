@@ -1,12 +1,16 @@
-// hier-triangle, per frame (once for all lights), bottom-up: the bounds of the view samples of
-// each node (Sintorn et al. 2014, Section 4: the cluster hierarchy's nodes bound their samples
-// in 3-D): here the axis-aligned box of their world positions and the range of their clip w
-// (view depth), which with the node's screen tile bounds them in a frustum slab (common.glsl).
-// Level 0: the samples of the leaf's pixels (first moved onto their own triangle's plane, and
-// the mask of the samples present); above: the union of the 16 children. One
-// invocation per node of level u_bounds_level. A node without samples is empty (w_min > w_max).
-// A sample's w is computed in f32: the range is widened by 2^-20 of the magnitudes involved.
-// Prepended: the header and common.glsl.
+// The view-sample hierarchy, per frame (once for all lights), bottom-up: the bounds of the view
+// samples of each node (Sintorn et al. 2014, Section 4: the cluster hierarchy's nodes bound
+// their samples in 3-D): here the axis-aligned box of their world positions and the range of
+// their clip w (view depth), which with the node's screen tile bounds them in a frustum slab
+// (region.glsl). Level 0: the samples of the leaf's pixels (first moved onto their own
+// triangle's plane, and the mask of the samples present); above: the union of the 16
+// children. One invocation per node of level u_bounds_level. A node without samples is empty
+// (w_min > w_max). A sample's w is computed in f32: the range is widened by 2^-20 of the
+// magnitudes involved. With LIFT (hier-silhouette) the bounds also hold every sample's lifted
+// point (hierarchy.glsl, lifted()) and each node gets its own point: the lifted point of its
+// most central sample (a leaf) or its most central non-empty child's point (above), so that
+// a node's point, its descendants' points and its samples all lie within its bounds.
+// Prepended: hierarchy.glsl.
 
 layout(local_size_x = 64) in;
 
@@ -31,6 +35,16 @@ vec3 on_own_plane(uvec4 s) {
 uniform uint u_first;
 uniform uint u_bounds_level;
 
+#if LIFT
+// Distance of cell k of a 4 x 4 block from the block's centre, times 2 (2: the four central
+// cells, 6: the corners), then k: a total order, the most central cell first.
+uint centrality(uint k) {
+    uint dx = uint(abs(2 * int(k % BRANCH_SIDE) - 3));
+    uint dy = uint(abs(2 * int(k / BRANCH_SIDE) - 3));
+    return (dx + dy) * 64u + k;
+}
+#endif
+
 void main() {
     uint level = u_bounds_level;
     uint node = u_first + gl_GlobalInvocationID.x;
@@ -41,6 +55,12 @@ void main() {
     vec3 hi = vec3(-3.0e38);
     vec2 w = vec2(3.0e38, -3.0e38);
     uint valid = 0u;
+#if LIFT
+    // The node's point and the centrality of the sample or child it comes from (lower = nearer
+    // the centre of the 4 x 4 block; ties: the lowest index).
+    vec3 point = vec3(0.0);
+    uint best = 0xFFFFFFFFu;
+#endif
     if (level == 0u) {
         uint x0 = (node % u_level[0].x) * LEAF_SIDE;
         uint y0 = (node / u_level[0].x) * LEAF_SIDE;
@@ -58,6 +78,19 @@ void main() {
                     float pw = dot(u_view_w.xyz, p) + u_view_w.w;
                     float tol = (dot(abs(u_view_w.xyz), abs(p)) + abs(u_view_w.w)) * (1.0 / 1048576.0);
                     w = vec2(min(w.x, pw - tol), max(w.y, pw + tol));
+#if LIFT
+                    vec3 q = lifted(p);
+                    lo = min(lo, q);
+                    hi = max(hi, q);
+                    float qw = dot(u_view_w.xyz, q) + u_view_w.w;
+                    float q_tol = (dot(abs(u_view_w.xyz), abs(q)) + abs(u_view_w.w)) * (1.0 / 1048576.0);
+                    w = vec2(min(w.x, qw - q_tol), max(w.y, qw + q_tol));
+                    uint score = centrality(k);
+                    if (score < best) {
+                        best = score;
+                        point = q;
+                    }
+#endif
                 }
             }
         }
@@ -66,12 +99,19 @@ void main() {
             uint child;
             if (child_of(level, node, k, child)) {
                 uint g = node_index(level - 1u, child);
-                vec4 c_lo = nodes[3u * g];
-                vec4 c_hi = nodes[3u * g + 1u];
+                vec4 c_lo = nodes[NODE_VEC4S * g];
+                vec4 c_hi = nodes[NODE_VEC4S * g + 1u];
                 if (c_lo.w <= c_hi.w) {
                     lo = min(lo, c_lo.xyz);
                     hi = max(hi, c_hi.xyz);
                     w = vec2(min(w.x, c_lo.w), max(w.y, c_hi.w));
+#if LIFT
+                    uint score = centrality(k);
+                    if (score < best) {
+                        best = score;
+                        point = nodes[NODE_VEC4S * g + 3u].xyz;
+                    }
+#endif
                 }
             }
         }
@@ -80,6 +120,9 @@ void main() {
         state[u_valid_offset + node] = valid;
     }
     uint g = node_index(level, node);
-    nodes[3u * g] = vec4(lo, w.x);
-    nodes[3u * g + 1u] = vec4(hi, w.y);
+    nodes[NODE_VEC4S * g] = vec4(lo, w.x);
+    nodes[NODE_VEC4S * g + 1u] = vec4(hi, w.y);
+#if LIFT
+    nodes[NODE_VEC4S * g + 3u] = vec4(point, 0.0);
+#endif
 }

@@ -1,0 +1,162 @@
+// hier-triangle: the exact tests of one triangle's shadow frustum against a node of samples
+// and against one sample.
+// Sintorn, Kämpe, Olsson, Assarsson, "Per-Triangle Shadow Volumes Using a View-Sample Cluster
+// Hierarchy" (I3D 2014), Sections 3-4. Prepended after hier/hierarchy.glsl and
+// hier/region.glsl.
+//
+// A sample S on triangle T is shadowed by triangle T' != T iff the segment from S to the light
+// meets T' (closed, two-sided) farther than u_eps_near from S and farther than u_eps from the
+// light: the ray-traced reference's rule (crates/umbra-oracle, docs/exactness.md), whose eps is
+// u_eps (1e-5 of the scene), with the sample end at half of it so that a hit the rounding puts
+// on the other side of eps lies in the reference's "within eps" band class, never outside the
+// band. As planes, with S relative to u_origin (the point light itself, or the scene's centre
+// for a directional light) and every plane stored as (unit normal, offset at u_origin):
+//   plane 0 (T' oriented towards the light, w = the light's distance to it for a point light):
+//     S strictly behind it, d = -plane0(S) > 0, and the eps conditions on the hit distance
+//     t |S - L| = d |S - L| / (d + w) (point) or d / cos (directional);
+//   planes 1-3 (through the light and an edge, or through the edge along the light's
+//     direction, oriented towards T's interior): plane_i(S) >= 0 (closed edges, as the
+//     reference's watertight test).
+// The edge planes are computed (setup.comp.glsl) from the edge's endpoints in lexicographic
+// order and only then oriented, so two triangles sharing an edge store bit-identical planes up
+// to the sign, and plane_at below is evaluated identically for both (precise): a ray through a
+// shared edge gives v and -v, one of which is >= 0 — the test is watertight like the reference.
+
+// Per triangle, 9 vec4 (written by setup.comp.glsl for this light): [0, 4) the four planes
+// above; [4, 8) the same planes over the view's rays, (E, a, b, c): at the point eye + w D(x, y)
+// of NDC (x, y) and clip w, the plane's value is E + w (a x + b y + c) (see classify_node);
+// [8] the bound of its directions from the light: a point light's unit axis and chord radius
+// (every direction from the light through the triangle lies within it), a directional light's
+// box of its vertices along u_light_u, u_light_v.
+layout(std430, binding = 6) buffer Planes { vec4 planes[]; };
+
+Frustum load_frustum(uint tri) {
+    Frustum f;
+    for (uint i = 0u; i < 9u; ++i) {
+        f.p[i] = planes[9u * tri + i];
+    }
+    return f;
+}
+
+
+// Triangle `tri`'s shadow frustum against node `node` at `level` (bounds lo, hi with the w
+// range in their w components): OUTSIDE (no sample of the node can be shadowed by it), INSIDE
+// (every sample is, with both eps margins), or PARTIAL. Cheapest and most selective first:
+// the direction bounds (the triangle's against the node's), then the edge planes over the
+// node's directions (an edge plane holds the light or its direction, so the direction bound is
+// the tight one for it), then the triangle's plane over the world box and the frustum slab.
+int classify_node(Frustum f, uint level, uint node, vec4 lo, vec4 hi) {
+    vec4 lb = nodes[NODE_VEC4S * node_index(level, node) + 2u];
+    if (!directions_meet(f.p[8], lb)) {
+        return OUTSIDE;
+    }
+    vec2 e1 = light_range(f.p[1], lb);
+    vec2 e2 = light_range(f.p[2], lb);
+    vec2 e3 = light_range(f.p[3], lb);
+    if (e1.y < 0.0 || e2.y < 0.0 || e3.y < 0.0) {
+        return OUTSIDE;
+    }
+    vec3 c = 0.5 * (lo.xyz + hi.xyz) - u_origin;
+    vec3 h = 0.5 * (hi.xyz - lo.xyz);
+    uint side = LEAF_SIDE << (2u * level);
+    uvec2 t0 = uvec2(node % u_level[level].x, node / u_level[level].x) * side;
+    uvec2 t1 = min(t0 + side, u_frame);
+    vec2 ndc_scale = 2.0 / vec2(u_frame);
+    vec4 tile = vec4(vec2(t0.x, t1.x) * ndc_scale.x - 1.0, vec2(t0.y, t1.y) * ndc_scale.y - 1.0);
+    // The edge planes over the world box and the slab too: the direction bound of a node
+    // across a depth discontinuity is wide where these are not.
+    vec2 w = vec2(lo.w, hi.w);
+    vec2 b1 = plane_range(f, 1u, c, h, tile, w);
+    vec2 b2 = plane_range(f, 2u, c, h, tile, w);
+    vec2 b3 = plane_range(f, 3u, c, h, tile, w);
+    if (b1.y < 0.0 || b2.y < 0.0 || b3.y < 0.0) {
+        return OUTSIDE;
+    }
+    // Plane 0: d = -value is the depth behind the triangle's plane, seen from the light.
+    vec2 v0 = plane_range(f, 0u, c, h, tile, w);
+    float d_max = -v0.x;
+    float d_min = -v0.y;
+    if (!(d_max > 0.0)) {
+        return OUTSIDE;
+    }
+    vec4 p0 = f.p[0];
+    bool point = u_light.w != 0.0;
+    if (point) {
+        // The hit distance d |S - L| / (d + w) grows with d and |S - L|: at most this.
+        float r_max = length(c) + length(h);
+        if (d_max * r_max <= u_eps_near * (d_max + p0.w)) {
+            return OUTSIDE;
+        }
+    } else if (d_max <= u_eps_near * dot(p0.xyz, u_dir)) {
+        return OUTSIDE;
+    }
+    // The hit distance is at least d (and at least the light's distance w from the light's
+    // end, |S - L| >= d + w): beyond both eps for every sample once d_min and w are.
+    bool inside = d_min > u_eps && (!point || p0.w > u_eps) && max(e1.x, b1.x) > 0.0 && max(e2.x, b2.x) > 0.0
+        && max(e3.x, b3.x) > 0.0;
+    return inside ? INSIDE : PARTIAL;
+}
+
+// Whether triangle `tri` shadows the sample at `rel` (= S - u_origin; |S - L| = r for a point
+// light), the sample not lying on `tri` itself. The reference's rule, see the top of the file.
+bool shadows_sample(uint tri, vec3 rel, float r) {
+    vec4 p0 = planes[9u * tri];
+    float d = -plane_at(p0, rel);
+    if (!(d > 0.0)) {
+        return false;
+    }
+    if (u_light.w != 0.0) {
+        if (!(d * r > u_eps_near * (d + p0.w)) || !(p0.w * r > u_eps * (d + p0.w))) {
+            return false;
+        }
+    } else if (!(d > u_eps_near * dot(p0.xyz, u_dir))) {
+        return false;
+    }
+    return plane_at(planes[9u * tri + 1u], rel) >= 0.0 && plane_at(planes[9u * tri + 2u], rel) >= 0.0
+        && plane_at(planes[9u * tri + 3u], rel) >= 0.0;
+}
+
+// Sample k (0 .. LEAF_SAMPLES-1) of leaf `leaf` against triangle `tri`: sets its bit when
+// shadowed. Background, samples of `tri` itself and samples already shadowed are skipped; a
+// sample within 2 eps of a point light is lit (the reference's segment is empty there).
+void test_sample(uint tri, uint leaf, uint k) {
+    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
+    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
+    if (x >= u_frame.x || y >= u_frame.y) {
+        return;
+    }
+    uint word = u_bits_offset + leaf;
+    uint bit = 1u << k;
+    if ((state[word] & bit) != 0u) {
+        return;
+    }
+    uvec4 s = samples[y * u_frame.x + x];
+    if (s.w == NO_TRIANGLE || s.w == tri) {
+        return;
+    }
+    vec3 rel = uintBitsToFloat(s.xyz) - u_origin;
+    float r = length(rel);
+    if (u_light.w != 0.0 && !(r > 2.0 * u_eps)) {
+        return;
+    }
+    if (shadows_sample(tri, rel, r)) {
+        atomicOr(state[word], bit);
+    }
+}
+
+// The test of frustum `f` against node `node` at `level`, marking the node covered when
+// INSIDE. Empty nodes and nodes already covered count as OUTSIDE: nothing left to do (a
+// covered ancestor is checked where the pair is taken from its queue).
+int visit(Frustum f, uint level, uint node) {
+    uint g = node_index(level, node);
+    vec4 lo = nodes[NODE_VEC4S * g];
+    vec4 hi = nodes[NODE_VEC4S * g + 1u];
+    if (lo.w > hi.w || state[u_covered_offset + g] != 0u) {
+        return OUTSIDE;
+    }
+    int c = classify_node(f, level, node, lo, hi);
+    if (c == INSIDE) {
+        state[u_covered_offset + g] = 1u;
+    }
+    return c;
+}
