@@ -33,6 +33,7 @@
 
 mod common;
 
+use common::child::{is_child, run_in_child, status_kib, with_address_space_headroom, CHILD_DONE};
 use common::*;
 use glow::HasContext;
 use std::path::PathBuf;
@@ -52,16 +53,6 @@ fn out_dir() -> PathBuf {
 
 fn frame() -> FrameParams {
     FrameParams { capture: Default::default(), ..params(default_camera(), vec![POINT_LIGHT], 96, 72) }
-}
-
-/// One value of /proc/self/status in KiB (VmRSS, VmSize, ...).
-fn status_kib(key: &str) -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("read /proc/self/status");
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix(key)?.strip_prefix(':'))
-        .and_then(|v| v.split_whitespace().next()?.parse().ok())
-        .unwrap_or_else(|| panic!("{key} missing from /proc/self/status"))
 }
 
 /// Renders the normal frames with `renderer` on `ctx` (fresh method instances, a fresh upload
@@ -152,20 +143,6 @@ fn cube_map_above_the_gl_limit_is_a_typed_error_and_the_context_stays_usable() {
     assert_same_pngs("above GL_MAX_CUBE_MAP_TEXTURE_SIZE", &before, &after, &fresh_frames("limit-fresh"));
 }
 
-/// `struct rlimit` of Linux (two `rlim_t` = u64).
-#[repr(C)]
-struct RLimit {
-    cur: u64,
-    max: u64,
-}
-
-extern "C" {
-    fn getrlimit(resource: i32, rlim: *mut RLimit) -> i32;
-    fn setrlimit(resource: i32, rlim: *const RLimit) -> i32;
-}
-
-/// `RLIMIT_AS` on Linux (x86-64 and aarch64 alike).
-const RLIMIT_AS: i32 = 9;
 /// Address space granted above the current size while the driver is asked to allocate.
 const HEADROOM: u64 = 256 << 20;
 
@@ -173,20 +150,6 @@ const HEADROOM: u64 = 256 << 20;
 /// restores the previous limit. Only ever called in a child process (see the module doc).
 fn with_address_space_limit<T>(f: impl FnOnce() -> T) -> T {
     with_address_space_headroom(HEADROOM, f)
-}
-
-/// [`with_address_space_limit`] with `headroom` bytes above the current size.
-fn with_address_space_headroom<T>(headroom: u64, f: impl FnOnce() -> T) -> T {
-    let mut old = RLimit { cur: 0, max: 0 };
-    // SAFETY: getrlimit/setrlimit of libc (linked by std) with a valid struct rlimit.
-    assert_eq!(unsafe { getrlimit(RLIMIT_AS, &mut old) }, 0, "getrlimit");
-    let limited = RLimit { cur: (status_kib("VmSize") * 1024 + headroom).min(old.max), max: old.max };
-    // SAFETY: as above; lowering the soft limit is always allowed.
-    assert_eq!(unsafe { setrlimit(RLIMIT_AS, &limited) }, 0, "setrlimit");
-    let out = f();
-    // SAFETY: as above; raising the soft limit back up to the unchanged hard limit is allowed.
-    assert_eq!(unsafe { setrlimit(RLIMIT_AS, &old) }, 0, "restore the address-space limit");
-    out
 }
 
 /// The sphere scene plus `extra` unused vertices at the origin: a position buffer of
@@ -218,34 +181,6 @@ fn scene_after_unused_vertices(extra: usize) -> Arc<WeldedMesh> {
         source_triangle: base.source_triangle.clone(),
         degenerate_triangles: base.degenerate_triangles,
     })
-}
-
-/// Set in the child process: the name of the child test to run.
-const CHILD_ENV: &str = "UMBRA_GL_FAILURES_CHILD";
-/// Printed by a child test when all its assertions passed.
-const CHILD_DONE: &str = "gl_failures child: all checks passed";
-
-/// Runs the ignored test `name` in a child process of this test binary and fails with its
-/// output unless it passed.
-fn run_in_child(name: &str) {
-    let out = std::process::Command::new(std::env::current_exe().expect("test binary path"))
-        .args(["--exact", name, "--ignored", "--test-threads=1", "--nocapture"])
-        .env(CHILD_ENV, name)
-        .output()
-        .expect("run the child test process");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("--- child {name} ---\n{stdout}{stderr}");
-    assert!(
-        out.status.success() && stdout.contains(CHILD_DONE),
-        "child {name} failed ({}):\n{stdout}{stderr}",
-        out.status
-    );
-}
-
-/// Whether this process is the child for `name` (else the ignored test does nothing).
-fn is_child(name: &str) -> bool {
-    std::env::var(CHILD_ENV).is_ok_and(|v| v == name)
 }
 
 #[test]

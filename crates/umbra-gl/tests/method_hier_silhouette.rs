@@ -19,6 +19,7 @@ mod common;
 
 use std::sync::Arc;
 
+use common::child::{is_child, run_in_child, with_address_space_headroom, CHILD_DONE};
 use common::*;
 use umbra_geom::{weld::weld, Mesh, WeldedMesh};
 use umbra_gl::methods::hier_silhouette::{layout, HierSilhouette};
@@ -200,65 +201,15 @@ fn gpu_bytes_is_the_layout_formula() {
 
 // ---- Out of memory, in a child process (see tests/gl_failures.rs for the mechanism).
 
-#[repr(C)]
-struct RLimit {
-    cur: u64,
-    max: u64,
-}
-
-extern "C" {
-    fn getrlimit(resource: i32, rlim: *mut RLimit) -> i32;
-    fn setrlimit(resource: i32, rlim: *const RLimit) -> i32;
-}
-
-/// `RLIMIT_AS` on Linux.
-const RLIMIT_AS: i32 = 9;
-const CHILD_ENV: &str = "UMBRA_HIER_SIL_OOM_CHILD";
-const CHILD_DONE: &str = "hier-silhouette oom child: all checks passed";
-
-fn vm_size_bytes() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    let kib: u64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmSize:"))
-        .and_then(|v| v.split_whitespace().next())
-        .and_then(|v| v.parse().ok())
-        .expect("VmSize");
-    kib * 1024
-}
-
-/// Runs `f` with the address space limited to its current size + `headroom`, then restores
-/// the limit (only ever in the child process).
-fn with_headroom<T>(headroom: u64, f: impl FnOnce() -> T) -> T {
-    let mut old = RLimit { cur: 0, max: 0 };
-    // SAFETY: getrlimit/setrlimit of libc (linked by std) with a valid struct rlimit.
-    assert_eq!(unsafe { getrlimit(RLIMIT_AS, &mut old) }, 0);
-    let limited = RLimit { cur: (vm_size_bytes() + headroom).min(old.max), max: old.max };
-    // SAFETY: as above; lowering the soft limit is always allowed.
-    assert_eq!(unsafe { setrlimit(RLIMIT_AS, &limited) }, 0);
-    let out = f();
-    // SAFETY: as above; back up to the unchanged hard limit.
-    assert_eq!(unsafe { setrlimit(RLIMIT_AS, &old) }, 0);
-    out
-}
-
 #[test]
 fn a_buffer_the_driver_refuses_is_out_of_memory_and_the_method_stays_usable() {
-    let out = std::process::Command::new(std::env::current_exe().expect("test binary"))
-        .args(["--exact", "child_out_of_memory", "--ignored", "--test-threads=1", "--nocapture"])
-        .env(CHILD_ENV, "1")
-        .output()
-        .expect("run the child");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}{stderr}");
-    assert!(out.status.success() && stdout.contains(CHILD_DONE), "child failed:\n{stdout}{stderr}");
+    run_in_child("child_out_of_memory");
 }
 
 #[test]
 #[ignore = "helper: run in a child process by a_buffer_the_driver_refuses_is_out_of_memory_and_the_method_stays_usable"]
 fn child_out_of_memory() {
-    if std::env::var_os(CHILD_ENV).is_none() {
+    if !is_child("child_out_of_memory") {
         return;
     }
     let ctx = context();
@@ -273,7 +224,7 @@ fn child_out_of_memory() {
     r.render(gl, &scene, none.as_mut(), &big, None).expect("the big target itself");
     none.destroy(gl);
     let mut m = HierSilhouette::new();
-    let result = with_headroom(16 << 20, || r.render(gl, &scene, &mut m, &big, None));
+    let result = with_address_space_headroom(16 << 20, || r.render(gl, &scene, &mut m, &big, None));
     match result {
         Err(GlError::OutOfMemory { what, bytes, .. }) => {
             println!("refused: {what} ({bytes} bytes)");

@@ -244,12 +244,7 @@ fn fresh_names_high_water(gl: &glow::Context) -> u32 {
 
 /// `VmRSS` of this process in KiB.
 fn rss_kib() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("read /proc/self/status");
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))
-        .and_then(|v| v.split_whitespace().next()?.parse().ok())
-        .expect("VmRSS in /proc/self/status")
+    common::child::status_kib("VmRSS")
 }
 
 extern "C" {
