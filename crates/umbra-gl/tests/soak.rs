@@ -24,7 +24,8 @@
 //!   from the same freshly created methods, so at every phase the objects umbra owns, per
 //!   kind, must equal those of the first measured block — one buffer left behind anywhere is
 //!   a failure.
-//! * *Memory, by window minima*: a block is a window; its minimum over the cycle samples of
+//! * *Memory, by window minima*: a block is a window (from the second measured block on,
+//!   [`MEMORY_SETTLING_BLOCKS`]); its minimum over the cycle samples of
 //!   its settled half (phases 6 to 11, [`SETTLED_PHASE`]) ignores transient peaks (a
 //!   method's frame holding a large temporary, the instant a target is recreated). The
 //!   lowest window minimum of the run's last third, against that of its first third, over
@@ -48,7 +49,7 @@
 //! wrapped so that it leaks one 4 KiB GL buffer per frame fails the object check at the second
 //! measured block and the end-of-run check ([`soak_detects_a_leaked_gl_buffer_per_frame`]);
 //! with every method wrapped so that it leaks 64 KiB of written heap per frame (about 11 MiB
-//! per block), it fails the memory check, measured at 100 to 104 KiB per frame, and not the
+//! per block), it fails the memory check, measured at 81 to 104 KiB per frame, and not the
 //! object check ([`soak_detects_leaked_memory_per_frame`]). The unmodified soak passes.
 //! Detection limit of the memory check: a leak of more than 16 KiB per frame on average in
 //! the short soak, 2 KiB per frame in the long one ([`leak_limit_kib_per_frame`]); GL
@@ -68,7 +69,7 @@
 //! reallocated texture stores.
 //!
 //! Commands: the short version runs with the other tests (`cargo test --release -p umbra-gl
-//! --test soak`: a warm-up block and 5 measured blocks, 1,152 frames with 16 methods); the
+//! --test soak`: a warm-up block and 13 measured blocks, 2,856 frames with 17 methods); the
 //! long soak, whose figures are in `docs/robustness.md`, is
 //! `nice -n 10 cargo test --release -p umbra-gl --test soak -- --ignored --nocapture`
 //! (`UMBRA_SOAK_BLOCKS=N` measured blocks, default 50).
@@ -337,10 +338,18 @@ const PHASES: usize = 12;
 /// allocations.
 const SETTLED_PHASE: usize = 6;
 
+/// Measured blocks whose windows the memory check leaves out: after the warm-up block the
+/// resident memory still settles for a block (allocator arenas and Mesa's shader variants of
+/// the configurations first met there). Measured on a fresh clone with 17 methods: the
+/// first measured window's minimum 9.4 MB below the second's, then +3.3 MB over the next
+/// three; counted, that settling alone read as +18 KiB per frame and failed the short soak.
+/// The GL objects are still compared over every measured block.
+const MEMORY_SETTLING_BLOCKS: usize = 1;
+
 /// The memory check's limit on the growth of the windows' minima, in KiB per frame, for a soak
 /// of `windows` measured blocks. Its noise falls with the distance between the run's thirds:
-/// the windows' minima scatter by 1 to 2 MB (measured), up to 3.7 KiB per frame over the 540
-/// frames between the thirds of the short soak. The long soak (50 windows, 6,120 frames
+/// the windows' minima scatter by up to 12 MB (measured with 17 methods: two levels 10 MB
+/// apart), up to 7.4 KiB per frame over the 1,632 frames between the thirds of the short soak. The long soak (50 windows, 6,120 frames
 /// between its thirds) measured +0.53 KiB per frame: its first ten windows settle by +3 MB,
 /// then it stays flat for forty. An injected leak of 64 KiB per frame measures about 100
 /// (malloc's overhead and the fragmentation around the leaked blocks).
@@ -622,7 +631,7 @@ struct MemoryTrend {
 
 fn memory_trend(record: &Record) -> MemoryTrend {
     let blocks = record.samples.iter().map(|s| s.block).max().unwrap_or(0);
-    let window_minima: Vec<(f64, f64)> = (1..=blocks)
+    let window_minima: Vec<(f64, f64)> = (1 + MEMORY_SETTLING_BLOCKS..=blocks)
         .map(|b| {
             let min = record
                 .samples
@@ -692,10 +701,14 @@ fn check(record: &Record) -> Vec<String> {
     problems
 }
 
-/// The CI version: a warm-up block and 5 measured blocks (1,152 frames with 16 methods).
+/// The CI version: a warm-up block and 13 measured blocks (2,856 frames with 17 methods, about
+/// 30 s), the first of them left out of the memory check ([`MEMORY_SETTLING_BLOCKS`]): 12
+/// windows, 4 per third, 1,632 frames between the thirds' middles. With 5 windows (612 frames
+/// between the thirds) one step of +11 MB that then stayed flat, seen once with 17 methods,
+/// read as +19 KiB per frame and failed the check; over 1,632 frames it reads as 7.
 #[test]
 fn soak_short() {
-    let record = soak(5, create_all);
+    let record = soak(13, create_all);
     let problems = check(&record);
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
@@ -813,10 +826,12 @@ fn soak_detects_a_leaked_gl_buffer_per_frame() {
     assert!(problems.iter().any(|p| p.starts_with("GL objects left")), "the leak went unnoticed: {problems:?}");
 }
 
-/// Mutation: 64 KiB of memory leaked per frame fails the slope check.
+/// Mutation: 64 KiB of memory leaked per frame fails the slope check. Five measured blocks:
+/// four windows after the settling one, two blocks (408 frames) between the thirds, so the
+/// windows' scatter (up to 12 MB, measured) moves the reading by at most 30 KiB per frame.
 #[test]
 fn soak_detects_leaked_memory_per_frame() {
-    let record = soak(3, || with_leak(Leak::Heap, umbra_gl::method_names()));
+    let record = soak(5, || with_leak(Leak::Heap, umbra_gl::method_names()));
     let problems = check(&record);
     assert!(problems.iter().any(|p| p.contains("KiB per frame")), "the leak went unnoticed: {problems:?}");
     assert!(!problems.iter().any(|p| p.starts_with("GL objects")), "a heap leak is not a GL object: {problems:?}");
