@@ -29,7 +29,7 @@ const _: () = assert!(LEAF_SAMPLES <= 32);
 pub const BRANCH_SIDE: u32 = 4;
 /// Children per inner node.
 pub const CHILDREN: u32 = BRANCH_SIDE * BRANCH_SIDE;
-/// Most levels above the leaves (the shaders' fallback chain is generated for this many):
+/// Most levels above the leaves (the fallback walks' stacks hold MAX_LEVELS entries):
 /// a root over 4 x 4^7 = 65,536 pixels.
 pub const MAX_UPPER_LEVELS: usize = 7;
 /// Most levels in all, leaves included.

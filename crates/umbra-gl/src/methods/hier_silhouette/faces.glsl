@@ -415,8 +415,8 @@ Frustum face_frustum(Face F) {
     } else {
         dvec3 u = dvec3(u_light_u);
         dvec3 v = dvec3(u_light_v);
-        dvec2 lo = dvec2(1.0e300);
-        dvec2 hi = dvec2(-1.0e300);
+        dvec2 lo = dvec2(1.0e300LF);
+        dvec2 hi = dvec2(-1.0e300LF);
         for (int i = 0; i < count; ++i) {
             dvec2 uv = dvec2(dot(u, dvec3(F.v[i]) - origin), dot(v, dvec3(F.v[i]) - origin));
             lo = min(lo, uv);

@@ -88,7 +88,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
-use crate::methods::hier::layout::{Layout, MAX_UPPER_LEVELS};
+use crate::methods::hier::layout::Layout;
 use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{uniform, ShaderSource};
@@ -122,67 +122,6 @@ fn header() -> String {
     format!("{}{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
 }
 
-/// The fallback chain of fallback.comp.glsl: `inline_level(level, F, fr, node)` counts a face
-/// below a node it may meet, through `inline_level{l}` — nested loops, one per level, of at
-/// most 64 iterations each (no recursion in GLSL; llvmpipe ends any loop after 65,535
-/// iterations), with atomic additions.
-fn fallback_chain() -> String {
-    let mut s = String::from(
-        "void inline_level0(Face F, Frustum fr, uint node) {
-    vec3 cp = node_point(0u, node);
-    for (uint k = 0u; k < LEAF_SAMPLES; ++k) {
-        uint x = (node % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
-        uint y = (node / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
-        if (x >= u_frame.x || y >= u_frame.y) {
-            continue;
-        }
-        uint pixel = y * u_frame.x + x;
-        uvec4 s = samples[pixel];
-        if (s.w == NO_TRIANGLE) {
-            continue;
-        }
-        int c = sample_crossings(F, cp, count_point(uintBitsToFloat(s.xyz), s.w));
-        if (c != 0) {
-            atomicAdd(counts[u_counts_partial + pixel], c);
-        }
-    }
-}
-",
-    );
-    for l in 1..=MAX_UPPER_LEVELS {
-        let below = l - 1;
-        s += &format!(
-            "void inline_level{l}(Face F, Frustum fr, uint node) {{
-    vec3 cp = node_point({l}u, node);
-    for (uint k = 0u; k < CHILDREN; ++k) {{
-        uint child;
-        if (!child_of({l}u, node, k, child)) {{
-            continue;
-        }}
-        uint g = node_index({below}u, child);
-        if (nodes[NODE_VEC4S * g].w > nodes[NODE_VEC4S * g + 1u].w) {{
-            continue;
-        }}
-        int c = bridge_crossings(F, cp, node_point({below}u, child));
-        if (c != 0) {{
-            atomicAdd(counts[u_counts_bridges + g], c);
-        }}
-        if (classify_face(fr, F.quad, {below}u, child) == PARTIAL) {{
-            inline_level{below}(F, fr, child);
-        }}
-    }}
-}}
-"
-        );
-    }
-    s += "void inline_level(uint level, Face F, Frustum fr, uint node) {\n    switch (level) {\n";
-    for l in 0..=MAX_UPPER_LEVELS {
-        s += &format!("    case {l}u: inline_level{l}(F, fr, node); break;\n");
-    }
-    s += "    default: break;\n    }\n}\n";
-    s
-}
-
 struct Programs {
     shared: SharedPrograms,
     setup: glow::Program,
@@ -203,21 +142,14 @@ impl Programs {
 
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
         let head = header();
-        let chain = fallback_chain();
-        let comp = |body: &str, with_chain: bool| {
-            if with_chain {
-                format!("{head}{chain}\n{body}")
-            } else {
-                format!("{head}\n{body}")
-            }
-        };
+        let comp = |body: &str| format!("{head}\n{body}");
         let sources = [
-            ("setup", comp(SETUP_COMP, false), "hier_silhouette/setup.comp.glsl"),
-            ("descend", comp(DESCEND_COMP, false), "hier_silhouette/descend.comp.glsl"),
-            ("leaves", comp(LEAVES_COMP, false), "hier_silhouette/leaves.comp.glsl"),
-            ("fallback", comp(FALLBACK_COMP, true), "hier_silhouette/fallback.comp.glsl"),
-            ("sum", comp(SUM_COMP, false), "hier_silhouette/sum.comp.glsl"),
-            ("zero", comp(ZERO_COMP, false), "hier_silhouette/zero.comp.glsl"),
+            ("setup", comp(SETUP_COMP), "hier_silhouette/setup.comp.glsl"),
+            ("descend", comp(DESCEND_COMP), "hier_silhouette/descend.comp.glsl"),
+            ("leaves", comp(LEAVES_COMP), "hier_silhouette/leaves.comp.glsl"),
+            ("fallback", comp(FALLBACK_COMP), "hier_silhouette/fallback.comp.glsl"),
+            ("sum", comp(SUM_COMP), "hier_silhouette/sum.comp.glsl"),
+            ("zero", comp(ZERO_COMP), "hier_silhouette/zero.comp.glsl"),
         ];
         let resolve_frag = format!("{head}\n{RESOLVE_FRAG}");
         let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources

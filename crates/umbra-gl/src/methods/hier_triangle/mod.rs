@@ -60,10 +60,11 @@
 //! at most 65,535 steps each, so llvmpipe's silent end of a loop at 65,535 iterations can never
 //! cut work short. The queues have a fixed capacity per frame size ([`layout::queue_capacity`]);
 //! a pair that does not fit sends its triangle to a redo list (bounded by the triangle count):
-//! slower, never wrong. The fallback descends through nested loops of at most 64 iterations
-//! (the generated chain) in a program of its own: llvmpipe runs a shader's untaken branches
-//! under a mask, so the chain inlined into the main passes made them 10 times slower even when
-//! no queue overflowed (measured). Memory: [`layout::Layout::frame_bytes`] per frame size plus
+//! slower, never wrong. The fallback walks depth-first with an explicit stack (two nested
+//! loops of at most 65,535 steps; not one constant-bound loop per level, which NVIDIA's
+//! compiler unrolls 16^7 times and never finishes linking) in a program of its own: llvmpipe
+//! runs a shader's untaken branches under a mask, so the walk inlined into the main passes made
+//! them 10 times slower even when no queue overflowed (measured). Memory: [`layout::Layout::frame_bytes`] per frame size plus
 //! [`layout::plane_bytes`] per scene (docs/benchmarks.md states it per resolution). Every
 //! allocation is checked: one the GL refuses is [`GlError::OutOfMemory`], nothing is left
 //! behind and the method stays usable (at another size, or later).
@@ -85,7 +86,7 @@ use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedProg
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
-use layout::{Layout, MAX_UPPER_LEVELS};
+use layout::Layout;
 
 /// Registry name.
 pub const NAME: &str = "hier-triangle";
@@ -142,32 +143,6 @@ fn header() -> String {
     format!("{}{FRUSTUM}\n", hier::header(3, false))
 }
 
-/// The fallback chain of fallback.comp.glsl: `inline_level(level, tri, node)` processes a pair
-/// whose node the triangle's frustum cuts down to the samples, through `inline_level{l}` —
-/// nested loops, one per level, of at most 64 iterations each (no recursion in GLSL; llvmpipe
-/// ends any loop after 65,535 iterations).
-fn fallback_chain() -> String {
-    let mut s = String::from(
-        "void inline_level0(uint tri, uint node) {\n    for (uint k = 0u; k < LEAF_SAMPLES; ++k) {\n        \
-         test_sample(tri, node, k);\n    }\n}\n",
-    );
-    for l in 1..=MAX_UPPER_LEVELS {
-        s += &format!(
-            "void inline_level{l}(uint tri, uint node) {{\n    for (uint k = 0u; k < CHILDREN; ++k) {{\n        \
-             uint child;\n        if (child_of({l}u, node, k, child) && visit(load_frustum(tri), {}u, child) == PARTIAL) {{\n            \
-             inline_level{}(tri, child);\n        }}\n    }}\n}}\n",
-            l - 1,
-            l - 1
-        );
-    }
-    s += "void inline_level(uint level, uint tri, uint node) {\n    switch (level) {\n";
-    for l in 0..=MAX_UPPER_LEVELS {
-        s += &format!("    case {l}u: inline_level{l}(tri, node); break;\n");
-    }
-    s += "    default: break;\n    }\n}\n";
-    s
-}
-
 struct Programs {
     shared: SharedPrograms,
     fallback: glow::Program,
@@ -186,19 +161,12 @@ impl Programs {
 
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
         let head = header();
-        let chain = fallback_chain();
-        let comp = |body: &str, with_chain: bool| {
-            if with_chain {
-                format!("{head}{chain}\n{body}")
-            } else {
-                format!("{head}\n{body}")
-            }
-        };
+        let comp = |body: &str| format!("{head}\n{body}");
         let sources = [
-            ("hier-triangle setup", comp(SETUP_COMP, false), "hier_triangle/setup.comp.glsl"),
-            ("hier-triangle descend", comp(DESCEND_COMP, false), "hier_triangle/descend.comp.glsl"),
-            ("hier-triangle leaves", comp(LEAVES_COMP, false), "hier_triangle/leaves.comp.glsl"),
-            ("hier-triangle fallback", comp(FALLBACK_COMP, true), "hier_triangle/fallback.comp.glsl"),
+            ("hier-triangle setup", comp(SETUP_COMP), "hier_triangle/setup.comp.glsl"),
+            ("hier-triangle descend", comp(DESCEND_COMP), "hier_triangle/descend.comp.glsl"),
+            ("hier-triangle leaves", comp(LEAVES_COMP), "hier_triangle/leaves.comp.glsl"),
+            ("hier-triangle fallback", comp(FALLBACK_COMP), "hier_triangle/fallback.comp.glsl"),
         ];
         let resolve_frag = format!("{head}\n{RESOLVE_FRAG}");
         let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources
@@ -262,7 +230,7 @@ impl HierTriangle {
     }
 
     /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
-    /// the queues to send pairs down the fallback chain; the decision must not change.
+    /// the queues to send pairs down the fallback walk; the decision must not change.
     pub fn with_queue_scale(scale: f64) -> Self {
         Self { queue_scale: if scale > 0.0 && scale.is_finite() { scale } else { 1.0 }, ..Self::new() }
     }

@@ -121,8 +121,8 @@ void main() {
     } else {
         dvec3 u = dvec3(u_light_u);
         dvec3 v = dvec3(u_light_v);
-        dvec2 lo = dvec2(1.0e300);
-        dvec2 hi = dvec2(-1.0e300);
+        dvec2 lo = dvec2(1.0e300LF);
+        dvec2 hi = dvec2(-1.0e300LF);
         for (int i = 0; i < 3; ++i) {
             dvec2 uv = dvec2(dot(u, q[i] - origin), dot(v, q[i] - origin));
             lo = min(lo, uv);
