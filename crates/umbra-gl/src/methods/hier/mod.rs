@@ -29,24 +29,20 @@
 //! [`GlError::OutOfMemory`] and nothing is left behind.
 
 pub mod layout;
+mod programs;
+
+pub use programs::{delete_programs, header, link_all, link_method, MethodPrograms, SharedPrograms};
 
 use glow::HasContext;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::VolumeFrame;
-use crate::program::{link_program, uniform, ShaderSource};
+use crate::program::uniform;
 use crate::scene::SceneGpu;
 use crate::state::{GlState, StencilFace};
-use layout::{Layout, BRANCH_SIDE, CHILDREN, LEAF_SAMPLES, LEAF_SIDE, MAX_LEVELS};
+use layout::{Layout, MAX_LEVELS};
 
-const HIERARCHY: &str = include_str!("hierarchy.glsl");
-const REGION: &str = include_str!("region.glsl");
-const CLEAR_COMP: &str = include_str!("clear.comp.glsl");
-const BOUNDS_COMP: &str = include_str!("bounds.comp.glsl");
-const LIGHT_BOUNDS_COMP: &str = include_str!("light_bounds.comp.glsl");
-const ARGS_COMP: &str = include_str!("args.comp.glsl");
-const SAMPLES_FRAG: &str = include_str!("samples.frag.glsl");
 /// The full-screen triangle of the methods' stencil resolves.
 pub const RESOLVE_VERT: &str = include_str!("resolve.vert.glsl");
 
@@ -67,91 +63,6 @@ pub const QUEUES: u32 = 7;
 
 /// `local_size_x` of every compute shader except args.comp.glsl.
 pub const WORKGROUP: u32 = 64;
-
-/// The GLSL text before every stage's own source: version, the layout constants, hierarchy.glsl
-/// and region.glsl. `lift`: the nodes bound their samples' lifted points and carry a point of
-/// their own (hier-silhouette); the node stride follows `layout`.
-pub fn header(node_vec4s: usize, lift: bool) -> String {
-    format!(
-        "#version 450 core\n#define LEAF_SIDE {LEAF_SIDE}u\n#define LEAF_SAMPLES {LEAF_SAMPLES}u\n\
-         #define BRANCH_SIDE {BRANCH_SIDE}u\n#define CHILDREN {CHILDREN}u\n#define MAX_LEVELS {MAX_LEVELS}\n\
-         #define NO_TRIANGLE 0xFFFFFFFFu\n#define NODE_VEC4S {node_vec4s}u\n#define LIFT {}\n{HIERARCHY}\n{REGION}\n",
-        u32::from(lift)
-    )
-}
-
-/// Links one program per `(label, stages)`; on any failure deletes what was linked and
-/// returns the error.
-pub fn link_all(gl: &glow::Context, specs: &[(String, Vec<ShaderSource<'_>>)]) -> Result<Vec<glow::Program>, GlError> {
-    let mut done: Vec<glow::Program> = Vec::with_capacity(specs.len());
-    for (name, stages) in specs {
-        match link_program(gl, name, stages, &[]) {
-            Ok(p) => done.push(p),
-            Err(e) => {
-                delete_programs(gl, &done);
-                return Err(e);
-            }
-        }
-    }
-    Ok(done)
-}
-
-/// Deletes programs we created (not used afterwards).
-pub fn delete_programs(gl: &glow::Context, programs: &[glow::Program]) {
-    // SAFETY: programs we created, not used afterwards.
-    unsafe {
-        for &p in programs {
-            gl.delete_program(p);
-        }
-    }
-}
-
-/// The hierarchy's own programs, linked with the method's header (its node stride and lift).
-pub struct SharedPrograms {
-    /// clear.comp.glsl.
-    pub clear: glow::Program,
-    /// bounds.comp.glsl.
-    pub bounds: glow::Program,
-    /// light_bounds.comp.glsl.
-    pub light_bounds: glow::Program,
-    /// args.comp.glsl.
-    pub args: glow::Program,
-    /// The scene's vertex shader with samples.frag.glsl.
-    pub samples: glow::Program,
-}
-
-impl SharedPrograms {
-    /// Links the five programs, labelled `"{method} clear"` etc.
-    pub fn link(gl: &glow::Context, method: &str, head: &str) -> Result<SharedPrograms, GlError> {
-        let comp = |body: &str| format!("{head}\n{body}");
-        let sources = [
-            ("clear", comp(CLEAR_COMP), "hier/clear.comp.glsl"),
-            ("bounds", comp(BOUNDS_COMP), "hier/bounds.comp.glsl"),
-            ("light bounds", comp(LIGHT_BOUNDS_COMP), "hier/light_bounds.comp.glsl"),
-            ("args", comp(ARGS_COMP), "hier/args.comp.glsl"),
-        ];
-        let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources
-            .iter()
-            .map(|(label, source, file)| {
-                (format!("{method} {label}"), vec![ShaderSource { stage: glow::COMPUTE_SHADER, name: file, source }])
-            })
-            .collect();
-        specs.push((
-            format!("{method} samples"),
-            vec![
-                ShaderSource::vertex("shaders/scene.vert.glsl", crate::renderer::SCENE_VERT),
-                ShaderSource::fragment("hier/samples.frag.glsl", SAMPLES_FRAG),
-            ],
-        ));
-        let p = link_all(gl, &specs)?;
-        Ok(SharedPrograms { clear: p[0], bounds: p[1], light_bounds: p[2], args: p[3], samples: p[4] })
-    }
-
-    /// All five, for deletion.
-    pub fn all(&self) -> [glow::Program; 5] {
-        [self.clear, self.bounds, self.light_bounds, self.args, self.samples]
-    }
-}
 
 /// Per frame size: samples, node bounds, state, queues.
 pub struct FrameObjects {

@@ -91,7 +91,7 @@ use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
 use crate::methods::hier::layout::Layout;
 use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
-use crate::program::{uniform, ShaderSource};
+use crate::program::uniform;
 use crate::scene::{checked_size, SceneGpu, SceneId};
 use layout::{Counts, Faces, MAX_OPPOSITES_PER_RECORD};
 
@@ -141,40 +141,25 @@ impl Programs {
     }
 
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
-        let head = header();
-        let comp = |body: &str| format!("{head}\n{body}");
-        let sources = [
-            ("setup", comp(SETUP_COMP), "hier_silhouette/setup.comp.glsl"),
-            ("descend", comp(DESCEND_COMP), "hier_silhouette/descend.comp.glsl"),
-            ("leaves", comp(LEAVES_COMP), "hier_silhouette/leaves.comp.glsl"),
-            ("fallback", comp(FALLBACK_COMP), "hier_silhouette/fallback.comp.glsl"),
-            ("sum", comp(SUM_COMP), "hier_silhouette/sum.comp.glsl"),
-            ("zero", comp(ZERO_COMP), "hier_silhouette/zero.comp.glsl"),
+        let computes = [
+            ("setup", "hier_silhouette/setup.comp.glsl", SETUP_COMP),
+            ("descend", "hier_silhouette/descend.comp.glsl", DESCEND_COMP),
+            ("leaves", "hier_silhouette/leaves.comp.glsl", LEAVES_COMP),
+            ("fallback", "hier_silhouette/fallback.comp.glsl", FALLBACK_COMP),
+            ("sum", "hier_silhouette/sum.comp.glsl", SUM_COMP),
+            ("zero", "hier_silhouette/zero.comp.glsl", ZERO_COMP),
         ];
-        let resolve_frag = format!("{head}\n{RESOLVE_FRAG}");
-        let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources
-            .iter()
-            .map(|(label, source, file)| {
-                (format!("{NAME} {label}"), vec![ShaderSource { stage: glow::COMPUTE_SHADER, name: file, source }])
-            })
-            .collect();
-        specs.push((
-            format!("{NAME} resolve"),
-            vec![
-                ShaderSource::vertex("hier/resolve.vert.glsl", hier::RESOLVE_VERT),
-                ShaderSource::fragment("hier_silhouette/resolve.frag.glsl", &resolve_frag),
-            ],
-        ));
-        let own = hier::link_all(gl, &specs)?;
-        let shared = match SharedPrograms::link(gl, NAME, &hier::header(NODE_VEC4S, true)) {
-            Ok(s) => s,
-            Err(e) => {
-                hier::delete_programs(gl, &own);
-                return Err(e);
-            }
-        };
+        let p = hier::link_method(
+            gl,
+            NAME,
+            &header(),
+            &hier::header(NODE_VEC4S, true),
+            &computes,
+            ("hier_silhouette/resolve.frag.glsl", RESOLVE_FRAG),
+        )?;
+        let own = p.own;
         Ok(Programs {
-            shared,
+            shared: p.shared,
             setup: own[0],
             descend: own[1],
             leaves: own[2],

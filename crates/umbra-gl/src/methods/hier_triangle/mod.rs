@@ -84,7 +84,7 @@ use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
-use crate::program::{uniform, ShaderSource};
+use crate::program::uniform;
 use crate::scene::{SceneGpu, SceneId};
 use layout::Layout;
 
@@ -160,37 +160,29 @@ impl Programs {
     }
 
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
-        let head = header();
-        let comp = |body: &str| format!("{head}\n{body}");
-        let sources = [
-            ("hier-triangle setup", comp(SETUP_COMP), "hier_triangle/setup.comp.glsl"),
-            ("hier-triangle descend", comp(DESCEND_COMP), "hier_triangle/descend.comp.glsl"),
-            ("hier-triangle leaves", comp(LEAVES_COMP), "hier_triangle/leaves.comp.glsl"),
-            ("hier-triangle fallback", comp(FALLBACK_COMP), "hier_triangle/fallback.comp.glsl"),
+        let computes = [
+            ("setup", "hier_triangle/setup.comp.glsl", SETUP_COMP),
+            ("descend", "hier_triangle/descend.comp.glsl", DESCEND_COMP),
+            ("leaves", "hier_triangle/leaves.comp.glsl", LEAVES_COMP),
+            ("fallback", "hier_triangle/fallback.comp.glsl", FALLBACK_COMP),
         ];
-        let resolve_frag = format!("{head}\n{RESOLVE_FRAG}");
-        let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources
-            .iter()
-            .map(|(name, source, file)| {
-                (name.to_string(), vec![ShaderSource { stage: glow::COMPUTE_SHADER, name: file, source }])
-            })
-            .collect();
-        specs.push((
-            "hier-triangle resolve".to_string(),
-            vec![
-                ShaderSource::vertex("hier/resolve.vert.glsl", hier::RESOLVE_VERT),
-                ShaderSource::fragment("hier_triangle/resolve.frag.glsl", &resolve_frag),
-            ],
-        ));
-        let own = hier::link_all(gl, &specs)?;
-        let shared = match SharedPrograms::link(gl, NAME, &hier::header(3, false)) {
-            Ok(s) => s,
-            Err(e) => {
-                hier::delete_programs(gl, &own);
-                return Err(e);
-            }
-        };
-        Ok(Programs { shared, setup: own[0], descend: own[1], leaves: own[2], fallback: own[3], resolve: own[4] })
+        let p = hier::link_method(
+            gl,
+            NAME,
+            &header(),
+            &hier::header(3, false),
+            &computes,
+            ("hier_triangle/resolve.frag.glsl", RESOLVE_FRAG),
+        )?;
+        let own = p.own;
+        Ok(Programs {
+            shared: p.shared,
+            setup: own[0],
+            descend: own[1],
+            leaves: own[2],
+            fallback: own[3],
+            resolve: own[4],
+        })
     }
 }
 
