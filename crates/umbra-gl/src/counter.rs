@@ -31,7 +31,7 @@ use glow::HasContext;
 use crate::camera::DepthConvention;
 use crate::error::GlError;
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::state::{GlState, StencilFace};
+use crate::state::GlState;
 
 /// Which counter the volume pass uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -61,14 +61,7 @@ impl Counter {
     }
 }
 
-const RESOLVE_VERT: &str = "#version 450 core
-// One triangle covering the viewport (vertex ids 0, 1, 2 -> (-1,-1), (3,-1), (-1,3)); z = 0
-// lies inside the clip volume of both depth modes, and the depth test is off anyway.
-void main() {
-    vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
-    gl_Position = vec4(p, 0.0, 1.0);
-}
-";
+const RESOLVE_VERT: &str = include_str!("shaders/fullscreen.vert.glsl");
 
 const RESOLVE_FRAG: &str = "#version 450 core
 // Counter resolve: the stencil test (ALWAYS, REPLACE with 1) marks the pixels whose count is
@@ -200,7 +193,7 @@ impl FloatCounter {
             gl,
             "counter resolve",
             &[
-                ShaderSource::vertex("counter.rs RESOLVE_VERT", RESOLVE_VERT),
+                ShaderSource::vertex("shaders/fullscreen.vert.glsl", RESOLVE_VERT),
                 ShaderSource::fragment("counter.rs RESOLVE_FRAG", RESOLVE_FRAG),
             ],
             &[],
@@ -298,40 +291,7 @@ impl FloatCounter {
     ) -> Result<(), GlError> {
         let a =
             self.attachments.as_ref().ok_or_else(|| GlError::InvalidParams("counter resolve without begin".into()))?;
-        let mark = StencilFace {
-            // Reason: every fragment that survives the shader's discard (count != 0) writes.
-            func: glow::ALWAYS,
-            reference: 1,
-            value_mask: 0xFF,
-            write_mask: 0xFF,
-            stencil_fail: glow::KEEP,
-            depth_fail: glow::KEEP,
-            // Reason: "shadowed" = stencil not 0, what the StencilZero lighting test reads.
-            depth_pass: glow::REPLACE,
-        };
-        GlState {
-            // Reason: a full-screen pass over every pixel; the depth test would drop some.
-            depth_test: false,
-            depth_func: glow::ALWAYS,
-            // Reason: the frame's depth is final.
-            depth_write: false,
-            // Reason: the triangle's z = 0 lies inside the clip volume; nothing to clamp.
-            depth_clamp: false,
-            // Reason: the stencil is what the resolve writes.
-            stencil_test: true,
-            stencil_front: mark,
-            stencil_back: mark,
-            // Reason: only the stencil changes; the colour is the lighting pass's.
-            color_write: [false; 4],
-            // Reason: the full-screen triangle must cover every pixel whatever its winding.
-            cull_face: None,
-            front_face: glow::CCW,
-            // Reason: no colour is written.
-            blend: None,
-            // Reason: no depth test, an offset would change nothing.
-            polygon_offset: None,
-        }
-        .apply(gl);
+        GlState::stencil_mark_resolve().apply(gl);
         // SAFETY: our program, empty VAO and count texture; the texture binding of unit 0 and
         // the active unit are read first and restored after the draw.
         unsafe {

@@ -326,6 +326,48 @@ pub fn depth_func_complement(nearer: u32) -> u32 {
 }
 
 impl GlState {
+    /// The state of a full-screen resolve into the stencil ([`crate::counter`]'s resolve and the
+    /// hier methods'): every fragment that survives the resolve shader's discard (a shadowed
+    /// sample) writes 1, nothing else is written.
+    pub fn stencil_mark_resolve() -> GlState {
+        let mark = StencilFace {
+            // Reason: every surviving fragment writes; the shader's discard is the decision.
+            func: glow::ALWAYS,
+            reference: 1,
+            value_mask: 0xFF,
+            write_mask: 0xFF,
+            stencil_fail: glow::KEEP,
+            depth_fail: glow::KEEP,
+            // Reason: "shadowed" = stencil not 0, what the StencilZero lighting test reads.
+            depth_pass: glow::REPLACE,
+        };
+        GlState {
+            // Reason: a full-screen pass over every pixel, the decision already made per
+            // sample; a depth test would drop some.
+            depth_test: false,
+            depth_func: glow::ALWAYS,
+            // Reason: the frame's depth is final.
+            depth_write: false,
+            // Reason: the triangle's z = 0 lies inside the clip volume; nothing to clamp.
+            depth_clamp: false,
+            // Reason: the stencil is what the resolve writes.
+            stencil_test: true,
+            stencil_front: mark,
+            stencil_back: mark,
+            // Reason: only the stencil changes; the colour is the lighting pass's.
+            color_write: [false; 4],
+            // Reason: the full-screen triangle must cover every pixel whatever its winding.
+            cull_face: None,
+            front_face: glow::CCW,
+            // Reason: no colour is written.
+            blend: None,
+            // Reason: no depth test, an offset would change nothing.
+            polygon_offset: None,
+        }
+    }
+}
+
+impl GlState {
     /// The counting state of the wide (Float32) counter ([`crate::counter`]): the same count
     /// as [`GlState::shadow_volume_for`], accumulated by additive blending of the volume
     /// fragment shaders' `o_count` (+1 front face, -1 back face) into an R32F colour buffer

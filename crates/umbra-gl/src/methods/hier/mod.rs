@@ -44,7 +44,7 @@ use crate::state::{GlState, StencilFace};
 use layout::{Layout, MAX_LEVELS};
 
 /// The full-screen triangle of the methods' stencil resolves.
-pub const RESOLVE_VERT: &str = include_str!("resolve.vert.glsl");
+pub const RESOLVE_VERT: &str = include_str!("../../shaders/fullscreen.vert.glsl");
 
 // Shader-storage binding points (hierarchy.glsl). Binding 0 is the renderer's normals and stays
 // untouched; the renderer restores the caller's bindings after a method ran (saved.rs).
@@ -607,36 +607,5 @@ impl Passes<'_> {
             gl.dispatch_compute_indirect(Self::command_offset(last));
             gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, None);
         }
-    }
-}
-
-/// The GL state of a resolve into the stencil: every fragment that survives (a shadowed
-/// sample) writes 1, nothing else is written.
-pub fn resolve_state() -> GlState {
-    let shadowed = StencilFace {
-        // Reason: every surviving fragment (a shadowed sample) writes 1 = "not lit".
-        func: glow::ALWAYS,
-        reference: 1,
-        value_mask: 0xFF,
-        write_mask: 0xFF,
-        stencil_fail: glow::KEEP,
-        depth_fail: glow::KEEP,
-        depth_pass: glow::REPLACE,
-    };
-    GlState {
-        // Reason: the decision is per pixel, already made; no depth involved.
-        depth_test: false,
-        depth_func: glow::ALWAYS,
-        depth_write: false,
-        depth_clamp: false,
-        stencil_test: true,
-        stencil_front: shadowed,
-        stencil_back: shadowed,
-        // Reason: only the stencil is written.
-        color_write: [false; 4],
-        cull_face: None,
-        front_face: glow::CCW,
-        blend: None,
-        polygon_offset: None,
     }
 }

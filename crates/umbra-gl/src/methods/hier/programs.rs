@@ -112,7 +112,7 @@ pub struct MethodPrograms {
 }
 
 /// Links a hier method's programs: each `(label, file, body)` of `computes` as a compute
-/// program `"{method} {label}"` from `head` + body, the resolve from hier/resolve.vert.glsl and
+/// program `"{method} {label}"` from `head` + body, the resolve from shaders/fullscreen.vert.glsl and
 /// `head` + `resolve_frag` (named `resolve_file` in errors), and the shared five with
 /// `shared_head`. On any failure nothing is left linked.
 pub fn link_method(
@@ -137,7 +137,7 @@ pub fn link_method(
     specs.push((
         format!("{method} resolve"),
         vec![
-            ShaderSource::vertex("hier/resolve.vert.glsl", RESOLVE_VERT),
+            ShaderSource::vertex("shaders/fullscreen.vert.glsl", RESOLVE_VERT),
             ShaderSource::fragment(resolve.0, &resolve_frag),
         ],
     ));

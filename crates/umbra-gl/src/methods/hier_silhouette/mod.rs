@@ -573,7 +573,7 @@ impl ShadowMethod for HierSilhouette {
         passes.dispatch(p.sum, layout.width as usize * layout.height as usize);
 
         frame.mark(gl, "stencil");
-        hier::resolve_state().apply(gl);
+        crate::state::GlState::stencil_mark_resolve().apply(gl);
         // SAFETY: our program and empty vertex array; the frame's target and viewport.
         unsafe {
             // Reason: the fragment shader reads the counts the sum wrote.

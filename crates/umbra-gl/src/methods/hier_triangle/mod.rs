@@ -431,7 +431,7 @@ impl ShadowMethod for HierTriangle {
         passes.fallback(p.fallback, &round_light, &no_uniforms);
 
         frame.mark(gl, "stencil");
-        hier::resolve_state().apply(gl);
+        crate::state::GlState::stencil_mark_resolve().apply(gl);
         // SAFETY: our program and empty vertex array; the frame's target and viewport.
         unsafe {
             // Reason: the fragment shader reads the masks and flags the compute passes wrote.
