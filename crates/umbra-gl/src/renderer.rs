@@ -38,7 +38,10 @@
 //! Code layout: [`Renderer::render`] / [`Renderer::draw_frame`] run `passes`, which calls
 //! `depth_pass` once and `volume_pass` + `lighting_pass` per light; count_shadows runs
 //! `volume_pass` alone (plus, for shader-classified methods, a resolve of the method's
-//! `umbra_lit` into the stencil), add_light `lighting_pass` alone.
+//! `umbra_lit` into the stencil), add_light `lighting_pass` alone. Files: `renderer/params.rs`
+//! ([`FrameParams`]), `renderer/validate.rs` (the checks before drawing), `renderer/depth.rs`
+//! (`depth_pass`), `renderer/volumes.rs` (`volume_pass`), `renderer/lighting.rs`
+//! (`lighting_pass`), `renderer/wireframe.rs`.
 
 use std::collections::HashMap;
 use std::sync::OnceLock;
@@ -47,27 +50,32 @@ use glam::DMat4;
 use glow::HasContext;
 use umbra_geom::Light;
 
+mod depth;
 mod lighting;
+mod params;
+mod validate;
 mod volumes;
 mod wireframe;
 
+pub use params::FrameParams;
+use validate::{check_stencil_target, validate, validate_shading, validate_view};
+
+use depth::DepthProgram;
 use lighting::{LightingProgram, LitPass};
 
-use crate::camera::{to_f32_cols, Camera, DepthConvention, DepthConventionGl};
+use crate::camera::{to_f32_cols, DepthConvention, DepthConventionGl};
 use crate::counter::{Counter, FloatCounter};
 use crate::error::{drain_get_error, GlError, GlErrorLog};
 use crate::extra::GlExtra;
 use crate::image::StencilImage;
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark, VolumeFrame};
-use crate::program::{link_program, uniform, ShaderSource};
 use crate::saved::{MethodBindings, SavedState};
 use crate::scene::SceneGpu;
-use crate::state::{GlState, StencilFace};
+use crate::state::GlState;
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
 use umbra_geom::camera::near_pyramid_points;
 
 pub(crate) const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
-const DEPTH_FRAG: &str = include_str!("shaders/depth_ambient.frag.glsl");
 
 pub use umbra_geom::frame_images::{CaptureFlags, FrameImages, LightCapture, LitMask, StencilMask};
 
@@ -77,87 +85,11 @@ pub type StencilCapture = LightCapture;
 /// Which per-light lit masks to read back (after that light's lighting pass).
 pub type LitMaskCapture = LightCapture;
 
-/// Everything that defines one frame.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameParams {
-    /// The camera (infinite far plane).
-    pub camera: Camera,
-    /// Frame width in pixels.
-    pub width: u32,
-    /// Frame height in pixels.
-    pub height: u32,
-    /// Homogeneous lights: w = 1 point, w = 0 directional (light comes FROM xyz).
-    pub lights: Vec<Light>,
-    /// Colour (and intensity) of every light.
-    pub light_color: [f32; 3],
-    /// z-pass counting instead of z-fail for every light, whatever the eye's position (wrong
-    /// when the camera is inside a shadow volume).
-    pub zpass: bool,
-    /// z-pass counting for each light whose volumes provably leave the eye out
-    /// ([`umbra_geom::clearance`]: no triangle meets the hull of the eye, the near-plane
-    /// rectangle and the light), z-fail for the others. Exact like z-fail (the same count at
-    /// every visible sample) and cheaper: no caps, and the volumes are clipped to the box
-    /// around the scene and the eye instead of running to infinity. Counting methods
-    /// ([`Classification::StencilZero`]) only. Default on. [`Renderer::last_zpass`] tells
-    /// which lights of the last frame counted z-pass.
-    pub auto_zpass: bool,
-    /// Ambient factor: pass 1 writes `albedo * ambient`.
-    pub ambient: f32,
-    /// Surface colour (all surfaces).
-    pub albedo: [f32; 3],
-    /// Blinn-Phong specular strength.
-    pub specular: f32,
-    /// Blinn-Phong specular exponent.
-    pub shininess: f32,
-    /// Clear colour (RGBA, 0..1).
-    pub background: [f32; 4],
-    /// Which extra images [`Renderer::render`] reads back.
-    pub capture: CaptureFlags,
-    /// Depth convention of the frame (default [`DepthConvention::ReversedZ`]). It also picks
-    /// the depth format of the renderer's own target; with [`Renderer::draw_frame`] the
-    /// caller's framebuffer is drawn in it (reversed-Z is correct with any depth format but
-    /// gains its precision only with a float one).
-    pub depth_convention: DepthConvention,
-    /// The shadow-volume counter ([`crate::counter`]): the 8-bit stencil (default; wraps at
-    /// 256) or an f32 count resolved into the stencil, for methods that count in the stencil.
-    pub counter: Counter,
-}
-
-impl Default for FrameParams {
-    /// 1280x720, default camera, no lights, z-fail, light grey surfaces, ambient 0.15, white
-    /// light, dark blue-grey background, reversed-Z.
-    fn default() -> Self {
-        Self {
-            camera: Camera::default(),
-            width: 1280,
-            height: 720,
-            lights: Vec::new(),
-            light_color: [1.0; 3],
-            zpass: false,
-            auto_zpass: true,
-            ambient: 0.15,
-            albedo: [0.8; 3],
-            specular: 0.25,
-            shininess: 32.0,
-            background: [0.10, 0.12, 0.16, 1.0],
-            capture: CaptureFlags::default(),
-            depth_convention: DepthConvention::default(),
-            counter: Counter::default(),
-        }
-    }
-}
-
 /// Per-light images read during a frame.
 #[derive(Default)]
 struct Captured {
     stencil: Vec<StencilMask>,
     lit_masks: Vec<LitMask>,
-}
-
-struct DepthProgram {
-    program: glow::Program,
-    u_clip_from_world: Option<glow::UniformLocation>,
-    u_ambient_color: Option<glow::UniformLocation>,
 }
 
 /// Where [`Renderer::draw_frame`] draws: a caller's framebuffer (None = default framebuffer)
@@ -288,93 +220,6 @@ fn extra_from_current_egl() -> GlExtra {
     }
 }
 
-/// Checks parameters before any GL call.
-fn validate(params: &FrameParams) -> Result<(), GlError> {
-    validate_size(params)?;
-    for (i, l) in params.lights.iter().enumerate() {
-        validate_light(i, l)?;
-    }
-    for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
-        if let LightCapture::Light(i) = capture {
-            if i >= params.lights.len() {
-                return Err(GlError::InvalidParams(format!(
-                    "{what} capture of light {i}, but {} light(s)",
-                    params.lights.len()
-                )));
-            }
-        }
-    }
-    validate_shading(params)
-}
-
-/// Camera and frame size.
-fn validate_size(params: &FrameParams) -> Result<(), GlError> {
-    params.camera.validate()?;
-    if params.width == 0 || params.height == 0 {
-        return Err(GlError::InvalidParams(format!("frame size {}x{}", params.width, params.height)));
-    }
-    Ok(())
-}
-
-/// Camera, frame size and one light (for the host API, which takes the light apart).
-fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
-    validate_size(params)?;
-    validate_light(0, light)
-}
-
-/// Light `i`: finite, w = 0 or 1, a directional light has a direction.
-fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
-    umbra_geom::check_light(i, l).map_err(|e| GlError::InvalidParams(e.to_string()))
-}
-
-/// Colours and shading parameters are finite.
-fn validate_shading(params: &FrameParams) -> Result<(), GlError> {
-    let scalars = [params.ambient, params.specular, params.shininess];
-    if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite())
-    {
-        return Err(GlError::InvalidParams("non-finite colour or shading parameter".into()));
-    }
-    Ok(())
-}
-
-/// The bound draw framebuffer (`fb`, as the error names it) is complete and has a stencil
-/// buffer of at least 8 bits.
-fn check_stencil_target(gl: &glow::Context, fb: Option<glow::Framebuffer>) -> Result<(), GlError> {
-    // The default framebuffer names its stencil buffer STENCIL, a framebuffer object
-    // STENCIL_ATTACHMENT (a DEPTH_STENCIL attachment answers for both).
-    let attachment = if fb.is_some() { glow::STENCIL_ATTACHMENT } else { glow::STENCIL };
-    // SAFETY: queries of the bound draw framebuffer; the size is only queried when an image
-    // is attached (otherwise the query is an error).
-    let (status, kind, bits) = unsafe {
-        let status = gl.check_framebuffer_status(glow::DRAW_FRAMEBUFFER);
-        let kind = gl.get_framebuffer_attachment_parameter_i32(
-            glow::DRAW_FRAMEBUFFER,
-            attachment,
-            glow::FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
-        ) as u32;
-        let bits = if status == glow::FRAMEBUFFER_COMPLETE && kind != glow::NONE {
-            gl.get_framebuffer_attachment_parameter_i32(
-                glow::DRAW_FRAMEBUFFER,
-                attachment,
-                glow::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE,
-            )
-        } else {
-            0
-        };
-        (status, kind, bits)
-    };
-    if status != glow::FRAMEBUFFER_COMPLETE {
-        return Err(GlError::Framebuffer { status, what: "the caller's framebuffer (FrameTarget)" });
-    }
-    if kind == glow::NONE || bits < 8 {
-        return Err(GlError::InvalidParams(format!(
-            "the target framebuffer ({}) has {bits} stencil bits; shadow volumes need at least 8",
-            if fb.is_some() { "a framebuffer object" } else { "the default framebuffer" }
-        )));
-    }
-    Ok(())
-}
-
 fn mark(hook: &mut Option<&mut dyn StageHook>, gl: &glow::Context, label: &'static str, light: Option<usize>) {
     if let Some(h) = hook.as_deref_mut() {
         h.mark(gl, StageMark { source: "renderer", label, light });
@@ -389,20 +234,7 @@ impl Renderer {
     /// [`crate::HeadlessContext`]; on other hosts pass it with [`Renderer::with_extra`] (or
     /// draw with [`DepthConvention::Standard`]).
     pub fn new(gl: &glow::Context) -> Result<Self, GlError> {
-        let program = link_program(
-            gl,
-            "depth+ambient",
-            &[
-                ShaderSource::vertex("shaders/scene.vert.glsl", SCENE_VERT),
-                ShaderSource::fragment("shaders/depth_ambient.frag.glsl", DEPTH_FRAG),
-            ],
-            &[],
-        )?;
-        let depth = DepthProgram {
-            u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
-            u_ambient_color: uniform(gl, program, "u_ambient_color"),
-            program,
-        };
+        let depth = DepthProgram::new(gl)?;
         let mut lighting = HashMap::new();
         lighting.insert(("", LitPass::Shade), LightingProgram::new(gl, None, LitPass::Shade)?);
         Ok(Self {
@@ -848,79 +680,6 @@ impl Renderer {
         }
         mark(&mut hook, gl, "end", None);
         Ok(())
-    }
-
-    /// Pass 1, once per frame: clears colour (to `params.background`), depth (to the
-    /// convention's far value) and stencil (to 0) of `view`'s framebuffer, then draws the
-    /// scene's depth + ambient (+ world position and triangle id into `own`'s attachments).
-    fn depth_pass(
-        &self,
-        gl: &glow::Context,
-        scene: &SceneGpu,
-        params: &FrameParams,
-        view: &PassView,
-        own: Option<&RenderTarget>,
-        hook: &mut Option<&mut dyn StageHook>,
-    ) {
-        let convention = view.convention;
-        mark(hook, gl, "depth", None);
-        // Reason: glClear* obeys the colour/depth/stencil write masks; GL's default state has
-        // all of them on (and blending/tests do not affect clears).
-        GlState::default().apply(gl);
-        view.bind_target(gl);
-        // SAFETY: disabling enables that would restrict clears and draws (restored by the
-        // caller's SavedState), then clearing the bound framebuffer.
-        unsafe {
-            gl.disable(glow::SCISSOR_TEST);
-            gl.disable(glow::RASTERIZER_DISCARD);
-            // Reason: depth cleared to the far plane's depth (1 Standard, 0 reversed-Z), which is
-            // also where light caps are pushed (so they fail the strict test there too).
-            let far = convention.far_depth();
-            match own {
-                Some(t) => t.clear(gl, params.background, far),
-                None => {
-                    gl.clear_buffer_f32_slice(glow::COLOR, 0, &params.background);
-                    gl.clear_buffer_depth_stencil(glow::DEPTH_STENCIL, 0, far, 0);
-                }
-            }
-        }
-
-        // ---- Pass 1: depth + ambient (+ world position, triangle id).
-        if let Some(t) = own {
-            t.set_draw_buffers(gl, TargetPass::Depth);
-        }
-        GlState {
-            // Reason: nearest surface wins: strictly nearer (LESS Standard, GREATER reversed-Z,
-            // where depth = near / distance grows towards the eye); ties keep the first triangle
-            // drawn (strict, not LEQUAL / GEQUAL), the same one the lighting pass selects.
-            depth_test: true,
-            depth_func: convention.nearer(),
-            depth_write: true,
-            // Reason: the scene uses normal near clipping; only volumes need clamping.
-            depth_clamp: false,
-            // Reason: the stencil belongs to the per-light volume passes.
-            stencil_test: false,
-            stencil_front: StencilFace::KEEP,
-            stencil_back: StencilFace::KEEP,
-            color_write: [true; 4],
-            // Reason: triangle soups are two-sided; every triangle is visible from both sides.
-            cull_face: None,
-            front_face: glow::CCW,
-            // Reason: opaque ambient base colour.
-            blend: None,
-            // Reason: depths must match the lighting pass and the volumes exactly.
-            polygon_offset: None,
-        }
-        .apply(gl);
-        let ambient = params.albedo.map(|a| a * params.ambient);
-        // SAFETY: our program and the scene's VAO; uniforms match the shader declarations.
-        unsafe {
-            gl.use_program(Some(self.depth.program));
-            gl.uniform_matrix_4_f32_slice(self.depth.u_clip_from_world.as_ref(), false, &view.clip_f32);
-            gl.uniform_3_f32_slice(self.depth.u_ambient_color.as_ref(), &ambient);
-            gl.bind_vertex_array(Some(scene.vertex_array()));
-        }
-        scene.draw_triangles(gl);
     }
 
     /// Deletes programs and the offscreen target.

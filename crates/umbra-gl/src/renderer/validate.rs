@@ -1,0 +1,96 @@
+//! The renderer's checks before any drawing: the frame's parameters (no GL call) and a
+//! caller's target framebuffer.
+
+use glow::HasContext;
+use umbra_geom::Light;
+
+use super::FrameParams;
+use crate::error::GlError;
+use umbra_geom::frame_images::LightCapture;
+
+/// Checks parameters before any GL call.
+pub(super) fn validate(params: &FrameParams) -> Result<(), GlError> {
+    validate_size(params)?;
+    for (i, l) in params.lights.iter().enumerate() {
+        validate_light(i, l)?;
+    }
+    for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
+        if let LightCapture::Light(i) = capture {
+            if i >= params.lights.len() {
+                return Err(GlError::InvalidParams(format!(
+                    "{what} capture of light {i}, but {} light(s)",
+                    params.lights.len()
+                )));
+            }
+        }
+    }
+    validate_shading(params)
+}
+
+/// Camera and frame size.
+pub(super) fn validate_size(params: &FrameParams) -> Result<(), GlError> {
+    params.camera.validate()?;
+    if params.width == 0 || params.height == 0 {
+        return Err(GlError::InvalidParams(format!("frame size {}x{}", params.width, params.height)));
+    }
+    Ok(())
+}
+
+/// Camera, frame size and one light (for the host API, which takes the light apart).
+pub(super) fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
+    validate_size(params)?;
+    validate_light(0, light)
+}
+
+/// Light `i`: finite, w = 0 or 1, a directional light has a direction.
+pub(super) fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
+    umbra_geom::check_light(i, l).map_err(|e| GlError::InvalidParams(e.to_string()))
+}
+
+/// Colours and shading parameters are finite.
+pub(super) fn validate_shading(params: &FrameParams) -> Result<(), GlError> {
+    let scalars = [params.ambient, params.specular, params.shininess];
+    if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite())
+    {
+        return Err(GlError::InvalidParams("non-finite colour or shading parameter".into()));
+    }
+    Ok(())
+}
+
+/// The bound draw framebuffer (`fb`, as the error names it) is complete and has a stencil
+/// buffer of at least 8 bits.
+pub(super) fn check_stencil_target(gl: &glow::Context, fb: Option<glow::Framebuffer>) -> Result<(), GlError> {
+    // The default framebuffer names its stencil buffer STENCIL, a framebuffer object
+    // STENCIL_ATTACHMENT (a DEPTH_STENCIL attachment answers for both).
+    let attachment = if fb.is_some() { glow::STENCIL_ATTACHMENT } else { glow::STENCIL };
+    // SAFETY: queries of the bound draw framebuffer; the size is only queried when an image
+    // is attached (otherwise the query is an error).
+    let (status, kind, bits) = unsafe {
+        let status = gl.check_framebuffer_status(glow::DRAW_FRAMEBUFFER);
+        let kind = gl.get_framebuffer_attachment_parameter_i32(
+            glow::DRAW_FRAMEBUFFER,
+            attachment,
+            glow::FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE,
+        ) as u32;
+        let bits = if status == glow::FRAMEBUFFER_COMPLETE && kind != glow::NONE {
+            gl.get_framebuffer_attachment_parameter_i32(
+                glow::DRAW_FRAMEBUFFER,
+                attachment,
+                glow::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE,
+            )
+        } else {
+            0
+        };
+        (status, kind, bits)
+    };
+    if status != glow::FRAMEBUFFER_COMPLETE {
+        return Err(GlError::Framebuffer { status, what: "the caller's framebuffer (FrameTarget)" });
+    }
+    if kind == glow::NONE || bits < 8 {
+        return Err(GlError::InvalidParams(format!(
+            "the target framebuffer ({}) has {bits} stencil bits; shadow volumes need at least 8",
+            if fb.is_some() { "a framebuffer object" } else { "the default framebuffer" }
+        )));
+    }
+    Ok(())
+}
