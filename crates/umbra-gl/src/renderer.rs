@@ -393,7 +393,7 @@ impl Renderer {
     /// scene's own triangles, with the depth buffer; the caller's depth must therefore be
     /// bit-identical to what umbra would draw: the same positions as `scene`, transformed by
     /// exactly `params.camera.clip_from_world_in(width / height, depth_convention)` converted
-    /// with [`crate::camera::to_f32_cols`] (or [`Camera::clip_from_world_cols`] rounded to
+    /// with [`crate::camera::to_f32_cols`] (or [`crate::camera::Camera::clip_from_world_cols`] rounded to
     /// f32), in a vertex shader computing
     /// `gl_Position = u_clip_from_world * vec4(position, 1.0)` with `invariant gl_Position`,
     /// rendered with glClipControl(LOWER_LEFT, [`DepthConvention::clip_depth_mode`]) and
