@@ -89,7 +89,7 @@ pub fn pixels_near_segment(p: [f64; 2], q: [f64; 2], delta: f64, width: u32, hei
     let (size_major, size_minor) = if major == 0 { (w, h) } else { (h, w) };
     let lo = (p[major].min(q[major]) - delta - 0.5).ceil().max(0.0);
     let hi = (p[major].max(q[major]) + delta - 0.5).floor().min(size_major - 1.0);
-    if !(lo <= hi) {
+    if lo.is_nan() || hi.is_nan() || lo > hi {
         return;
     }
     // How far the minor coordinate of a point within `delta` can be from the segment's at the
@@ -138,7 +138,7 @@ fn clip_to_window(a: [f64; 3], b: [f64; 3], margin: f64, width: u32, height: u32
             t1 = t1.min(da / (da - db));
         }
     }
-    if !(t0 <= t1) {
+    if t0.is_nan() || t1.is_nan() || t0 > t1 {
         return None;
     }
     let at = |t: f64| {
@@ -150,15 +150,14 @@ fn clip_to_window(a: [f64; 3], b: [f64; 3], margin: f64, width: u32, height: u32
 }
 
 /// Marks [`BandParts::SIDE_FACE`] or [`BandParts::CANCELLING`] (module doc) on `parts` for
-/// every sample of `samples` whose pixel centre lies within [`RasterView::lateral_pixels`] of
+/// every sample of `samples` (a `width x height` image, `size`) whose pixel centre lies within [`RasterView::lateral_pixels`] of
 /// the projection of a face's boundary, the face's plane passing within the sample's radius.
 /// `casts(a, b)` tells whether the edge `a b` (smaller index first) casts a side face.
 pub(crate) fn mark_edge_on_faces(
     mesh: &WeldedMesh,
     view: &RasterView,
     sweep: Sweep,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     samples: &[FaceEnvelope],
     casts: impl Fn([u32; 2]) -> bool + Sync,
     parts: &mut [BandParts],
@@ -342,7 +341,8 @@ mod tests {
             positions,
             triangles: vec![[0, 1, 2], [3, 4, 5]],
             light: [630.4934, 454.36743, -72.89507, 1.0],
-            sample: [1058.0953369140625, 634.1458740234375, -1004.5701293945313],
+            // The GPU's interpolated position (1058.0953, 634.14587, -1004.57013).
+            sample: f([1149518605, 1142851926, 3296404605]),
             camera: Camera {
                 eye: [-208.34796142578125, 291.09605226516726, -193.58551025390625],
                 target: [874.0280151367188, 193.13323488235474, -193.58551025390625],

@@ -197,7 +197,7 @@ pub fn reference_in_view(
             None => Sweep::Towards(ctx.towards),
         };
         let casting = &ctx.casting.edges;
-        mark_edge_on_faces(mesh, v, sweep, width, height, &envelopes, |e| casting.contains(&e), &mut parts);
+        mark_edge_on_faces(mesh, v, sweep, (width, height), &envelopes, |e| casting.contains(&e), &mut parts);
     }
     let band = parts.iter().map(|p| *p != BandParts::NONE).collect();
     Ok(Reference { width, height, class, band, parts })
