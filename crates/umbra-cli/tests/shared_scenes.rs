@@ -132,6 +132,31 @@ fn crytek_sponza_flythrough_first_keyframe_at_1920x1080_is_exact() {
     assert!(n == 0 || n == 2, "{n} methods checked");
 }
 
+/// Issue 16: Conference's default view at 640x360 with its default point light, pixel
+/// (114, 64): every rasterizing method counted the face of a pillar's top edge there (a false
+/// shadow) although the face passes hundreds of units from the sample. The eye lies 0.0064
+/// units from the face's plane: its projection is a sliver 0.0009 pixel from the pixel
+/// centre, which llvmpipe's snapped coverage took in, and the plane equation gave it a depth
+/// in front of the sample (umbra_oracle::edge_on). Now band; every other sample exact.
+#[test]
+fn conference_default_view_at_640x360_is_exact() {
+    let n = verify_view("conference.obj.gz", "cpu-silhouette,gs-triangle", (640, 360), &[]);
+    assert!(n == 0 || n == 2, "{n} methods checked");
+}
+
+/// Issue 16: the fly-through's keyframe 6 (bench/sponza.flythrough) at 1280x720, pixel
+/// (532, 533): a false shadow of ts-triangle from a face seen edge-on, as on Conference above.
+#[test]
+fn crytek_sponza_flythrough_keyframe_6_at_1280x720_is_exact() {
+    let n = verify_view(
+        "crytek-sponza.obj.gz",
+        "ts-triangle",
+        (1280, 720),
+        &["--eye=-5.0,3.6,-0.2", "--target", "4.3,2.1,-0.2"],
+    );
+    assert!(n == 0 || n == 1, "{n} methods checked");
+}
+
 #[test]
 #[ignore = "every method on every shared scene at 1280x720: minutes; run with --ignored"]
 fn every_method_on_every_shared_scene_default_view_is_exact() {

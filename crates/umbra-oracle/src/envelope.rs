@@ -60,10 +60,14 @@
 //!   f32 orientation is uncertain); a point `X` lies on the face of edge `e` iff the segment
 //!   from `X` to the light meets `e`, so the face passes within `R` of `S` only if the
 //!   segment from `S` to the light passes within `R` of `e` (for a point light the segments
-//!   from the ball's points converge on the light, so `R` at every `t` is conservative).
+//!   from the ball's points converge on the light, so `R` at every `t` is conservative). Also
+//!   where the face passes far from `S` but is seen edge-on: its projection passes within the
+//!   lateral bound of the pixel centre and its plane within `R` of `S` (llvmpipe covers the
+//!   pixel with the snapped face and gives it its plane's depth there, [`crate::edge_on`]).
 //! * [`BandParts::CANCELLING`]: the same for an edge that casts nothing, where a per-triangle
 //!   method draws two opposite faces that cancel exactly only if both are ordered alike.
-//!   Silhouette methods draw nothing there and are judged without this part.
+//!   Silhouette methods draw nothing there and are judged without this part. The same
+//!   edge-on faces as for [`BandParts::SIDE_FACE`] ([`crate::edge_on`]).
 //! * [`BandParts::ORIENTATION`]: the segment to the light passes within the envelope of a
 //!   triangle whose f32 orientation is uncertain: its volume may be the other way round.
 //! * [`BandParts::SURFACE`]: another triangle, not coplanar with the sample's own, passes

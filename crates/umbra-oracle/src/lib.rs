@@ -5,6 +5,7 @@
 //! * [`bvh`]: binned-SAH BVH (Wald 2007), parallel build, robust traversal (Ize 2013);
 //!   any-hit [`Bvh::occluded`] and closest-hit [`Bvh::intersect`].
 //! * [`mod@reference`]: per-sample shadow classes of the rasterized samples and their band.
+//! * [`edge_on`]: volume faces seen edge-on, where coverage and depth disagree (part of the band).
 //! * [`envelope`]: the precision envelope of a rasterized sample (GL's depth and sub-pixel
 //!   precision, llvmpipe's interpolation), which defines the band once.
 //! * [`metrics`]: mismatch counts of a method's stencil mask against the reference, and the
@@ -12,6 +13,7 @@
 //! * [`synthetic`]: primary-ray samples from a pinhole camera, for tests and benchmarks only.
 
 pub mod bvh;
+pub mod edge_on;
 pub mod envelope;
 pub mod metrics;
 pub mod reference;

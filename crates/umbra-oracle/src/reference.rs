@@ -27,6 +27,7 @@ use umbra_geom::vec3::{cross, dot, norm, sub};
 use umbra_geom::{Light, WeldedMesh};
 
 use crate::bvh::Bvh;
+use crate::edge_on::{mark_edge_on_faces, FaceEnvelope, Sweep};
 use crate::envelope::{
     casting_edges, point_triangle_distance, segment_segment_distance, segment_triangle_distance, BandParts, Casting,
     RasterView, LIGHTING_DOT,
@@ -168,24 +169,35 @@ pub fn reference_in_view(
     let ctx = Context::new(mesh, bvh, light, eye, view, width, height);
     let mut class = vec![SampleClass::Background; pixels];
     let mut parts = vec![BandParts::NONE; pixels];
+    let mut envelopes: Vec<FaceEnvelope> = vec![None; pixels];
     if width > 0 {
-        class.par_chunks_mut(width as usize).zip(parts.par_chunks_mut(width as usize)).enumerate().for_each(
-            |(row, (class_row, parts_row))| {
+        class
+            .par_chunks_mut(width as usize)
+            .zip(parts.par_chunks_mut(width as usize))
+            .zip(envelopes.par_chunks_mut(width as usize))
+            .enumerate()
+            .for_each(|(row, ((class_row, parts_row), envelope_row))| {
                 let start = row * width as usize;
                 for x in 0..width as usize {
                     let t = samples.triangle[start + x];
                     if t == u32::MAX {
                         continue;
                     }
-                    let (c, p) = ctx.classify(t, samples.world_pos[start + x]);
+                    let (c, p, e) = ctx.classify(t, samples.world_pos[start + x]);
                     class_row[x] = c;
                     parts_row[x] = p;
+                    envelope_row[x] = e;
                 }
-            },
-        );
+            });
     }
     if let Some(v) = view {
         mark_near_cut(mesh, v, width, height, &mut parts, |i| class[i] != SampleClass::Background);
+        let sweep = match ctx.point {
+            Some(p) => Sweep::Point(p),
+            None => Sweep::Towards(ctx.towards),
+        };
+        let casting = &ctx.casting.edges;
+        mark_edge_on_faces(mesh, v, sweep, (width, height), &envelopes, |e| casting.contains(&e), &mut parts);
     }
     let band = parts.iter().map(|p| *p != BandParts::NONE).collect();
     Ok(Reference { width, height, class, band, parts })
@@ -289,8 +301,9 @@ impl<'a> Context<'a> {
         }
     }
 
-    /// Class and band parts of one sample at `world_pos` on triangle `triangle` (in range).
-    fn classify(&self, triangle: u32, world_pos: [f32; 3]) -> (SampleClass, BandParts) {
+    /// Class and band parts of one sample at `world_pos` on triangle `triangle` (in range), and
+    /// what [`crate::edge_on`] needs of it (with a view, when the volumes decide it).
+    fn classify(&self, triangle: u32, world_pos: [f32; 3]) -> (SampleClass, BandParts, FaceEnvelope) {
         let tri = self.mesh.triangles[triangle as usize].map(|k| self.vertex(k));
         let [a, b, c] = tri;
         // Differences of f32 values are exact in f64, and so is each product of two of them:
@@ -336,7 +349,7 @@ impl<'a> Context<'a> {
         // on either side (camera or light in T's plane) is undecided here and falls through to
         // the ray; such a sample is FACING band (or not rasterized at all).
         if (eye_side > 0.0 && light_side < 0.0) || (eye_side < 0.0 && light_side > 0.0) {
-            return (SampleClass::Shadowed, parts);
+            return (SampleClass::Shadowed, parts, None);
         }
 
         // Occlusion test. T itself is skipped: S lies on it, so it could only be met at t ~ 0,
@@ -345,7 +358,7 @@ impl<'a> Context<'a> {
         // does shadow T (a wall shading the floor); a coplanar neighbour meets the ray only at
         // t ~ 0 < eps.
         let Some((dir, t_min, t_max)) = self.segment(s) else {
-            return (SampleClass::Lit, parts);
+            return (SampleClass::Lit, parts, None);
         };
         let occluded = self.bvh.occluded(s, dir, t_min, t_max, triangle);
         let class = if occluded { SampleClass::Shadowed } else { SampleClass::Lit };
@@ -401,7 +414,7 @@ impl<'a> Context<'a> {
         if !occluded && t_min > 0.0 && self.bvh.occluded(s, dir, t_min / 1024.0, t_min, triangle) {
             parts |= BandParts::REFERENCE_EPS;
         }
-        (class, parts)
+        (class, parts, self.view.map(|_| (s, face_radius)))
     }
 
     /// SIDE_FACE, CANCELLING and ORIENTATION: the edges (and triangles of uncertain
