@@ -93,7 +93,7 @@ use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedProg
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{checked_size, SceneGpu, SceneId};
-use layout::{Counts, Faces, MAX_OPPOSITES_PER_RECORD};
+use layout::{fallback_passes, Counts, Faces, FALLBACK_STEPS, MAX_OPPOSITES_PER_RECORD, PLACE_NODE_BITS};
 
 /// Registry name.
 pub const NAME: &str = "hier-silhouette";
@@ -119,7 +119,10 @@ const NODE_VEC4S: usize = 4;
 /// The GLSL text before every stage's own source: the hierarchy's header (4 vec4 per node,
 /// lifted points), the shared multiplicity and faces.glsl.
 fn header() -> String {
-    format!("{}{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
+    format!(
+        "{}#define FALLBACK_STEPS {FALLBACK_STEPS}u\n#define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{MULTIPLICITY}\n{FACES}\n",
+        hier::header(NODE_VEC4S, true)
+    )
 }
 
 struct Programs {
@@ -266,6 +269,26 @@ impl HierSilhouette {
         Some(out)
     }
 
+    /// The last frame's view samples: per pixel, rows top first (as [`Self::sample_counts`]),
+    /// the world position (f32, as the depth pass interpolated it) and the triangle, `None`
+    /// where no sample; `None` before a frame. A read-back (a stall): for tests, which recount
+    /// a sample's bridges on the CPU.
+    pub fn samples(&self, gl: &glow::Context) -> Option<Vec<Option<([f32; 3], u32)>>> {
+        let f = self.frame.as_ref()?;
+        let (w, h) = (f.hierarchy.layout.width as usize, f.hierarchy.layout.height as usize);
+        let words = hier::read_words(gl, f.hierarchy.samples, 0, 4 * w * h);
+        let mut out = vec![None; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let s = &words[4 * (y * w + x)..4 * (y * w + x) + 4];
+                if s[3] != u32::MAX {
+                    out[(h - 1 - y) * w + x] = Some(([s[0], s[1], s[2]].map(f32::from_bits), s[3]));
+                }
+            }
+        }
+        Some(out)
+    }
+
     /// The last light's unsure decisions that a fixed rule resolved (faces.glsl): on bridges
     /// between node points, on bridges to samples, on the segments from the light to the top
     /// nodes' points. `[0; 3]` before a frame.
@@ -336,6 +359,12 @@ impl HierSilhouette {
         }
         self.destroy_frame(gl);
         let layout = Layout::with_points(width, height, faces.count(), self.queue_scale);
+        if layout.nodes() as u64 >= 1u64 << PLACE_NODE_BITS {
+            return Err(GlError::InvalidParams(format!(
+                "hier-silhouette: {width}x{height} has {} hierarchy nodes, more than the fallback's places hold",
+                layout.nodes()
+            )));
+        }
         let regions = Counts::new(&layout, &faces);
         let counts = hier::allocate_buffers(gl, &[regions.bytes()], &["hier-silhouette counts"])?[0];
         let names = [
@@ -563,7 +592,8 @@ impl ShadowMethod for HierSilhouette {
         frame.mark(gl, "redo");
         let round_light = passes.redo_rounds(p.setup, &light, &counting, &traverse);
         frame.mark(gl, "fallback");
-        passes.fallback(p.fallback, &round_light, &counting);
+        // As many passes as the longest walk may need (fallback.comp.glsl: llvmpipe's loop budget).
+        passes.fallback(p.fallback, &round_light, &counting, fallback_passes(&layout));
 
         frame.mark(gl, "sum");
         // SAFETY: barrier only. Reason: the sum reads every count the passes above wrote.
