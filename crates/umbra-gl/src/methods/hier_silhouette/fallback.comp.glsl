@@ -7,7 +7,7 @@
 // into the main passes would slow them down. Prepended: hier/hierarchy.glsl, hier/region.glsl,
 // shared/multiplicity.glsl, faces.glsl.
 //
-// The walk is one loop of at most FALLBACK_STEPS steps per pass; a step visits one child,
+// The walk is one loop of at most u_fallback_steps steps per pass; a step visits one child,
 // counts one sample of a leaf, or leaves one node. llvmpipe gives a shader invocation 65,535
 // loop iterations IN ALL, shared by every loop of the shader (gallivm's loop limiter is one
 // counter per function, not one per loop; measured: two loops of 40,000 iterations in one
@@ -15,7 +15,7 @@
 // far longer than that where a face's volume covers much of a large frame (Crytek Sponza at
 // 3840 x 2160: the walks were cut short and thousands of samples were one count off, varying
 // from run to run with the faces that the full queues turned away). So a walk that has not
-// finished after FALLBACK_STEPS steps writes its place back into its own entry of the list, and
+// finished after u_fallback_steps steps writes its place back into its own entry of the list, and
 // the next pass of this program (the same dispatch again) goes on from there; a finished walk
 // marks its entry WALK_DONE, which later passes skip (hier/mod.rs Passes::fallback runs enough
 // passes for the longest walk the hierarchy allows: hier_silhouette/layout.rs fallback_passes).
@@ -32,10 +32,13 @@
 
 layout(local_size_x = 64) in;
 
-// FALLBACK_STEPS (steps of one pass, well below llvmpipe's 65,535 loop iterations: the few
-// other loop iterations of an invocation, face_frustum's and the place's path below, fit beside
-// them) and PLACE_NODE_BITS (a global node index fits below that bit; the method refuses a
-// frame with more nodes) are defined by hier_silhouette/layout.rs.
+// PLACE_NODE_BITS (a global node index fits below that bit; the method refuses a frame with
+// more nodes) is defined by hier_silhouette/layout.rs.
+
+// Steps of one pass: layout.rs FALLBACK_STEPS (well below llvmpipe's 65,535 loop iterations:
+// the few other loop iterations of an invocation, face_frustum's and the place's path below,
+// fit beside them), or fewer where a test makes every walk resume many times.
+uniform uint u_fallback_steps;
 const uint PLACE_NODE_MASK = (1u << PLACE_NODE_BITS) - 1u;
 // A finished walk's entry (next + 1 = 31 is no place: next is at most 16).
 const uint WALK_DONE = 0xFFFFFFFFu;
@@ -110,7 +113,7 @@ void main() {
         stack_next[root] = stack_node[top] + 1u;
     }
     bool done = false;
-    for (uint step = 0u; step < FALLBACK_STEPS; ++step) {
+    for (uint step = 0u; step < u_fallback_steps; ++step) {
         uint k = stack_next[l];
         if (l == root) {
             // The root's children are the top nodes (their counts W come from setup).

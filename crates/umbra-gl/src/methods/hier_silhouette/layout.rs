@@ -25,13 +25,13 @@ pub const FALLBACK_STEPS: u32 = 49_152;
 /// hierarchy has more nodes is refused (16,384 x 16,384 has about 2^24).
 pub const PLACE_NODE_BITS: u32 = 27;
 
-/// The fallback passes that finish the longest walk `layout` allows: one step per top node
-/// from the root and one to leave it, then per node one per child (or per sample of a leaf) and
-/// one to leave it.
-pub fn fallback_passes(layout: &Layout) -> usize {
+/// The fallback passes of `steps_per_pass` steps (> 0) that finish the longest walk `layout`
+/// allows: one step per top node from the root and one to leave it, then per node one per child
+/// (or per sample of a leaf) and one to leave it.
+pub fn fallback_passes(layout: &Layout, steps_per_pass: u32) -> usize {
     let per_node = CHILDREN.max(LEAF_SAMPLES) as usize + 1;
     let steps = layout.top().nodes() as usize + 1 + layout.nodes() as usize * per_node;
-    steps.div_ceil(FALLBACK_STEPS as usize)
+    steps.div_ceil(steps_per_pass.max(1) as usize)
 }
 
 /// The faces of a scene.

@@ -119,10 +119,7 @@ const NODE_VEC4S: usize = 4;
 /// The GLSL text before every stage's own source: the hierarchy's header (4 vec4 per node,
 /// lifted points), the shared multiplicity and faces.glsl.
 fn header() -> String {
-    format!(
-        "{}#define FALLBACK_STEPS {FALLBACK_STEPS}u\n#define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{MULTIPLICITY}\n{FACES}\n",
-        hier::header(NODE_VEC4S, true)
-    )
+    format!("{}#define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
 }
 
 struct Programs {
@@ -201,6 +198,7 @@ pub struct HierSilhouette {
     scene: Option<SceneObjects>,
     frame: Option<FrameCounts>,
     queue_scale: f64,
+    fallback_steps: u32,
 }
 
 impl Default for HierSilhouette {
@@ -212,7 +210,7 @@ impl Default for HierSilhouette {
 impl HierSilhouette {
     /// Builds the method (no GL calls).
     pub fn new() -> Self {
-        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0 }
+        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0, fallback_steps: FALLBACK_STEPS }
     }
 
     /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
@@ -220,6 +218,14 @@ impl HierSilhouette {
     /// change.
     pub fn with_queue_scale(scale: f64) -> Self {
         Self { queue_scale: if scale > 0.0 && scale.is_finite() { scale } else { 1.0 }, ..Self::new() }
+    }
+
+    /// The same method with fallback passes of `steps` steps (at least 1; the default is
+    /// [`layout::FALLBACK_STEPS`]): tests make every walk of the fallback stop and resume many
+    /// times, as llvmpipe's loop budget makes the long walks of a large frame do; the counts must
+    /// not change.
+    pub fn with_fallback_steps(self, steps: u32) -> Self {
+        Self { fallback_steps: steps.clamp(1, FALLBACK_STEPS), ..self }
     }
 
     /// The hierarchy of the last frame size drawn, if any.
@@ -593,7 +599,13 @@ impl ShadowMethod for HierSilhouette {
         let round_light = passes.redo_rounds(p.setup, &light, &counting, &traverse);
         frame.mark(gl, "fallback");
         // As many passes as the longest walk may need (fallback.comp.glsl: llvmpipe's loop budget).
-        passes.fallback(p.fallback, &round_light, &counting, fallback_passes(&layout));
+        let steps = self.fallback_steps;
+        let with_steps = |program: glow::Program| {
+            counting(program);
+            // SAFETY: our program, current; uniform type matches fallback.comp.glsl.
+            unsafe { gl.uniform_1_u32(uniform(gl, program, "u_fallback_steps").as_ref(), steps) };
+        };
+        passes.fallback(p.fallback, &round_light, &with_steps, fallback_passes(&layout, steps));
 
         frame.mark(gl, "sum");
         // SAFETY: barrier only. Reason: the sum reads every count the passes above wrote.
