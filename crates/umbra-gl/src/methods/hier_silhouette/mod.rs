@@ -192,6 +192,9 @@ struct FrameCounts {
 /// A node's point (world space) and the count `W` there ([`HierSilhouette::node_counts`]).
 pub type NodeCount = ([f32; 3], i32);
 
+/// A view sample: its world position (f32) and its triangle ([`HierSilhouette::samples`]).
+pub type Sample = ([f32; 3], u32);
+
 /// See the module documentation.
 pub struct HierSilhouette {
     prepared: Option<SceneId>,
@@ -279,7 +282,7 @@ impl HierSilhouette {
     /// the world position (f32, as the depth pass interpolated it) and the triangle, `None`
     /// where no sample; `None` before a frame. A read-back (a stall): for tests, which recount
     /// a sample's bridges on the CPU.
-    pub fn samples(&self, gl: &glow::Context) -> Option<Vec<Option<([f32; 3], u32)>>> {
+    pub fn samples(&self, gl: &glow::Context) -> Option<Vec<Option<Sample>>> {
         let f = self.frame.as_ref()?;
         let (w, h) = (f.hierarchy.layout.width as usize, f.hierarchy.layout.height as usize);
         let words = hier::read_words(gl, f.hierarchy.samples, 0, 4 * w * h);
