@@ -14,7 +14,8 @@ pub const EDGE_RECORD_BYTES: usize = 16;
 /// Words at the start of the counts buffer: the counters of unsure decisions (faces.glsl).
 pub const COUNTERS: usize = 4;
 /// Most opposites one edge record holds: the multiplicity loop stays far below llvmpipe's
-/// 65,535 iterations per shader loop (as cs-silhouette's records).
+/// 65,535 loop iterations per shader invocation, all loops together (as cs-silhouette's
+/// records).
 pub const MAX_OPPOSITES_PER_RECORD: u32 = 16_384;
 
 /// Steps of one fallback pass per face (fallback.comp.glsl): llvmpipe gives a shader invocation
