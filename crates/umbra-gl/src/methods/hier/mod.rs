@@ -595,8 +595,17 @@ impl Passes<'_> {
     }
 
     /// The fallback: what the last redo round left, one invocation per item (`fallback`,
-    /// indirect: normally no workgroup at all). Unbinds the indirect buffer afterwards.
-    pub fn fallback(&self, fallback: glow::Program, round_light: &LightUniforms, with_method: &dyn Fn(glow::Program)) {
+    /// indirect: normally no workgroup at all), `passes` times over the same list (a program
+    /// whose work per item may exceed one invocation's loop budget on llvmpipe resumes each
+    /// item's walk where the pass before left it; hier-silhouette's). Unbinds the indirect
+    /// buffer afterwards.
+    pub fn fallback(
+        &self,
+        fallback: glow::Program,
+        round_light: &LightUniforms,
+        with_method: &dyn Fn(glow::Program),
+        passes: usize,
+    ) {
         let gl = self.gl;
         let last = layout::REDO_CONTROL + 4 * round_light.redo_in as usize;
         self.indirect(round_light, last, self.layout.triangles as u32, WORKGROUP);
@@ -604,7 +613,13 @@ impl Passes<'_> {
         with_method(fallback);
         // SAFETY: the fallback has no workgroup unless the last round turned items away.
         unsafe {
-            gl.dispatch_compute_indirect(Self::command_offset(last));
+            for pass in 0..passes.max(1) {
+                if pass > 0 {
+                    // Reason: the next pass reads the places the last one wrote.
+                    gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
+                }
+                gl.dispatch_compute_indirect(Self::command_offset(last));
+            }
             gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, None);
         }
     }

@@ -4,9 +4,11 @@
 // added to the sample's count.
 // Faces turned away by a full queue (their redo flag set) are skipped: the redo rounds count
 // them whole. One workgroup per active leaf (indirect, args.comp.glsl), one invocation per
-// sample, walking the list together (the same face in every invocation: coherent loads). The
-// walk is two nested loops of at most 65,535 steps each, so llvmpipe's limit on one loop's
-// iterations can never cut a list short. A sample's count is written by its own invocation
+// sample, walking the list together (the same face in every invocation: coherent loads).
+// llvmpipe gives an invocation 65,535 loop iterations in all, every loop of the shader together
+// (fallback.comp.glsl): a list holds at most one pair per face of the batch (BATCH, 4,096) or
+// of the redo round's input list (the faces turned away, thousands at most on the shared scenes
+// at 3840 x 2160), far below it. A sample's count is written by its own invocation
 // only (a leaf is listed once per batch): no atomic needed. Prepended: hier/hierarchy.glsl,
 // hier/region.glsl, shared/multiplicity.glsl, faces.glsl.
 

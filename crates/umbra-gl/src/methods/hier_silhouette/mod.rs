@@ -93,7 +93,7 @@ use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedProg
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{checked_size, SceneGpu, SceneId};
-use layout::{Counts, Faces, MAX_OPPOSITES_PER_RECORD};
+use layout::{fallback_passes, Counts, Faces, FALLBACK_STEPS, MAX_OPPOSITES_PER_RECORD, PLACE_NODE_BITS};
 
 /// Registry name.
 pub const NAME: &str = "hier-silhouette";
@@ -119,7 +119,7 @@ const NODE_VEC4S: usize = 4;
 /// The GLSL text before every stage's own source: the hierarchy's header (4 vec4 per node,
 /// lifted points), the shared multiplicity and faces.glsl.
 fn header() -> String {
-    format!("{}{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
+    format!("{}#define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
 }
 
 struct Programs {
@@ -192,12 +192,16 @@ struct FrameCounts {
 /// A node's point (world space) and the count `W` there ([`HierSilhouette::node_counts`]).
 pub type NodeCount = ([f32; 3], i32);
 
+/// A view sample: its world position (f32) and its triangle ([`HierSilhouette::samples`]).
+pub type Sample = ([f32; 3], u32);
+
 /// See the module documentation.
 pub struct HierSilhouette {
     prepared: Option<SceneId>,
     scene: Option<SceneObjects>,
     frame: Option<FrameCounts>,
     queue_scale: f64,
+    fallback_steps: u32,
 }
 
 impl Default for HierSilhouette {
@@ -209,7 +213,7 @@ impl Default for HierSilhouette {
 impl HierSilhouette {
     /// Builds the method (no GL calls).
     pub fn new() -> Self {
-        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0 }
+        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0, fallback_steps: FALLBACK_STEPS }
     }
 
     /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
@@ -217,6 +221,14 @@ impl HierSilhouette {
     /// change.
     pub fn with_queue_scale(scale: f64) -> Self {
         Self { queue_scale: if scale > 0.0 && scale.is_finite() { scale } else { 1.0 }, ..Self::new() }
+    }
+
+    /// The same method with fallback passes of `steps` steps (at least 1; the default is
+    /// [`layout::FALLBACK_STEPS`]): tests make every walk of the fallback stop and resume many
+    /// times, as llvmpipe's loop budget makes the long walks of a large frame do; the counts must
+    /// not change.
+    pub fn with_fallback_steps(self, steps: u32) -> Self {
+        Self { fallback_steps: steps.clamp(1, FALLBACK_STEPS), ..self }
     }
 
     /// The hierarchy of the last frame size drawn, if any.
@@ -260,6 +272,26 @@ impl HierSilhouette {
                 let i = y * w + x;
                 if present[4 * i + 3] != u32::MAX {
                     out[(h - 1 - y) * w + x] = words[i] as i32;
+                }
+            }
+        }
+        Some(out)
+    }
+
+    /// The last frame's view samples: per pixel, rows top first (as [`Self::sample_counts`]),
+    /// the world position (f32, as the depth pass interpolated it) and the triangle, `None`
+    /// where no sample; `None` before a frame. A read-back (a stall): for tests, which recount
+    /// a sample's bridges on the CPU.
+    pub fn samples(&self, gl: &glow::Context) -> Option<Vec<Option<Sample>>> {
+        let f = self.frame.as_ref()?;
+        let (w, h) = (f.hierarchy.layout.width as usize, f.hierarchy.layout.height as usize);
+        let words = hier::read_words(gl, f.hierarchy.samples, 0, 4 * w * h);
+        let mut out = vec![None; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let s = &words[4 * (y * w + x)..4 * (y * w + x) + 4];
+                if s[3] != u32::MAX {
+                    out[(h - 1 - y) * w + x] = Some(([s[0], s[1], s[2]].map(f32::from_bits), s[3]));
                 }
             }
         }
@@ -336,6 +368,12 @@ impl HierSilhouette {
         }
         self.destroy_frame(gl);
         let layout = Layout::with_points(width, height, faces.count(), self.queue_scale);
+        if layout.nodes() as u64 >= 1u64 << PLACE_NODE_BITS {
+            return Err(GlError::InvalidParams(format!(
+                "hier-silhouette: {width}x{height} has {} hierarchy nodes, more than the fallback's places hold",
+                layout.nodes()
+            )));
+        }
         let regions = Counts::new(&layout, &faces);
         let counts = hier::allocate_buffers(gl, &[regions.bytes()], &["hier-silhouette counts"])?[0];
         let names = [
@@ -563,7 +601,14 @@ impl ShadowMethod for HierSilhouette {
         frame.mark(gl, "redo");
         let round_light = passes.redo_rounds(p.setup, &light, &counting, &traverse);
         frame.mark(gl, "fallback");
-        passes.fallback(p.fallback, &round_light, &counting);
+        // As many passes as the longest walk may need (fallback.comp.glsl: llvmpipe's loop budget).
+        let steps = self.fallback_steps;
+        let with_steps = |program: glow::Program| {
+            counting(program);
+            // SAFETY: our program, current; uniform type matches fallback.comp.glsl.
+            unsafe { gl.uniform_1_u32(uniform(gl, program, "u_fallback_steps").as_ref(), steps) };
+        };
+        passes.fallback(p.fallback, &round_light, &with_steps, fallback_passes(&layout, steps));
 
         frame.mark(gl, "sum");
         // SAFETY: barrier only. Reason: the sum reads every count the passes above wrote.

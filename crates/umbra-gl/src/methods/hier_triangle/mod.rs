@@ -428,7 +428,7 @@ impl ShadowMethod for HierTriangle {
         let traverse = |l: &LightUniforms| passes.traverse(p.descend, p.leaves, l, &no_uniforms);
         let round_light = passes.redo_rounds(p.setup, &light, &no_uniforms, &traverse);
         frame.mark(gl, "fallback");
-        passes.fallback(p.fallback, &round_light, &no_uniforms);
+        passes.fallback(p.fallback, &round_light, &no_uniforms, 1);
 
         frame.mark(gl, "stencil");
         crate::state::GlState::stencil_mark_resolve().apply(gl);
