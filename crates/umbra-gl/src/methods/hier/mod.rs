@@ -23,8 +23,8 @@
 //!   from the queue counts, [`Passes::traverse`]); redo rounds over the items a full queue
 //!   turned away ([`Passes::redo_rounds`]); the stencil state of the final resolve.
 //!
-//! Bounds: every shader loop here runs at most 64 iterations (llvmpipe silently ends a loop
-//! after 65,535); the queues have a fixed capacity per frame size. Memory:
+//! Bounds: every shader loop here runs at most 64 iterations (llvmpipe gives an invocation
+//! 65,535 loop iterations in all, every loop together); the queues have a fixed capacity per frame size. Memory:
 //! [`layout::Layout::frame_bytes`]; every allocation is checked, one the GL refuses is
 //! [`GlError::OutOfMemory`] and nothing is left behind.
 

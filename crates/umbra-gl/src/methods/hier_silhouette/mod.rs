@@ -72,7 +72,9 @@
 //!    ([`Classification::StencilZero`], [`ShadowMethod::fills_volumes`] false).
 //!
 //! Bounds on work and memory as hier-triangle's: every shader loop runs at most 64 iterations
-//! except the walk of a leaf's list (two nested loops of at most 65,535 steps) and an edge
+//! except the walk of a leaf's list (one pair per face of a batch or redo round), the
+//! fallback's walk (at most [`layout::FALLBACK_STEPS`] per pass, resumed across passes: llvmpipe
+//! gives an invocation 65,535 loop iterations in all, every loop together) and an edge
 //! record's multiplicity (at most [`layout::MAX_OPPOSITES_PER_RECORD`] opposites); the queues
 //! have a fixed capacity per frame size and what does not fit is counted again, never dropped.
 //! Memory: [`layout::Faces::edge_bytes`] per scene plus [`layout::frame_bytes`] per frame size

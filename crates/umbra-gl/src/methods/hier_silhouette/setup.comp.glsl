@@ -2,7 +2,8 @@
 // u_batch_end - 1) or of a redo round's list: the face's weight — a triangle's orientation
 // towards the light (umbra_triangle_orientation, paper 001 Alg. 4 through the reference edge)
 // or an edge record's multiplicity (Alg. 3, umbra_opposite_contribution over its opposites,
-// at most 16,384 of them: below llvmpipe's 65,535 iterations per loop) — bit for bit
+// at most 16,384 of them, with the top nodes' loop below llvmpipe's 65,535 loop iterations per
+// invocation, all loops together) — bit for bit
 // cpu-silhouette's; then, for a light cap, its crossings of the segment from the light to each
 // top node's point (W there, faces.glsl light_crossings); then the face against each top node,
 // queuing the pairs it may cut (hier/hierarchy.glsl descend_into). A redo round (u_from_redo)

@@ -9,9 +9,10 @@
 // The depth-first walk keeps an explicit stack, one (node, next child) entry per level: GLSL
 // has no recursion, and the walk must not be written as nested constant-bound loops, one per
 // level: NVIDIA's compiler unrolls those (16^7 bodies for 7 upper levels) and never finishes
-// linking (found on an H100, driver 580). The walk is two nested loops of at most 65,535 steps
-// each (llvmpipe silently ends a loop after 65,535 iterations; one step visits one child or
-// leaves one node, so no real walk comes near 65,535^2).
+// linking (found on an H100, driver 580). One step visits one child or leaves one node.
+// llvmpipe gives an invocation 65,535 loop iterations in all, every loop together, so a walk
+// longer than that stops silently there (hier-silhouette's fallback, which met this at
+// 3840x2160, resumes across passes; porting that here is open in issue 15).
 
 layout(local_size_x = 64) in;
 

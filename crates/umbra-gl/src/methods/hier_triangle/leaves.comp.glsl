@@ -4,8 +4,11 @@
 // sample is tested against the triangle's frustum). One workgroup per active leaf (indirect,
 // args.comp.glsl), one invocation per sample, walking the leaf's list together (the same
 // triangle in every invocation: coherent loads); a sample stops at its first shadowing
-// triangle. The walk is two nested loops of at most 65,535 steps each, so llvmpipe's limit on
-// one loop's iterations can never cut a list short. Afterwards the leaf is marked covered if
+// triangle. llvmpipe gives an invocation 65,535 loop iterations in all, every loop together
+// (gallivm's one loop limiter per shader function; docs/exactness.md, hier-silhouette): a list
+// holds one pair per triangle of a batch (at most 4,096) or of a redo round's turned-away
+// triangles, far below it on every measured frame; a longer list would be cut short silently
+// (open in issue 15). Afterwards the leaf is marked covered if
 // all its samples are shadowed, and so is each ancestor whose non-empty children all are
 // (the smaller triangles of later batches then skip them). Prepended: hier/hierarchy.glsl,
 // hier/region.glsl, frustum.glsl.

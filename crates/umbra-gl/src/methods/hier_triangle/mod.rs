@@ -56,12 +56,16 @@
 //! halved the pairs, and 4 x 4 leaves instead of 8 x 8 cut the per-sample work by 2.7.
 //!
 //! Bounds on work and memory: every shader loop runs at most 64 iterations (a leaf's samples,
-//! a node's 16 children, the top nodes), except the walk of a leaf's list, two nested loops of
-//! at most 65,535 steps each, so llvmpipe's silent end of a loop at 65,535 iterations can never
-//! cut work short. The queues have a fixed capacity per frame size ([`layout::queue_capacity`]);
+//! a node's 16 children, the top nodes), except the walk of a leaf's list and the fallback's
+//! walk. llvmpipe gives a shader invocation 65,535 loop iterations in all, every loop together
+//! (gallivm keeps one loop limiter per function; measured, docs/exactness.md): a leaf's list
+//! stays far below it (one pair per triangle of a batch or redo round), but the fallback's
+//! depth-first walk of a large frustum at 3840x2160 can exceed it and would then stop silently.
+//! hier-silhouette's fallback resumes across passes for that reason; this one does not yet
+//! (open in issue 15; the grid's 3840x2160 cells are exact). The queues have a fixed capacity per frame size ([`layout::queue_capacity`]);
 //! a pair that does not fit sends its triangle to a redo list (bounded by the triangle count):
-//! slower, never wrong. The fallback walks depth-first with an explicit stack (two nested
-//! loops of at most 65,535 steps; not one constant-bound loop per level, which NVIDIA's
+//! slower. The fallback walks depth-first with an explicit stack (not one constant-bound loop
+//! per level, which NVIDIA's
 //! compiler unrolls 16^7 times and never finishes linking) in a program of its own: llvmpipe
 //! runs a shader's untaken branches under a mask, so the walk inlined into the main passes made
 //! them 10 times slower even when no queue overflowed (measured). Memory: [`layout::Layout::frame_bytes`] per frame size plus
