@@ -55,6 +55,23 @@ pub fn batches(triangles: usize) -> Vec<std::ops::Range<usize>> {
     }
     out
 }
+/// Steps of one fallback pass per item (walk.comp.glsl): llvmpipe gives a shader invocation
+/// 65,535 loop iterations in all, every loop of the shader together, so a walk longer than that
+/// goes on in further passes of at most this many steps.
+pub const FALLBACK_STEPS: u32 = 49_152;
+/// Bits of a global node index in a fallback walk's place (walk.comp.glsl): a frame whose
+/// hierarchy has more nodes is refused (16,384 x 16,384 has about 2^24).
+pub const PLACE_NODE_BITS: u32 = 27;
+
+/// The fallback passes of `steps_per_pass` steps (> 0) that finish the longest walk `layout`
+/// allows: one step per top node from the root and one to leave it, then per node one per child
+/// (or per sample of a leaf) and one to leave it.
+pub fn fallback_passes(layout: &Layout, steps_per_pass: u32) -> usize {
+    let per_node = CHILDREN.max(LEAF_SAMPLES) as usize + 1;
+    let steps = layout.top().nodes() as usize + 1 + layout.nodes() as usize * per_node;
+    steps.div_ceil(steps_per_pass.max(1) as usize)
+}
+
 /// Words (u32) of the control block at the start of the state buffer: per level, the queue's
 /// entry count and a DispatchIndirectCommand (x, y, z); then the same for the list of active
 /// leaves and for the two redo lists.

@@ -31,7 +31,7 @@
 pub mod layout;
 mod programs;
 
-pub use programs::{delete_programs, header, link_all, link_method, MethodPrograms, SharedPrograms};
+pub use programs::{delete_programs, fallback_source, header, link_all, link_method, MethodPrograms, SharedPrograms};
 
 use glow::HasContext;
 
@@ -124,6 +124,22 @@ pub fn read_words(gl: &glow::Context, buffer: glow::Buffer, first: usize, count:
         gl.bind_buffer(glow::COPY_READ_BUFFER, None);
     }
     bytes.chunks_exact(4).map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]])).collect()
+}
+
+/// Refuses a frame whose hierarchy has more nodes than a fallback walk's place holds
+/// ([`layout::PLACE_NODE_BITS`]; 16,384 x 16,384 has about 2^24): the error names `method` and
+/// the size.
+pub fn check_places(method: &str, layout: &Layout) -> Result<(), GlError> {
+    if u64::from(layout.nodes()) >= 1u64 << layout::PLACE_NODE_BITS {
+        return Err(GlError::InvalidParams(format!(
+            "{method}: {}x{} has {} hierarchy nodes, more than the fallback's places hold (2^{})",
+            layout.width,
+            layout.height,
+            layout.nodes(),
+            layout::PLACE_NODE_BITS
+        )));
+    }
+    Ok(())
 }
 
 /// Buffers of `sizes` bytes (DYNAMIC_COPY: written and read by the GPU every frame), named by
@@ -594,26 +610,30 @@ impl Passes<'_> {
         round_light
     }
 
-    /// The fallback: what the last redo round left, one invocation per item (`fallback`,
-    /// indirect: normally no workgroup at all), `passes` times over the same list (a program
-    /// whose work per item may exceed one invocation's loop budget on llvmpipe resumes each
-    /// item's walk where the pass before left it; hier-silhouette's). Unbinds the indirect
-    /// buffer afterwards.
+    /// The fallback: what the last redo round left, one invocation per item (`fallback`, the
+    /// method's hooks with walk.comp.glsl; indirect: normally no workgroup at all), in passes
+    /// of at most `steps` walk steps per item ([`layout::FALLBACK_STEPS`] normally; fewer in
+    /// tests), as many as the longest walk the layout allows ([`layout::fallback_passes`]):
+    /// each pass resumes each item's walk where the pass before left it (llvmpipe's loop
+    /// budget, walk.comp.glsl). Unbinds the indirect buffer afterwards.
     pub fn fallback(
         &self,
         fallback: glow::Program,
         round_light: &LightUniforms,
         with_method: &dyn Fn(glow::Program),
-        passes: usize,
+        steps: u32,
     ) {
         let gl = self.gl;
         let last = layout::REDO_CONTROL + 4 * round_light.redo_in as usize;
         self.indirect(round_light, last, self.layout.triangles as u32, WORKGROUP);
         self.use_with_common(fallback, round_light);
         with_method(fallback);
-        // SAFETY: the fallback has no workgroup unless the last round turned items away.
+        let steps = steps.clamp(1, layout::FALLBACK_STEPS);
+        // SAFETY: our program, current; uniform type matches walk.comp.glsl. The fallback has
+        // no workgroup unless the last round turned items away.
         unsafe {
-            for pass in 0..passes.max(1) {
+            gl.uniform_1_u32(uniform(gl, fallback, "u_fallback_steps").as_ref(), steps);
+            for pass in 0..layout::fallback_passes(self.layout, steps) {
                 if pass > 0 {
                     // Reason: the next pass reads the places the last one wrote.
                     gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);

@@ -7,7 +7,7 @@ use glow::HasContext;
 use crate::error::GlError;
 use crate::program::{link_program, ShaderSource};
 
-use super::layout::{BRANCH_SIDE, CHILDREN, LEAF_SAMPLES, LEAF_SIDE, MAX_LEVELS};
+use super::layout::{BRANCH_SIDE, CHILDREN, LEAF_SAMPLES, LEAF_SIDE, MAX_LEVELS, PLACE_NODE_BITS};
 use super::RESOLVE_VERT;
 
 const HIERARCHY: &str = include_str!("hierarchy.glsl");
@@ -17,15 +17,24 @@ const BOUNDS_COMP: &str = include_str!("bounds.comp.glsl");
 const LIGHT_BOUNDS_COMP: &str = include_str!("light_bounds.comp.glsl");
 const ARGS_COMP: &str = include_str!("args.comp.glsl");
 const SAMPLES_FRAG: &str = include_str!("samples.frag.glsl");
+const WALK_COMP: &str = include_str!("walk.comp.glsl");
 
-/// The GLSL text before every stage's own source: version, the layout constants, hierarchy.glsl
+/// A method's fallback program body: its walk hooks (its own fallback.comp.glsl), then the shared
+/// resumable walk (walk.comp.glsl), which calls them.
+pub fn fallback_source(hooks: &str) -> String {
+    format!("{hooks}\n{WALK_COMP}")
+}
+
+/// The GLSL text before every stage's own source: version, the layout constants (the fallback
+/// walk's place bits among them), hierarchy.glsl
 /// and region.glsl. `lift`: the nodes bound their samples' lifted points and carry a point of
 /// their own (hier-silhouette); the node stride follows `layout`.
 pub fn header(node_vec4s: usize, lift: bool) -> String {
     format!(
         "#version 450 core\n#define LEAF_SIDE {LEAF_SIDE}u\n#define LEAF_SAMPLES {LEAF_SAMPLES}u\n\
          #define BRANCH_SIDE {BRANCH_SIDE}u\n#define CHILDREN {CHILDREN}u\n#define MAX_LEVELS {MAX_LEVELS}\n\
-         #define NO_TRIANGLE 0xFFFFFFFFu\n#define NODE_VEC4S {node_vec4s}u\n#define LIFT {}\n{HIERARCHY}\n{REGION}\n",
+         #define NO_TRIANGLE 0xFFFFFFFFu\n#define NODE_VEC4S {node_vec4s}u\n#define LIFT {}\n\
+         #define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{HIERARCHY}\n{REGION}\n",
         u32::from(lift)
     )
 }

@@ -1,56 +1,45 @@
-// hier-silhouette, per light: the faces a full queue turned away in the last redo round (redo
-// list u_redo_in, hier/hierarchy.glsl descend_into), each counted whole by one invocation: the
-// face against every top node and, depth-first, every bridge and sample below the nodes it may
-// meet, with atomic additions (other invocations count the same nodes and samples). Normally
-// the list is empty and this pass has no workgroup at all (indirect dispatch of args.comp.glsl's
-// count). Its own program: llvmpipe runs untaken branches under a mask, so this code inlined
-// into the main passes would slow them down. Prepended: hier/hierarchy.glsl, hier/region.glsl,
-// shared/multiplicity.glsl, faces.glsl.
-//
-// The walk is one loop of at most u_fallback_steps steps per pass; a step visits one child,
-// counts one sample of a leaf, or leaves one node. llvmpipe gives a shader invocation 65,535
-// loop iterations IN ALL, shared by every loop of the shader (gallivm's loop limiter is one
-// counter per function, not one per loop; measured: two loops of 40,000 iterations in one
-// shader ran 40,000 and 25,534), and ends every loop silently once they are spent. A walk is
-// far longer than that where a face's volume covers much of a large frame (Crytek Sponza at
-// 3840 x 2160: the walks were cut short and thousands of samples were one count off, varying
-// from run to run with the faces that the full queues turned away). So a walk that has not
-// finished after u_fallback_steps steps writes its place back into its own entry of the list, and
-// the next pass of this program (the same dispatch again) goes on from there; a finished walk
-// marks its entry WALK_DONE, which later passes skip (hier/mod.rs Passes::fallback runs enough
-// passes for the longest walk the hierarchy allows: hier_silhouette/layout.rs fallback_passes).
-// The place is the node the walk is at and its next child (or sample): the path to it is
-// implied (each ancestor's next child is the one after the child on the path), so it packs
-// into the entry's second word as ((next + 1) << PLACE_NODE_BITS) | global node index; 0 = a
-// walk not begun. Where the walk is at the (virtual) root above the top nodes, having finished
-// top node t, its place is "top node t, every child visited". The stack holds one (node, next)
-// entry per level and one for the root. Entries are the invocations' own: no atomics needed.
-//
-// The walk must not be written as nested constant-bound loops, one per level: NVIDIA's
-// compiler unrolls those (16^7 bodies for 7 upper levels) and never finishes linking (found on
-// an H100, driver 580).
+// hier-silhouette's hooks of the shared fallback walk (hier/walk.comp.glsl, appended after
+// this file: the walk, its resumption across passes and its reasons): each face a full queue
+// turned away in the last redo round is counted whole, against every top node and,
+// depth-first, every bridge and sample below the nodes it may meet, with atomic additions
+// (other invocations count the same nodes and samples). Prepended: hier/hierarchy.glsl,
+// hier/region.glsl, shared/multiplicity.glsl, faces.glsl.
 
-layout(local_size_x = 64) in;
+// The face being walked and its frustum (walk_begin).
+Face g_face;
+Frustum g_frustum;
 
-// PLACE_NODE_BITS (a global node index fits below that bit; the method refuses a frame with
-// more nodes) is defined by hier_silhouette/layout.rs.
-
-// Steps of one pass: layout.rs FALLBACK_STEPS (well below llvmpipe's 65,535 loop iterations:
-// the few other loop iterations of an invocation, face_frustum's and the place's path below,
-// fit beside them), or fewer where a test makes every walk resume many times.
-uniform uint u_fallback_steps;
-const uint PLACE_NODE_MASK = (1u << PLACE_NODE_BITS) - 1u;
-// A finished walk's entry (next + 1 = 31 is no place: next is at most 16).
-const uint WALK_DONE = 0xFFFFFFFFu;
-
-uint place(uint level, uint node, uint next) {
-    return ((next + 1u) << PLACE_NODE_BITS) | node_index(level, node);
+bool walk_begin(uint item) {
+    g_face = load_face(item);
+    if (g_face.weight == 0) {
+        return false;
+    }
+    g_frustum = face_frustum(g_face);
+    return true;
 }
 
-// Sample k of leaf `node`: its crossings from the leaf's point.
-void count_sample(Face F, uint node, uint k) {
-    uint x = (node % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
-    uint y = (node / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
+// The root's children are the top nodes (their counts W come from setup: no bridge).
+bool walk_top(uint node) {
+    return classify_face(g_frustum, g_face.quad, u_levels - 1u, node) == PARTIAL;
+}
+
+// The bridge from the node's point into the child's (an empty child has none), then the child.
+bool walk_child(uint level, uint node, uint child) {
+    uint g = node_index(level - 1u, child);
+    if (nodes[NODE_VEC4S * g].w > nodes[NODE_VEC4S * g + 1u].w) {
+        return false;
+    }
+    int c = bridge_crossings(g_face, node_point(level, node), node_point(level - 1u, child));
+    if (c != 0) {
+        atomicAdd(counts[u_counts_bridges + g], c);
+    }
+    return classify_face(g_frustum, g_face.quad, level - 1u, child) == PARTIAL;
+}
+
+// Sample k of leaf `leaf`: its crossings from the leaf's point.
+void walk_sample(uint leaf, uint k) {
+    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
+    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
     if (x >= u_frame.x || y >= u_frame.y) {
         return;
     }
@@ -59,107 +48,8 @@ void count_sample(Face F, uint node, uint k) {
     if (s.w == NO_TRIANGLE) {
         return;
     }
-    int c = sample_crossings(F, node_point(0u, node), count_point(uintBitsToFloat(s.xyz), s.w));
+    int c = sample_crossings(g_face, node_point(0u, leaf), count_point(uintBitsToFloat(s.xyz), s.w));
     if (c != 0) {
         atomicAdd(counts[u_counts_partial + pixel], c);
     }
-}
-
-void main() {
-    uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-    if (i >= state[REDO_CONTROL + 4u * u_redo_in]) {
-        return;
-    }
-    uint slot = u_redo_offset + u_redo_in * u_triangles + i;
-    uvec2 entry = queue[slot];
-    if (entry.y == WALK_DONE) {
-        return;
-    }
-    uint f = entry.x;
-    Face F = load_face(f);
-    if (F.weight == 0) {
-        queue[slot] = uvec2(f, WALK_DONE);
-        return;
-    }
-    Frustum fr = face_frustum(F);
-    uint top = u_levels - 1u;
-    uint root = u_levels;
-    uint top_nodes = u_level[top].x * u_level[top].y;
-    uint stack_node[MAX_LEVELS + 1];
-    uint stack_next[MAX_LEVELS + 1];
-    stack_node[root] = 0u;
-    stack_next[root] = 0u;
-    uint l = root;
-    if (entry.y != 0u) {
-        // Resume: the level of the global node index, then the path up from it.
-        uint g = entry.y & PLACE_NODE_MASK;
-        l = 0u;
-        for (uint j = 1u; j < MAX_LEVELS; ++j) {
-            if (j <= top && g >= u_level[j].z) {
-                l = j;
-            }
-        }
-        stack_node[l] = g - u_level[l].z;
-        stack_next[l] = (entry.y >> PLACE_NODE_BITS) - 1u;
-        for (uint j = 1u; j < MAX_LEVELS; ++j) {
-            if (j > l && j <= top) {
-                uint below = stack_node[j - 1u];
-                uint x = below % u_level[j - 1u].x;
-                uint y = below / u_level[j - 1u].x;
-                stack_node[j] = (y / BRANCH_SIDE) * u_level[j].x + x / BRANCH_SIDE;
-                stack_next[j] = (y % BRANCH_SIDE) * BRANCH_SIDE + x % BRANCH_SIDE + 1u;
-            }
-        }
-        stack_next[root] = stack_node[top] + 1u;
-    }
-    bool done = false;
-    for (uint step = 0u; step < u_fallback_steps; ++step) {
-        uint k = stack_next[l];
-        if (l == root) {
-            // The root's children are the top nodes (their counts W come from setup).
-            if (k == top_nodes) {
-                done = true;
-                break;
-            }
-            stack_next[root] = k + 1u;
-            if (classify_face(fr, F.quad, top, k) == PARTIAL) {
-                l = top;
-                stack_node[top] = k;
-                stack_next[top] = 0u;
-            }
-        } else if (l == 0u) {
-            if (k == LEAF_SAMPLES) {
-                l = 1u;
-                continue;
-            }
-            stack_next[0] = k + 1u;
-            count_sample(F, stack_node[0], k);
-        } else {
-            if (k == CHILDREN) {
-                l += 1u;
-                continue;
-            }
-            stack_next[l] = k + 1u;
-            uint child;
-            if (!child_of(l, stack_node[l], k, child)) {
-                continue;
-            }
-            uint g = node_index(l - 1u, child);
-            if (nodes[NODE_VEC4S * g].w > nodes[NODE_VEC4S * g + 1u].w) {
-                continue;
-            }
-            int c = bridge_crossings(F, node_point(l, stack_node[l]), node_point(l - 1u, child));
-            if (c != 0) {
-                atomicAdd(counts[u_counts_bridges + g], c);
-            }
-            if (classify_face(fr, F.quad, l - 1u, child) == PARTIAL) {
-                l -= 1u;
-                stack_node[l] = child;
-                stack_next[l] = 0u;
-            }
-        }
-    }
-    // Not finished: its place, for the next pass.
-    uint at = l == root ? place(top, stack_next[root] - 1u, CHILDREN) : place(l, stack_node[l], stack_next[l]);
-    queue[slot] = uvec2(f, done ? WALK_DONE : at);
 }

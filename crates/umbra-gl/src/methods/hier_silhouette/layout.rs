@@ -7,7 +7,8 @@
 //! so a scene of `t` triangles and `r` edge records has `t + r` faces, numbered caps first; the
 //! queues and redo lists hold face numbers.
 
-use crate::methods::hier::layout::{Layout, CHILDREN, LEAF_SAMPLES};
+use crate::methods::hier::layout::Layout;
+pub use crate::methods::hier::layout::{fallback_passes, FALLBACK_STEPS, PLACE_NODE_BITS};
 
 /// Bytes of one edge record (A, B, first opposite, opposite count).
 pub const EDGE_RECORD_BYTES: usize = 16;
@@ -17,23 +18,6 @@ pub const COUNTERS: usize = 4;
 /// 65,535 loop iterations per shader invocation, all loops together (as cs-silhouette's
 /// records).
 pub const MAX_OPPOSITES_PER_RECORD: u32 = 16_384;
-
-/// Steps of one fallback pass per face (fallback.comp.glsl): llvmpipe gives a shader invocation
-/// 65,535 loop iterations in all, every loop of the shader together, so a walk longer than that
-/// goes on in further passes of at most this many steps.
-pub const FALLBACK_STEPS: u32 = 49_152;
-/// Bits of a global node index in a fallback walk's place (fallback.comp.glsl): a frame whose
-/// hierarchy has more nodes is refused (16,384 x 16,384 has about 2^24).
-pub const PLACE_NODE_BITS: u32 = 27;
-
-/// The fallback passes of `steps_per_pass` steps (> 0) that finish the longest walk `layout`
-/// allows: one step per top node from the root and one to leave it, then per node one per child
-/// (or per sample of a leaf) and one to leave it.
-pub fn fallback_passes(layout: &Layout, steps_per_pass: u32) -> usize {
-    let per_node = CHILDREN.max(LEAF_SAMPLES) as usize + 1;
-    let steps = layout.top().nodes() as usize + 1 + layout.nodes() as usize * per_node;
-    steps.div_ceil(steps_per_pass.max(1) as usize)
-}
 
 /// The faces of a scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -64,8 +64,9 @@
 //!    invocation per sample: the bridge from the leaf's point to the sample against the leaf's
 //!    list);
 //! 3. "redo": [`hier::layout::REDO_ROUNDS`] rounds of the same passes over the turned-away
-//!    faces; "fallback": `fallback.comp.glsl`, what is still left, one invocation per face
-//!    descending depth-first with atomic counts (normally no workgroup at all);
+//!    faces; "fallback": the shared walk `hier/walk.comp.glsl` with this method's hooks
+//!    (`fallback.comp.glsl`), what is still left, one invocation per face descending
+//!    depth-first with atomic counts (normally no workgroup at all);
 //! 4. "sum": `sum.comp.glsl`, per sample `W` = the top node's count + its ancestors' bridge
 //!    counts + its own;
 //! 5. "stencil": `resolve.frag.glsl` writes stencil 1 where `W != 0`
@@ -95,7 +96,7 @@ use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedProg
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{checked_size, SceneGpu, SceneId};
-use layout::{fallback_passes, Counts, Faces, FALLBACK_STEPS, MAX_OPPOSITES_PER_RECORD, PLACE_NODE_BITS};
+use layout::{Counts, Faces, FALLBACK_STEPS, MAX_OPPOSITES_PER_RECORD};
 
 /// Registry name.
 pub const NAME: &str = "hier-silhouette";
@@ -121,7 +122,7 @@ const NODE_VEC4S: usize = 4;
 /// The GLSL text before every stage's own source: the hierarchy's header (4 vec4 per node,
 /// lifted points), the shared multiplicity and faces.glsl.
 fn header() -> String {
-    format!("{}#define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
+    format!("{}{MULTIPLICITY}\n{FACES}\n", hier::header(NODE_VEC4S, true))
 }
 
 struct Programs {
@@ -143,11 +144,12 @@ impl Programs {
     }
 
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
+        let fallback = hier::fallback_source(FALLBACK_COMP);
         let computes = [
             ("setup", "hier_silhouette/setup.comp.glsl", SETUP_COMP),
             ("descend", "hier_silhouette/descend.comp.glsl", DESCEND_COMP),
             ("leaves", "hier_silhouette/leaves.comp.glsl", LEAVES_COMP),
-            ("fallback", "hier_silhouette/fallback.comp.glsl", FALLBACK_COMP),
+            ("fallback", "hier_silhouette/fallback.comp.glsl", &fallback),
             ("sum", "hier_silhouette/sum.comp.glsl", SUM_COMP),
             ("zero", "hier_silhouette/zero.comp.glsl", ZERO_COMP),
         ];
@@ -370,12 +372,7 @@ impl HierSilhouette {
         }
         self.destroy_frame(gl);
         let layout = Layout::with_points(width, height, faces.count(), self.queue_scale);
-        if layout.nodes() as u64 >= 1u64 << PLACE_NODE_BITS {
-            return Err(GlError::InvalidParams(format!(
-                "hier-silhouette: {width}x{height} has {} hierarchy nodes, more than the fallback's places hold",
-                layout.nodes()
-            )));
-        }
+        hier::check_places(NAME, &layout)?;
         let regions = Counts::new(&layout, &faces);
         let counts = hier::allocate_buffers(gl, &[regions.bytes()], &["hier-silhouette counts"])?[0];
         let names = [
@@ -603,14 +600,7 @@ impl ShadowMethod for HierSilhouette {
         frame.mark(gl, "redo");
         let round_light = passes.redo_rounds(p.setup, &light, &counting, &traverse);
         frame.mark(gl, "fallback");
-        // As many passes as the longest walk may need (fallback.comp.glsl: llvmpipe's loop budget).
-        let steps = self.fallback_steps;
-        let with_steps = |program: glow::Program| {
-            counting(program);
-            // SAFETY: our program, current; uniform type matches fallback.comp.glsl.
-            unsafe { gl.uniform_1_u32(uniform(gl, program, "u_fallback_steps").as_ref(), steps) };
-        };
-        passes.fallback(p.fallback, &round_light, &with_steps, fallback_passes(&layout, steps));
+        passes.fallback(p.fallback, &round_light, &counting, self.fallback_steps);
 
         frame.mark(gl, "sum");
         // SAFETY: barrier only. Reason: the sum reads every count the passes above wrote.

@@ -39,8 +39,9 @@
 //!    leaf, and each ancestor whose samples are then all shadowed, is marked covered, which the
 //!    later batches skip);
 //! 5. "redo": [`layout::REDO_ROUNDS`] rounds of the same passes over the triangles a full queue
-//!    turned away; "fallback": `fallback.comp.glsl`, what is still left, one invocation per
-//!    triangle descending depth-first (normally no workgroup at all);
+//!    turned away; "fallback": the shared walk `hier/walk.comp.glsl` with this method's hooks
+//!    (`fallback.comp.glsl`), what is still left, one invocation per triangle descending
+//!    depth-first (normally no workgroup at all);
 //! 6. "stencil": `resolve.frag.glsl` on a full-screen triangle writes stencil 1 where the sample
 //!    is shadowed (its bit, or its leaf or an ancestor covered): [`Classification::StencilZero`]
 //!    as every counting method, so the lighting pass, [`crate::Renderer::count_shadows`] and
@@ -59,19 +60,19 @@
 //! a node's 16 children, the top nodes), except the walk of a leaf's list and the fallback's
 //! walk. llvmpipe gives a shader invocation 65,535 loop iterations in all, every loop together
 //! (gallivm keeps one loop limiter per function; measured, docs/exactness.md): a leaf's list
-//! stays far below it (one pair per triangle of a batch or redo round), but the fallback's
-//! depth-first walk of a large frustum at 3840x2160 can exceed it and would then stop silently.
-//! hier-silhouette's fallback resumes across passes for that reason; this one does not yet
-//! (open in issue 15; the grid's 3840x2160 cells are exact). The queues have a fixed capacity per frame size ([`layout::queue_capacity`]);
-//! a pair that does not fit sends its triangle to a redo list (bounded by the triangle count):
-//! slower. The fallback walks depth-first with an explicit stack (not one constant-bound loop
-//! per level, which NVIDIA's
-//! compiler unrolls 16^7 times and never finishes linking) in a program of its own: llvmpipe
-//! runs a shader's untaken branches under a mask, so the walk inlined into the main passes made
-//! them 10 times slower even when no queue overflowed (measured). Memory: [`layout::Layout::frame_bytes`] per frame size plus
-//! [`layout::plane_bytes`] per scene (docs/benchmarks.md states it per resolution). Every
-//! allocation is checked: one the GL refuses is [`GlError::OutOfMemory`], nothing is left
-//! behind and the method stays usable (at another size, or later).
+//! stays far below it (one pair per triangle of a batch or redo round); the fallback's
+//! depth-first walk of a large frustum at 3840x2160 can exceed it, so it runs at most
+//! [`layout::FALLBACK_STEPS`] steps per pass and resumes across passes (`hier/walk.comp.glsl`,
+//! shared with hier-silhouette). The queues have a fixed capacity per frame size
+//! ([`layout::queue_capacity`]); a pair that does not fit sends its triangle to a redo list
+//! (bounded by the triangle count): slower, never wrong. The fallback walks depth-first with an
+//! explicit stack (not one constant-bound loop per level, which NVIDIA's compiler unrolls 16^7
+//! times and never finishes linking) in a program of its own: llvmpipe runs a shader's untaken
+//! branches under a mask, so the walk inlined into the main passes made them 10 times slower
+//! even when no queue overflowed (measured). Memory: [`layout::Layout::frame_bytes`] per frame
+//! size plus [`layout::plane_bytes`] per scene (docs/benchmarks.md states it per resolution).
+//! Every allocation is checked: one the GL refuses is [`GlError::OutOfMemory`], nothing is
+//! left behind and the method stays usable (at another size, or later).
 //!
 //! Samples are the visible surfaces of *umbra's scene*: with
 //! [`crate::Renderer::count_shadows`] on a caller's depth that also holds other geometry, the
@@ -164,11 +165,12 @@ impl Programs {
     }
 
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
+        let fallback = hier::fallback_source(FALLBACK_COMP);
         let computes = [
             ("setup", "hier_triangle/setup.comp.glsl", SETUP_COMP),
             ("descend", "hier_triangle/descend.comp.glsl", DESCEND_COMP),
             ("leaves", "hier_triangle/leaves.comp.glsl", LEAVES_COMP),
-            ("fallback", "hier_triangle/fallback.comp.glsl", FALLBACK_COMP),
+            ("fallback", "hier_triangle/fallback.comp.glsl", &fallback),
         ];
         let p = hier::link_method(
             gl,
@@ -211,6 +213,7 @@ pub struct HierTriangle {
     scene: Option<SceneObjects>,
     frame: Option<FrameObjects>,
     queue_scale: f64,
+    fallback_steps: u32,
 }
 
 impl Default for HierTriangle {
@@ -222,13 +225,20 @@ impl Default for HierTriangle {
 impl HierTriangle {
     /// Builds the method (no GL calls).
     pub fn new() -> Self {
-        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0 }
+        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0, fallback_steps: layout::FALLBACK_STEPS }
     }
 
     /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
     /// the queues to send pairs down the fallback walk; the decision must not change.
     pub fn with_queue_scale(scale: f64) -> Self {
         Self { queue_scale: if scale > 0.0 && scale.is_finite() { scale } else { 1.0 }, ..Self::new() }
+    }
+
+    /// The same method with fallback passes of `steps` steps (at least 1; the default is
+    /// [`layout::FALLBACK_STEPS`]): tests make every walk of the fallback stop and resume many
+    /// times; the decision must not change.
+    pub fn with_fallback_steps(self, steps: u32) -> Self {
+        Self { fallback_steps: steps.clamp(1, layout::FALLBACK_STEPS), ..self }
     }
 
     /// The layout of the last frame size drawn, if any.
@@ -266,6 +276,7 @@ impl HierTriangle {
         }
         self.destroy_frame(gl);
         let layout = Layout::new(width, height, triangles, self.queue_scale);
+        hier::check_places(NAME, &layout)?;
         let names =
             ["hier-triangle samples", "hier-triangle node bounds", "hier-triangle state", "hier-triangle queues"];
         let f = FrameObjects::allocate(gl, layout, names)?;
@@ -432,7 +443,7 @@ impl ShadowMethod for HierTriangle {
         let traverse = |l: &LightUniforms| passes.traverse(p.descend, p.leaves, l, &no_uniforms);
         let round_light = passes.redo_rounds(p.setup, &light, &no_uniforms, &traverse);
         frame.mark(gl, "fallback");
-        passes.fallback(p.fallback, &round_light, &no_uniforms, 1);
+        passes.fallback(p.fallback, &round_light, &no_uniforms, self.fallback_steps);
 
         frame.mark(gl, "stencil");
         crate::state::GlState::stencil_mark_resolve().apply(gl);
