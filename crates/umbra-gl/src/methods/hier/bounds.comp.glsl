@@ -62,17 +62,14 @@ void main() {
     uint best = 0xFFFFFFFFu;
 #endif
     if (level == 0u) {
-        uint x0 = (node % u_level[0].x) * LEAF_SIDE;
-        uint y0 = (node / u_level[0].x) * LEAF_SIDE;
         for (uint k = 0u; k < LEAF_SAMPLES; ++k) {
-            uint x = x0 + k % LEAF_SIDE;
-            uint y = y0 + k / LEAF_SIDE;
-            if (x < u_frame.x && y < u_frame.y) {
-                uvec4 s = samples[y * u_frame.x + x];
+            uint pixel;
+            if (leaf_pixel(node, k, pixel)) {
+                uvec4 s = samples[pixel];
                 if (s.w != NO_TRIANGLE) {
                     valid |= 1u << k;
                     vec3 p = on_own_plane(s);
-                    samples[y * u_frame.x + x] = uvec4(floatBitsToUint(p), s.w);
+                    samples[pixel] = uvec4(floatBitsToUint(p), s.w);
                     lo = min(lo, p);
                     hi = max(hi, p);
                     float pw = dot(u_view_w.xyz, p) + u_view_w.w;

@@ -133,6 +133,15 @@ bool covered_from_above(uint level, uint node) {
     return false;
 }
 
+// The pixel (row-major from the bottom-left) of sample k (0 .. LEAF_SAMPLES-1) of leaf `leaf`;
+// false where it lies beyond the frame (the last tile of a row or column may be cut).
+bool leaf_pixel(uint leaf, uint k, out uint pixel) {
+    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
+    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
+    pixel = y * u_frame.x + x;
+    return x < u_frame.x && y < u_frame.y;
+}
+
 // Child k (0 .. CHILDREN-1) of inner node `node` at `level` (>= 1), as an index at level - 1;
 // false where the child lies beyond the grid.
 bool child_of(uint level, uint node, uint k, out uint child) {

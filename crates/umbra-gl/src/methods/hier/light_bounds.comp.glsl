@@ -46,15 +46,12 @@ void main() {
     bool point = u_light.w != 0.0;
     vec4 bound;
     if (level == 0u) {
-        uint x0 = (node % u_level[0].x) * LEAF_SIDE;
-        uint y0 = (node / u_level[0].x) * LEAF_SIDE;
         vec3 sum = vec3(0.0);
         vec4 box = vec4(3.0e38, -3.0e38, 3.0e38, -3.0e38);
         for (uint k = 0u; k < LEAF_SAMPLES; ++k) {
-            uint x = x0 + k % LEAF_SIDE;
-            uint y = y0 + k / LEAF_SIDE;
-            if (x < u_frame.x && y < u_frame.y) {
-                uvec4 s = samples[y * u_frame.x + x];
+            uint pixel;
+            if (leaf_pixel(node, k, pixel)) {
+                uvec4 s = samples[pixel];
                 for (uint j = 0u; j < POINTS_PER_SAMPLE && s.w != NO_TRIANGLE; ++j) {
                     vec3 rel = sample_point(s, j) - u_origin;
                     if (point) {
@@ -74,10 +71,9 @@ void main() {
             vec3 axis = len > 0.0 ? sum / len : vec3(1.0, 0.0, 0.0);
             float h = len > 0.0 ? 0.0 : 2.0;
             for (uint k = 0u; k < LEAF_SAMPLES && len > 0.0; ++k) {
-                uint x = x0 + k % LEAF_SIDE;
-                uint y = y0 + k / LEAF_SIDE;
-                if (x < u_frame.x && y < u_frame.y) {
-                    uvec4 s = samples[y * u_frame.x + x];
+                uint pixel;
+                if (leaf_pixel(node, k, pixel)) {
+                    uvec4 s = samples[pixel];
                     for (uint j = 0u; j < POINTS_PER_SAMPLE && s.w != NO_TRIANGLE; ++j) {
                         vec3 rel = sample_point(s, j) - u_origin;
                         float r = length(rel);

@@ -68,7 +68,7 @@ void main() {
     }
     uint item = entry.x;
     if (!walk_begin(item)) {
-        queue[slot] = uvec2(item, done ? WALK_DONE : at);
+        queue[slot] = uvec2(item, WALK_DONE);
         return;
     }
     uint top = u_levels - 1u;

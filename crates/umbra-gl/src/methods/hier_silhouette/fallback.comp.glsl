@@ -38,12 +38,10 @@ bool walk_child(uint level, uint node, uint child) {
 
 // Sample k of leaf `leaf`: its crossings from the leaf's point.
 void walk_sample(uint leaf, uint k) {
-    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
-    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
-    if (x >= u_frame.x || y >= u_frame.y) {
+    uint pixel;
+    if (!leaf_pixel(leaf, k, pixel)) {
         return;
     }
-    uint pixel = y * u_frame.x + x;
     uvec4 s = samples[pixel];
     if (s.w == NO_TRIANGLE) {
         return;

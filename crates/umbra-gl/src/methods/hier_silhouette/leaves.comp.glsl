@@ -21,12 +21,10 @@ void main() {
     }
     uint leaf = state[u_active_offset + i];
     uint k = gl_LocalInvocationIndex;
-    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
-    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
-    if (x >= u_frame.x || y >= u_frame.y) {
+    uint pixel;
+    if (!leaf_pixel(leaf, k, pixel)) {
         return;
     }
-    uint pixel = y * u_frame.x + x;
     uvec4 s = samples[pixel];
     if (s.w == NO_TRIANGLE) {
         return;

@@ -120,9 +120,8 @@ bool shadows_sample(uint tri, vec3 rel, float r) {
 // shadowed. Background, samples of `tri` itself and samples already shadowed are skipped; a
 // sample within 2 eps of a point light is lit (the reference's segment is empty there).
 void test_sample(uint tri, uint leaf, uint k) {
-    uint x = (leaf % u_level[0].x) * LEAF_SIDE + k % LEAF_SIDE;
-    uint y = (leaf / u_level[0].x) * LEAF_SIDE + k / LEAF_SIDE;
-    if (x >= u_frame.x || y >= u_frame.y) {
+    uint pixel;
+    if (!leaf_pixel(leaf, k, pixel)) {
         return;
     }
     uint word = u_bits_offset + leaf;
@@ -130,7 +129,7 @@ void test_sample(uint tri, uint leaf, uint k) {
     if ((state[word] & bit) != 0u) {
         return;
     }
-    uvec4 s = samples[y * u_frame.x + x];
+    uvec4 s = samples[pixel];
     if (s.w == NO_TRIANGLE || s.w == tri) {
         return;
     }
