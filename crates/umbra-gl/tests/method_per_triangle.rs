@@ -590,9 +590,10 @@ fn sponza_frame_times() {
 /// scene's box (they keep the z-pass clip box of the whole scene). The sample lies in no
 /// volume: the count there is 0. llvmpipe rasterized one fragment of the caster's volume at
 /// that pixel with a NaN depth (an interpolation plane of zero float area): ts-triangle counted
-/// it, a stray -1 (docs/exactness.md). Positions as f32 bit patterns.
+/// it, a stray -1 (docs/exactness.md). The sides it could belong to lie in front of the sample,
+/// so it must not count. Positions as f32 bit patterns.
 #[test]
-fn ts_triangle_fragment_with_nan_depth_never_counts() {
+fn ts_triangle_fragment_with_nan_depth_in_front_of_the_sample_does_not_count() {
     let ctx = common::context();
     let f = |b: [u32; 3]| b.map(f32::from_bits);
     let own = [
@@ -634,5 +635,59 @@ fn ts_triangle_fragment_with_nan_depth_never_counts() {
         let s = stencil_of(&ctx, &scene, &mut raw, &p);
         raw.destroy(ctx.gl());
         eprintln!("rasterized ts-triangle, zpass {zpass}: count {} at ({x}, {y})", s.pixels[y * 1920 + x]);
+    }
+}
+
+/// Conference with the directional light (0.3, 1, 0.2, 0) at 640x360, cut down by delta
+/// debugging to the triangles that decide pixel (177, 230): the floor (triangle 59, the
+/// sample's own) and a 1 cm caster 1,865 units from the eye (196389), whose volume is a tube
+/// 0.003 pixel wide on the screen running 600 units behind the sample, plus two small
+/// triangles at the corners of the scene's box (they keep the CLI's camera and near plane). The
+/// sample lies in no volume: the count there is 0. llvmpipe rasterizes one back-facing fragment
+/// of the tube's sides at that pixel with a NaN depth; when such fragments never counted
+/// (the fix for the test above), ts-triangle-1pass lost that +1 and counted -1 there (false
+/// shadow; in the whole scene, false light under the ceiling's volume). Every face it could
+/// belong to lies behind the sample, so in z-fail it must count. Positions as f32 bit
+/// patterns.
+#[test]
+fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
+    let ctx = common::context();
+    let f = |b: [u32; 3]| b.map(f32::from_bits);
+    let own = [
+        f([3295459541, 3217636490, 3296593510]),
+        f([3295459541, 3217636490, 1143414604]),
+        f([1154394112, 3217636490, 3296593510]),
+    ];
+    let caster = [
+        f([1154269676, 3173257130, 3296267092]),
+        f([1154269676, 3173257130, 3296266994]),
+        f([1154269757, 3171700741, 3296267026]),
+    ];
+    let (lo, hi) = ([-1020.13f32, -2.7924, -1055.66], [1685.81f32, 650.293, 668.489]);
+    let mut positions = own.to_vec();
+    positions.extend_from_slice(&caster);
+    positions.extend_from_slice(&[lo, [lo[0] + 0.003, lo[1], lo[2]], [lo[0], lo[1] + 0.003, lo[2]]]);
+    positions.extend_from_slice(&[hi, [hi[0] - 0.003, hi[1], hi[2]], [hi[0], hi[1] - 0.003, hi[2]]]);
+    let triangles = vec![[0, 1, 2], [3, 4, 5], [6, 7, 8], [9, 10, 11]];
+    let mesh = WeldedMesh { positions, triangles, source_triangle: vec![0, 1, 2, 3], degenerate_triangles: 0 };
+    let scene = SceneGpu::upload(ctx.gl(), Arc::new(mesh)).expect("upload");
+    // The CLI's default interior camera for this box (umbra-cli config.rs default_camera: the
+    // longer horizontal axis is x) and its near plane (1e-3 of the box's diagonal).
+    let box_ = umbra_geom::Aabb { min: lo, max: hi };
+    let (c, e) = (box_.center().map(f64::from), box_.extent().map(f64::from));
+    let eye = [c[0] - 0.2 * e[0], f64::from(lo[1]) + 0.45 * e[1], c[2]];
+    let target = [c[0] + 0.2 * e[0], f64::from(lo[1]) + 0.3 * e[1], c[2]];
+    let (w, h) = (640usize, 360usize);
+    let (x, y) = (177usize, 230usize);
+    for zpass in [false, true] {
+        let mut p = params(eye, target, [0.3, 1.0, 0.2, 0.0], zpass);
+        (p.width, p.height) = (w as u32, h as u32);
+        p.camera.near = f64::from(box_.diagonal()) * 1e-3;
+        for name in METHODS {
+            let mut m = create_method(name).expect("registered");
+            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
+            m.destroy(ctx.gl());
+            assert_eq!(s.pixels[y * w + x], 0, "{name} zpass {zpass} at ({x}, {y})");
+        }
     }
 }

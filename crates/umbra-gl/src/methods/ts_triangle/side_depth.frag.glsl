@@ -50,14 +50,32 @@ void main() {
     // A fragment whose interpolated depth is NaN comes from a triangle the rasterizer could
     // not set up (llvmpipe computes the interpolation planes from the float area of the
     // triangle after clipping, lp_state_setup.c; where that area rounds to 0 while the
-    // fixed-point coverage does not, every interpolant is 0 * inf). Neither its face (e_corner
-    // is NaN too) nor its depth is known, and a NaN depth makes the depth test, hence the
-    // count, the implementation's choice: such a fragment must not count. Found on Crytek
-    // Sponza (fly-through keyframe 3, 1920x1080, pixel (1659, 779): a 3 cm caster whose
-    // volume's sides are seen as a 1,400-pixel sliver clipped at the viewport): one stray
-    // -1. Test method_per_triangle.rs, ts_triangle_fragment_with_nan_depth_never_counts.
+    // fixed-point coverage does not, every interpolant is 0 * inf). Its coverage and facing
+    // come from the fixed-point edges, like every other triangle's, so the volume stays closed
+    // only if it counts like the face it belongs to; but neither its face (e_corner is NaN too)
+    // nor its depth is known. It gets, of the depths its face could give it (each side's
+    // canonical plane or edge-on depth, the far plane of a cap), the one nearest to the depth
+    // that never counts: it counts exactly when every face it could belong to would count it.
+    // Found twice: Crytek Sponza (fly-through keyframe 3, 1920x1080, pixel (1659, 779): a 3 cm
+    // caster whose sides are seen as a 1,400-pixel sliver, in front of the sample: counted, a
+    // stray -1) and Conference (directional light, 640x360, pixel (177, 230): a 1 cm caster's
+    // tube 600 units behind the sample, one back face of its sides: not counted when such
+    // fragments never counted, a stray -1). Tests method_per_triangle.rs,
+    // ts_triangle_fragment_with_nan_depth_*.
     if (isnan(gl_FragCoord.z)) {
-        gl_FragDepth = u_edge_on_depth;
+        float chosen = u_far_clip_z;
+#ifdef UMBRA_CANONICAL_SIDES
+        for (int i = 0; i < 3; ++i) {
+            dvec4 r = e_side_plane[i];
+            float d = r.w != 0.0LF ? u_edge_on_depth : float(r.x * double(gl_FragCoord.x) + r.y * double(gl_FragCoord.y) + r.z);
+            if (abs(d - u_edge_on_depth) < abs(chosen - u_edge_on_depth)) {
+                chosen = d;
+            }
+        }
+#else
+        chosen = u_edge_on_depth;
+#endif
+        gl_FragDepth = chosen;
         return;
     }
     bool cap = e_corner.x != 0.0 && e_corner.y != 0.0 && e_corner.z != 0.0;
