@@ -1,0 +1,202 @@
+//! The surface a depth pass of another precision sees at a pixel: what a mask drawn by another
+//! rasterizer (the WebGL viewer's, judged with `umbra verify --external-mask`) is decided on.
+//!
+//! The reference classifies the samples of *one* depth pass (world position and triangle per
+//! pixel, [`crate::Samples`]). A native method draws its volumes against those same samples,
+//! so which surface a pixel shows is not part of its decision. A mask from another renderer
+//! comes with that renderer's own depth pass, whose rasterizer snaps every vertex to its own
+//! `GL_SUBPIXEL_BITS` (Chromium's SwiftShader: 4, `SUBPIXEL_PRECISION_BITS` under
+//! `SWIFTSHADER_LEGACY_PRECISION`; llvmpipe: 8): where the projections of two surfaces pass
+//! within that precision of a pixel centre, the two depth passes may show different surfaces
+//! there, and the mask holds the decision of the surface *it* saw. Found on Crytek Sponza at
+//! 320 x 180 (docs/web.md): 31 of SwiftShader's 33 samples outside the old band, each within
+//! 0.0004-0.09 pixel of a crease between a triangle facing the light and one facing away, or
+//! of the silhouette of a nearer object (pixel (119, 2): the reference's triangle 440 faces
+//! away from the light, its neighbour 742 across an edge 0.0034 pixel from the centre faces
+//! it; SwiftShader's depth pass showed 742, lit).
+//!
+//! Every primitive's projection moves by at most the lateral bound `δ`
+//! ([`RasterView::lateral_pixels`]: both primitives' snapping, which is why it is computed
+//! from the judged rasterizer's sub-pixel bits) in either depth pass, so another surface `X`
+//! can be seen at pixel centre `c` only if its exact projection comes within `δ` of `c`, and
+//! either `X` can lie in front of the sample's triangle `T` somewhere within `δ` of `c`, or
+//! `T`'s own surface may not cover `c` (a *free* edge of it — one with no neighbour in its
+//! plane across — passes within `δ`; then whatever lies behind may show, or the background).
+//! Triangles in `T`'s plane are the same surface: the sample moves along it, which the
+//! envelope's lateral term already covers ([`crate::envelope`]). The candidates:
+//! * every triangle with an edge whose projection passes within `δ` of `c` (the edges of
+//!   [`crate::edge_on`]'s walk), kept when not in `T`'s plane and when its plane's `1/w`
+//!   (affine across the screen) can exceed `T`'s within `δ` of `c` by the sample's envelope
+//!   radius, or when a free edge of `T`'s surface is within `δ`;
+//! * with a free edge within `δ`: every triangle the ray through the sample meets behind it,
+//!   and the background unless one of those covers every point within `δ` of `c`.
+//!
+//! The sample is [`crate::BandParts::SEEN_SURFACE`] when a candidate's own decision — its
+//! class and band at the point where the pixel's ray meets its plane, with its own envelope
+//! (which covers the rasterizer moving that point along it) — differs from the sample's or is
+//! itself band, or when the background may show at a lit sample (a mask shows background as
+//! shadow).
+
+use rayon::prelude::*;
+use umbra_geom::adjacency::EdgeAdjacency;
+use umbra_geom::vec3::{cross, dot, sub};
+use umbra_geom::WeldedMesh;
+
+use crate::edge_on::{clip_to_window, pixels_near_segment};
+use crate::envelope::RasterView;
+
+/// A triangle edge whose projection passes within `δ` of a pixel centre: `(pixel, triangle,
+/// edge k)` (the edge from vertex `k` to vertex `k + 1`).
+pub type NearEdge = (u32, u32, u8);
+
+/// Every `(pixel, triangle, edge)` whose projected edge passes within [`RasterView::lateral_pixels`]
+/// of the pixel centre, for the pixels `wanted` accepts; sorted by pixel.
+pub fn near_edges(
+    mesh: &WeldedMesh,
+    view: &RasterView,
+    (width, height): (u32, u32),
+    wanted: impl Fn(usize) -> bool + Sync,
+) -> Vec<NearEdge> {
+    let delta = view.lateral_pixels(width, height);
+    // One pixel of NDC margin, as the edge-on walk: an edge just outside the viewport still
+    // reaches the border pixels' centres within delta.
+    let margin = 2.0 / f64::from(width.min(height).max(1));
+    let mut out: Vec<NearEdge> = mesh
+        .triangles
+        .par_iter()
+        .enumerate()
+        .fold(Vec::new, |mut out, (t, tri)| {
+            let clip = tri.map(|k| view.clip(mesh.positions[k as usize].map(f64::from)));
+            for k in 0..3 {
+                if let Some((p, q)) = clip_to_window(clip[k], clip[(k + 1) % 3], margin, width, height) {
+                    pixels_near_segment(p, q, delta, width, height, |x, y| {
+                        let i = y as usize * width as usize + x as usize;
+                        if wanted(i) {
+                            out.push((i as u32, t as u32, k as u8));
+                        }
+                    });
+                }
+            }
+            out
+        })
+        .flatten()
+        .collect();
+    out.par_sort_unstable();
+    out
+}
+
+/// `1/w` of the plane of `tri` along the ray through window point `c` (pixels, y down), and
+/// the length of its gradient across the screen (per pixel): `1/w` of a plane is affine in
+/// window coordinates. `None` when a vertex has `w = 0` or the plane passes through the eye
+/// (its projection is a line), where no such bound exists.
+pub fn inverse_w_plane(
+    view: &RasterView,
+    tri: [[f64; 3]; 3],
+    c: [f64; 2],
+    width: u32,
+    height: u32,
+) -> Option<(f64, f64)> {
+    let mut p = [[0f64; 3]; 3];
+    for (k, v) in tri.iter().enumerate() {
+        let [x, y, w] = view.clip(*v);
+        if w == 0.0 || !w.is_finite() {
+            return None;
+        }
+        // Window x, y and 1/w (right for w < 0 too: the map is projective).
+        p[k] = [(x / w + 1.0) * 0.5 * f64::from(width), (1.0 - y / w) * 0.5 * f64::from(height), 1.0 / w];
+    }
+    let (d1, d2) = (sub(p[1], p[0]), sub(p[2], p[0]));
+    let det = d1[0] * d2[1] - d2[0] * d1[1];
+    let scale = (d1[0].abs() + d1[1].abs()) * (d2[0].abs() + d2[1].abs());
+    // `!(x > y)` is meant: NaN gives no plane the same way.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    if !(det.abs() > 1e-12 * scale) {
+        return None;
+    }
+    let a = (d1[2] * d2[1] - d2[2] * d1[1]) / det;
+    let b = (d1[0] * d2[2] - d2[0] * d1[2]) / det;
+    let q = p[0][2] + a * (c[0] - p[0][0]) + b * (c[1] - p[0][1]);
+    (q.is_finite() && a.is_finite() && b.is_finite()).then_some((q, a.hypot(b)))
+}
+
+/// Whether the edge `k` of triangle `t` is *free* for its surface: no other triangle on it
+/// lies in `t`'s plane (within `tolerance`, world units) on the other side of the edge.
+pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, tolerance: f64) -> bool {
+    let tri = mesh.triangles[t as usize];
+    let (ia, ib, io) = (tri[k as usize], tri[(k as usize + 1) % 3], tri[(k as usize + 2) % 3]);
+    let key = [ia.min(ib), ia.max(ib)];
+    let Ok(e) = adjacency.edges.binary_search_by(|edge| [edge[0].min(edge[1]), edge[0].max(edge[1])].cmp(&key)) else {
+        return true;
+    };
+    let pos = |v: u32| mesh.positions[v as usize].map(f64::from);
+    let (a, b, o) = (pos(ia), pos(ib), pos(io));
+    let n = cross(sub(b, a), sub(o, a));
+    let nlen = dot(n, n).sqrt();
+    if !(nlen > 0.0) {
+        return true;
+    }
+    // Which side of the edge, within the plane: the sign of (b - a) x (p - a) along n.
+    let side = |p: [f64; 3]| dot(cross(sub(b, a), sub(p, a)), n);
+    let own = side(o);
+    !adjacency.opposites(e).iter().any(|&v| {
+        let p = pos(v);
+        (dot(n, sub(p, a)) / nlen).abs() <= tolerance && side(p) * own < 0.0
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A view straight down -z from the origin, 90 degrees, 100 x 100 pixels (column-major).
+    fn view() -> RasterView {
+        // x_clip = x, y_clip = y, w = -z (near plane and depth row are irrelevant here).
+        let mut m = [0.0; 16];
+        m[0] = 1.0;
+        m[5] = 1.0;
+        m[11] = -1.0;
+        m[10] = -1.0;
+        m[14] = -0.1;
+        RasterView::new(m)
+    }
+
+    #[test]
+    fn inverse_w_is_affine_across_the_screen() {
+        // A plane z = -2 - x: at the centre w = 2; at window x = 100 (x/w = 1, x = w = 2 + x
+        // on the plane: no finite point), so take two columns and check linearity.
+        let tri = [[-1.0, -1.0, -1.0], [1.0, -1.0, -3.0], [0.0, 1.0, -2.0]];
+        let v = view();
+        let (q, g) = inverse_w_plane(&v, tri, [50.0, 50.0], 100, 100).unwrap();
+        assert!((q - 0.5).abs() < 1e-12, "{q}");
+        // Along the ray through window (75, 50): x/w = 0.5, w = 2 + x = 2 + 0.5 w: w = 4.
+        let (q2, _) = inverse_w_plane(&v, tri, [75.0, 50.0], 100, 100).unwrap();
+        assert!((q2 - 0.25).abs() < 1e-12, "{q2}");
+        assert!((g - 0.25 / 25.0).abs() < 1e-12, "{g}");
+        // A plane through the eye has no such function.
+        assert!(inverse_w_plane(&v, [[0.0, 0.0, -1.0], [0.0, 1.0, -1.0], [0.0, 0.0, -2.0]], [50.0, 50.0], 100, 100)
+            .is_none());
+    }
+
+    #[test]
+    fn an_edge_is_free_unless_a_coplanar_triangle_continues_the_surface_across_it() {
+        // Two triangles of the plane z = 0 sharing edge 1-2, and a third on that edge folded up.
+        let positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 1.0]];
+        let flat = WeldedMesh {
+            positions: positions.clone(),
+            triangles: vec![[0, 1, 2], [1, 3, 2]],
+            source_triangle: vec![0, 1],
+            degenerate_triangles: 0,
+        };
+        let adjacency = EdgeAdjacency::build(&flat);
+        assert!(!free_edge(&flat, &adjacency, 0, 1, 1e-9), "edge 1-2 continues into triangle 1");
+        assert!(free_edge(&flat, &adjacency, 0, 0, 1e-9), "edge 0-1 is the border");
+        let folded = WeldedMesh {
+            positions,
+            triangles: vec![[0, 1, 2], [1, 4, 2]],
+            source_triangle: vec![0, 1],
+            degenerate_triangles: 0,
+        };
+        let adjacency = EdgeAdjacency::build(&folded);
+        assert!(free_edge(&folded, &adjacency, 0, 1, 1e-9), "a crease: the neighbour is not in the plane");
+    }
+}
