@@ -147,6 +147,104 @@ pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, to
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::envelope::{BandParts, DepthFormat};
+    use crate::{reference_in_view, Bvh, SampleClass, Samples};
+    use umbra_geom::camera::{Camera, DepthConvention};
+
+    /// Crytek Sponza (`/work/shared/scenes/crytek-sponza.obj.gz`), its default view and light
+    /// (`umbra export`'s) at 320 x 180: a ledge whose underside (triangle 440, and 721, the
+    /// same triangle the other way round) the eye sees facing away from the light, and its
+    /// front (742) across the shared edge facing it. Pixel (119, 2): the reference's sample
+    /// lies on 440, the pixel centre 0.0034 pixel from the edge; SwiftShader (1/16 pixel) and
+    /// llvmpipe with every vertex on its grid showed 742 there, lit: a false light outside
+    /// the band until the band had SEEN_SURFACE.
+    struct Ledge {
+        positions: Vec<[f32; 3]>,
+        triangles: Vec<[u32; 3]>,
+        light: [f32; 4],
+        sample: [f32; 3],
+        camera: Camera,
+    }
+
+    fn ledge() -> Ledge {
+        let f = |b: [u32; 3]| b.map(f32::from_bits);
+        // Welded vertices 399, 403, 405 and 629.
+        let positions = [
+            [3235463167, 1085636608, 3223535615],
+            [1085169665, 1085636608, 3217866749],
+            [3234390017, 1085636608, 3217866749],
+            [3234390017, 1085726721, 3217866749],
+        ]
+        .map(f)
+        .to_vec();
+        Ledge {
+            positions,
+            // 440, 721, 742.
+            triangles: vec![[0, 1, 2], [0, 2, 1], [3, 1, 2]],
+            light: [2.1777349, 6.01377, 0.7585938, 1.0],
+            // llvmpipe's interpolated position at (119, 2): (0.58920467, 5.671875, -1.5997431).
+            sample: f([1058461214, 1085636608, 3217867874]),
+            camera: Camera {
+                eye: [-5.027343273162842, 3.5838383793830877, -0.2421875],
+                target: [4.269531726837158, 2.1258792519569396, -0.2421875],
+                up: [0.0, 1.0, 0.0],
+                fov_y_degrees: 60.0,
+                near: 0.028966756820678712,
+            },
+        }
+    }
+
+    /// The pixel `scene`'s sample projects to, its class and band parts at `bits` sub-pixel
+    /// bits, judged as an external mask (`other_depth_pass`) or as the samples' own method.
+    fn judged(scene: &Ledge, bits: u32, other_depth_pass: bool) -> ((u32, u32), SampleClass, BandParts) {
+        let (width, height) = (320, 180);
+        let cols = scene.camera.clip_from_world_cols(320.0 / 180.0, DepthConvention::ReversedZ);
+        let clip_from_world: [f64; 16] = std::array::from_fn(|i| cols[i / 4][i % 4]);
+        let view = RasterView { clip_from_world, subpixel_bits: bits, depth: DepthFormat::Float32, other_depth_pass };
+        let s = scene.sample.map(f64::from);
+        let [x, y] = view.window_xy(s, width, height).unwrap().map(|c| c.floor() as u32);
+        let i = (y * width + x) as usize;
+        let mut world_pos = vec![[0f32; 3]; (width * height) as usize];
+        let mut triangle = vec![u32::MAX; (width * height) as usize];
+        (world_pos[i], triangle[i]) = (scene.sample, 0);
+        let mesh = WeldedMesh {
+            positions: scene.positions.clone(),
+            triangles: scene.triangles.clone(),
+            source_triangle: vec![0, 1, 2],
+            degenerate_triangles: 0,
+        };
+        let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
+        let samples = Samples { width, height, world_pos: &world_pos, triangle: &triangle };
+        let eye = scene.camera.eye.map(|c| c as f32);
+        let r = reference_in_view(&mesh, &bvh, &samples, scene.light, eye, Some(&view)).unwrap();
+        ((x, y), r.class[i], r.parts[i])
+    }
+
+    #[test]
+    fn sponza_ledge_crease_is_seen_surface_band_for_a_mask_of_another_depth_pass() {
+        let scene = ledge();
+        let (pixel, class, parts) = judged(&scene, 4, true);
+        assert_eq!(pixel, (119, 2));
+        // The underside faces away from the light as the eye sees it: shadowed by the plane
+        // test, and nothing else about the decision is uncertain.
+        assert_eq!(class, SampleClass::Shadowed);
+        assert!(!parts.intersects(BandParts::SILHOUETTE), "{:?}", parts.names());
+        assert!(parts.contains(BandParts::SEEN_SURFACE), "{:?}", parts.names());
+        // The samples' own depth pass (a native method): not band.
+        let (_, _, own) = judged(&scene, 4, false);
+        assert_eq!(own, BandParts::NONE, "{:?}", own.names());
+    }
+
+    #[test]
+    fn the_same_ledge_away_from_its_crease_is_not_band() {
+        // 0.1 units further under the ledge (about 4 pixels from the edge on the screen).
+        let mut scene = ledge();
+        scene.sample[2] -= 0.1;
+        let (pixel, class, parts) = judged(&scene, 4, true);
+        assert_ne!(pixel, (119, 2));
+        assert_eq!(class, SampleClass::Shadowed);
+        assert_eq!(parts, BandParts::NONE, "{:?}", parts.names());
+    }
 
     /// A view straight down -z from the origin, 90 degrees, 100 x 100 pixels (column-major).
     fn view() -> RasterView {
