@@ -36,6 +36,9 @@ use crate::envelope::{
 use crate::seen_surface::{free_edge, inverse_w_plane, near_edges, NearEdge};
 use crate::OracleError;
 
+/// A sample's position (on its triangle's plane) and its envelope's radius for volume faces.
+type Envelope = ([f64; 3], f64);
+
 /// Relative size of the self-intersection epsilon, see [`segment_epsilon`].
 pub const EPSILON_RELATIVE: f64 = 1e-5;
 
@@ -451,7 +454,7 @@ impl<'a> Context<'a> {
             .collect();
         let near = near_edges(self.mesh, view, (width, height), |i| wanted[i]);
         let groups: Vec<&[NearEdge]> = near.chunk_by(|a, b| a.0 == b.0).collect();
-        let results: Vec<(usize, bool, Vec<([f64; 3], f64)>)> = groups
+        let results: Vec<(usize, bool, Vec<Envelope>)> = groups
             .par_iter()
             .map(|group| {
                 let i = group[0].0 as usize;
@@ -481,7 +484,7 @@ impl<'a> Context<'a> {
         class: SampleClass,
         group: &[NearEdge],
         delta: f64,
-    ) -> (bool, Vec<([f64; 3], f64)>) {
+    ) -> (bool, Vec<Envelope>) {
         let Some(view) = self.view else { return (false, Vec::new()) };
         let (width, height) = (self.width, self.height);
         let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);

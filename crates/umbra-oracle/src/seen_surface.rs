@@ -132,6 +132,8 @@ pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, to
     let (a, b, o) = (pos(ia), pos(ib), pos(io));
     let n = cross(sub(b, a), sub(o, a));
     let nlen = dot(n, n).sqrt();
+    // `!(x > 0.0)` is meant: a NaN normal has no plane either.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     if !(nlen > 0.0) {
         return true;
     }
