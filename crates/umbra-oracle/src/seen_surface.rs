@@ -237,6 +237,66 @@ mod tests {
         assert_eq!(own, BandParts::NONE, "{:?}", own.names());
     }
 
+    /// Crytek Sponza at 320 x 180, pixel (94, 0): a sample on triangle 223, lit, and the edge
+    /// of a nearer object (triangles 109771 and 109772, at 0.94 of the sample's distance, one
+    /// facing the light, one facing away) 0.0058 pixel from the pixel centre. SwiftShader's
+    /// depth pass showed the nearer object there, in shadow: a false shadow outside the band
+    /// until SEEN_SURFACE (once read as the sample's facing disagreeing at SwiftShader's
+    /// precision: its light lies 7e-7 off its plane along the segment, which the plane test
+    /// does not see).
+    fn sponza_top_row() -> Ledge {
+        let f = |b: [u32; 3]| b.map(f32::from_bits);
+        // Welded vertices 214, 212, 215 (triangle 223) and 60634, 60643, 60641, 60640.
+        let positions = [
+            [3217580035, 1083064319, 3218038782],
+            [3217801217, 1085816831, 3218038782],
+            [3215998975, 1083916287, 3218038782],
+            [3219570685, 1084022785, 3217309695],
+            [3219374081, 1084071935, 3217309695],
+            [3218481156, 1083793409, 3217309695],
+            [3218481156, 1083793409, 3220299772],
+        ]
+        .map(f)
+        .to_vec();
+        Ledge {
+            positions,
+            triangles: vec![[0, 1, 2], [3, 4, 5], [4, 6, 5]],
+            // llvmpipe's interpolated position at (94, 0): (-1.4958781, 4.935857, -1.6201173).
+            sample: f([3216996591, 1084093066, 3218038785]),
+            ..ledge()
+        }
+    }
+
+    #[test]
+    fn sponza_nearer_silhouette_is_seen_surface_band_for_a_mask_of_another_depth_pass() {
+        let scene = sponza_top_row();
+        let (pixel, class, parts) = judged(&scene, 4, true);
+        assert_eq!(pixel, (94, 0));
+        assert_eq!(class, SampleClass::Lit);
+        assert!(!parts.intersects(BandParts::SILHOUETTE), "{:?}", parts.names());
+        assert!(parts.contains(BandParts::SEEN_SURFACE), "{:?}", parts.names());
+        assert_eq!(judged(&scene, 4, false).2, BandParts::NONE);
+        // At llvmpipe's 8 bits the edge (0.0058 pixel away) is still within the lateral bound
+        // (0.0061 pixel at 320 x 180): the band follows the judged rasterizer's bits.
+        assert!(judged(&scene, 8, true).2.contains(BandParts::SEEN_SURFACE));
+    }
+
+    #[test]
+    fn the_same_silhouette_behind_the_sample_is_not_band() {
+        // The nearer object pushed along the eye's rays to 1.2 times its distance (0.94 -> 1.13
+        // of the sample's): the same projection, 0.0058 pixel from the centre, but behind the
+        // sample's own triangle, which covers every point within the lateral bound.
+        let mut scene = sponza_top_row();
+        let eye = scene.camera.eye;
+        for p in &mut scene.positions[3..] {
+            *p = std::array::from_fn(|k| (eye[k] + 1.2 * (f64::from(p[k]) - eye[k])) as f32);
+        }
+        let (pixel, class, parts) = judged(&scene, 4, true);
+        assert_eq!(pixel, (94, 0));
+        assert_eq!(class, SampleClass::Lit);
+        assert_eq!(parts, BandParts::NONE, "{:?}", parts.names());
+    }
+
     #[test]
     fn the_same_ledge_away_from_its_crease_is_not_band() {
         // 0.1 units further under the ledge (about 4 pixels from the edge on the screen).
