@@ -33,7 +33,7 @@ use crate::envelope::{
     casting_edges, point_triangle_distance, segment_segment_distance, segment_triangle_distance, BandParts, Casting,
     RasterView, LIGHTING_DOT,
 };
-use crate::seen_surface::{free_edge, inverse_w_plane, near_edges, NearEdge};
+use crate::seen_surface::{free_edge, inverse_w_plane, near_edges, segment_crosses, NearEdge};
 use crate::OracleError;
 
 /// A sample's position (on its triangle's plane) and its envelope's radius for volume faces.
@@ -537,7 +537,7 @@ impl<'a> Context<'a> {
             let mut covered = false;
             self.bvh.triangles_near_segment(self.eye, dir, 1.0 - radius / len, far, t, 0.0, |id, v| {
                 let v = v.map(to_f64);
-                if !same_surface(id) && segment_triangle_distance(s, end, v) == 0.0 {
+                if !same_surface(id) && segment_crosses(s, end, v) {
                     candidates.push(id);
                     covered |= view.edge_distance_px(v, x, y, width, height).is_some_and(|d| d > delta);
                 }

@@ -119,6 +119,25 @@ pub fn inverse_w_plane(
     (q.is_finite() && a.is_finite() && b.is_finite()).then_some((q, a.hypot(b)))
 }
 
+/// Whether the segment `p0 p1` crosses the triangle `tri` (its point on the triangle's plane
+/// has barycentrics in `[0, 1]`; a segment in the plane does not cross it). Unlike a distance,
+/// which rounding keeps off zero, this tests the signs only.
+pub fn segment_crosses(p0: [f64; 3], p1: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> bool {
+    let (ab, ac) = (sub(b, a), sub(c, a));
+    let n = cross(ab, ac);
+    let (s0, s1) = (dot(n, sub(p0, a)), dot(n, sub(p1, a)));
+    if !((s0 <= 0.0 && s1 >= 0.0) || (s0 >= 0.0 && s1 <= 0.0)) || s0 == s1 {
+        return false;
+    }
+    let t = s0 / (s0 - s1);
+    let x = [0, 1, 2].map(|k| p0[k] + t * (p1[k] - p0[k]));
+    let ap = sub(x, a);
+    let nn = dot(n, n);
+    let v = dot(cross(ap, ac), n) / nn;
+    let w = dot(cross(ab, ap), n) / nn;
+    v >= 0.0 && w >= 0.0 && v + w <= 1.0
+}
+
 /// Whether the edge `k` of triangle `t` is *free* for its surface: no other triangle on it
 /// lies in `t`'s plane (within `tolerance`, world units) on the other side of the edge.
 pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, tolerance: f64) -> bool {
@@ -335,6 +354,16 @@ mod tests {
         // A plane through the eye has no such function.
         assert!(inverse_w_plane(&v, [[0.0, 0.0, -1.0], [0.0, 1.0, -1.0], [0.0, 0.0, -2.0]], [50.0, 50.0], 100, 100)
             .is_none());
+    }
+
+    #[test]
+    fn a_segment_crosses_a_triangle_by_its_signs() {
+        // A tilted triangle whose plane the f64 distance of the crossing point never reaches 0.
+        let tri = [[0.1, 0.2, 0.3], [1.7, 0.1, 0.9], [0.3, 1.9, 1.3]];
+        let through = [0.6, 0.6, 0.0];
+        assert!(segment_crosses(through, [0.6, 0.6, 3.0], tri));
+        assert!(!segment_crosses(through, [0.6, 0.6, 0.1], tri), "ends before the plane");
+        assert!(!segment_crosses([3.0, 3.0, 0.0], [3.0, 3.0, 3.0], tri), "misses beside it");
     }
 
     #[test]
