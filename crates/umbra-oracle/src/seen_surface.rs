@@ -215,11 +215,62 @@ mod tests {
         }
     }
 
+    /// Crytek Sponza at 1280 x 720, pixel (556, 461): a sample on triangle 116392, shadowed by
+    /// 116370 in front of it towards the light, 0.0099 pixel from a free edge of its surface;
+    /// behind it, through that edge, a lit surface (88854). SwiftShader's depth pass showed
+    /// 88854, lit. The first seen-surface tested "what lies behind" with a point-to-plane
+    /// distance compared with 0, which rounding missed: the sample stayed outside the band.
+    fn sponza_free_edge() -> Ledge {
+        let f = |b: [u32; 3]| b.map(f32::from_bits);
+        // Welded vertices 64225, 64228, 64226 (116392), 64181, 64184, 64182 (116370) and
+        // 48900, 48901, 48902 (88854).
+        let positions = [
+            [1078763522, 1062658057, 3215867903],
+            [1078755326, 1062641666, 3216056319],
+            [1078116353, 1068154877, 3216056319],
+            [1078804479, 1062707197, 3215966209],
+            [1078714369, 1062592508, 3215966209],
+            [1078083583, 1068130307, 3215966209],
+            [1084850176, 1066745859, 3217678332],
+            [1084628991, 3162234633, 3218464764],
+            [1084628991, 1066745859, 3218464764],
+        ]
+        .map(f)
+        .to_vec();
+        Ledge {
+            positions,
+            triangles: vec![[0, 1, 2], [3, 4, 5], [6, 7, 8]],
+            // llvmpipe's interpolated position: (3.1787035, 0.89245445, -1.3836548).
+            sample: f([1078685665, 1063548901, 3216055194]),
+            ..ledge()
+        }
+    }
+
+    #[test]
+    fn sponza_lit_surface_behind_a_free_edge_is_seen_surface_band() {
+        let scene = sponza_free_edge();
+        let (pixel, class, parts) = judged_at(&scene, 4, true, (1280, 720));
+        assert_eq!(pixel, (556, 461));
+        assert_eq!(class, SampleClass::Shadowed);
+        assert!(!parts.intersects(BandParts::SILHOUETTE), "{:?}", parts.names());
+        assert!(parts.contains(BandParts::SEEN_SURFACE), "{:?}", parts.names());
+        assert_eq!(judged_at(&scene, 4, false, (1280, 720)).2, BandParts::NONE);
+    }
+
     /// The pixel `scene`'s sample projects to, its class and band parts at `bits` sub-pixel
     /// bits, judged as an external mask (`other_depth_pass`) or as the samples' own method.
     fn judged(scene: &Ledge, bits: u32, other_depth_pass: bool) -> ((u32, u32), SampleClass, BandParts) {
-        let (width, height) = (320, 180);
-        let cols = scene.camera.clip_from_world_cols(320.0 / 180.0, DepthConvention::ReversedZ);
+        judged_at(scene, bits, other_depth_pass, (320, 180))
+    }
+
+    /// [`judged`] at `width x height`.
+    fn judged_at(
+        scene: &Ledge,
+        bits: u32,
+        other_depth_pass: bool,
+        (width, height): (u32, u32),
+    ) -> ((u32, u32), SampleClass, BandParts) {
+        let cols = scene.camera.clip_from_world_cols(f64::from(width) / f64::from(height), DepthConvention::ReversedZ);
         let clip_from_world: [f64; 16] = std::array::from_fn(|i| cols[i / 4][i % 4]);
         let view = RasterView { clip_from_world, subpixel_bits: bits, depth: DepthFormat::Float32, other_depth_pass };
         let s = scene.sample.map(f64::from);
