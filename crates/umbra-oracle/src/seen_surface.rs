@@ -9,11 +9,12 @@
 //! `SWIFTSHADER_LEGACY_PRECISION`; llvmpipe: 8): where the projections of two surfaces pass
 //! within that precision of a pixel centre, the two depth passes may show different surfaces
 //! there, and the mask holds the decision of the surface *it* saw. Found on Crytek Sponza at
-//! 320 x 180 (docs/web.md): 31 of SwiftShader's 33 samples outside the old band, each within
-//! 0.0004-0.09 pixel of a crease between a triangle facing the light and one facing away, or
-//! of the silhouette of a nearer object (pixel (119, 2): the reference's triangle 440 faces
-//! away from the light, its neighbour 742 across an edge 0.0034 pixel from the centre faces
-//! it; SwiftShader's depth pass showed 742, lit).
+//! 320 x 180 (docs/web.md): every one of SwiftShader's 33 samples outside the band without
+//! this part lies 0.0004-0.09 pixel from a crease between a triangle facing the light and one
+//! facing away, from the silhouette of a nearer object, or from a free edge of its own
+//! surface (pixel (119, 2): the reference's triangle 440 faces away from the light, its
+//! neighbour 742 across an edge 0.0034 pixel from the centre faces it; SwiftShader's depth
+//! pass showed 742, lit).
 //!
 //! Every primitive's projection moves by at most the lateral bound `δ`
 //! ([`RasterView::lateral_pixels`]: both primitives' snapping, which is why it is computed
@@ -28,8 +29,9 @@
 //!   [`crate::edge_on`]'s walk), kept when not in `T`'s plane and when its plane's `1/w`
 //!   (affine across the screen) can exceed `T`'s within `δ` of `c` by the sample's envelope
 //!   radius, or when a free edge of `T`'s surface is within `δ`;
-//! * with a free edge within `δ`: every triangle the ray through the sample meets behind it,
-//!   and the background unless one of those covers every point within `δ` of `c`.
+//! * with a free edge within `δ`: every triangle the ray through the sample crosses behind it
+//!   ([`segment_crosses`], by signs: a distance compared with 0 missed Sponza's (556, 461) at
+//!   1280 x 720), and the background unless one of those covers every point within `δ` of `c`.
 //!
 //! The sample is [`crate::BandParts::SEEN_SURFACE`] when a candidate's own decision — its
 //! class and band at the point where the pixel's ray meets its plane, with its own envelope
