@@ -75,7 +75,8 @@ async function start() {
   status.renderer = renderer.rendererName;
   status.depthClamp = !!renderer.depthClamp;
   // The rasterizer's sub-pixel precision, which the oracle's band needs to judge this
-  // browser's mask (`umbra verify --subpixel-bits`): SwiftShader 4, llvmpipe 8.
+  // browser's mask (`umbra verify --subpixel-bits`): 4 on SwiftShader and on ANGLE/llvmpipe
+  // (which really snaps to 1/256 pixel but reports the ES 3.0 minimum).
   status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
   status.depth = renderer.reversedZ ? 'reversed-z' : 'standard';
   // The scene's file name, not its path (`umbra export` records the spec it was given, which

@@ -140,6 +140,9 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             if let Some(bits) = a.subpixel_bits {
                 raster.subpixel_bits = bits;
             }
+            // An external mask was decided on its renderer's own depth pass, not on these
+            // samples: the band adds the surfaces that pass may have seen instead.
+            raster.other_depth_pass = a.external_mask.is_some();
             let reference = view_reference_in(gl, &mut s.renderer, &s.scene, &params, raster)
                 .map_err(|e| CliError::Other(e.to_string()))?;
             let mut results = Vec::new();

@@ -234,6 +234,23 @@ fn verify_subpixel_bits_sets_the_bands_precision() {
     }
 }
 
+/// An external mask was decided on its renderer's own depth pass: its band adds the samples
+/// where that pass may show another surface (seen-surface, umbra_oracle::seen_surface), while
+/// the native method beside it, which decides the reference's own samples, keeps its band.
+#[test]
+fn verify_external_mask_band_adds_the_surfaces_its_depth_pass_may_see() {
+    let m = tmp("black-mask-band.png");
+    solid_png(&m, 160, 120, [0, 0, 0]);
+    let args = ["verify", "--size", "160x120", "--method", "vs-silhouette", "--json", "--subpixel-bits", "4"];
+    let native = json(&umbra(&args));
+    let mut with_mask = args.to_vec();
+    with_mask.extend_from_slice(&["--external-mask", m.to_str().unwrap()]);
+    let both = json(&umbra(&with_mask));
+    assert_eq!(both[0]["band_samples"], native[0]["band_samples"], "{both}");
+    let (own, external) = (both[0]["band_samples"].as_u64().unwrap(), both[1]["band_samples"].as_u64().unwrap());
+    assert!(external > own, "the mask's band {external}, the native method's {own}");
+}
+
 #[test]
 fn verify_json_per_light_and_the_default_light_by_name() {
     // `--light default` is the light derived from the scene's bounds, so it can be combined

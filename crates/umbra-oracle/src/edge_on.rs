@@ -118,7 +118,13 @@ pub fn pixels_near_segment(p: [f64; 2], q: [f64; 2], delta: f64, width: u32, hei
 
 /// The part of the homogeneous segment `a b` (clip `x, y, w`; what has `w < 0` lies behind the eye) inside
 /// the viewport grown by `margin` NDC units, as window coordinates (y down); `None` if none.
-fn clip_to_window(a: [f64; 3], b: [f64; 3], margin: f64, width: u32, height: u32) -> Option<([f64; 2], [f64; 2])> {
+pub(crate) fn clip_to_window(
+    a: [f64; 3],
+    b: [f64; 3],
+    margin: f64,
+    width: u32,
+    height: u32,
+) -> Option<([f64; 2], [f64; 2])> {
     let k = 1.0 + margin;
     // Planes p . (x, y, w) >= 0: the four sides, and w > 0 (a tiny fraction of the ends' w,
     // which the sides imply but for x = y = 0).
@@ -153,12 +159,19 @@ fn clip_to_window(a: [f64; 3], b: [f64; 3], margin: f64, width: u32, height: u32
 /// every sample of `samples` (a `width x height` image, `size`) whose pixel centre lies within [`RasterView::lateral_pixels`] of
 /// the projection of a face's boundary, the face's plane passing within the sample's radius.
 /// `casts(a, b)` tells whether the edge `a b` (smaller index first) casts a side face.
+/// `others` (sorted by pixel): the envelopes of other surfaces another depth pass may show at
+/// a pixel ([`crate::seen_surface`]); a face that passes near one marks the pixel
+/// [`BandParts::SEEN_SURFACE`] (that surface's decision is uncertain).
+// The view, the light, the image and its samples, the casting edges and the output are the
+// query itself; a struct would only rename them.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn mark_edge_on_faces(
     mesh: &WeldedMesh,
     view: &RasterView,
     sweep: Sweep,
     (width, height): (u32, u32),
     samples: &[FaceEnvelope],
+    others: &[(usize, [f64; 3], f64)],
     casts: impl Fn([u32; 2]) -> bool + Sync,
     parts: &mut [BandParts],
 ) {
@@ -209,11 +222,20 @@ pub(crate) fn mark_edge_on_faces(
     // Boundaries: the extrusion ray of every vertex (shared by the faces of its edges) and
     // every edge (its own face's).
     let test = |pixel: usize, faces: &mut dyn Iterator<Item = [u32; 2]>, hits: &mut Vec<(usize, BandParts)>| {
-        let Some((s, radius)) = samples[pixel] else { return };
+        let first = others.partition_point(|o| o.0 < pixel);
+        let rest = &others[first..others.partition_point(|o| o.0 <= pixel)];
+        if samples[pixel].is_none() && rest.is_empty() {
+            return;
+        }
         for e in faces {
             if let Some((n, a, part)) = face(e) {
-                if dot(n, sub(s, a)).abs() <= radius {
-                    hits.push((pixel, part));
+                if let Some((s, radius)) = samples[pixel] {
+                    if dot(n, sub(s, a)).abs() <= radius {
+                        hits.push((pixel, part));
+                    }
+                }
+                if rest.iter().any(|&(_, s, radius)| dot(n, sub(s, a)).abs() <= radius) {
+                    hits.push((pixel, BandParts::SEEN_SURFACE));
                 }
             }
         }
@@ -358,7 +380,8 @@ mod tests {
         let (width, height) = (640, 360);
         let cols = scene.camera.clip_from_world_cols(640.0 / 360.0, DepthConvention::ReversedZ);
         let clip_from_world: [f64; 16] = std::array::from_fn(|i| cols[i / 4][i % 4]);
-        let view = RasterView { clip_from_world, subpixel_bits: 8, depth: DepthFormat::Float32 };
+        let view =
+            RasterView { clip_from_world, subpixel_bits: 8, depth: DepthFormat::Float32, other_depth_pass: false };
         let s = scene.sample.map(f64::from);
         let [x, y] = view.window_xy(s, width, height).unwrap().map(|c| c.floor() as u32);
         let i = (y * width + x) as usize;

@@ -79,6 +79,10 @@
 //! * [`BandParts::NEAR_CUT`]: the pixel lies within the lateral bound of the image of a
 //!   triangle's cut by the camera's near plane, where the depth pass's clip and the light
 //!   cap's `gl_ClipDistance` decide which samples are seen through the cut caster.
+//! * [`BandParts::SEEN_SURFACE`]: only for decisions made on another depth pass than the one
+//!   that produced the samples (an external mask, [`RasterView::other_depth_pass`]): that pass
+//!   may show another surface at the pixel, whose decision differs ([`crate::seen_surface`]).
+//!   A native method decides the samples themselves and is judged without it.
 //!
 //! Which parts come from depth-testing rasterized volume faces: [`BandParts::SIDE_FACE`],
 //! [`BandParts::CANCELLING`] and [`BandParts::SURFACE`]. A method that decides samples
@@ -130,11 +134,17 @@ impl BandParts {
     pub const SURFACE: BandParts = BandParts(16);
     pub const REFERENCE_EPS: BandParts = BandParts(32);
     pub const NEAR_CUT: BandParts = BandParts(64);
+    /// Computed only for [`RasterView::other_depth_pass`] (module doc).
+    pub const SEEN_SURFACE: BandParts = BandParts(128);
     /// Every part.
-    pub const ALL: BandParts = BandParts(127);
+    pub const ALL: BandParts = BandParts(255);
+    /// What a method that decides the reference's own samples is judged with: every part but
+    /// [`BandParts::SEEN_SURFACE`].
+    pub const SAME_SAMPLES: BandParts = BandParts(127);
     /// The parts that come from depth-testing rasterized volume faces against the sample.
     pub const DEPTH_TESTED: BandParts = BandParts(2 | 4 | 16);
-    /// What a silhouette method is judged with: it draws no cancelling faces.
+    /// What a silhouette method is judged with: it draws no cancelling faces (and decides the
+    /// reference's own samples: no [`BandParts::SEEN_SURFACE`]).
     pub const SILHOUETTE: BandParts = BandParts(127 & !4);
 
     /// Whether any part of `mask` is set.
@@ -149,9 +159,17 @@ impl BandParts {
 
     /// The parts' names, for diagnosis.
     pub fn names(self) -> Vec<&'static str> {
-        const NAMES: [&str; 7] =
-            ["facing", "side-face", "cancelling", "orientation", "surface", "reference-eps", "near-cut"];
-        (0..7).filter(|k| self.0 & (1 << k) != 0).map(|k| NAMES[k]).collect()
+        const NAMES: [&str; 8] = [
+            "facing",
+            "side-face",
+            "cancelling",
+            "orientation",
+            "surface",
+            "reference-eps",
+            "near-cut",
+            "seen-surface",
+        ];
+        (0..8).filter(|k| self.0 & (1 << k) != 0).map(|k| NAMES[k]).collect()
     }
 }
 
@@ -204,6 +222,10 @@ pub struct RasterView {
     pub subpixel_bits: u32,
     /// The depth buffer.
     pub depth: DepthFormat,
+    /// Whether the judged decisions were made on another depth pass than the one that
+    /// produced the samples, with this precision (an external mask drawn by another renderer):
+    /// then the band has [`BandParts::SEEN_SURFACE`] ([`crate::seen_surface`]).
+    pub other_depth_pass: bool,
 }
 
 /// `2^(e - 23)` for the exponent `e` of `z` (the f32 spacing just above `|z|`, i.e. GL's `r`
@@ -218,7 +240,12 @@ impl RasterView {
     /// A view with the least precision GL 4.5 allows: 4 subpixel bits, a float depth buffer
     /// (whose `r` for faces reaching depth 1 is the larger).
     pub fn new(clip_from_world: [f64; 16]) -> RasterView {
-        RasterView { clip_from_world, subpixel_bits: MIN_SUBPIXEL_BITS, depth: DepthFormat::Float32 }
+        RasterView {
+            clip_from_world,
+            subpixel_bits: MIN_SUBPIXEL_BITS,
+            depth: DepthFormat::Float32,
+            other_depth_pass: false,
+        }
     }
 
     fn row(&self, r: usize, p: [f64; 3], w: f64) -> f64 {

@@ -6,6 +6,8 @@
 //!   any-hit [`Bvh::occluded`] and closest-hit [`Bvh::intersect`].
 //! * [`mod@reference`]: per-sample shadow classes of the rasterized samples and their band.
 //! * [`edge_on`]: volume faces seen edge-on, where coverage and depth disagree (part of the band).
+//! * [`seen_surface`]: the surface a depth pass of another precision (an external mask's) sees
+//!   at a pixel (part of the band for such masks).
 //! * [`envelope`]: the precision envelope of a rasterized sample (GL's depth and sub-pixel
 //!   precision, llvmpipe's interpolation), which defines the band once.
 //! * [`metrics`]: mismatch counts of a method's stencil mask against the reference, and the
@@ -17,6 +19,7 @@ pub mod edge_on;
 pub mod envelope;
 pub mod metrics;
 pub mod reference;
+pub mod seen_surface;
 pub mod synthetic;
 pub mod watertight;
 

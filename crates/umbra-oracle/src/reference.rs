@@ -23,6 +23,7 @@
 //! * `eps` is a *distance*, [`segment_epsilon`] = `1e-5` of the scene's scale.
 
 use rayon::prelude::*;
+use umbra_geom::adjacency::EdgeAdjacency;
 use umbra_geom::vec3::{cross, dot, norm, sub};
 use umbra_geom::{Light, WeldedMesh};
 
@@ -32,7 +33,11 @@ use crate::envelope::{
     casting_edges, point_triangle_distance, segment_segment_distance, segment_triangle_distance, BandParts, Casting,
     RasterView, LIGHTING_DOT,
 };
+use crate::seen_surface::{free_edge, inverse_w_plane, near_edges, segment_crosses, NearEdge};
 use crate::OracleError;
+
+/// A sample's position (on its triangle's plane) and its envelope's radius for volume faces.
+type Envelope = ([f64; 3], f64);
 
 /// Relative size of the self-intersection epsilon, see [`segment_epsilon`].
 pub const EPSILON_RELATIVE: f64 = 1e-5;
@@ -196,8 +201,9 @@ pub fn reference_in_view(
             Some(p) => Sweep::Point(p),
             None => Sweep::Towards(ctx.towards),
         };
+        let others = if v.other_depth_pass { ctx.seen_surfaces(samples, &class, &mut parts) } else { Vec::new() };
         let casting = &ctx.casting.edges;
-        mark_edge_on_faces(mesh, v, sweep, (width, height), &envelopes, |e| casting.contains(&e), &mut parts);
+        mark_edge_on_faces(mesh, v, sweep, (width, height), &envelopes, &others, |e| casting.contains(&e), &mut parts);
     }
     let band = parts.iter().map(|p| *p != BandParts::NONE).collect();
     Ok(Reference { width, height, class, band, parts })
@@ -366,21 +372,10 @@ impl<'a> Context<'a> {
         // The envelope's radius for volume faces and for other surfaces (crate::envelope): half
         // the lateral bound is the other primitive's, half the sample's own triangle's, which
         // moves S along T's plane, stretched by 1 / |cos| of the angle T is seen at.
-        let (lateral, slope) = match self.view {
-            Some(v) => {
-                let half = 0.5 * self.lateral_pixels;
-                let view_dir = sub(s, self.eye);
-                let cos = dot(n, view_dir).abs() / (nn.sqrt() * norm(view_dir));
-                // Seen so obliquely that the snapping moves S along T by more than a pixel: its
-                // position, and so its decision, is the rasterizer's choice.
-                let stretch = if cos > half { 1.0 / cos } else { 1.0 / half };
-                if cos <= half {
-                    parts |= BandParts::FACING;
-                }
-                (half * (1.0 + stretch) * v.footprint(s, self.width, self.height), v.depth_slope(s, self.eye))
-            }
-            None => (0.0, 0.0),
-        };
+        let (lateral, slope, oblique) = self.lateral(n, nn, s);
+        if oblique {
+            parts |= BandParts::FACING;
+        }
         let depth_for = |r: f64| if slope > 0.0 { crate::envelope::DEPTH_STEPS * r / slope } else { 0.0 };
         let face_radius = position + lateral + self.view.map_or(0.0, |v| depth_for(v.face_depth_step()));
         parts |= self.faces_near(triangle, s, dir, face_radius);
@@ -415,6 +410,164 @@ impl<'a> Context<'a> {
             parts |= BandParts::REFERENCE_EPS;
         }
         (class, parts, self.view.map(|_| (s, face_radius)))
+    }
+
+    /// The envelope's lateral radius at `s` on a triangle of normal `n` (`nn = n.n`) and the
+    /// slope of window depth along the view ray there (crate::envelope): half the lateral
+    /// bound is the other primitive's, half the sample's own triangle's, which moves S along
+    /// T's plane, stretched by 1 / |cos| of the angle T is seen at. `true` when T is seen so
+    /// obliquely that the snapping moves S along T by more than a pixel: its position, and so
+    /// its decision, is the rasterizer's choice (FACING).
+    fn lateral(&self, n: [f64; 3], nn: f64, s: [f64; 3]) -> (f64, f64, bool) {
+        let Some(v) = self.view else { return (0.0, 0.0, false) };
+        let half = 0.5 * self.lateral_pixels;
+        let view_dir = sub(s, self.eye);
+        let cos = dot(n, view_dir).abs() / (nn.sqrt() * norm(view_dir));
+        let stretch = if cos > half { 1.0 / cos } else { 1.0 / half };
+        (half * (1.0 + stretch) * v.footprint(s, self.width, self.height), v.depth_slope(s, self.eye), cos <= half)
+    }
+
+    /// The envelope's radius for volume faces of a sample at `s` on triangle `tri`.
+    fn face_radius(&self, tri: [[f64; 3]; 3], s: [f64; 3]) -> f64 {
+        let [a, b, c] = tri;
+        let n = cross(sub(b, a), sub(c, a));
+        let (lateral, _, _) = self.lateral(n, dot(n, n), s);
+        let depth = self.view.map_or(0.0, |v| v.depth_margin(s, self.eye));
+        RasterView::position_margin(s, self.eye) + lateral + depth
+    }
+
+    /// SEEN_SURFACE ([`crate::seen_surface`]) of the samples another depth pass may show another
+    /// surface at: marks `parts`, and returns the envelopes of the other surfaces whose own
+    /// decision agrees with the sample's, for the edge-on faces (sorted by pixel).
+    fn seen_surfaces(
+        &self,
+        samples: &Samples,
+        class: &[SampleClass],
+        parts: &mut [BandParts],
+    ) -> Vec<(usize, [f64; 3], f64)> {
+        let Some(view) = self.view else { return Vec::new() };
+        let (width, height) = (self.width, self.height);
+        let delta = self.lateral_pixels;
+        let adjacency = EdgeAdjacency::build(self.mesh);
+        let wanted: Vec<bool> = (0..class.len())
+            .map(|i| class[i] != SampleClass::Background && !parts[i].intersects(BandParts::SILHOUETTE))
+            .collect();
+        let near = near_edges(self.mesh, view, (width, height), |i| wanted[i]);
+        let groups: Vec<&[NearEdge]> = near.chunk_by(|a, b| a.0 == b.0).collect();
+        let results: Vec<(usize, bool, Vec<Envelope>)> = groups
+            .par_iter()
+            .map(|group| {
+                let i = group[0].0 as usize;
+                let (mark, others) = self.seen_at(samples, &adjacency, i, class[i], group, delta);
+                (i, mark, others)
+            })
+            .collect();
+        let mut others = Vec::new();
+        for (i, mark, envelopes) in results {
+            if mark {
+                parts[i] |= BandParts::SEEN_SURFACE;
+            } else {
+                others.extend(envelopes.into_iter().map(|(s, r)| (i, s, r)));
+            }
+        }
+        others
+    }
+
+    /// Whether another depth pass may show, at pixel `i` (sample of class `class`), a surface
+    /// whose decision differs or is band; otherwise the envelopes of the surfaces it may show.
+    /// `group`: the triangle edges whose projections pass within `delta` of the pixel centre.
+    fn seen_at(
+        &self,
+        samples: &Samples,
+        adjacency: &EdgeAdjacency,
+        i: usize,
+        class: SampleClass,
+        group: &[NearEdge],
+        delta: f64,
+    ) -> (bool, Vec<Envelope>) {
+        let Some(view) = self.view else { return (false, Vec::new()) };
+        let (width, height) = (self.width, self.height);
+        let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
+        let c = [f64::from(x) + 0.5, f64::from(y) + 0.5];
+        let t = samples.triangle[i];
+        let tri = self.mesh.triangles[t as usize].map(|k| self.vertex(k));
+        let [a, b, cc] = tri;
+        let n = cross(sub(b, a), sub(cc, a));
+        let nn = dot(n, n);
+        let nlen = nn.sqrt();
+        let mut s = to_f64(samples.world_pos[i]);
+        if nn > 0.0 {
+            let k = dot(n, sub(s, a)) / nn;
+            s = [s[0] - k * n[0], s[1] - k * n[1], s[2] - k * n[2]];
+        }
+        let position = RasterView::position_margin(s, self.eye);
+        // The same surface: T, or a triangle in T's plane (the envelope covers the sample
+        // moving along it).
+        let same_surface = |id: u32| {
+            id == t
+                || (nlen > 0.0
+                    && self.mesh.triangles[id as usize]
+                        .iter()
+                        .all(|&k| (dot(n, sub(self.vertex(k), a)) / nlen).abs() <= position))
+        };
+        // T's surface may not cover the pixel centre: a free edge of it passes within delta.
+        let free = group.iter().any(|&(_, id, k)| same_surface(id) && free_edge(self.mesh, adjacency, id, k, position));
+        let radius = self.face_radius(tri, s);
+        let own = inverse_w_plane(view, tri, c, width, height);
+        // How much 1/w changes over the envelope's radius along the view (w's world gradient).
+        let m = &view.clip_from_world;
+        let w_gradient = norm([m[3], m[7], m[11]]);
+        let in_front = |id: u32| {
+            let other = self.mesh.triangles[id as usize].map(|k| self.vertex(k));
+            match (own, inverse_w_plane(view, other, c, width, height)) {
+                (Some((q, g)), Some((qx, gx))) => qx + gx * delta >= q - g * delta - q * q * w_gradient * radius,
+                _ => true,
+            }
+        };
+        let mut candidates: Vec<u32> =
+            group.iter().map(|g| g.1).filter(|&id| !same_surface(id) && (free || in_front(id))).collect();
+        let mut background = false;
+        if free {
+            // What lies behind the sample along its ray, and whether one of those covers every
+            // point within delta of the pixel centre (else the background may show).
+            let dir = sub(s, self.eye);
+            let len = norm(dir);
+            let far = 1.0 + (norm(sub(s, self.centre)) + self.half_diagonal) / len;
+            let end = [0, 1, 2].map(|k| self.eye[k] + far * dir[k]);
+            let mut covered = false;
+            self.bvh.triangles_near_segment(self.eye, dir, 1.0 - radius / len, far, t, 0.0, |id, v| {
+                let v = v.map(to_f64);
+                if !same_surface(id) && segment_crosses(s, end, v) {
+                    candidates.push(id);
+                    covered |= view.edge_distance_px(v, x, y, width, height).is_some_and(|d| d > delta);
+                }
+                false
+            });
+            background = !covered;
+        }
+        if background && class == SampleClass::Lit {
+            return (true, Vec::new());
+        }
+        candidates.sort_unstable();
+        candidates.dedup();
+        let mut envelopes = Vec::new();
+        for id in candidates {
+            // The other surface's sample: where the pixel's ray meets its plane.
+            let [p, q, r] = self.mesh.triangles[id as usize].map(|k| self.vertex(k));
+            let m = cross(sub(q, p), sub(r, p));
+            let ray = sub(s, self.eye);
+            let along = dot(m, sub(p, self.eye)) / dot(m, ray);
+            if !(along > 0.0 && along.is_finite()) {
+                return (true, Vec::new());
+            }
+            let at = [0, 1, 2].map(|k| (self.eye[k] + along * ray[k]) as f32);
+            let (other_class, other_parts, envelope) = self.classify(id, at);
+            if other_class != class || other_parts != BandParts::NONE {
+                return (true, Vec::new());
+            }
+            envelopes.extend(envelope);
+        }
+        (false, envelopes)
     }
 
     /// SIDE_FACE, CANCELLING and ORIENTATION: the edges (and triangles of uncertain

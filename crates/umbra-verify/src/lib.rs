@@ -246,7 +246,7 @@ pub fn band_mask(method: &dyn ShadowMethod) -> BandParts {
     if method.silhouette_sides() {
         BandParts::SILHOUETTE
     } else {
-        BandParts::ALL
+        BandParts::SAME_SAMPLES
     }
 }
 
@@ -435,8 +435,11 @@ pub fn verify_external_mask(name: &str, mask: &RgbaImage, view: &ViewReference) 
     };
     let shadowed: Vec<bool> = mask.pixels.iter().map(|p| p[..3] != EXTERNAL_LIT).collect();
     // The WebGL viewer draws paper 003's silhouette volumes: no faces on edges that cast
-    // nothing, so no cancelling faces' band (as `band_mask` for a silhouette method).
-    let band = BandParts::SILHOUETTE;
+    // nothing, so no cancelling faces' band (as `band_mask` for a silhouette method). Its
+    // decisions were made on its own depth pass: the surface that pass saw is band where it
+    // may not be the sample's (`SEEN_SURFACE`, computed when the view's raster says
+    // `other_depth_pass`).
+    let band = BandParts::SILHOUETTE | BandParts::SEEN_SURFACE;
     let metrics = compare_masked(&lr.reference, &shadowed, band)?;
     Ok(MethodReport {
         method: name.to_string(),
