@@ -36,6 +36,14 @@ struct JsonRow<'a> {
     per_light: Vec<JsonLight>,
 }
 
+/// A row of `verify --json`: a method's counts, or why it could not be verified here.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum JsonOut<'a> {
+    Row(JsonRow<'a>),
+    Failed { method: &'a str, backend: &'static str, error: &'a str },
+}
+
 /// One light's counts in a `verify --json` row.
 #[derive(Serialize)]
 struct JsonLight {
@@ -46,6 +54,28 @@ struct JsonLight {
     band_samples: u64,
     band_mismatches: u64,
     mismatches_outside_band: u64,
+}
+
+/// A method that could not be verified: `verify` with several methods goes on with the others,
+/// prints this as the method's row and exits with status 2.
+struct FailedMethod {
+    method: String,
+    error: String,
+}
+
+/// One method's outcome. With several methods, a method that cannot be drawn here (unsupported
+/// by this GL, out of memory, a shader the driver rejects) is reported on stderr at once and
+/// becomes an error row, and the others are still verified; with one method, its error is the
+/// command's.
+fn method_result<T>(name: &str, r: Result<T, CliError>, methods: usize) -> Result<Result<T, FailedMethod>, CliError> {
+    match r {
+        Ok(v) => Ok(Ok(v)),
+        Err(e) if methods > 1 => {
+            eprintln!("umbra: {name}: {e} (verifying the other methods)");
+            Ok(Err(FailedMethod { method: name.to_string(), error: e.to_string() }))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// `diff.png` → `diff.METHOD.png` when several images are written (and `.lightN` per light).
@@ -147,26 +177,40 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
                 .map_err(|e| CliError::Other(e.to_string()))?;
             let mut results = Vec::new();
             for name in &methods {
-                let mut method = crate::methods::make_method(name, &sm, "--method")?;
-                let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
-                let counter = crate::methods::counter_label(method.as_ref(), params.counter);
-                let zpass = s.renderer.last_zpass().to_vec();
-                method.destroy(gl);
-                let report = report.map_err(|e| CliError::Other(e.to_string()))?;
-                results.push((report, counter, zpass));
+                let verified = (|| {
+                    let mut method = crate::methods::make_method(name, &sm, "--method")?;
+                    let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
+                    let counter = crate::methods::counter_label(method.as_ref(), params.counter);
+                    let zpass = s.renderer.last_zpass().to_vec();
+                    method.destroy(gl);
+                    let report = report.map_err(|e| CliError::Other(e.to_string()))?;
+                    Ok::<_, CliError>((report, counter, zpass))
+                })();
+                results.push(method_result(name, verified, methods.len())?);
             }
             (results, reference, s.welded.clone(), s.context.renderer_string())
         }
         Backend::Wgpu => {
             let (s, reference, verified) = crate::wgpu_backend::verify(&view, &methods, &sm, choice)?;
-            let results = verified.into_iter().map(|v| (v.report, v.counter, v.zpass)).collect();
+            let mut results = Vec::new();
+            for (name, v) in methods.iter().zip(verified) {
+                results.push(method_result(name, v.map(|v| (v.report, v.counter, v.zpass)), methods.len())?);
+            }
             (results, reference, s.welded.clone(), format!("wgpu on {}", s.gpu.adapter_line()))
         }
     };
     let mut rows = Vec::new();
     let rows_expected = methods.len() + usize::from(a.external_mask.is_some());
     let mut all_passed = true;
-    for (report, counter, zpass) in results {
+    let mut failed = Vec::new();
+    for result in results {
+        let (report, counter, zpass) = match result {
+            Ok(r) => r,
+            Err(f) => {
+                failed.push(f);
+                continue;
+            }
+        };
         let name = &report.method;
         if let Some(base) = &a.diff {
             for (i, lr) in reference.lights.iter().enumerate() {
@@ -190,7 +234,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
         rows.push((report, reference.total_ms(), "none", Vec::new()));
     }
     if a.json {
-        let json: Vec<JsonRow> = rows
+        let mut json: Vec<JsonOut> = rows
             .iter()
             .map(|(r, reference_ms, counter, zpass)| JsonRow {
                 method: &r.method,
@@ -219,7 +263,13 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
                     })
                     .collect(),
             })
+            .map(JsonOut::Row)
             .collect();
+        json.extend(failed.iter().map(|f| JsonOut::Failed {
+            method: &f.method,
+            backend: backend.name(),
+            error: &f.error,
+        }));
         println!("{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Other(e.to_string()))?);
     } else {
         println!(
@@ -255,6 +305,18 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
                 verdict
             );
         }
+        for f in &failed {
+            println!("{:<24} ERROR: {}", f.method, f.error);
+        }
+    }
+    if !failed.is_empty() {
+        let names: Vec<&str> = failed.iter().map(|f| f.method.as_str()).collect();
+        return Err(CliError::Other(format!(
+            "{} of {} methods could not be verified here: {} (their errors above)",
+            failed.len(),
+            methods.len(),
+            names.join(", ")
+        )));
     }
     Ok(all_passed)
 }

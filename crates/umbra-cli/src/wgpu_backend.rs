@@ -202,7 +202,7 @@ pub fn verify(
     methods: &[String],
     sm: &SmOptions,
     choice: CounterChoice,
-) -> Result<(WgpuSession, umbra_verify::ViewReference, Vec<WgpuVerified>), CliError> {
+) -> Result<(WgpuSession, umbra_verify::ViewReference, Vec<Result<WgpuVerified, CliError>>), CliError> {
     let mut s = WgpuSession::new(view)?;
     let params = s.frame_params(view);
     check_counter(choice, &s.welded, &params.lights)?;
@@ -211,21 +211,26 @@ pub fn verify(
         .map_err(|e| CliError::Other(e.to_string()))?;
     let mut out = Vec::new();
     for name in methods {
-        let mut volumes = s.volumes(name, sm, "--method")?;
-        let (device, queue) = (&s.gpu.device, &s.gpu.queue);
-        let report = umbra_verify::wgpu::verify_method(
-            device,
-            queue,
-            &mut s.renderer,
-            &s.scene,
-            &mut volumes,
-            &params,
-            &reference,
-        )
-        .map_err(|e| CliError::Other(e.to_string()))?;
-        let counter = if volumes.counts_volumes() { "stencil8" } else { "none" };
-        let zpass = volumes.plans().iter().map(|p| p.zpass).collect();
-        out.push(WgpuVerified { report, counter, zpass });
+        // Per method: one that cannot be drawn here is its own error (verify.rs goes on with
+        // the others when there are several).
+        let verified = (|| {
+            let mut volumes = s.volumes(name, sm, "--method")?;
+            let (device, queue) = (&s.gpu.device, &s.gpu.queue);
+            let report = umbra_verify::wgpu::verify_method(
+                device,
+                queue,
+                &mut s.renderer,
+                &s.scene,
+                &mut volumes,
+                &params,
+                &reference,
+            )
+            .map_err(|e| CliError::Other(e.to_string()))?;
+            let counter = if volumes.counts_volumes() { "stencil8" } else { "none" };
+            let zpass = volumes.plans().iter().map(|p| p.zpass).collect();
+            Ok(WgpuVerified { report, counter, zpass })
+        })();
+        out.push(verified);
     }
     Ok((s, reference, out))
 }

@@ -150,6 +150,39 @@ fn empty_scene_render_explains() {
     assert!(stderr(&o).contains("no triangles"), "{}", stderr(&o));
 }
 
+/// `verify` with several methods: one that cannot be drawn here (a cube map larger than any
+/// GL's GL_MAX_CUBE_MAP_TEXTURE_SIZE) is an error row, the others are still verified, and the
+/// exit status is 2 (an error), not 0 or 1. With that method alone, its error is the command's.
+#[test]
+fn verify_goes_on_past_a_method_that_cannot_be_drawn_and_reports_it() {
+    let o = umbra(&["verify", "--size", "160x90", "--method", "cpu-silhouette,shadow-map-cube:1048576", "--json"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("1 of 2 methods could not be verified here: shadow-map-cube:1048576"),
+        "{}",
+        stderr(&o)
+    );
+    let v = json(&o);
+    let rows = v.as_array().expect("array");
+    assert_eq!(rows.len(), 2, "{v}");
+    assert_eq!(rows[0]["method"], "cpu-silhouette");
+    assert_eq!(rows[0]["mismatches_outside_band"], 0, "{}", rows[0]);
+    assert!(rows[0].get("error").is_none(), "{}", rows[0]);
+    assert_eq!(rows[1]["method"], "shadow-map-cube:1048576");
+    assert!(rows[1]["error"].as_str().is_some_and(|e| e.contains("GL_MAX_CUBE_MAP_TEXTURE_SIZE")), "{}", rows[1]);
+    assert!(rows[1].get("mismatches").is_none(), "an error row has no counts: {}", rows[1]);
+    // The table says it too.
+    let o = umbra(&["verify", "--size", "160x90", "--method", "shadow-map-cube:1048576,cpu-silhouette"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("shadow-map-cube:1048576") && out.contains("ERROR:"), "{out}");
+    assert!(out.contains("EXACT"), "cpu-silhouette still verified: {out}");
+    // Alone, the method's error is the command's (no table).
+    let o = umbra(&["verify", "--size", "160x90", "--method", "shadow-map-cube:1048576"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("GL_MAX_CUBE_MAP_TEXTURE_SIZE"), "{}", stderr(&o));
+}
+
 #[test]
 fn verify_json_contract_and_exit_status() {
     let o = umbra(&["verify", "--size", "160x120", "--method", "cpu-silhouette,none", "--json"]);
