@@ -189,6 +189,9 @@ pub fn render(a: &crate::args::RenderArgs, method_name: &str) -> Result<(), CliE
 }
 
 /// One method's verification on wgpu: the report, the counter label and the per-light z-pass.
+/// One method's outcome in [`verify`]: its report, or why it could not be drawn here.
+pub type MethodOutcome = Result<WgpuVerified, CliError>;
+
 pub struct WgpuVerified {
     pub report: umbra_verify::MethodReport,
     pub counter: &'static str,
@@ -202,7 +205,7 @@ pub fn verify(
     methods: &[String],
     sm: &SmOptions,
     choice: CounterChoice,
-) -> Result<(WgpuSession, umbra_verify::ViewReference, Vec<Result<WgpuVerified, CliError>>), CliError> {
+) -> Result<(WgpuSession, umbra_verify::ViewReference, Vec<MethodOutcome>), CliError> {
     let mut s = WgpuSession::new(view)?;
     let params = s.frame_params(view);
     check_counter(choice, &s.welded, &params.lights)?;
