@@ -188,10 +188,10 @@ pub fn render(a: &crate::args::RenderArgs, method_name: &str) -> Result<(), CliE
     Ok(())
 }
 
-/// One method's verification on wgpu: the report, the counter label and the per-light z-pass.
 /// One method's outcome in [`verify`]: its report, or why it could not be drawn here.
 pub type MethodOutcome = Result<WgpuVerified, CliError>;
 
+/// One method's verification on wgpu: the report, the counter label and the per-light z-pass.
 pub struct WgpuVerified {
     pub report: umbra_verify::MethodReport,
     pub counter: &'static str,
