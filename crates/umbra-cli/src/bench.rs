@@ -767,6 +767,12 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     if backends.is_empty() || (1..backends.len()).any(|i| backends[..i].contains(&backends[i])) {
         return Err(bad("--backend", format!("expected gl, wgpu or gl,wgpu, got {:?}", a.backend)));
     }
+    // `--methods help` (or `list`): the methods of the first backend named, one per line.
+    if let Some(m) = a.methods.as_deref() {
+        if crate::methods::list_if_help_for(backends[0], m.trim()) {
+            return Ok(());
+        }
+    }
     if let Some(name) = &a.suite {
         if backends != [Backend::Gl] && name != "list" {
             return Err(bad("--backend", "the paper suites (--suite) run on the gl backend only"));

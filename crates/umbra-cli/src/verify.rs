@@ -133,6 +133,10 @@ fn explain(
 /// Returns whether every method that must be exact passed.
 pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
     let backend = Backend::parse(&a.backend)?;
+    // `--method help` (or `list`): the backend's methods, one per line.
+    if crate::methods::list_if_help_for(backend, a.method.trim()) {
+        return Ok(true);
+    }
     let methods = match backend {
         Backend::Gl => crate::methods::parse_methods(&a.method, "--method")?,
         Backend::Wgpu => crate::wgpu_backend::parse_methods(&a.method, "--method")?,

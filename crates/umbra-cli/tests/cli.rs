@@ -502,3 +502,24 @@ fn sm_options_reach_the_shadow_map_in_render_and_verify() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--sm-bias"), "{}", stderr(&o));
 }
+
+/// `--method help` (render, view, verify) and `--methods help` (bench) list the registered
+/// methods, one per line, and draw nothing.
+#[test]
+fn method_help_lists_the_methods_in_every_command() {
+    for args in [
+        &["render", "--method", "help"][..],
+        &["verify", "--method", "help"],
+        &["verify", "--method", "list"],
+        &["bench", "--methods", "help"],
+    ] {
+        let o = umbra(args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+        let out = String::from_utf8_lossy(&o.stdout);
+        let names: Vec<&str> = out.lines().collect();
+        for m in ["cpu-silhouette", "hier-triangle", "hier-silhouette", "ts-triangle-1pass"] {
+            assert!(names.contains(&m), "{args:?}: {m} missing from {out}");
+        }
+        assert!(!out.contains("samples"), "{args:?} verified or benchmarked something: {out}");
+    }
+}
