@@ -583,6 +583,24 @@ fn sponza_frame_times() {
     assert!(rows.iter().all(|r| r.1 > 0.0), "{rows:?}");
 }
 
+/// A scene cut down by delta debugging to the triangles that decide one pixel: the sample's
+/// own triangle and one caster (positions as f32 bit patterns), plus two small triangles at the
+/// corners `lo` and `hi` of the whole scene's box, which keep the CLI's camera, near plane and
+/// z-pass clip box.
+fn pinned_scene(
+    ctx: &HeadlessContext,
+    own: [[u32; 3]; 3],
+    caster: [[u32; 3]; 3],
+    (lo, hi): ([f32; 3], [f32; 3]),
+) -> SceneGpu {
+    let mut positions: Vec<[f32; 3]> = own.iter().chain(&caster).map(|b| b.map(f32::from_bits)).collect();
+    positions.extend_from_slice(&[lo, [lo[0] + 0.003, lo[1], lo[2]], [lo[0], lo[1] + 0.003, lo[2]]]);
+    positions.extend_from_slice(&[hi, [hi[0] - 0.003, hi[1], hi[2]], [hi[0], hi[1] - 0.003, hi[2]]]);
+    let triangles = vec![[0, 1, 2], [3, 4, 5], [6, 7, 8], [9, 10, 11]];
+    let mesh = WeldedMesh { positions, triangles, source_triangle: vec![0, 1, 2, 3], degenerate_triangles: 0 };
+    SceneGpu::upload(ctx.gl(), Arc::new(mesh)).expect("upload")
+}
+
 /// Crytek Sponza's fly-through keyframe 3 at 1920x1080 (bench/sponza.flythrough), cut down to
 /// the triangles that decide pixel (1659, 779): the sample's own triangle (163779 of the
 /// welded mesh), a 3 cm caster above it (28780) whose volume's three sides are seen as one
@@ -595,25 +613,18 @@ fn sponza_frame_times() {
 #[test]
 fn ts_triangle_fragment_with_nan_depth_in_front_of_the_sample_does_not_count() {
     let ctx = common::context();
-    let f = |b: [u32; 3]| b.map(f32::from_bits);
+    let (lo, hi) = ([-12.0f32, -0.790039, -7.390625], [11.242188f32, 8.929688, 6.90625]);
     let own = [
-        f([1069604865, 1069629443, 3219046397]),
-        f([1069850626, 1070563330, 3218931708]),
-        f([1069858813, 1069613060, 3218989052]),
+        [1069604865, 1069629443, 3219046397],
+        [1069850626, 1070563330, 3218931708],
+        [1069858813, 1069613060, 3218989052],
     ];
     let caster = [
-        f([3202269198, 1082376193, 3219775484]),
-        f([3203252208, 1082367999, 3219611646]),
-        f([3202326542, 1082367999, 3219800063]),
+        [3202269198, 1082376193, 3219775484],
+        [3203252208, 1082367999, 3219611646],
+        [3202326542, 1082367999, 3219800063],
     ];
-    let (lo, hi) = ([-12.0f32, -0.790039, -7.390625], [11.242188f32, 8.929688, 6.90625]);
-    let mut positions = own.to_vec();
-    positions.extend_from_slice(&caster);
-    positions.extend_from_slice(&[lo, [lo[0] + 0.003, lo[1], lo[2]], [lo[0], lo[1] + 0.003, lo[2]]]);
-    positions.extend_from_slice(&[hi, [hi[0] - 0.003, hi[1], hi[2]], [hi[0], hi[1] - 0.003, hi[2]]]);
-    let triangles = vec![[0, 1, 2], [3, 4, 5], [6, 7, 8], [9, 10, 11]];
-    let mesh = WeldedMesh { positions, triangles, source_triangle: vec![0, 1, 2, 3], degenerate_triangles: 0 };
-    let scene = SceneGpu::upload(ctx.gl(), Arc::new(mesh)).expect("upload");
+    let scene = pinned_scene(&ctx, own, caster, (lo, hi));
     let (x, y) = (1659usize, 779usize);
     for zpass in [false, true] {
         let mut p = params([5.0, 1.5, 0.5], [-4.0, 4.0, 1.0], [2.1777349, 6.01377, 0.7585938, 1.0], zpass);
@@ -652,25 +663,18 @@ fn ts_triangle_fragment_with_nan_depth_in_front_of_the_sample_does_not_count() {
 #[test]
 fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
     let ctx = common::context();
-    let f = |b: [u32; 3]| b.map(f32::from_bits);
+    let (lo, hi) = ([-1020.13f32, -2.7924, -1055.66], [1685.81f32, 650.293, 668.489]);
     let own = [
-        f([3295459541, 3217636490, 3296593510]),
-        f([3295459541, 3217636490, 1143414604]),
-        f([1154394112, 3217636490, 3296593510]),
+        [3295459541, 3217636490, 3296593510],
+        [3295459541, 3217636490, 1143414604],
+        [1154394112, 3217636490, 3296593510],
     ];
     let caster = [
-        f([1154269676, 3173257130, 3296267092]),
-        f([1154269676, 3173257130, 3296266994]),
-        f([1154269757, 3171700741, 3296267026]),
+        [1154269676, 3173257130, 3296267092],
+        [1154269676, 3173257130, 3296266994],
+        [1154269757, 3171700741, 3296267026],
     ];
-    let (lo, hi) = ([-1020.13f32, -2.7924, -1055.66], [1685.81f32, 650.293, 668.489]);
-    let mut positions = own.to_vec();
-    positions.extend_from_slice(&caster);
-    positions.extend_from_slice(&[lo, [lo[0] + 0.003, lo[1], lo[2]], [lo[0], lo[1] + 0.003, lo[2]]]);
-    positions.extend_from_slice(&[hi, [hi[0] - 0.003, hi[1], hi[2]], [hi[0], hi[1] - 0.003, hi[2]]]);
-    let triangles = vec![[0, 1, 2], [3, 4, 5], [6, 7, 8], [9, 10, 11]];
-    let mesh = WeldedMesh { positions, triangles, source_triangle: vec![0, 1, 2, 3], degenerate_triangles: 0 };
-    let scene = SceneGpu::upload(ctx.gl(), Arc::new(mesh)).expect("upload");
+    let scene = pinned_scene(&ctx, own, caster, (lo, hi));
     // The CLI's default interior camera for this box (umbra-cli config.rs default_camera: the
     // longer horizontal axis is x) and its near plane (1e-3 of the box's diagonal).
     let box_ = umbra_geom::Aabb { min: lo, max: hi };
