@@ -337,13 +337,7 @@ mod tests {
     /// on llvmpipe (a false shadow). The eye lies 0.0064 units from the plane through the light
     /// and that edge; the face passes hundreds of units from the sample, its projection
     /// 0.0009 pixel from the pixel centre.
-    struct Conference {
-        positions: Vec<[f32; 3]>,
-        triangles: Vec<[u32; 3]>,
-        light: [f32; 4],
-        sample: [f32; 3],
-        camera: Camera,
-    }
+    use crate::pinned::PinnedView as Conference;
 
     fn conference() -> Conference {
         let f = |b: [u32; 3]| b.map(f32::from_bits);

@@ -17,6 +17,8 @@
 pub mod bvh;
 pub mod edge_on;
 pub mod envelope;
+#[cfg(test)]
+mod pinned;
 pub mod metrics;
 pub mod reference;
 pub mod seen_surface;

@@ -181,13 +181,7 @@ mod tests {
     /// lies on 440, the pixel centre 0.0034 pixel from the edge; SwiftShader (1/16 pixel) and
     /// llvmpipe with every vertex on its grid showed 742 there, lit: a false light outside
     /// the band until the band had SEEN_SURFACE.
-    struct Ledge {
-        positions: Vec<[f32; 3]>,
-        triangles: Vec<[u32; 3]>,
-        light: [f32; 4],
-        sample: [f32; 3],
-        camera: Camera,
-    }
+    use crate::pinned::PinnedView as Ledge;
 
     fn ledge() -> Ledge {
         let f = |b: [u32; 3]| b.map(f32::from_bits);
