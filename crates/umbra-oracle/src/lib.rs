@@ -17,9 +17,9 @@
 pub mod bvh;
 pub mod edge_on;
 pub mod envelope;
+pub mod metrics;
 #[cfg(test)]
 mod pinned;
-pub mod metrics;
 pub mod reference;
 pub mod seen_surface;
 pub mod synthetic;
