@@ -282,9 +282,9 @@ pub(crate) fn mark_edge_on_faces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::envelope::{segment_segment_distance, DepthFormat};
-    use crate::{reference_in_view, Bvh, SampleClass, Samples};
-    use umbra_geom::camera::{Camera, DepthConvention};
+    use crate::envelope::segment_segment_distance;
+    use crate::SampleClass;
+    use umbra_geom::camera::Camera;
 
     /// Every pixel centre within `delta` of `p q`, by brute force.
     fn brute(p: [f64; 2], q: [f64; 2], delta: f64, width: u32, height: u32) -> Vec<(u32, u32)> {
@@ -369,30 +369,9 @@ mod tests {
         }
     }
 
-    /// The band parts of `scene`'s sample, rendered at the pixel it projects to.
+    /// The band parts of `scene`'s sample at 640x360 with llvmpipe's 8 sub-pixel bits.
     fn sample_parts(scene: &Conference) -> ((u32, u32), SampleClass, BandParts) {
-        let (width, height) = (640, 360);
-        let cols = scene.camera.clip_from_world_cols(640.0 / 360.0, DepthConvention::ReversedZ);
-        let clip_from_world: [f64; 16] = std::array::from_fn(|i| cols[i / 4][i % 4]);
-        let view =
-            RasterView { clip_from_world, subpixel_bits: 8, depth: DepthFormat::Float32, other_depth_pass: false };
-        let s = scene.sample.map(f64::from);
-        let [x, y] = view.window_xy(s, width, height).unwrap().map(|c| c.floor() as u32);
-        let i = (y * width + x) as usize;
-        let mut world_pos = vec![[0f32; 3]; (width * height) as usize];
-        let mut triangle = vec![u32::MAX; (width * height) as usize];
-        (world_pos[i], triangle[i]) = (scene.sample, 0);
-        let mesh = WeldedMesh {
-            positions: scene.positions.clone(),
-            triangles: scene.triangles.clone(),
-            source_triangle: vec![0, 1],
-            degenerate_triangles: 0,
-        };
-        let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
-        let samples = Samples { width, height, world_pos: &world_pos, triangle: &triangle };
-        let eye = scene.camera.eye.map(|c| c as f32);
-        let r = reference_in_view(&mesh, &bvh, &samples, scene.light, eye, Some(&view)).unwrap();
-        ((x, y), r.class[i], r.parts[i])
+        scene.judged(8, false, (640, 360))
     }
 
     #[test]

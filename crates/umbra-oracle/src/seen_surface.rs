@@ -170,9 +170,9 @@ pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, to
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::envelope::{BandParts, DepthFormat};
-    use crate::{reference_in_view, Bvh, SampleClass, Samples};
-    use umbra_geom::camera::{Camera, DepthConvention};
+    use crate::envelope::BandParts;
+    use crate::SampleClass;
+    use umbra_geom::camera::Camera;
 
     /// Crytek Sponza (`/work/shared/scenes/crytek-sponza.obj.gz`), its default view and light
     /// (`umbra export`'s) at 320 x 180: a ledge whose underside (triangle 440, and 721, the
@@ -264,28 +264,9 @@ mod tests {
         scene: &Ledge,
         bits: u32,
         other_depth_pass: bool,
-        (width, height): (u32, u32),
+        size: (u32, u32),
     ) -> ((u32, u32), SampleClass, BandParts) {
-        let cols = scene.camera.clip_from_world_cols(f64::from(width) / f64::from(height), DepthConvention::ReversedZ);
-        let clip_from_world: [f64; 16] = std::array::from_fn(|i| cols[i / 4][i % 4]);
-        let view = RasterView { clip_from_world, subpixel_bits: bits, depth: DepthFormat::Float32, other_depth_pass };
-        let s = scene.sample.map(f64::from);
-        let [x, y] = view.window_xy(s, width, height).unwrap().map(|c| c.floor() as u32);
-        let i = (y * width + x) as usize;
-        let mut world_pos = vec![[0f32; 3]; (width * height) as usize];
-        let mut triangle = vec![u32::MAX; (width * height) as usize];
-        (world_pos[i], triangle[i]) = (scene.sample, 0);
-        let mesh = WeldedMesh {
-            positions: scene.positions.clone(),
-            triangles: scene.triangles.clone(),
-            source_triangle: vec![0, 1, 2],
-            degenerate_triangles: 0,
-        };
-        let bvh = Bvh::build(&mesh.positions, &mesh.triangles).unwrap();
-        let samples = Samples { width, height, world_pos: &world_pos, triangle: &triangle };
-        let eye = scene.camera.eye.map(|c| c as f32);
-        let r = reference_in_view(&mesh, &bvh, &samples, scene.light, eye, Some(&view)).unwrap();
-        ((x, y), r.class[i], r.parts[i])
+        scene.judged(bits, other_depth_pass, size)
     }
 
     #[test]
