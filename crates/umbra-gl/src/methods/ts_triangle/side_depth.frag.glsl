@@ -44,6 +44,15 @@ uniform float u_edge_on_depth;
 // write mask is off and this output is ignored.
 layout(location = 0) out float o_count;
 
+#ifdef UMBRA_CANONICAL_SIDES
+// The depth side i's canonical plane gives this fragment (u_edge_on_depth for a side seen
+// edge-on), evaluated in double.
+float side_depth(int i) {
+    dvec4 r = e_side_plane[i];
+    return r.w != 0.0LF ? u_edge_on_depth : float(r.x * double(gl_FragCoord.x) + r.y * double(gl_FragCoord.y) + r.z);
+}
+#endif
+
 void main() {
     o_count = gl_FrontFacing ? 1.0 : -1.0;
 #if defined(UMBRA_CAPS_TO_FAR) || defined(UMBRA_CANONICAL_SIDES)
@@ -66,8 +75,7 @@ void main() {
         float chosen = u_far_clip_z;
 #ifdef UMBRA_CANONICAL_SIDES
         for (int i = 0; i < 3; ++i) {
-            dvec4 r = e_side_plane[i];
-            float d = r.w != 0.0LF ? u_edge_on_depth : float(r.x * double(gl_FragCoord.x) + r.y * double(gl_FragCoord.y) + r.z);
+            float d = side_depth(i);
             if (abs(d - u_edge_on_depth) < abs(chosen - u_edge_on_depth)) {
                 chosen = d;
             }
@@ -93,9 +101,7 @@ void main() {
 #ifdef UMBRA_CANONICAL_SIDES
     if (!cap) {
         // Component i + 2 == 0 <=> side of edge (i, i + 1) <=> plane i.
-        int i = e_corner.z == 0.0 ? 0 : (e_corner.x == 0.0 ? 1 : 2);
-        dvec4 r = e_side_plane[i];
-        depth = r.w != 0.0LF ? u_edge_on_depth : float(r.x * double(gl_FragCoord.x) + r.y * double(gl_FragCoord.y) + r.z);
+        depth = side_depth(e_corner.z == 0.0 ? 0 : (e_corner.x == 0.0 ? 1 : 2));
     }
 #endif
     gl_FragDepth = depth;
