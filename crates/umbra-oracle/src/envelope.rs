@@ -73,7 +73,10 @@
 //! * [`BandParts::SURFACE`]: another triangle, not coplanar with the sample's own, passes
 //!   within the envelope (a crease, an object resting on the surface): the depth pass may
 //!   have picked either, and the light caps pushed to the far plane (paper 003 Eq. 6) assume
-//!   the caster hides what lies behind it.
+//!   the caster hides what lies behind it. Also where the projected edge of another surface in
+//!   front of the sample passes within the lateral bound of the pixel centre: its volume's
+//!   snapped cap or side may cover the pixel the exact ray passes by
+//!   ([`crate::nearer_contour`]).
 //! * [`BandParts::REFERENCE_EPS`]: lit only because the reference's segment test skips what
 //!   lies within `eps` of the sample ([`crate::segment_epsilon`]): a method has no eps.
 //! * [`BandParts::NEAR_CUT`]: the pixel lies within the lateral bound of the image of a

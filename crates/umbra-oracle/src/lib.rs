@@ -6,6 +6,8 @@
 //!   any-hit [`Bvh::occluded`] and closest-hit [`Bvh::intersect`].
 //! * [`mod@reference`]: per-sample shadow classes of the rasterized samples and their band.
 //! * [`edge_on`]: volume faces seen edge-on, where coverage and depth disagree (part of the band).
+//! * [`nearer_contour`]: samples beside the projected edge of a nearer surface, whose volume's
+//!   snapped faces may cover the pixel (part of the band).
 //! * [`seen_surface`]: the surface a depth pass of another precision (an external mask's) sees
 //!   at a pixel (part of the band for such masks).
 //! * [`envelope`]: the precision envelope of a rasterized sample (GL's depth and sub-pixel
@@ -18,6 +20,7 @@ pub mod bvh;
 pub mod edge_on;
 pub mod envelope;
 pub mod metrics;
+pub mod nearer_contour;
 #[cfg(test)]
 mod pinned;
 pub mod reference;

@@ -33,6 +33,7 @@ use crate::envelope::{
     casting_edges, point_triangle_distance, segment_segment_distance, segment_triangle_distance, BandParts, Casting,
     RasterView, LIGHTING_DOT,
 };
+use crate::nearer_contour::PixelSurface;
 use crate::seen_surface::{free_edge, inverse_w_plane, near_edges, segment_crosses, NearEdge};
 use crate::OracleError;
 
@@ -201,7 +202,12 @@ pub fn reference_in_view(
             Some(p) => Sweep::Point(p),
             None => Sweep::Towards(ctx.towards),
         };
-        let others = if v.other_depth_pass { ctx.seen_surfaces(samples, &class, &mut parts) } else { Vec::new() };
+        let near = near_edges(mesh, v, (width, height), |i| {
+            class[i] != SampleClass::Background && !parts[i].intersects(BandParts::SILHOUETTE)
+        });
+        ctx.mark_nearer_contours(samples, &near, &mut parts);
+        let others =
+            if v.other_depth_pass { ctx.seen_surfaces(samples, &near, &class, &mut parts) } else { Vec::new() };
         let casting = &ctx.casting.edges;
         mark_edge_on_faces(mesh, v, sweep, (width, height), &envelopes, &others, |e| casting.contains(&e), &mut parts);
     }
@@ -436,24 +442,92 @@ impl<'a> Context<'a> {
         RasterView::position_margin(s, self.eye) + lateral + depth
     }
 
+    /// SURFACE's nearer contours (crate::envelope): marks the samples at whose pixel the
+    /// projected edge of another surface lying in front of the sample passes within
+    /// [`RasterView::lateral_pixels`] of the centre. Whether the rasterizer covers the pixel
+    /// with that triangle is then a precision question, and the volumes count it: its light
+    /// cap, pushed to the far plane (paper 003 Eq. 6), counts under z-fail as if the triangle
+    /// hid the sample, and its side on that edge, in front of the sample, counts under z-pass;
+    /// the reference's exact ray misses the triangle. Found on Crytek Sponza, fly-through
+    /// keyframe 0 at 2560 x 1440, pixel (629, 1413): the ray passes 0.001 pixel from the edge
+    /// of a light-facing triangle 0.6 units in front of the sample; gs-triangle, gs- and
+    /// ts-silhouette counted its cap (false shadow). `near`: [`near_edges`] of the samples
+    /// that are not band yet, sorted by pixel.
+    fn mark_nearer_contours(&self, samples: &Samples, near: &[NearEdge], parts: &mut [BandParts]) {
+        let Some(view) = self.view else { return };
+        let delta = self.lateral_pixels;
+        let marked: Vec<usize> = near
+            .chunk_by(|a, b| a.0 == b.0)
+            .collect::<Vec<_>>()
+            .par_iter()
+            .filter_map(|group| {
+                let i = group[0].0 as usize;
+                let at = self.pixel_surface(samples, view, i);
+                group
+                    .iter()
+                    .any(|&(_, id, k)| {
+                        !at.same_surface(self.mesh, id)
+                            && !at.across_own_edge(self.mesh, id, k)
+                            && at.in_front(self.mesh, view, id, delta)
+                    })
+                    .then_some(i)
+            })
+            .collect();
+        for i in marked {
+            parts[i] |= BandParts::SURFACE;
+        }
+    }
+
+    /// The sample at pixel `i` as the surface tests see it ([`PixelSurface`]).
+    fn pixel_surface(&self, samples: &Samples, view: &RasterView, i: usize) -> PixelSurface {
+        let (width, height) = (self.width, self.height);
+        let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
+        let c = [f64::from(x) + 0.5, f64::from(y) + 0.5];
+        let t = samples.triangle[i];
+        let tri = self.mesh.triangles[t as usize].map(|k| self.vertex(k));
+        let [a, b, cc] = tri;
+        let n = cross(sub(b, a), sub(cc, a));
+        let nn = dot(n, n);
+        let mut s = to_f64(samples.world_pos[i]);
+        if nn > 0.0 {
+            let k = dot(n, sub(s, a)) / nn;
+            s = [s[0] - k * n[0], s[1] - k * n[1], s[2] - k * n[2]];
+        }
+        let m = &view.clip_from_world;
+        PixelSurface {
+            x,
+            y,
+            size: (width, height),
+            centre: c,
+            triangle: t,
+            corner: a,
+            normal: n,
+            normal_len: nn.sqrt(),
+            s,
+            position: RasterView::position_margin(s, self.eye),
+            radius: self.face_radius(tri, s),
+            own: inverse_w_plane(view, tri, c, width, height),
+            w_gradient: norm([m[3], m[7], m[11]]),
+        }
+    }
+
     /// SEEN_SURFACE ([`crate::seen_surface`]) of the samples another depth pass may show another
     /// surface at: marks `parts`, and returns the envelopes of the other surfaces whose own
     /// decision agrees with the sample's, for the edge-on faces (sorted by pixel).
     fn seen_surfaces(
         &self,
         samples: &Samples,
+        near: &[NearEdge],
         class: &[SampleClass],
         parts: &mut [BandParts],
     ) -> Vec<(usize, [f64; 3], f64)> {
-        let Some(view) = self.view else { return Vec::new() };
-        let (width, height) = (self.width, self.height);
         let delta = self.lateral_pixels;
         let adjacency = EdgeAdjacency::build(self.mesh);
-        let wanted: Vec<bool> = (0..class.len())
-            .map(|i| class[i] != SampleClass::Background && !parts[i].intersects(BandParts::SILHOUETTE))
+        // The pixels of `near` still outside the band (SURFACE's nearer contours took some).
+        let groups: Vec<&[NearEdge]> = near
+            .chunk_by(|a, b| a.0 == b.0)
+            .filter(|g| !parts[g[0].0 as usize].intersects(BandParts::SILHOUETTE))
             .collect();
-        let near = near_edges(self.mesh, view, (width, height), |i| wanted[i]);
-        let groups: Vec<&[NearEdge]> = near.chunk_by(|a, b| a.0 == b.0).collect();
         let results: Vec<(usize, bool, Vec<Envelope>)> = groups
             .par_iter()
             .map(|group| {
@@ -487,43 +561,15 @@ impl<'a> Context<'a> {
     ) -> (bool, Vec<Envelope>) {
         let Some(view) = self.view else { return (false, Vec::new()) };
         let (width, height) = (self.width, self.height);
-        let (x, y) = ((i % width as usize) as u32, (i / width as usize) as u32);
-        let c = [f64::from(x) + 0.5, f64::from(y) + 0.5];
-        let t = samples.triangle[i];
-        let tri = self.mesh.triangles[t as usize].map(|k| self.vertex(k));
-        let [a, b, cc] = tri;
-        let n = cross(sub(b, a), sub(cc, a));
-        let nn = dot(n, n);
-        let nlen = nn.sqrt();
-        let mut s = to_f64(samples.world_pos[i]);
-        if nn > 0.0 {
-            let k = dot(n, sub(s, a)) / nn;
-            s = [s[0] - k * n[0], s[1] - k * n[1], s[2] - k * n[2]];
-        }
-        let position = RasterView::position_margin(s, self.eye);
-        // The same surface: T, or a triangle in T's plane (the envelope covers the sample
-        // moving along it).
-        let same_surface = |id: u32| {
-            id == t
-                || (nlen > 0.0
-                    && self.mesh.triangles[id as usize]
-                        .iter()
-                        .all(|&k| (dot(n, sub(self.vertex(k), a)) / nlen).abs() <= position))
-        };
+        let at = self.pixel_surface(samples, view, i);
+        let (x, y, t, s, radius) = (at.x, at.y, at.triangle, at.s, at.radius);
+        let same_surface = |id: u32| at.same_surface(self.mesh, id);
         // T's surface may not cover the pixel centre: a free edge of it passes within delta.
-        let free = group.iter().any(|&(_, id, k)| same_surface(id) && free_edge(self.mesh, adjacency, id, k, position));
-        let radius = self.face_radius(tri, s);
-        let own = inverse_w_plane(view, tri, c, width, height);
-        // How much 1/w changes over the envelope's radius along the view (w's world gradient).
-        let m = &view.clip_from_world;
-        let w_gradient = norm([m[3], m[7], m[11]]);
-        let in_front = |id: u32| {
-            let other = self.mesh.triangles[id as usize].map(|k| self.vertex(k));
-            match (own, inverse_w_plane(view, other, c, width, height)) {
-                (Some((q, g)), Some((qx, gx))) => qx + gx * delta >= q - g * delta - q * q * w_gradient * radius,
-                _ => true,
-            }
-        };
+        let free =
+            group.iter().any(|&(_, id, k)| same_surface(id) && free_edge(self.mesh, adjacency, id, k, at.position));
+        // (Most surfaces in front with an edge within delta made the pixel SURFACE band
+        // already, mark_nearer_contours; not T's neighbour across T's own edge.)
+        let in_front = |id: u32| at.in_front(self.mesh, view, id, delta);
         let mut candidates: Vec<u32> =
             group.iter().map(|g| g.1).filter(|&id| !same_surface(id) && (free || in_front(id))).collect();
         let mut background = false;
