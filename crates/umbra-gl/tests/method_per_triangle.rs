@@ -258,7 +258,7 @@ fn shared_sides_cancel_on_a_fine_heightfield() {
 
 const MULTIPLICITY: &str = include_str!("../src/methods/shared/multiplicity.glsl");
 const DEPTH: &str = include_str!("../src/methods/shared/depth.glsl");
-const SIDE_PLANE: &str = include_str!("../src/methods/ts_triangle/side_plane.glsl");
+const SIDE_PLANE: &str = include_str!("../src/methods/shared/side_plane.glsl");
 const PATCH_VERT: &str = include_str!("../src/methods/ts_triangle/patch.vert.glsl");
 const TWO_PASS_TESC: &str = include_str!("../src/methods/ts_triangle/two_pass.tesc.glsl");
 const TWO_PASS_TESE: &str = include_str!("../src/methods/ts_triangle/two_pass.tese.glsl");

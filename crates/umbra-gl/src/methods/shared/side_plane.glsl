@@ -40,14 +40,10 @@ double umbra_det3(dvec3 a, dvec3 b, dvec3 c) {
     return d;
 }
 
-// (r.x, r.y, r.z, 0): z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) for a side seen edge-on.
-dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
-    bool forward = umbra_greater(p, q) < 0;
-    vec3 a = forward ? p : q;
-    vec3 b = forward ? q : p;
-    vec4 ac = u_clip_from_world * vec4(a, 1.0);
-    vec4 bc = u_clip_from_world * vec4(b, 1.0);
-    vec4 vc = u_clip_from_world * umbra_extrude(a, l);
+// The window-space depth function of the plane through the clip-space points ac, bc, vc:
+// (r.x, r.y, r.z, 0) with z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) if the plane is seen
+// edge-on.
+dvec4 umbra_window_depth_plane(vec4 ac, vec4 bc, vec4 vc) {
     dvec4 ad = dvec4(ac);
     dvec4 bd = dvec4(bc);
     dvec4 vd = dvec4(vc);
@@ -65,4 +61,17 @@ dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
     UMBRA_PRECISE double sy = 2.0LF / double(u_viewport_size.y);
     UMBRA_PRECISE dvec4 r = dvec4(scale * n.x * sx, scale * n.y * sy, scale * (n.w - n.x - n.y) + double(u_depth_from_ndc.y), 0.0LF);
     return r;
+}
+
+// (r.x, r.y, r.z, 0): z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) for a side seen edge-on.
+// The side of edge p-q, computed from its endpoints in canonical order (identical for both
+// copies of a shared side).
+dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
+    bool forward = umbra_greater(p, q) < 0;
+    vec3 a = forward ? p : q;
+    vec3 b = forward ? q : p;
+    vec4 ac = u_clip_from_world * vec4(a, 1.0);
+    vec4 bc = u_clip_from_world * vec4(b, 1.0);
+    vec4 vc = u_clip_from_world * umbra_extrude(a, l);
+    return umbra_window_depth_plane(ac, bc, vc);
 }
