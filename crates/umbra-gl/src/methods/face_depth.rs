@@ -1,9 +1,13 @@
 //! Window-space depth functions of volume faces, evaluated in the fragment shader: the shared
 //! GLSL (`shared/side_plane.glsl`) and its uniforms.
 //!
-//! Paper 001, Section 2.3 (depths set in the fragment shader): ts-triangle and
-//! ts-triangle-1pass give every side fragment its canonical plane's depth (see
-//! [`crate::methods::ts_triangle`]).
+//! Paper 001, Section 2.3 (depths set in the fragment shader). Two uses:
+//! * ts-triangle and ts-triangle-1pass give every side fragment its canonical plane's depth
+//!   (see [`crate::methods::ts_triangle`]);
+//! * the volume passes whose depth is rasterized (gs-triangle, vs-triangle, gs-/ts-silhouette
+//!   and the silhouette caps) give a fragment whose interpolated depth is NaN (llvmpipe's
+//!   triangle setup, issue 16) the depth of its face instead, so z-fail counts it like the face
+//!   it belongs to.
 
 use glow::HasContext;
 
@@ -11,8 +15,23 @@ use crate::camera::DepthConvention;
 use crate::methods::VolumeFrame;
 
 /// The shared GLSL (no `#version`; after `shared/multiplicity.glsl` and `shared/depth.glsl`):
-/// `umbra_window_depth_plane`, `umbra_side_depth_plane`; it declares `u_clip_from_world`.
+/// `umbra_window_depth_plane`, `umbra_side_depth_plane`, `umbra_face_depth_*`; it declares
+/// `u_clip_from_world`.
 pub(crate) const SIDE_PLANE_GLSL: &str = include_str!("shared/side_plane.glsl");
+
+/// The fragment side of the rasterized-depth passes (no `#version`): declares
+/// `face_window_depth` and `umbra_repair_nan_depth()`.
+pub(crate) const NAN_DEPTH_FRAG_GLSL: &str = include_str!("shared/nan_depth.frag.glsl");
+
+/// Components one flat `dvec3 face_window_depth` adds to every geometry-shader output vertex
+/// (doubles count twice towards GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS).
+pub const FACE_DEPTH_COMPONENTS: i32 = 6;
+
+/// `#version 450 core` + the NaN-depth snippet + a fragment shader `body` without `#version`
+/// that calls `umbra_repair_nan_depth()`.
+pub(crate) fn nan_depth_fragment(body: &str) -> String {
+    format!("#version 450 core\n{NAN_DEPTH_FRAG_GLSL}\n{body}")
+}
 
 /// `z_window = a * z_ndc + b` for the frame's depth convention, as `[a, b]`: (0.5, 0.5) for
 /// [`DepthConvention::Standard`] (clip z in -w..w, glDepthRange(0, 1)), (1, 0) for
