@@ -75,12 +75,24 @@ impl DepthUniforms {
 
     /// Sets them for `frame` on the current program.
     pub(crate) fn set(&self, gl: &glow::Context, frame: &VolumeFrame<'_>) {
+        self.set_for(gl, [frame.width, frame.height], frame.depth_convention(), frame.zpass);
+    }
+
+    /// Sets them on the current program for a `viewport_size` viewport, the depth
+    /// `convention` and the counting mode (`zpass`).
+    pub(crate) fn set_for(
+        &self,
+        gl: &glow::Context,
+        viewport_size: [u32; 2],
+        convention: DepthConvention,
+        zpass: bool,
+    ) {
         // SAFETY: uniform setters on the current program with matching types.
         unsafe {
-            gl.uniform_2_f32(self.u_viewport_size.as_ref(), frame.width as f32, frame.height as f32);
-            let [a, b] = depth_from_ndc(frame.depth_convention());
+            gl.uniform_2_f32(self.u_viewport_size.as_ref(), viewport_size[0] as f32, viewport_size[1] as f32);
+            let [a, b] = depth_from_ndc(convention);
             gl.uniform_2_f32(self.u_depth_from_ndc.as_ref(), a, b);
-            gl.uniform_1_f32(self.u_edge_on_depth.as_ref(), edge_on_depth(frame.far_clip_z(), frame.zpass));
+            gl.uniform_1_f32(self.u_edge_on_depth.as_ref(), edge_on_depth(convention.far_clip_z(), zpass));
         }
     }
 }
