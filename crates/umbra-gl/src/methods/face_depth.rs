@@ -4,8 +4,8 @@
 //! Paper 001, Section 2.3 (depths set in the fragment shader). Two uses:
 //! * ts-triangle and ts-triangle-1pass give every side fragment its canonical plane's depth
 //!   (see [`crate::methods::ts_triangle`]);
-//! * the volume passes whose depth is rasterized (gs-triangle, vs-triangle, gs-/ts-silhouette
-//!   and the silhouette caps) give a fragment whose interpolated depth is NaN (llvmpipe's
+//! * the volume passes whose depth is rasterized (gs-triangle, vs-triangle, the silhouette
+//!   methods and their caps) give a fragment whose interpolated depth is NaN (llvmpipe's
 //!   triangle setup, issue 16) the depth of its face instead, so z-fail counts it like the face
 //!   it belongs to.
 

@@ -1,5 +1,6 @@
 // The depth of NaN-depth fragments in the volume passes whose depth is rasterized (gs-triangle,
-// vs-triangle, gs-silhouette, ts-silhouette and their -3edge variants, the silhouette caps).
+// vs-triangle, gs-silhouette, ts-silhouette and their -3edge variants with the silhouette caps,
+// cpu-silhouette, cs-silhouette, and vs-silhouette in GLSL 4.50).
 // Paper 001, Section 2.3 (depths set in the fragment shader). No #version line: spliced into
 // the fragment shader after "#version 450 core".
 //
@@ -22,8 +23,12 @@
 // depth_unchanged (GL 4.2 / ARB_conservative_depth): every finite fragment keeps
 // gl_FragCoord.z, so an implementation that honours the qualifier may keep early depth and
 // stencil testing; only the NaN fragments, whose depth test is garbage anyway, get a new
-// value. Checked on llvmpipe: the written value is used for the NaN fragments (the
-// reproduction above becomes exact with the qualifier).
+// value (a GPU that tested its interpolated depth early under the qualifier would skip that
+// repair, which is only known to be needed on llvmpipe). llvmpipe ignores the qualifier: Mesa's
+// lp_state_fs.c (generate_fs_loop) picks a late depth test for every shader that writes
+// gl_FragDepth, whatever its layout, and tests the written value: the reproduction above is
+// exact with the qualifier (checked, Mesa 22.3.6), and the volume pass pays the late depth test
+// (docs/exactness.md has the cost).
 
 layout(depth_unchanged) out float gl_FragDepth;
 

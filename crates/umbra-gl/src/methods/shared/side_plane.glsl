@@ -1,8 +1,8 @@
 // Window-space depth functions of volume faces, evaluated in double precision in the fragment
 // shader: the canonical side depths of the tessellated per-triangle volumes (ts-triangle,
 // ts-triangle-1pass) and the face depth every rasterized-depth volume pass gives its NaN-depth
-// fragments (gs-triangle, vs-triangle, gs-/ts-silhouette and the silhouette caps; see
-// umbra_face_depth_* below). Paper 001, Section 2.1 (per-triangle volumes; Section 2.3 on
+// fragments (gs-/vs-triangle, the silhouette methods and their caps; see umbra_face_depth_*
+// below). Paper 001, Section 2.1 (per-triangle volumes; Section 2.3 on
 // setting depths in the fragment shader), Eq. 2 (the side quad A B A' B' lies in the plane
 // through A, B and the light).
 // No #version line: spliced after the shared multiplicity.glsl and depth.glsl (u_far_clip_z)
