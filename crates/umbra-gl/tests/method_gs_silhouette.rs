@@ -18,6 +18,9 @@ use common::*;
 use umbra_geom::{weld::weld, EdgeAdjacency, Mesh, WeldedMesh};
 use umbra_gl::methods::gs_silhouette::{GsSilhouette, NAME, NAME_3EDGE};
 use umbra_gl::methods::ts_silhouette::patch_bytes;
+use umbra_gl::methods::ts_silhouette::patches::{
+    gs_capacity_limit, MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS,
+};
 use umbra_gl::{
     Camera, FrameParams, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StageHook, StageMark,
     StencilCapture, StencilImage,
@@ -37,7 +40,7 @@ fn book(pages: usize) -> Mesh {
 }
 
 /// Sphere, 70-page book (all pages wound alike, so the spine's |m| reaches 70, more than one
-/// invocation may emit: 64 at the GL minimums), a non-manifold fin pair and the ground.
+/// invocation may emit: 25 at the GL minimums), a non-manifold fin pair and the ground.
 fn torture_mesh() -> Arc<WeldedMesh> {
     let mut m = umbra_geom::scene::uv_sphere([0.0, 2.0, 0.0], 1.0, 32, 16);
     let mut b = book(70);
@@ -169,6 +172,12 @@ fn expected_bytes(adj: &EdgeAdjacency, k: usize) -> usize {
     12 * (v + k) + 4 * (3 + k) * p
 }
 
+/// Opposite vertices one invocation handles at most: the limit at the GL minimums (each quad's
+/// vertices carry gl_Position and the flat face depth).
+fn max_capacity() -> usize {
+    gs_capacity_limit(MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS)
+}
+
 #[test]
 fn gpu_bytes_is_patch_bytes() {
     let ctx = context();
@@ -180,10 +189,11 @@ fn gpu_bytes_is_patch_bytes() {
         assert_eq!(m.gpu_bytes(), 0, "nothing before prepare");
         m.prepare(gl, &scene).expect("prepare");
         let k = m.patch_capacity().expect("prepared");
-        assert!((1..=64).contains(&k));
+        assert!((1..=max_capacity()).contains(&k));
         assert_eq!(m.gpu_bytes(), expected_bytes(&adj, k));
-        // No edge beyond ts-silhouette's 29 opposites: the same buffers as ts-silhouette.
-        if adj.max_opposites() <= 29 {
+        // No edge beyond ts-silhouette's 29 opposites nor this method's limit: the same buffers
+        // as ts-silhouette.
+        if adj.max_opposites() <= max_capacity().min(29) {
             assert_eq!(m.gpu_bytes(), patch_bytes(&adj));
         }
         m.destroy(gl);
@@ -227,7 +237,7 @@ fn reports_sides_and_caps_per_light_and_reprepares() {
         r.render(gl, &b, m.as_mut(), &p, None).expect("render");
         assert_eq!(m.prepared_scene(), Some(b.id()));
         let adj_b = EdgeAdjacency::build(b.mesh());
-        let k = adj_b.max_opposites().min(64);
+        let k = adj_b.max_opposites().min(max_capacity());
         assert_eq!(m.gpu_bytes(), expected_bytes(&adj_b, k));
         assert_ne!(m.gpu_bytes(), bytes_a);
         // Destroyed, then used again: prepared from scratch.

@@ -258,7 +258,7 @@ fn shared_sides_cancel_on_a_fine_heightfield() {
 
 const MULTIPLICITY: &str = include_str!("../src/methods/shared/multiplicity.glsl");
 const DEPTH: &str = include_str!("../src/methods/shared/depth.glsl");
-const SIDE_PLANE: &str = include_str!("../src/methods/ts_triangle/side_plane.glsl");
+const SIDE_PLANE: &str = include_str!("../src/methods/shared/side_plane.glsl");
 const PATCH_VERT: &str = include_str!("../src/methods/ts_triangle/patch.vert.glsl");
 const TWO_PASS_TESC: &str = include_str!("../src/methods/ts_triangle/two_pass.tesc.glsl");
 const TWO_PASS_TESE: &str = include_str!("../src/methods/ts_triangle/two_pass.tese.glsl");
@@ -694,4 +694,59 @@ fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
             assert_eq!(s.pixels[y * w + x], 0, "{name} zpass {zpass} at ({x}, {y})");
         }
     }
+}
+
+/// Conference with the directional light (0.3, 1, 0.2, 0) at 2560x1440, z-fail, cut down by
+/// delta debugging to the triangles that decide pixel (686, 1010): the floor (the same triangle
+/// as in the test above, the sample's own) and a 3 mm x 1.29 m caster (triangle 192362), plus
+/// two small triangles at the corners of the scene's box (they keep the CLI's camera and near
+/// plane; /work/repro/conf_192362.obj kept one degenerate triangle spanning the box instead).
+/// The sample is lit: the count there is 0. llvmpipe rasterizes one fragment of the caster's
+/// volume at that pixel with a NaN depth; its face lies behind the sample, so z-fail must count
+/// it, but a NaN depth fails every depth test. Every volume pass whose depth is rasterized
+/// (gs-/vs-triangle, gs-/ts-silhouette and their -3edge variants) lost it: -1 there, false
+/// shadow (docs/exactness.md). They now give such a fragment its face's depth
+/// (shared/nan_depth.frag.glsl). Checked for every exact stencil method, z-fail and z-pass.
+/// Positions as f32 bit patterns.
+#[test]
+fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
+    let ctx = common::context();
+    let (lo, hi) = ([-1020.13f32, -2.7924, -1055.66], [1685.81f32, 650.293, 668.489]);
+    let own = [
+        [3295459541, 3217636490, 3296593510],
+        [3295459541, 3217636490, 1143414604],
+        [1154394112, 3217636490, 3296593510],
+    ];
+    let caster = [
+        [1154285486, 3187770361, 3296250167],
+        [1154285486, 3187969003, 3296250184],
+        [1154286797, 3170066506, 3296271106],
+    ];
+    let scene = pinned_scene(&ctx, own, caster, (lo, hi));
+    // The CLI's default interior camera for this box and its near plane, as above.
+    let box_ = umbra_geom::Aabb { min: lo, max: hi };
+    let (c, e) = (box_.center().map(f64::from), box_.extent().map(f64::from));
+    let eye = [c[0] - 0.2 * e[0], f64::from(lo[1]) + 0.45 * e[1], c[2]];
+    let target = [c[0] + 0.2 * e[0], f64::from(lo[1]) + 0.3 * e[1], c[2]];
+    let (w, h) = (2560usize, 1440usize);
+    let (x, y) = (686usize, 1010usize);
+    let rasterized_depth = ["gs-silhouette", "gs-silhouette-3edge", "ts-silhouette", "ts-silhouette-3edge"];
+    let others = ["cpu-silhouette", "vs-silhouette", "cs-silhouette"];
+    let mut wrong = Vec::new();
+    for zpass in [false, true] {
+        let mut p = params(eye, target, [0.3, 1.0, 0.2, 0.0], zpass);
+        (p.width, p.height) = (w as u32, h as u32);
+        p.camera.near = f64::from(box_.diagonal()) * 1e-3;
+        for name in METHODS.iter().chain(&rasterized_depth).chain(&others) {
+            let mut m = create_method(name).expect("registered");
+            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
+            m.destroy(ctx.gl());
+            let count = s.pixels[y * w + x];
+            if count != 0 {
+                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
+            }
+        }
+    }
+    scene.destroy(ctx.gl());
+    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
 }

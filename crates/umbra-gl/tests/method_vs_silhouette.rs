@@ -20,7 +20,8 @@ use umbra_gl::methods::vs_silhouette::{
 };
 use umbra_gl::program::{link_program, ShaderSource};
 use umbra_gl::{
-    Camera, FrameParams, GlState, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilImage,
+    Camera, DepthConvention, FrameParams, GlState, HeadlessContext, Renderer, RgbaImage, SceneGpu, ShadowMethod,
+    StencilImage,
 };
 
 /// Sphere over ground plus a 40-page book and a 3-fin edge, on the ground.
@@ -334,7 +335,15 @@ fn es_stencil(ctx: &HeadlessContext, mesh: &WeldedMesh, p: &FrameParams) -> Sten
     m.prepare_mesh(gl, ShaderDialect::Essl300, mesh, &adj).expect("vs-silhouette prepares on ES 3");
     let mut state = GlState::shadow_volume(false);
     state.depth_clamp = depth_clamp;
-    let d = VolumeDraw { clip_from_world: clip, light: p.lights[0], zpass: false, far_clip_z: 1.0, state };
+    let d = VolumeDraw {
+        clip_from_world: clip,
+        light: p.lights[0],
+        zpass: false,
+        far_clip_z: 1.0,
+        viewport_size: [p.width, p.height],
+        depth_convention: DepthConvention::Standard,
+        state,
+    };
     let mut stages = Vec::new();
     m.draw_volume(gl, &d, &mut |_, s| stages.push(s)).expect("ES draw");
     assert_eq!(stages, ["sides", "caps"]);

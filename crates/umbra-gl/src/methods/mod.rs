@@ -35,6 +35,7 @@ use crate::scene::{SceneGpu, SceneId};
 pub mod all_edges_invert;
 pub mod cpu_silhouette;
 pub mod cs_silhouette;
+pub mod face_depth;
 pub mod gs_silhouette;
 pub mod gs_triangle;
 pub mod hier;

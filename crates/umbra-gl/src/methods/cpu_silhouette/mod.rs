@@ -30,6 +30,7 @@ use umbra_geom::silhouette::{extract_indexed, has_dark_caps, IndexedVolume, Tria
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
+use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -41,6 +42,12 @@ const VERT: &str = include_str!("volume.vert.glsl");
 const FRAG: &str = include_str!("volume.frag.glsl");
 /// `umbra_push_to_far` and `u_far_clip_z` (paper 003 Eq. 6 in either depth convention).
 const DEPTH_GLSL: &str = include_str!("../shared/depth.glsl");
+/// `umbra_greater` and `umbra_extrude`, which shared/side_plane.glsl needs.
+const MULTIPLICITY_GLSL: &str = include_str!("../shared/multiplicity.glsl");
+
+/// Shader-storage binding of the side vertices in the vertex shader (the face depth of the
+/// NaN-depth fragments, volume.vert.glsl). Binding 0 is the renderer's normals.
+pub const SIDES_BINDING: u32 = 1;
 
 /// `u_mode` of volume.vert.glsl.
 const MODE_SIDES: i32 = 0;
@@ -83,6 +90,7 @@ struct Gpu {
     u_mode: Option<glow::UniformLocation>,
     u_light: Option<glow::UniformLocation>,
     u_far_clip_z: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
     /// Sides: attribute 0 = vec4 from `sides`.
     sides_vao: glow::VertexArray,
     sides: StreamBuffer,
@@ -162,15 +170,17 @@ impl ShadowMethod for CpuSilhouette {
         // Preprocessing once per mesh: the adjacency (cached on the scene) and the slots.
         self.slots_for(scene)?;
         if self.gpu.is_none() {
-            let vert = format!("#version 450 core\n{DEPTH_GLSL}\n{VERT}");
+            let vert = format!("#version 450 core\n{MULTIPLICITY_GLSL}\n{DEPTH_GLSL}\n{SIDE_PLANE_GLSL}\n{VERT}");
+            let frag = nan_depth_fragment(FRAG);
+            let sides_binding = format!("UMBRA_SIDES_BINDING {SIDES_BINDING}");
             let program = link_program(
                 gl,
                 "cpu-silhouette volume",
                 &[
                     ShaderSource::vertex("cpu_silhouette/volume.vert.glsl", &vert),
-                    ShaderSource::fragment("cpu_silhouette/volume.frag.glsl", FRAG),
+                    ShaderSource::fragment("cpu_silhouette/volume.frag.glsl", &frag),
                 ],
-                &[],
+                &[&sides_binding],
             )?;
             // SAFETY: DSA creation on the current context; everything created so far is
             // deleted if a later creation fails.
@@ -217,6 +227,7 @@ impl ShadowMethod for CpuSilhouette {
                     u_mode: uniform(gl, program, "u_mode"),
                     u_light: uniform(gl, program, "u_light"),
                     u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
+                    depth: DepthUniforms::locate(gl, program),
                     program,
                     sides_vao,
                     sides: StreamBuffer { buffer: sides, capacity: 0 },
@@ -275,11 +286,21 @@ impl ShadowMethod for CpuSilhouette {
             gl.uniform_matrix_4_f32_slice(gpu.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
+        }
+        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        gpu.depth.set(gl, frame);
+        // SAFETY: as above.
+        unsafe {
             frame.mark(gl, "sides");
             if sides > 0 {
                 gl.bind_vertex_array(Some(gpu.sides_vao));
+                // The side vertices as storage too: the provoking vertex of each triangle reads
+                // the other two for its face depth (volume.vert.glsl).
+                gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, SIDES_BINDING, Some(gpu.sides.buffer));
                 gl.uniform_1_i32(gpu.u_mode.as_ref(), MODE_SIDES);
                 gl.draw_arrays(glow::TRIANGLES, 0, sides);
+                // Leave no binding of ours behind for the caller.
+                gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, SIDES_BINDING, None);
             }
             frame.mark(gl, "caps");
             if cap_indices > 0 {

@@ -33,11 +33,27 @@
 // Edge-on triangles (orientation 0) come as degenerate caps (one vertex three times): zero
 // area in both caps, no fragment.
 //
-// Prepended by mod.rs: "#version 450 core" and shared/depth.glsl (uniform u_far_clip_z).
+// Face depth (issue 16): every triangle carries its face's window depth function, flat
+// (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as the depth of
+// a fragment whose interpolated depth is NaN (Conference, directional light, 2560x1440, pixel
+// (686, 1010); shared/nan_depth.frag.glsl). Caps: the far plane. Sides: the plane through the
+// triangle's three vertices (or u_edge_on_depth seen edge-on), computed by the provoking vertex
+// only, the LAST of each triangle (GL_LAST_VERTEX_CONVENTION, GL's default, which umbra never
+// changes), which reads the two before it from the side buffer bound as storage too (the
+// sides are drawn non-indexed from vertex 0, so gl_VertexID indexes that buffer).
+//
+// Prepended by mod.rs: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl
+// (uniform u_far_clip_z) and shared/side_plane.glsl (uniform u_clip_from_world).
 
 layout(location = 0) in vec4 a_world_pos;
 
-uniform mat4 u_clip_from_world;
+// The side vertices (the buffer behind a_world_pos in MODE_SIDES), for the provoking vertex.
+layout(std430, binding = UMBRA_SIDES_BINDING) readonly buffer Sides {
+    vec4 side_vertices[];
+};
+
+flat out dvec3 face_window_depth;
+
 uniform int u_mode;
 uniform vec4 u_light;
 
@@ -56,6 +72,13 @@ void main() {
     }
     // One multiplication for every mode: equal world vectors give equal clip positions.
     vec4 clip = u_clip_from_world * world;
+    face_window_depth = umbra_face_depth_far();
+    if (u_mode == MODE_SIDES && gl_VertexID % 3 == 2) {
+        // The same product as the other two vertices' own clip positions.
+        vec4 first = u_clip_from_world * side_vertices[gl_VertexID - 2];
+        vec4 second = u_clip_from_world * side_vertices[gl_VertexID - 1];
+        face_window_depth = umbra_face_depth_of_plane(umbra_window_depth_plane(first, second, clip));
+    }
     // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
     UMBRA_NEAR_CLIP(u_mode == MODE_LIGHT_CAPS ? umbra_near_distance(clip) : 1.0);
     if (u_mode == MODE_LIGHT_CAPS) {

@@ -15,8 +15,13 @@
 //! `sides.geom.glsl`). An edge with more opposite vertices than one invocation may output
 //! quads for is split into several patches whose sub-multiplicities add up, so any
 //! multiplicity works: the capacity `K` respects GL_MAX_GEOMETRY_OUTPUT_VERTICES (`4K`) and
-//! GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (`16K`), queried at prepare; the program is compiled
-//! for the chosen `K` (`max_vertices = 4K`).
+//! GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (`40K`: gl_Position and the face depth), queried at
+//! prepare; the program is compiled for the chosen `K` (`max_vertices = 4K`).
+//!
+//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
+//! flat, computed in the geometry shader, once per patch ([`crate::methods::face_depth`]),
+//! which the fragment shader writes as `gl_FragDepth` where llvmpipe's interpolated depth is
+//! NaN (`shared/nan_depth.frag.glsl`).
 //!
 //! Once per mesh ([`ShadowMethod::prepare`]): patches, two static storage buffers, programs.
 //! Per light per frame: uniforms, `glDrawArrays(GL_POINTS, 0, P)` for the sides, the caps draw
@@ -24,8 +29,8 @@
 //!
 //! [`ShadowMethod::gpu_bytes`] = `12 · (V + K) + 4 · (3 + K) · P`, the same formula as
 //! [`crate::methods::ts_silhouette::patch_bytes`], but with the geometry-shader limit on `K`
-//! (64 at the GL minimums instead of 29): the same buffers as ts-silhouette unless some edge
-//! has more than 29 opposite vertices.
+//! (25 at the GL minimums, each output vertex carrying its face depth, instead of 29): the
+//! same buffers as ts-silhouette unless some edge has more than 25 opposite vertices.
 //!
 //! Stages reported: "sides", "caps".
 
@@ -33,6 +38,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
+use crate::methods::face_depth::DepthUniforms;
 use crate::methods::silhouette_caps::{fragment_source, with_prelude, SilhouetteCaps, THREE_EDGE_DEFINE};
 use crate::methods::ts_silhouette::patches::{
     choose_capacity, gs_capacity_limit, EdgePatches, MIN_MAX_GEOMETRY_OUTPUT_VERTICES,
@@ -56,7 +62,7 @@ const SIDES_VERT: &str = include_str!("sides.vert.glsl");
 const SIDES_GEOM: &str = include_str!("sides.geom.glsl");
 
 /// Patch capacity allowed by this GL's geometry-shader limits, capped at what the GL 3.2
-/// minimums allow (64 quads per invocation).
+/// minimums allow (25 quads per invocation).
 fn capacity_limit(gl: &glow::Context) -> Result<usize, GlError> {
     // SAFETY: plain integer queries on the current context.
     let (max_vertices, max_components, storage_blocks) = unsafe {
@@ -87,6 +93,7 @@ struct Program {
     capacity: usize,
     u_clip_from_world: Option<glow::UniformLocation>,
     u_light: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
 }
 
 struct Buffers {
@@ -153,6 +160,7 @@ impl GsSilhouette {
             capacity,
             u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
             u_light: uniform(gl, program, "u_light"),
+            depth: DepthUniforms::locate(gl, program),
             program,
         })
     }
@@ -315,6 +323,11 @@ impl ShadowMethod for GsSilhouette {
             gl.use_program(Some(program.program));
             gl.uniform_matrix_4_f32_slice(program.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(program.u_light.as_ref(), &frame.light);
+        }
+        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        program.depth.set(gl, frame);
+        // SAFETY: as above.
+        unsafe {
             // The patches, read by gl_PrimitiveIDIn (bindings named in the shader's defines).
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, ELEMENTS_BINDING, Some(buffers.elements));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, VERTICES_BINDING, Some(buffers.vertices));

@@ -20,6 +20,14 @@
 // respects GL_MAX_GEOMETRY_OUTPUT_VERTICES and GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS
 // (checked at prepare).
 //
+// Every emitted vertex also carries the side's window depth function, flat
+// (face_window_depth: its plane through Q0 Q1 Q2, or u_edge_on_depth seen edge-on;
+// shared/side_plane.glsl), computed once per invocation: the fragment shader writes it as the
+// depth of a fragment whose interpolated depth is NaN (issue 16; Conference, directional
+// light, 2560x1440, pixel (686, 1010); shared/nan_depth.frag.glsl). It adds 6 components
+// (a dvec3) to every output vertex: 10 with gl_Position (ts_silhouette/patches.rs,
+// gs_capacity_limit).
+//
 // Defines (inserted at link time): UMBRA_PATCH_CAPACITY (K), UMBRA_PATCH_STRIDE (3 + K),
 // UMBRA_ELEMENTS_BINDING, UMBRA_VERTICES_BINDING.
 // Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
@@ -35,8 +43,10 @@ layout(std430, binding = UMBRA_VERTICES_BINDING) readonly buffer Vertices {
     float u_vertices[];
 };
 
-uniform mat4 u_clip_from_world;
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
+
+flat out dvec3 face_window_depth;
 
 vec3 patch_vertex(uint slot) {
     uint i = 3u * u_elements[uint(gl_PrimitiveIDIn) * uint(UMBRA_PATCH_STRIDE) + slot];
@@ -61,20 +71,25 @@ void main() {
     vec4 q1 = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
     vec4 q2 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
     vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
+    dvec3 face = umbra_face_depth_of_plane(umbra_window_depth_plane(q0, q1, q2));
     int copies = abs(m);
     for (int c = 0; c < copies; ++c) {
+        face_window_depth = face; // outputs are undefined after EmitVertex
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q1;
         UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
+        face_window_depth = face; // outputs are undefined after EmitVertex
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q2;
         UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
+        face_window_depth = face; // outputs are undefined after EmitVertex
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q0;
         UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
+        face_window_depth = face; // outputs are undefined after EmitVertex
         gl_ClipDistance[0] = 1.0; // sides: never clipped (shared/depth.glsl)
         gl_Position = q3;
         UMBRA_SCENE_CLIP(gl_Position);

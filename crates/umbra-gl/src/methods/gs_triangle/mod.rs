@@ -6,6 +6,11 @@
 //! Eq. 2 extrusion; light caps pushed to the far plane in the geometry shader (paper 003,
 //! Eq. 6). Details and the canonical side form in volume.geom.glsl.
 //!
+//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
+//! flat, computed in the geometry shader ([`crate::methods::face_depth`]), which the fragment
+//! shader writes as `gl_FragDepth` where llvmpipe's interpolated depth is NaN
+//! (`shared/nan_depth.frag.glsl`).
+//!
 //! Preprocessing: none beyond the program (it draws the scene's own vertex array and index
 //! buffer with `GL_TRIANGLES`); the method owns no buffers (`gpu_bytes() == 0`). Per light:
 //! uniforms and two indexed draws with [`VolumeFrame::shadow_volume_state`]: the +1 sides and
@@ -18,6 +23,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
+use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, FACE_DEPTH_COMPONENTS, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -42,6 +48,7 @@ struct Gpu {
     u_far_clip_z: Option<glow::UniformLocation>,
     u_caps: Option<glow::UniformLocation>,
     u_pass: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
 }
 
 /// See the module documentation.
@@ -76,24 +83,25 @@ impl ShadowMethod for GsTriangle {
                     gl.get_parameter_i32(glow::MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS),
                 )
             };
-            // gl_Position only: 4 components per vertex.
-            if max_vertices < MAX_OUTPUT_VERTICES || max_components < 4 * MAX_OUTPUT_VERTICES {
+            // gl_Position and the flat face depth (a dvec3) per vertex.
+            let components = (4 + FACE_DEPTH_COMPONENTS) * MAX_OUTPUT_VERTICES;
+            if max_vertices < MAX_OUTPUT_VERTICES || max_components < components {
                 return Err(GlError::Unsupported {
                     method: NAME,
                     reason: format!(
-                        "needs {MAX_OUTPUT_VERTICES} geometry-shader output vertices ({} components); the context offers {max_vertices} ({max_components})",
-                        4 * MAX_OUTPUT_VERTICES
+                        "needs {MAX_OUTPUT_VERTICES} geometry-shader output vertices ({components} components); the context offers {max_vertices} ({max_components})"
                     ),
                 });
             }
-            let geom = format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{GEOM}");
+            let geom = format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{SIDE_PLANE_GLSL}\n{GEOM}");
+            let frag = nan_depth_fragment(FRAG);
             let program = link_program(
                 gl,
                 "gs-triangle volume",
                 &[
                     ShaderSource::vertex("gs_triangle/volume.vert.glsl", VERT),
                     ShaderSource { stage: glow::GEOMETRY_SHADER, name: "gs_triangle/volume.geom.glsl", source: &geom },
-                    ShaderSource::fragment("gs_triangle/volume.frag.glsl", FRAG),
+                    ShaderSource::fragment("gs_triangle/volume.frag.glsl", &frag),
                 ],
                 &[],
             )?;
@@ -103,6 +111,7 @@ impl ShadowMethod for GsTriangle {
                 u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
                 u_caps: uniform(gl, program, "u_caps"),
                 u_pass: uniform(gl, program, "u_pass"),
+                depth: DepthUniforms::locate(gl, program),
                 program,
             });
         }
@@ -137,6 +146,11 @@ impl ShadowMethod for GsTriangle {
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
             gl.uniform_1_i32(gpu.u_caps.as_ref(), i32::from(!frame.zpass));
             gl.uniform_1_i32(gpu.u_pass.as_ref(), 0);
+        }
+        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        gpu.depth.set(gl, frame);
+        // SAFETY: the scene's vertex array (indices checked at upload).
+        unsafe {
             // The scene's triangles, in order, one geometry-shader invocation each.
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }

@@ -17,13 +17,21 @@
 // the side of an edge traversed A -> B (+1) and of one traversed B -> A (-1) are both the
 // triangles (B, A, A_inf) (B, A_inf, B_inf), so the two copies two light-facing neighbours
 // cast on their shared edge rasterize identically and cancel at every sample.
+//
+// Every emitted primitive also carries its face's window-space depth function, flat
+// (face_window_depth, shared/side_plane.glsl): the fragment shader writes it as the depth of a
+// fragment whose interpolated depth is NaN (issue 16; Conference, directional light,
+// 2560x1440, pixel (686, 1010)). This stage computes it because it is the one that knows which
+// face a primitive is; sides: their plane from the edge's endpoints in canonical order (once
+// per side, shared by its two triangles and identical for both copies of a shared side); caps:
+// the far plane.
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 24) out;
 
 in vec3 v_world[];
 
-uniform mat4 u_clip_from_world;
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
 // z-fail needs the caps; z-pass does not (they could only ever fail the depth test).
 uniform bool u_caps;
@@ -33,7 +41,12 @@ uniform int u_pass;
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
 
-void umbra_emit(vec4 world, bool push_to_far) {
+// The emitted face's window depth function (see the header); doubles must be flat.
+flat out dvec3 face_window_depth;
+
+void umbra_emit(vec4 world, bool push_to_far, dvec3 face) {
+    // Written with every vertex: outputs are undefined after EmitVertex.
+    face_window_depth = face;
     vec4 clip = u_clip_from_world * world;
     // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
     UMBRA_NEAR_CLIP(push_to_far ? umbra_near_distance(clip) : 1.0);
@@ -42,10 +55,10 @@ void umbra_emit(vec4 world, bool push_to_far) {
     EmitVertex();
 }
 
-void umbra_triangle(vec4 a, vec4 b, vec4 c, bool push_to_far) {
-    umbra_emit(a, push_to_far);
-    umbra_emit(b, push_to_far);
-    umbra_emit(c, push_to_far);
+void umbra_triangle(vec4 a, vec4 b, vec4 c, bool push_to_far, dvec3 face) {
+    umbra_emit(a, push_to_far, face);
+    umbra_emit(b, push_to_far, face);
+    umbra_emit(c, push_to_far, face);
     EndPrimitive();
 }
 
@@ -62,8 +75,9 @@ void umbra_side(vec3 p, vec3 q) {
     vec4 B = vec4(b, 1.0);
     vec4 A_inf = umbra_extrude(a, u_light);
     vec4 B_inf = umbra_extrude(b, u_light);
-    umbra_triangle(B, A, A_inf, false);
-    umbra_triangle(B, A_inf, B_inf, false);
+    dvec3 face = umbra_face_depth_of_plane(umbra_side_depth_plane(a, b, u_light));
+    umbra_triangle(B, A, A_inf, false, face);
+    umbra_triangle(B, A_inf, B_inf, false, face);
 }
 
 void main() {
@@ -84,11 +98,11 @@ void main() {
     umbra_side(p2, p0);
     if (u_caps && u_pass == 0) {
         // Light cap: the triangle itself, facing the light, at the far plane.
-        umbra_triangle(vec4(p0, 1.0), vec4(p1, 1.0), vec4(p2, 1.0), true);
+        umbra_triangle(vec4(p0, 1.0), vec4(p1, 1.0), vec4(p2, 1.0), true, umbra_face_depth_far());
         if (u_light.w != 0.0) {
             // Dark cap at infinity, reversed (faces away from the light); zero area for a
             // directional light, so skipped there.
-            umbra_triangle(umbra_extrude(p0, u_light), umbra_extrude(p2, u_light), umbra_extrude(p1, u_light), false);
+            umbra_triangle(umbra_extrude(p0, u_light), umbra_extrude(p2, u_light), umbra_extrude(p1, u_light), false, umbra_face_depth_far());
         }
     }
 }

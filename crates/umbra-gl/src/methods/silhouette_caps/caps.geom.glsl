@@ -20,8 +20,14 @@ layout(triangle_strip, max_vertices = 6) out;
 
 in vec3 v_world_pos[];
 
-uniform mat4 u_clip_from_world;
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
+
+// The face's window depth function for the fragment shader's NaN-depth fragments (issue 16,
+// shared/nan_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
+// dark cap at infinity, clamped). Written with every vertex: outputs are undefined after
+// EmitVertex.
+flat out dvec3 face_window_depth;
 
 void main() {
     vec3 p0 = v_world_pos[0];
@@ -39,14 +45,18 @@ void main() {
     vec4 l0 = umbra_clip_from_world_point(u_clip_from_world, vec4(p0, 1.0));
     vec4 l1 = umbra_clip_from_world_point(u_clip_from_world, vec4(c1, 1.0));
     vec4 l2 = umbra_clip_from_world_point(u_clip_from_world, vec4(c2, 1.0));
+    dvec3 far = umbra_face_depth_far();
+    face_window_depth = far;
     UMBRA_NEAR_CLIP(umbra_near_distance(l0));
     gl_Position = umbra_push_to_far(l0);
     UMBRA_SCENE_CLIP(gl_Position);
     EmitVertex();
+    face_window_depth = far;
     UMBRA_NEAR_CLIP(umbra_near_distance(l1));
     gl_Position = umbra_push_to_far(l1);
     UMBRA_SCENE_CLIP(gl_Position);
     EmitVertex();
+    face_window_depth = far;
     UMBRA_NEAR_CLIP(umbra_near_distance(l2));
     gl_Position = umbra_push_to_far(l2);
     UMBRA_SCENE_CLIP(gl_Position);
@@ -55,14 +65,17 @@ void main() {
 
     if (u_light.w != 0.0) {
         // Dark cap at infinity, reversed winding (outward = away from the light).
+        face_window_depth = far;
         UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(p0, u_light));
         UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
+        face_window_depth = far;
         UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(c2, u_light));
         UMBRA_SCENE_CLIP(gl_Position);
         EmitVertex();
+        face_window_depth = far;
         UMBRA_NEAR_CLIP(1.0); // the dark cap: never clipped
         gl_Position = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(c1, u_light));
         UMBRA_SCENE_CLIP(gl_Position);

@@ -15,11 +15,14 @@
 //!
 //! Also home of the GLSL shared by the sides and caps of these methods
 //! (`determinism.glsl`: `umbra_side_contribution`, `umbra_cap_orientation`,
-//! `umbra_clip_from_world_point`) and their empty fragment shader.
+//! `umbra_clip_from_world_point`) and their fragment shader, which gives a fragment whose
+//! interpolated depth is NaN its face's depth (`shared/nan_depth.frag.glsl`; every cap and
+//! side carries its face's depth function, `shared/side_plane.glsl`; issue 16).
 
 use glow::HasContext;
 
 use crate::error::GlError;
+use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::VolumeFrame;
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::SceneGpu;
@@ -30,7 +33,7 @@ pub(crate) const MULTIPLICITY_GLSL: &str = include_str!("../shared/multiplicity.
 pub(crate) const DEPTH_GLSL: &str = include_str!("../shared/depth.glsl");
 /// Which orientation test sides and caps use (see the file's header).
 pub(crate) const DETERMINISM_GLSL: &str = include_str!("determinism.glsl");
-/// Empty fragment shader body (the stencil operations count).
+/// Fragment shader body (the stencil operations count; NaN-depth fragments get their face's depth).
 pub(crate) const VOLUME_FRAG_GLSL: &str = include_str!("volume.frag.glsl");
 
 const CAPS_VERT: &str = include_str!("caps.vert.glsl");
@@ -39,14 +42,15 @@ const CAPS_GEOM: &str = include_str!("caps.geom.glsl");
 /// The `#define` selecting Pečiva 2013's 3-edge test in `determinism.glsl`.
 pub(crate) const THREE_EDGE_DEFINE: &str = "UMBRA_THREE_EDGE";
 
-/// `#version 450 core` + the shared GLSL every silhouette stage needs + `body`.
+/// `#version 450 core` + the shared GLSL every silhouette stage needs (including the face
+/// depth functions of `shared/side_plane.glsl`, which declares `u_clip_from_world`) + `body`.
 pub(crate) fn with_prelude(body: &str) -> String {
-    format!("#version 450 core\n{MULTIPLICITY_GLSL}\n{DEPTH_GLSL}\n{DETERMINISM_GLSL}\n{body}")
+    format!("#version 450 core\n{MULTIPLICITY_GLSL}\n{DEPTH_GLSL}\n{SIDE_PLANE_GLSL}\n{DETERMINISM_GLSL}\n{body}")
 }
 
-/// Source of the empty fragment shader.
+/// Source of the fragment shader of every silhouette volume pass (sides and caps).
 pub(crate) fn fragment_source() -> String {
-    format!("#version 450 core\n{VOLUME_FRAG_GLSL}")
+    nan_depth_fragment(VOLUME_FRAG_GLSL)
 }
 
 /// The defines of a method variant (`three_edge`: Pečiva 2013's test).
@@ -63,6 +67,7 @@ struct Gpu {
     u_clip_from_world: Option<glow::UniformLocation>,
     u_light: Option<glow::UniformLocation>,
     u_far_clip_z: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
 }
 
 /// Geometry-shader caps; see the module documentation.
@@ -98,6 +103,7 @@ impl SilhouetteCaps {
             u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
             u_light: uniform(gl, program, "u_light"),
             u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
+            depth: DepthUniforms::locate(gl, program),
             program,
         });
         Ok(())
@@ -122,6 +128,11 @@ impl SilhouetteCaps {
             gl.uniform_matrix_4_f32_slice(gpu.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
+        }
+        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        gpu.depth.set(gl, frame);
+        // SAFETY: the scene's vertex array (positions at location 0, in-range indices).
+        unsafe {
             // The scene's own VAO: its triangles are the caps' input primitives.
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }

@@ -19,6 +19,11 @@
 //! sub-multiplicities add up ([`patches`]); the patch capacity `K` respects
 //! GL_MAX_PATCH_VERTICES (`3 + K`) and GL_MAX_TESS_GEN_LEVEL (`2K - 1`), queried at prepare.
 //!
+//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
+//! flat, computed in the control shader, once per patch ([`crate::methods::face_depth`]), which
+//! the fragment shader writes as `gl_FragDepth` where llvmpipe's interpolated depth is NaN
+//! (`shared/nan_depth.frag.glsl`).
+//!
 //! Once per mesh ([`ShadowMethod::prepare`]): the edge patches (vertex + element buffer, static),
 //! the vertex array, programs. Per light per frame: uniforms, one `glDrawElements(GL_PATCHES)`
 //! for the sides, one `glDrawElements(GL_TRIANGLES)` of the scene through the caps' geometry
@@ -36,6 +41,7 @@ use umbra_geom::EdgeAdjacency;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
+use crate::methods::face_depth::DepthUniforms;
 use crate::methods::silhouette_caps::{fragment_source, variant_defines, with_prelude, SilhouetteCaps};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
@@ -84,6 +90,7 @@ struct Program {
     program: glow::Program,
     u_clip_from_world: Option<glow::UniformLocation>,
     u_light: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
 }
 
 struct Buffers {
@@ -146,6 +153,7 @@ impl TsSilhouette {
         Ok(Program {
             u_clip_from_world: uniform(gl, program, "u_clip_from_world"),
             u_light: uniform(gl, program, "u_light"),
+            depth: DepthUniforms::locate(gl, program),
             program,
         })
     }
@@ -293,6 +301,11 @@ impl ShadowMethod for TsSilhouette {
             gl.use_program(Some(program.program));
             gl.uniform_matrix_4_f32_slice(program.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(program.u_light.as_ref(), &frame.light);
+        }
+        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        program.depth.set(gl, frame);
+        // SAFETY: as above.
+        unsafe {
             gl.bind_vertex_array(Some(buffers.vao));
             // Every patch is one edge (or part of one): A, B, count vertex, K opposite slots.
             gl.patch_parameter_i32(glow::PATCH_VERTICES, buffers.patch_vertices);

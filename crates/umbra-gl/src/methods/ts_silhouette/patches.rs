@@ -75,10 +75,11 @@ pub fn ts_capacity_limit(max_patch_vertices: i32, max_tess_gen_level: i32) -> us
 }
 
 /// Most opposite vertices one geometry-shader invocation may handle: it emits up to `K`
-/// quads as 4-vertex strips of `gl_Position` only (4 components per vertex, 16 per quad).
+/// quads as 4-vertex strips of `gl_Position` and the flat face depth, a `dvec3`
+/// (gs_silhouette/sides.geom.glsl: 4 + 6 components per vertex, 40 per quad).
 pub fn gs_capacity_limit(max_output_vertices: i32, max_total_output_components: i32) -> usize {
     let by_vertices = max_output_vertices / 4;
-    let by_components = max_total_output_components / 16;
+    let by_components = max_total_output_components / 40;
     by_vertices.min(by_components).max(0) as usize
 }
 
@@ -235,8 +236,8 @@ mod tests {
         assert_eq!(ts_capacity_limit(MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL), 29);
         assert_eq!(ts_capacity_limit(32, 16), 8);
         assert_eq!(ts_capacity_limit(3, 64), 0);
-        assert_eq!(gs_capacity_limit(MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS), 64);
-        assert_eq!(gs_capacity_limit(1024, 1024), 64);
+        assert_eq!(gs_capacity_limit(MIN_MAX_GEOMETRY_OUTPUT_VERTICES, MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS), 25);
+        assert_eq!(gs_capacity_limit(1024, 1024), 25);
         assert_eq!(gs_capacity_limit(1024, 16384), 256);
     }
 

@@ -33,18 +33,24 @@
 // when an edge has 3+ consistently oriented opposite vertices) about half of the copies in the
 // strip's interior still start at infinity: Alg. 5 alternates the copies' rotation by 180
 // degrees, and no other corner assignment keeps the degenerate cells degenerate.
+// Face depth (issue 16): the side's window depth function (its plane through Q0 Q1 Q2, or
+// u_edge_on_depth seen edge-on; shared/side_plane.glsl) is computed here once per patch and
+// passed, as a patch output, through the evaluation stage to the fragment shader, which writes
+// it as the depth of a fragment whose interpolated depth is NaN (Conference, directional
+// light, 2560x1440, pixel (686, 1010); shared/nan_depth.frag.glsl).
 // Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
 // silhouette_caps/determinism.glsl.
 
 // One output vertex: the patch's work is done once, not per output control point.
 layout(vertices = 1) out;
 
-uniform mat4 u_clip_from_world;
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
 
 in vec3 v_patch_vertex[];
 
 patch out vec4 p_corner[4];
+patch out dvec3 p_face_depth;
 
 void main() {
     vec3 a = v_patch_vertex[0];
@@ -82,6 +88,7 @@ void main() {
     vec4 q1 = umbra_clip_from_world_point(u_clip_from_world, vec4(second, 1.0));
     vec4 q2 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(second, u_light));
     vec4 q3 = umbra_clip_from_world_point(u_clip_from_world, umbra_extrude(first, u_light));
+    p_face_depth = umbra_face_depth_of_plane(umbra_window_depth_plane(q0, q1, q2));
     if (copies == 1) {
         p_corner[0] = q1;
         p_corner[1] = q2;

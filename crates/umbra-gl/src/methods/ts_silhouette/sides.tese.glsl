@@ -21,6 +21,10 @@
 layout(quads, fractional_odd_spacing, cw) in;
 
 patch in vec4 p_corner[4];
+// The side's window depth function, from the control stage, for the fragment shader's
+// NaN-depth fragments (shared/nan_depth.frag.glsl); doubles must be flat.
+patch in dvec3 p_face_depth;
+flat out dvec3 face_window_depth;
 
 void main() {
     // Never clipped: only light caps are clipped at the near plane (shared/depth.glsl).
@@ -31,5 +35,6 @@ void main() {
     int t = (id % 2) ^ ((id / 4) % 2);
     int l = ((id + 2) / 4) % 2;
     gl_Position = p_corner[t + 2 * l];
+    face_window_depth = p_face_depth;
     UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

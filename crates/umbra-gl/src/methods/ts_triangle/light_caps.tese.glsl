@@ -11,7 +11,7 @@ layout(triangles, equal_spacing, ccw) in;
 
 in vec3 c_world[];
 
-// u_clip_from_world: declared in side_plane.glsl (spliced before this body).
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 
 invariant gl_Position;
 

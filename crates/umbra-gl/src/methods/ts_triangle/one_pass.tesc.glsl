@@ -9,7 +9,7 @@
 // the added quad corner; the evaluation shader places every tessellated vertex by its
 // tessellation coordinate alone (one_pass.tese.glsl), so it carries a copy of the first point
 // and is never read. Invocations 0..2 also compute the canonical depth plane of the side
-// of edge (i, i + 1) of the wound triangle (side_plane.glsl) for the fragment shader.
+// of edge (i, i + 1) of the wound triangle (shared/side_plane.glsl) for the fragment shader.
 
 layout(vertices = 4) out;
 

@@ -40,7 +40,7 @@ layout(quads, fractional_odd_spacing, ccw) in;
 in vec3 c_world[];
 patch in dvec4 tc_side_plane[3];
 
-// u_clip_from_world: declared in side_plane.glsl (spliced before this body).
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
 
 out vec3 e_corner;

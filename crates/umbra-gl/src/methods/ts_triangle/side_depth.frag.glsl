@@ -19,11 +19,11 @@
 //                            the dark cap is there already)
 //   UMBRA_CANONICAL_SIDES    side fragments get the depth of their canonical plane
 //                            (e_side_plane, the window-space depth function from
-//                            side_plane.glsl, evaluated in double), identical for both copies
+//                            shared/side_plane.glsl, evaluated in double), identical for both copies
 // Without either define the shader writes no depth (early depth testing stays on): the
 // paper's rasterized depths, kept only to measure what the depth writes cost.
 //
-// A side seen edge-on (flagged by side_plane.glsl: its plane contains the eye up to rounding)
+// A side seen edge-on (flagged by shared/side_plane.glsl: its plane contains the eye up to rounding)
 // has rays lying in its plane, crossing it nowhere, so it must not count; its
 // rasterized coverage is a sliver that the two copies of a shared side need not even cover
 // alike. Its fragments get u_edge_on_depth, a depth that is never counted: the near plane for z-fail (the

@@ -12,7 +12,7 @@
 // outer levels to 0, which discards the patch: it casts nothing.
 //
 // Volume pass only: invocation i also computes the canonical depth plane of the side of
-// edge (i, i + 1) of the wound patch (side_plane.glsl) for the fragment shader, which gives the
+// edge (i, i + 1) of the wound patch (shared/side_plane.glsl) for the fragment shader, which gives the
 // side's fragments that depth so the two copies of a shared side cancel exactly.
 
 layout(vertices = 3) out;

@@ -28,7 +28,7 @@ patch in dvec4 tc_side_plane[3];
 out vec3 e_corner;
 flat out dvec4 e_side_plane[3];
 
-// u_clip_from_world: declared in side_plane.glsl (spliced before this body).
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
 
 // Same expression as the scene vertex shader for w = 1 vertices.

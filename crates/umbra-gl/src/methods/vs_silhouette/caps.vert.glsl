@@ -13,7 +13,15 @@
 // 3-5 the dark ("back") cap at infinity), 3 for a directional light, whose dark cap has zero
 // area (every vertex extrudes to the same point -L.xyz at infinity).
 
+#ifdef GL_ES
 uniform mat4 u_clip_from_world;
+#else
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body in GLSL 4.50).
+// The face's window depth function for the fragment shader's NaN-depth fragments (issue 16;
+// Conference, directional light, 2560x1440, pixel (686, 1010); shared/nan_depth.frag.glsl).
+// GLSL 4.50 only (doubles).
+flat out dvec3 face_window_depth;
+#endif
 uniform vec4 u_light;
 uniform int u_cap_vertices;
 
@@ -24,6 +32,10 @@ invariant gl_Position;
 void main() {
     // Near-plane clip of light caps (shared/depth.glsl); every other vertex: never clipped.
     UMBRA_NEAR_CLIP(1.0);
+#ifndef GL_ES
+    // Both caps lie at the far plane (the light cap pushed there, the dark cap at infinity).
+    face_window_depth = umbra_face_depth_far();
+#endif
     int r = gl_VertexID / u_cap_vertices;
     int v = gl_VertexID - u_cap_vertices * r;
     UmbraTriangleRecord rec = umbra_triangle_record(r);

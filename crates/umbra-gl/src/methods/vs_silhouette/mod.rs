@@ -46,8 +46,10 @@ use umbra_geom::sides_data::{
 };
 use umbra_geom::{EdgeAdjacency, Light, WeldedMesh};
 
+use crate::camera::DepthConvention;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
+use crate::methods::face_depth::{DepthUniforms, NAN_DEPTH_FRAG_GLSL, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -82,6 +84,16 @@ pub enum ShaderDialect {
 }
 
 impl ShaderDialect {
+    /// The face depth functions of the NaN-depth fragments (shared/side_plane.glsl,
+    /// shared/nan_depth.frag.glsl; issue 16): GLSL 4.50 only. They need doubles, which GLSL
+    /// ES 3.00 lacks; the ES build keeps the rasterized depth (the bodies test GL_ES).
+    fn face_depth(self, stage: &'static str) -> &'static str {
+        match self {
+            ShaderDialect::Glsl450 => stage,
+            ShaderDialect::Essl300 => "",
+        }
+    }
+
     fn prelude(self) -> &'static str {
         match self {
             ShaderDialect::Glsl450 => concat!("#version 450 core\n", culled!()),
@@ -126,7 +138,11 @@ pub fn sides_vertex_source(dialect: ShaderDialect, max_mult: usize, records: usi
         &fields,
         records,
     );
-    format!("{}#define UMBRA_MAX_MULT {max_mult}\n{MULTIPLICITY}\n{DEPTH}\n{access}\n{SIDES_VERT}", dialect.prelude())
+    format!(
+        "{}#define UMBRA_MAX_MULT {max_mult}\n{MULTIPLICITY}\n{DEPTH}\n{}\n{access}\n{SIDES_VERT}",
+        dialect.prelude(),
+        dialect.face_depth(SIDE_PLANE_GLSL)
+    )
 }
 
 /// Full source of the caps vertex shader for `records` triangles per instance.
@@ -134,12 +150,16 @@ pub fn caps_vertex_source(dialect: ShaderDialect, records: usize) -> String {
     let fields = ["p0", "p1", "p2"].map(String::from);
     let access =
         record_access("UmbraTriangleRecord", "vec4 p0; vec4 p1; vec4 p2;", "umbra_triangle_record", &fields, records);
-    format!("{}{MULTIPLICITY}\n{DEPTH}\n{access}\n{CAPS_VERT}", dialect.prelude())
+    format!(
+        "{}{MULTIPLICITY}\n{DEPTH}\n{}\n{access}\n{CAPS_VERT}",
+        dialect.prelude(),
+        dialect.face_depth(SIDE_PLANE_GLSL)
+    )
 }
 
-/// Full source of the (empty) fragment shader.
+/// Full source of the fragment shader (GLSL 4.50: with the NaN-depth repair).
 pub fn fragment_source(dialect: ShaderDialect) -> String {
-    format!("{}{FRAG}", dialect.prelude())
+    format!("{}{}\n{FRAG}", dialect.prelude(), dialect.face_depth(NAN_DEPTH_FRAG_GLSL))
 }
 
 /// Records of `vec4s` vec4 each that fit one instance with `attribs` vertex attributes
@@ -210,6 +230,11 @@ pub struct VolumeDraw {
     pub zpass: bool,
     /// [`VolumeFrame::far_clip_z`].
     pub far_clip_z: f32,
+    /// The viewport's width and height in pixels ([`VolumeFrame::width`], `height`): the
+    /// window-space face depths of the NaN-depth fragments (GLSL 4.50 only).
+    pub viewport_size: [u32; 2],
+    /// [`VolumeFrame::depth_convention`], for the same.
+    pub depth_convention: DepthConvention,
     /// The counting state, [`VolumeFrame::shadow_volume_state`].
     pub state: GlState,
 }
@@ -220,6 +245,7 @@ struct Program {
     light: Option<glow::UniformLocation>,
     far_clip_z: Option<glow::UniformLocation>,
     cap_vertices: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
 }
 
 impl Program {
@@ -235,6 +261,7 @@ impl Program {
             light: uniform(gl, program, "u_light"),
             far_clip_z: uniform(gl, program, "u_far_clip_z"),
             cap_vertices: uniform(gl, program, "u_cap_vertices"),
+            depth: DepthUniforms::locate(gl, program),
             program,
         })
     }
@@ -249,6 +276,8 @@ impl Program {
             gl.uniform_1_f32(self.far_clip_z.as_ref(), d.far_clip_z);
             gl.uniform_1_i32(self.cap_vertices.as_ref(), cap_vertices);
         }
+        // The NaN-depth fragments' face depths (GLSL 4.50; absent uniforms under ES are None).
+        self.depth.set_for(gl, d.viewport_size, d.depth_convention, d.zpass);
     }
 }
 
@@ -593,6 +622,8 @@ impl ShadowMethod for VsSilhouette {
             light: frame.light,
             zpass: frame.zpass,
             far_clip_z: frame.far_clip_z(),
+            viewport_size: [frame.width, frame.height],
+            depth_convention: frame.depth_convention(),
             state: frame.shadow_volume_state(),
         };
         self.draw_volume(gl, &d, &mut |gl, label| frame.mark(gl, label))

@@ -25,7 +25,15 @@
 // so its whole side degenerates (all six vertices of a side share s and curMult) and is not
 // rasterized.
 
+#ifdef GL_ES
 uniform mat4 u_clip_from_world;
+#else
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body in GLSL 4.50).
+// The face's window depth function for the fragment shader's NaN-depth fragments (issue 16;
+// Conference, directional light, 2560x1440, pixel (686, 1010); shared/nan_depth.frag.glsl).
+// GLSL 4.50 only (doubles).
+flat out dvec3 face_window_depth;
+#endif
 uniform vec4 u_light;
 
 // w = 1 vertices must land exactly where the scene's vertex shader puts the same point
@@ -40,6 +48,9 @@ const int UMBRA_ID_CW_SPLIT[6] = int[6](1, 2, 0, 1, 3, 2);
 void main() {
     // Never clipped: only light caps are clipped at the near plane (shared/depth.glsl).
     UMBRA_NEAR_CLIP(1.0);
+#ifndef GL_ES
+    face_window_depth = dvec3(0.0LF); // read from the provoking vertices only (below)
+#endif
     int per_record = 6 * UMBRA_MAX_MULT;
     int r = gl_VertexID / per_record;          // record of this instance
     int within = gl_VertexID - per_record * r;
@@ -87,5 +98,14 @@ void main() {
     } else {
         gl_Position = u_clip_from_world * umbra_extrude(id == 2 ? a : b, u_light);
     }
+#ifndef GL_ES
+    // A flat output comes from the provoking vertex, the LAST of each triangle
+    // (GL_LAST_VERTEX_CONVENTION, GL's default, which umbra never changes): only v = 2 and 5
+    // compute the side's plane (every table's quad lies in the plane of A, B, A_inf; computed
+    // from the edge in canonical order, shared/side_plane.glsl).
+    if (v == 2 || v == 5) {
+        face_window_depth = umbra_face_depth_of_plane(umbra_side_depth_plane(a, b, u_light));
+    }
+#endif
     UMBRA_SCENE_CLIP(gl_Position); // shared/depth.glsl: z-pass volumes clipped to the scene box
 }

@@ -19,6 +19,11 @@
 //! second draw ("negative sides", 18 vertices per triangle) with `glFrontFace(GL_CW)`, which
 //! counts the same primitives as the opposite face.
 //!
+//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
+//! flat, computed in the vertex shader at the provoking vertex
+//! ([`crate::methods::face_depth`]), which the fragment shader writes as `gl_FragDepth` where
+//! llvmpipe's interpolated depth is NaN (`shared/nan_depth.frag.glsl`).
+//!
 //! Preprocessing (once): the program and an empty vertex array; the method owns no buffers
 //! (`gpu_bytes() == 0`). Per light: uniforms and one draw, counted with
 //! [`VolumeFrame::shadow_volume_state`] (z-fail; z-pass draws only the 18 side vertices per
@@ -29,6 +34,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
+use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -72,6 +78,7 @@ struct Gpu {
     u_far_clip_z: Option<glow::UniformLocation>,
     u_vertices_per_triangle: Option<glow::UniformLocation>,
     u_pass: Option<glow::UniformLocation>,
+    depth: DepthUniforms,
     /// Core profile needs a bound vertex array even with no attributes.
     vao: glow::VertexArray,
 }
@@ -91,7 +98,7 @@ impl VsTriangle {
 }
 
 fn vertex_source() -> String {
-    format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{VERT}")
+    format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{SIDE_PLANE_GLSL}\n{VERT}")
 }
 
 impl ShadowMethod for VsTriangle {
@@ -106,6 +113,7 @@ impl ShadowMethod for VsTriangle {
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
         if self.gpu.is_none() {
             let vert = vertex_source();
+            let frag = nan_depth_fragment(FRAG);
             let positions = format!("UMBRA_POSITIONS_BINDING {POSITIONS_BINDING}");
             let triangles = format!("UMBRA_TRIANGLES_BINDING {TRIANGLES_BINDING}");
             let program = link_program(
@@ -113,7 +121,7 @@ impl ShadowMethod for VsTriangle {
                 "vs-triangle volume",
                 &[
                     ShaderSource::vertex("vs_triangle/volume.vert.glsl", &vert),
-                    ShaderSource::fragment("vs_triangle/volume.frag.glsl", FRAG),
+                    ShaderSource::fragment("vs_triangle/volume.frag.glsl", &frag),
                 ],
                 &[&positions, &triangles],
             )?;
@@ -130,6 +138,7 @@ impl ShadowMethod for VsTriangle {
                 u_far_clip_z: uniform(gl, program, "u_far_clip_z"),
                 u_vertices_per_triangle: uniform(gl, program, "u_vertices_per_triangle"),
                 u_pass: uniform(gl, program, "u_pass"),
+                depth: DepthUniforms::locate(gl, program),
                 program,
                 vao,
             });
@@ -176,6 +185,11 @@ impl ShadowMethod for VsTriangle {
             gl.uniform_matrix_4_f32_slice(gpu.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
+        }
+        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        gpu.depth.set(gl, frame);
+        // SAFETY: as above.
+        unsafe {
             // The triangles are read from the scene's buffers, not from vertex attributes.
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, POSITIONS_BINDING, Some(scene.position_buffer()));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, TRIANGLES_BINDING, Some(scene.index_buffer()));

@@ -1,9 +1,9 @@
 // vs-triangle shadow volumes: fragment shader. Stencil-only pass (paper 001 Section 2.1 per-
 // triangle volumes, counted with z-fail, Everitt & Kilgard 2002, or z-pass, Heidmann 1991):
 // the stencil operations do the counting and colour writes are masked off, so there is
-// nothing to compute but
-// the wide counter's o_count. No depth write, so early depth/stencil testing stays on.
-#version 450 core
+// nothing to compute but the wide counter's o_count and, for a fragment whose interpolated
+// depth is NaN, its face's depth (shared/nan_depth.frag.glsl, prepended with
+// "#version 450 core").
 
 // The wide counter (src/counter.rs): +1 for a front face, -1 for a back face, summed by
 // blending into an R32F buffer under Counter::Float32; under Counter::Stencil8 the colour
@@ -12,4 +12,5 @@ layout(location = 0) out float o_count;
 
 void main() {
     o_count = gl_FrontFacing ? 1.0 : -1.0;
+    umbra_repair_nan_depth();
 }

@@ -34,6 +34,16 @@
 // An edge-on triangle (orientation 0) casts nothing: all its vertices collapse to one point,
 // so its primitives have zero area and produce no fragments.
 //
+// Face depth (issue 16): every primitive carries its face's window-space depth function, flat
+// (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as the depth of
+// a fragment whose interpolated depth is NaN (Conference, directional light, 2560x1440, pixel
+// (686, 1010)). Vertex pulling lets each vertex know its face. A flat output is taken from the
+// primitive's provoking vertex, the LAST one (GL_LAST_VERTEX_CONVENTION, GL's default, which
+// umbra never changes), so only those compute it: a side's plane (in double, from the edge's
+// endpoints in canonical order, identical for both copies of a shared side) at j = 2 and 5 of
+// its 6 vertices, the far plane at the caps' k = 20 and 23; the 4 other side vertices skip the
+// double-precision plane.
+//
 // Inputs: the scene's own buffers as shader storage (no copy): positions (vec3, tightly
 // packed, read as floats) and triangles (3 uints each).
 
@@ -44,7 +54,7 @@ layout(std430, binding = UMBRA_TRIANGLES_BINDING) readonly buffer Triangles {
     uint triangles[];
 };
 
-uniform mat4 u_clip_from_world;
+// u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
 uniform int u_vertices_per_triangle;
 // 0: +1 sides and caps (glFrontFace CCW); 1: -1 sides (glFrontFace CW).
@@ -53,12 +63,17 @@ uniform int u_pass;
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
 
+// The face's window depth function, read from the provoking vertex (see the header).
+flat out dvec3 face_window_depth;
+
 vec3 umbra_fetch(uint v) {
     return vec3(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u]);
 }
 
 void main() {
     UMBRA_NEAR_CLIP(1.0);
+    // Only provoking vertices' values are read (see the header).
+    face_window_depth = dvec3(0.0LF);
     int t = gl_VertexID / u_vertices_per_triangle;
     int k = gl_VertexID - t * u_vertices_per_triangle;
     uint first = 3u * uint(t);
@@ -98,13 +113,18 @@ void main() {
               : j == 1 ? vec4(a, 1.0)
               : j == 2 || j == 4 ? umbra_extrude(a, u_light)
               : umbra_extrude(b, u_light);
+        if (j == 2 || j == 5) {
+            face_window_depth = umbra_face_depth_of_plane(umbra_side_depth_plane(a, b, u_light));
+        }
     } else if (k < 21) {
         vec3 p = k == 18 ? p0 : (k == 19 ? p1 : p2);
         world = vec4(p, 1.0);
         push_to_far = true;
+        face_window_depth = umbra_face_depth_far();
     } else {
         vec3 p = k == 21 ? p0 : (k == 22 ? p2 : p1);
         world = umbra_extrude(p, u_light);
+        face_window_depth = umbra_face_depth_far();
     }
     vec4 clip = u_clip_from_world * world;
     // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.

@@ -1,7 +1,12 @@
-// Canonical side depths for the tessellated per-triangle volumes (ts-triangle, ts-triangle-1pass).
-// Paper 001, Section 2.1 (per-triangle volumes; Section 2.3 on setting depths in the fragment
-// shader), Eq. 2 (the side quad A B A' B' lies in the plane through A, B and the light).
-// No #version line: spliced into the control shaders after the shared multiplicity.glsl.
+// Window-space depth functions of volume faces, evaluated in double precision in the fragment
+// shader: the canonical side depths of the tessellated per-triangle volumes (ts-triangle,
+// ts-triangle-1pass) and the face depth every rasterized-depth volume pass gives its NaN-depth
+// fragments (gs-/vs-triangle, the silhouette methods and their caps; see umbra_face_depth_*
+// below). Paper 001, Section 2.1 (per-triangle volumes; Section 2.3 on
+// setting depths in the fragment shader), Eq. 2 (the side quad A B A' B' lies in the plane
+// through A, B and the light).
+// No #version line: spliced after the shared multiplicity.glsl and depth.glsl (u_far_clip_z)
+// into the stage that knows the face (control, geometry or vertex shader).
 //
 // Why: two light-facing neighbours both cast the side of their shared edge, with opposite
 // windings, and the two copies must cancel at EVERY sample, also where a receiver lies at the
@@ -40,14 +45,10 @@ double umbra_det3(dvec3 a, dvec3 b, dvec3 c) {
     return d;
 }
 
-// (r.x, r.y, r.z, 0): z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) for a side seen edge-on.
-dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
-    bool forward = umbra_greater(p, q) < 0;
-    vec3 a = forward ? p : q;
-    vec3 b = forward ? q : p;
-    vec4 ac = u_clip_from_world * vec4(a, 1.0);
-    vec4 bc = u_clip_from_world * vec4(b, 1.0);
-    vec4 vc = u_clip_from_world * umbra_extrude(a, l);
+// The window-space depth function of the plane through the clip-space points ac, bc, vc:
+// (r.x, r.y, r.z, 0) with z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) if the plane is seen
+// edge-on.
+dvec4 umbra_window_depth_plane(vec4 ac, vec4 bc, vec4 vc) {
     dvec4 ad = dvec4(ac);
     dvec4 bd = dvec4(bc);
     dvec4 vd = dvec4(vc);
@@ -65,4 +66,45 @@ dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
     UMBRA_PRECISE double sy = 2.0LF / double(u_viewport_size.y);
     UMBRA_PRECISE dvec4 r = dvec4(scale * n.x * sx, scale * n.y * sy, scale * (n.w - n.x - n.y) + double(u_depth_from_ndc.y), 0.0LF);
     return r;
+}
+
+// (r.x, r.y, r.z, 0): z_window = r.x x + r.y y + r.z; or (0, 0, 0, 1) for a side seen edge-on.
+// The side of edge p-q, computed from its endpoints in canonical order (identical for both
+// copies of a shared side).
+dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
+    bool forward = umbra_greater(p, q) < 0;
+    vec3 a = forward ? p : q;
+    vec3 b = forward ? q : p;
+    vec4 ac = u_clip_from_world * vec4(a, 1.0);
+    vec4 bc = u_clip_from_world * vec4(b, 1.0);
+    vec4 vc = u_clip_from_world * umbra_extrude(a, l);
+    return umbra_window_depth_plane(ac, bc, vc);
+}
+
+// Face depths for the NaN-depth fragments of the volume passes whose depth is rasterized
+// (issue 16; docs/exactness.md, "The same mechanism in the methods with rasterized depth").
+// llvmpipe computes a triangle's interpolation planes from the float area of the clipped
+// triangle (lp_state_setup.c); where that area rounds to 0 while its fixed-point (8 sub-pixel
+// bit) coverage does not, every interpolant is 0 * inf = NaN, gl_FragCoord.z included. The
+// fragment's coverage and facing are right, but a NaN depth fails every depth test, so z-fail
+// never counts it, whether its face lies behind the sample or not (found: Conference,
+// directional light, 2560x1440, pixel (686, 1010): a 3 mm x 1.29 m caster's volume behind the
+// floor sample, one face not counted: false shadow; test method_per_triangle.rs,
+// rasterized_depth_fragment_with_nan_depth_*). The stage that knows the face passes its depth
+// function, flat, as a dvec3 f: z_window = f.x x_window + f.y y_window + f.z, and the fragment
+// shader writes it as gl_FragDepth for NaN fragments only (every other fragment keeps
+// gl_FragCoord.z).
+uniform float u_edge_on_depth;
+
+// A side through the clip-space points ac, bc, vc (two of its corners on the caster edge, one
+// extruded): its plane, or, seen edge-on, u_edge_on_depth, the depth that is never counted
+// (near plane for z-fail, far plane for z-pass: its rays lie in its plane and cross it nowhere).
+dvec3 umbra_face_depth_of_plane(dvec4 r) {
+    return r.w != 0.0LF ? dvec3(0.0LF, 0.0LF, double(u_edge_on_depth)) : r.xyz;
+}
+
+// Light caps (pushed to the far plane, depth.glsl) and dark caps (at infinity, clamped to the
+// far plane): the far plane's window depth, u_far_clip_z (1 standard, 0 reversed-Z).
+dvec3 umbra_face_depth_far() {
+    return dvec3(0.0LF, 0.0LF, double(u_far_clip_z));
 }
