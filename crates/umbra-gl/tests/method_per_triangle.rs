@@ -649,6 +649,17 @@ fn ts_triangle_fragment_with_nan_depth_in_front_of_the_sample_does_not_count() {
     }
 }
 
+/// The CLI's default interior camera for a Conference box `lo..hi` (umbra-cli config.rs
+/// default_camera: the longer horizontal axis is x) and its near plane (1e-3 of the box's
+/// diagonal): eye, target, near.
+fn conference_box_camera(lo: [f32; 3], hi: [f32; 3]) -> ([f64; 3], [f64; 3], f64) {
+    let box_ = umbra_geom::Aabb { min: lo, max: hi };
+    let (c, e) = (box_.center().map(f64::from), box_.extent().map(f64::from));
+    let eye = [c[0] - 0.2 * e[0], f64::from(lo[1]) + 0.45 * e[1], c[2]];
+    let target = [c[0] + 0.2 * e[0], f64::from(lo[1]) + 0.3 * e[1], c[2]];
+    (eye, target, f64::from(box_.diagonal()) * 1e-3)
+}
+
 /// Conference with the directional light (0.3, 1, 0.2, 0) at 640x360, cut down by delta
 /// debugging to the triangles that decide pixel (177, 230): the floor (triangle 59, the
 /// sample's own) and a 1 cm caster 1,865 units from the eye (196389), whose volume is a tube
@@ -675,18 +686,13 @@ fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
         [1154269757, 3171700741, 3296267026],
     ];
     let scene = pinned_scene(&ctx, own, caster, (lo, hi));
-    // The CLI's default interior camera for this box (umbra-cli config.rs default_camera: the
-    // longer horizontal axis is x) and its near plane (1e-3 of the box's diagonal).
-    let box_ = umbra_geom::Aabb { min: lo, max: hi };
-    let (c, e) = (box_.center().map(f64::from), box_.extent().map(f64::from));
-    let eye = [c[0] - 0.2 * e[0], f64::from(lo[1]) + 0.45 * e[1], c[2]];
-    let target = [c[0] + 0.2 * e[0], f64::from(lo[1]) + 0.3 * e[1], c[2]];
+    let (eye, target, near) = conference_box_camera(lo, hi);
     let (w, h) = (640usize, 360usize);
     let (x, y) = (177usize, 230usize);
     for zpass in [false, true] {
         let mut p = params(eye, target, [0.3, 1.0, 0.2, 0.0], zpass);
         (p.width, p.height) = (w as u32, h as u32);
-        p.camera.near = f64::from(box_.diagonal()) * 1e-3;
+        p.camera.near = near;
         for name in METHODS {
             let mut m = create_method(name).expect("registered");
             let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
@@ -723,11 +729,7 @@ fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
         [1154286797, 3170066506, 3296271106],
     ];
     let scene = pinned_scene(&ctx, own, caster, (lo, hi));
-    // The CLI's default interior camera for this box and its near plane, as above.
-    let box_ = umbra_geom::Aabb { min: lo, max: hi };
-    let (c, e) = (box_.center().map(f64::from), box_.extent().map(f64::from));
-    let eye = [c[0] - 0.2 * e[0], f64::from(lo[1]) + 0.45 * e[1], c[2]];
-    let target = [c[0] + 0.2 * e[0], f64::from(lo[1]) + 0.3 * e[1], c[2]];
+    let (eye, target, near) = conference_box_camera(lo, hi);
     let (w, h) = (2560usize, 1440usize);
     let (x, y) = (686usize, 1010usize);
     let rasterized_depth = ["gs-silhouette", "gs-silhouette-3edge", "ts-silhouette", "ts-silhouette-3edge"];
@@ -736,7 +738,7 @@ fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
     for zpass in [false, true] {
         let mut p = params(eye, target, [0.3, 1.0, 0.2, 0.0], zpass);
         (p.width, p.height) = (w as u32, h as u32);
-        p.camera.near = f64::from(box_.diagonal()) * 1e-3;
+        p.camera.near = near;
         for name in METHODS.iter().chain(&rasterized_depth).chain(&others) {
             let mut m = create_method(name).expect("registered");
             let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
