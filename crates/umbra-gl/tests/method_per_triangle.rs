@@ -649,6 +649,15 @@ fn ts_triangle_fragment_with_nan_depth_in_front_of_the_sample_does_not_count() {
     }
 }
 
+/// The box of Conference's triangles (min, max): the pinned Conference scenes keep it with two
+/// small triangles at its corners.
+const CONFERENCE_BOX: ([f32; 3], [f32; 3]) = ([-1020.13, -2.7924, -1055.66], [1685.81, 650.293, 668.489]);
+
+/// Conference's floor triangle (59), the sample's own in the pinned Conference scenes, as f32
+/// bit patterns.
+const CONFERENCE_FLOOR: [[u32; 3]; 3] =
+    [[3295459541, 3217636490, 3296593510], [3295459541, 3217636490, 1143414604], [1154394112, 3217636490, 3296593510]];
+
 /// The CLI's default interior camera for a Conference box `lo..hi` (umbra-cli config.rs
 /// default_camera: the longer horizontal axis is x) and its near plane (1e-3 of the box's
 /// diagonal): eye, target, near.
@@ -674,12 +683,8 @@ fn conference_box_camera(lo: [f32; 3], hi: [f32; 3]) -> ([f64; 3], [f64; 3], f64
 #[test]
 fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
     let ctx = common::context();
-    let (lo, hi) = ([-1020.13f32, -2.7924, -1055.66], [1685.81f32, 650.293, 668.489]);
-    let own = [
-        [3295459541, 3217636490, 3296593510],
-        [3295459541, 3217636490, 1143414604],
-        [1154394112, 3217636490, 3296593510],
-    ];
+    let (lo, hi) = CONFERENCE_BOX;
+    let own = CONFERENCE_FLOOR;
     let caster = [
         [1154269676, 3173257130, 3296267092],
         [1154269676, 3173257130, 3296266994],
@@ -717,12 +722,8 @@ fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
 #[test]
 fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
     let ctx = common::context();
-    let (lo, hi) = ([-1020.13f32, -2.7924, -1055.66], [1685.81f32, 650.293, 668.489]);
-    let own = [
-        [3295459541, 3217636490, 3296593510],
-        [3295459541, 3217636490, 1143414604],
-        [1154394112, 3217636490, 3296593510],
-    ];
+    let (lo, hi) = CONFERENCE_BOX;
+    let own = CONFERENCE_FLOOR;
     let caster = [
         [1154285486, 3187770361, 3296250167],
         [1154285486, 3187969003, 3296250184],
