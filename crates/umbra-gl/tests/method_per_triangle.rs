@@ -601,6 +601,16 @@ fn pinned_scene(
     SceneGpu::upload(ctx.gl(), Arc::new(mesh)).expect("upload")
 }
 
+/// A scene of the given triangles only (positions as f32 bit patterns), welded as a loaded
+/// mesh is, for cases whose camera, near plane and light are given explicitly.
+fn pinned_triangles(ctx: &HeadlessContext, triangles: &[[[u32; 3]; 3]]) -> SceneGpu {
+    let positions: Vec<[f32; 3]> = triangles.iter().flatten().map(|b| b.map(f32::from_bits)).collect();
+    let n = triangles.len() as u32;
+    let mesh =
+        Mesh { positions, triangles: (0..n).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(), ..Default::default() };
+    SceneGpu::upload(ctx.gl(), Arc::new(weld(&mesh))).expect("upload")
+}
+
 /// Crytek Sponza's fly-through keyframe 3 at 1920x1080 (bench/sponza.flythrough), cut down to
 /// the triangles that decide pixel (1659, 779): the sample's own triangle (163779 of the
 /// welded mesh), a 3 cm caster above it (28780) whose volume's three sides are seen as one
@@ -717,7 +727,7 @@ fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
 /// it, but a NaN depth fails every depth test. Every volume pass whose depth is rasterized
 /// (gs-/vs-triangle, gs-/ts-silhouette and their -3edge variants) lost it: -1 there, false
 /// shadow (docs/exactness.md). They now give such a fragment its face's depth
-/// (shared/nan_depth.frag.glsl). Checked for every exact stencil method, z-fail and z-pass.
+/// (shared/face_depth.frag.glsl). Checked for every exact stencil method, z-fail and z-pass.
 /// Positions as f32 bit patterns.
 #[test]
 fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
@@ -741,6 +751,121 @@ fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
         (p.width, p.height) = (w as u32, h as u32);
         p.camera.near = near;
         for name in METHODS.iter().chain(&rasterized_depth).chain(&others) {
+            let mut m = create_method(name).expect("registered");
+            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
+            m.destroy(ctx.gl());
+            let count = s.pixels[y * w + x];
+            if count != 0 {
+                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
+            }
+        }
+    }
+    scene.destroy(ctx.gl());
+    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
+}
+
+/// Crytek Sponza's default view with its default point light at 2560x1440, cut down by delta
+/// debugging to the triangles that decide pixel (1590, 147): the sample's own 1 cm triangle
+/// (14931 of the welded mesh) and three small triangles of the same detail, the light 2 degrees
+/// from their plane. The camera, near plane and light are the CLI's for the cut-down scene
+/// (`umbra export`), which reproduced the pixel. The sample is lit: the count there is 0.
+/// Three sides cross the pixel's ray behind the sample; one of them (edge v9 -> v7 of triangle
+/// 15079) is a needle, a 0.6-pixel edge whose extrusion runs to a vanishing point behind the
+/// eye, clipped 1,000 pixels away, and llvmpipe's f32 interpolation plane gave it a depth
+/// 1.28e-6 nearer than its plane, in front of the sample although it lies 9.5e-4 units
+/// behind it: z-fail did not count it, -1 there, false shadow in cpu-, vs- and cs-silhouette
+/// (docs/exactness.md; in this cut-down scene gs- and vs-triangle too). Every
+/// rasterized-depth pass now writes its face's plane depth (shared/face_depth.frag.glsl).
+/// Checked for every exact stencil method, z-fail and z-pass. Positions as f32 bit patterns.
+#[test]
+fn needle_side_behind_the_sample_counts_behind_it() {
+    let ctx = common::context();
+    let triangles = [
+        [
+            [1061339133, 1084686336, 1066344447],
+            [1061339133, 1084669953, 1066369026],
+            [1061478401, 1084669953, 1066369026],
+        ],
+        [
+            [1061339133, 1084686336, 1066344447],
+            [1061478401, 1084669953, 1066369026],
+            [1061453822, 1084686336, 1066344447],
+        ],
+        [
+            [1061339133, 1084694527, 1066459137],
+            [1061339133, 1084686336, 1066344447],
+            [1061453822, 1084686336, 1066344447],
+        ],
+        [
+            [1061437447, 1084694527, 1066459137],
+            [1061453822, 1084686336, 1066344447],
+            [1061552136, 1084694527, 1066344447],
+        ],
+    ];
+    let scene = pinned_triangles(&ctx, &triangles);
+    let eye = [-5.027343273162842, 3.5838383793830877, -0.2421875];
+    let target = [4.269531726837158, 2.1258792519569396, -0.2421875];
+    let (w, h) = (2560usize, 1440usize);
+    let (x, y) = (1590usize, 147usize);
+    let silhouette = ["cpu-silhouette", "vs-silhouette", "cs-silhouette", "gs-silhouette", "gs-silhouette-3edge"];
+    let tessellated = ["ts-silhouette", "ts-silhouette-3edge"];
+    let mut wrong = Vec::new();
+    for zpass in [false, true] {
+        let mut p = params(eye, target, [2.1777349, 6.01377, 0.7585938, 1.0], zpass);
+        (p.width, p.height) = (w as u32, h as u32);
+        p.camera.near = 0.027533300399780275;
+        for name in METHODS.iter().chain(&silhouette).chain(&tessellated) {
+            let mut m = create_method(name).expect("registered");
+            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
+            m.destroy(ctx.gl());
+            let count = s.pixels[y * w + x];
+            if count != 0 {
+                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
+            }
+        }
+    }
+    scene.destroy(ctx.gl());
+    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
+}
+
+/// Crytek Sponza's fly-through keyframe 3 (bench/sponza.flythrough) with the default point
+/// light at 2560x1440, cut down by delta debugging to the triangles that decide pixel
+/// (950, 40): the sample's own 5 cm triangle (OBJ 246066) and a 5 cm caster 0.2 units away
+/// (OBJ 248392). The camera, near plane and light are the CLI's for the cut-down scene. The
+/// sample is lit: the count there is 0. The light lies beyond the caster as seen from the eye,
+/// so the caster's extrusions run back past the eye (clip w < 0) and its sides reach the
+/// rasterizer clipped far off the viewport. The side of the caster's edge 0 covers the pixel
+/// 1.7 % of the edge from its end and lies 1.8e-6 (window depth) behind the sample; llvmpipe's
+/// interpolated depth put it 1.5e-8 in front, so z-fail did not count it: false shadow in
+/// gs-triangle and vs-triangle (docs/exactness.md; the whole scene failed under z-pass too). Every rasterized-depth pass now
+/// writes its face's plane depth (shared/face_depth.frag.glsl). Checked for every exact
+/// stencil method, z-fail and z-pass. Positions as f32 bit patterns.
+#[test]
+fn side_extruded_behind_the_eye_counts_at_its_plane_depth() {
+    let ctx = common::context();
+    let triangles = [
+        [
+            [1080680449, 1077075969, 1065508867],
+            [1080770559, 1077280768, 1065517054],
+            [1080598530, 1077338113, 1065508867],
+        ],
+        [
+            [1079918591, 1078476799, 1065230340],
+            [1080115199, 1078444033, 1065271293],
+            [1080131586, 1078542335, 1065353216],
+        ],
+    ];
+    let scene = pinned_triangles(&ctx, &triangles);
+    let (w, h) = (2560usize, 1440usize);
+    let (x, y) = (950usize, 40usize);
+    let silhouette = ["cpu-silhouette", "vs-silhouette", "cs-silhouette", "gs-silhouette", "gs-silhouette-3edge"];
+    let tessellated = ["ts-silhouette", "ts-silhouette-3edge"];
+    let mut wrong = Vec::new();
+    for zpass in [false, true] {
+        let mut p = params([5.0, 1.5, 0.5], [-4.0, 4.0, 1.0], [2.1777349, 6.01377, 0.7585938, 1.0], zpass);
+        (p.width, p.height) = (w as u32, h as u32);
+        p.camera.near = 0.021892547607421875;
+        for name in METHODS.iter().chain(&silhouette).chain(&tessellated) {
             let mut m = create_method(name).expect("registered");
             let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
             m.destroy(ctx.gl());

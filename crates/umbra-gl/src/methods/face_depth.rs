@@ -4,9 +4,10 @@
 //! Paper 001, Section 2.3 (depths set in the fragment shader). Two uses:
 //! * ts-triangle and ts-triangle-1pass give every side fragment its canonical plane's depth
 //!   (see [`crate::methods::ts_triangle`]);
-//! * the volume passes whose depth is rasterized (gs-triangle, vs-triangle, the silhouette
-//!   methods and their caps) give a fragment whose interpolated depth is NaN (llvmpipe's
-//!   triangle setup, issue 16) the depth of its face instead, so z-fail counts it like the face
+//! * the volume passes whose depth was rasterized (gs-triangle, vs-triangle, the silhouette
+//!   methods and their caps) give every fragment the depth of its face's plane instead of the
+//!   interpolated one, which llvmpipe's f32 triangle setup gets wrong on needle-shaped faces
+//!   and NaN on faces of zero float area (issue 16), so z-fail counts it like the face
 //!   it belongs to.
 
 use glow::HasContext;
@@ -20,17 +21,17 @@ use crate::methods::VolumeFrame;
 pub(crate) const SIDE_PLANE_GLSL: &str = include_str!("shared/side_plane.glsl");
 
 /// The fragment side of the rasterized-depth passes (no `#version`): declares
-/// `face_window_depth` and `umbra_repair_nan_depth()`.
-pub(crate) const NAN_DEPTH_FRAG_GLSL: &str = include_str!("shared/nan_depth.frag.glsl");
+/// `face_window_depth` and `umbra_write_face_depth()`.
+pub(crate) const FACE_DEPTH_FRAG_GLSL: &str = include_str!("shared/face_depth.frag.glsl");
 
 /// Components one flat `dvec3 face_window_depth` adds to every geometry-shader output vertex
 /// (doubles count twice towards GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS).
 pub const FACE_DEPTH_COMPONENTS: i32 = 6;
 
-/// `#version 450 core` + the NaN-depth snippet + a fragment shader `body` without `#version`
-/// that calls `umbra_repair_nan_depth()`.
-pub(crate) fn nan_depth_fragment(body: &str) -> String {
-    format!("#version 450 core\n{NAN_DEPTH_FRAG_GLSL}\n{body}")
+/// `#version 450 core` + the face-depth snippet + a fragment shader `body` without `#version`
+/// that calls `umbra_write_face_depth()`.
+pub(crate) fn face_depth_fragment(body: &str) -> String {
+    format!("#version 450 core\n{FACE_DEPTH_FRAG_GLSL}\n{body}")
 }
 
 /// `z_window = a * z_ndc + b` for the frame's depth convention, as `[a, b]`: (0.5, 0.5) for

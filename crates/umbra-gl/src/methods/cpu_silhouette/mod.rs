@@ -30,7 +30,7 @@ use umbra_geom::silhouette::{extract_indexed, has_dark_caps, IndexedVolume, Tria
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
-use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
+use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -45,8 +45,8 @@ const DEPTH_GLSL: &str = include_str!("../shared/depth.glsl");
 /// `umbra_greater` and `umbra_extrude`, which shared/side_plane.glsl needs.
 const MULTIPLICITY_GLSL: &str = include_str!("../shared/multiplicity.glsl");
 
-/// Shader-storage binding of the side vertices in the vertex shader (the face depth of the
-/// NaN-depth fragments, volume.vert.glsl). Binding 0 is the renderer's normals.
+/// Shader-storage binding of the side vertices in the vertex shader (every fragment's face
+/// depth, volume.vert.glsl). Binding 0 is the renderer's normals.
 pub const SIDES_BINDING: u32 = 1;
 
 /// `u_mode` of volume.vert.glsl.
@@ -171,7 +171,7 @@ impl ShadowMethod for CpuSilhouette {
         self.slots_for(scene)?;
         if self.gpu.is_none() {
             let vert = format!("#version 450 core\n{MULTIPLICITY_GLSL}\n{DEPTH_GLSL}\n{SIDE_PLANE_GLSL}\n{VERT}");
-            let frag = nan_depth_fragment(FRAG);
+            let frag = face_depth_fragment(FRAG);
             let sides_binding = format!("UMBRA_SIDES_BINDING {SIDES_BINDING}");
             let program = link_program(
                 gl,
@@ -287,7 +287,7 @@ impl ShadowMethod for CpuSilhouette {
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
         }
-        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
         gpu.depth.set(gl, frame);
         // SAFETY: as above.
         unsafe {

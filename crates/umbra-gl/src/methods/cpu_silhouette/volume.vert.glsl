@@ -34,9 +34,8 @@
 // area in both caps, no fragment.
 //
 // Face depth (issue 16): every triangle carries its face's window depth function, flat
-// (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as the depth of
-// a fragment whose interpolated depth is NaN (Conference, directional light, 2560x1440, pixel
-// (686, 1010); shared/nan_depth.frag.glsl). Caps: the far plane. Sides: the plane through the
+// (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as every
+// fragment's depth (shared/face_depth.frag.glsl). Caps: the far plane. Sides: the plane through the
 // triangle's three vertices (or u_edge_on_depth seen edge-on), computed by the provoking vertex
 // only, the LAST of each triangle (GL_LAST_VERTEX_CONVENTION, GL's default, which umbra never
 // changes), which reads the two before it from the side buffer bound as storage too (the

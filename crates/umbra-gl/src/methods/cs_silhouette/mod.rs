@@ -38,7 +38,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
-use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
+use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{checked_size, SceneGpu, SceneId};
@@ -192,7 +192,7 @@ impl CsSilhouette {
     }
 
     fn link_all(gl: &glow::Context) -> Result<Programs, GlError> {
-        let frag = nan_depth_fragment(FRAG);
+        let frag = face_depth_fragment(FRAG);
         let mut done: Vec<glow::Program> = Vec::new();
         let sides_comp_src = compute_source(SIDES_COMP);
         let caps_comp_src = compute_source(CAPS_COMP);
@@ -499,7 +499,7 @@ impl ShadowMethod for CsSilhouette {
                 gl.use_program(Some(p.sides_draw));
                 gl.uniform_matrix_4_f32_slice(uniform(gl, p.sides_draw, "u_clip_from_world").as_ref(), false, &clip);
                 gl.uniform_4_f32_slice(uniform(gl, p.sides_draw, "u_light").as_ref(), &frame.light);
-                // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+                // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
                 DepthUniforms::locate(gl, p.sides_draw).set(gl, frame);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUADS, Some(g.quads));
                 gl.draw_arrays_indirect_offset(glow::TRIANGLES, 0);
@@ -515,7 +515,7 @@ impl ShadowMethod for CsSilhouette {
                 gl.uniform_4_f32_slice(uniform(gl, p.caps_draw, "u_light").as_ref(), &frame.light);
                 gl.uniform_1_f32(uniform(gl, p.caps_draw, "u_far_clip_z").as_ref(), frame.far_clip_z());
                 gl.uniform_1_u32(uniform(gl, p.caps_draw, "u_vertices_per_cap").as_ref(), vertices_per_cap);
-                // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+                // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
                 DepthUniforms::locate(gl, p.caps_draw).set(gl, frame);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, CAPS, Some(g.caps));
                 gl.draw_arrays_indirect_offset(glow::TRIANGLES, COMMAND_BYTES as i32);

@@ -18,10 +18,10 @@
 //! GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (`40K`: gl_Position and the face depth), queried at
 //! prepare; the program is compiled for the chosen `K` (`max_vertices = 4K`).
 //!
-//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
-//! flat, computed in the geometry shader, once per patch ([`crate::methods::face_depth`]),
-//! which the fragment shader writes as `gl_FragDepth` where llvmpipe's interpolated depth is
-//! NaN (`shared/nan_depth.frag.glsl`).
+//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! computed in the geometry shader, once per patch ([`crate::methods::face_depth`]), which the
+//! fragment shader writes as every fragment's `gl_FragDepth` (`shared/face_depth.frag.glsl`:
+//! llvmpipe's interpolated depth is NaN or wrong on some faces).
 //!
 //! Once per mesh ([`ShadowMethod::prepare`]): patches, two static storage buffers, programs.
 //! Per light per frame: uniforms, `glDrawArrays(GL_POINTS, 0, P)` for the sides, the caps draw
@@ -324,7 +324,7 @@ impl ShadowMethod for GsSilhouette {
             gl.uniform_matrix_4_f32_slice(program.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(program.u_light.as_ref(), &frame.light);
         }
-        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
         program.depth.set(gl, frame);
         // SAFETY: as above.
         unsafe {

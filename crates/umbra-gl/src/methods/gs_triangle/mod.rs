@@ -6,10 +6,10 @@
 //! Eq. 2 extrusion; light caps pushed to the far plane in the geometry shader (paper 003,
 //! Eq. 6). Details and the canonical side form in volume.geom.glsl.
 //!
-//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
-//! flat, computed in the geometry shader ([`crate::methods::face_depth`]), which the fragment
-//! shader writes as `gl_FragDepth` where llvmpipe's interpolated depth is NaN
-//! (`shared/nan_depth.frag.glsl`).
+//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! computed in the geometry shader ([`crate::methods::face_depth`]), which the fragment shader
+//! writes as every fragment's `gl_FragDepth` (`shared/face_depth.frag.glsl`: llvmpipe's
+//! interpolated depth is NaN or wrong on some faces).
 //!
 //! Preprocessing: none beyond the program (it draws the scene's own vertex array and index
 //! buffer with `GL_TRIANGLES`); the method owns no buffers (`gpu_bytes() == 0`). Per light:
@@ -23,7 +23,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, FACE_DEPTH_COMPONENTS, SIDE_PLANE_GLSL};
+use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, FACE_DEPTH_COMPONENTS, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -94,7 +94,7 @@ impl ShadowMethod for GsTriangle {
                 });
             }
             let geom = format!("#version 450 core\n{MULTIPLICITY}\n{DEPTH}\n{SIDE_PLANE_GLSL}\n{GEOM}");
-            let frag = nan_depth_fragment(FRAG);
+            let frag = face_depth_fragment(FRAG);
             let program = link_program(
                 gl,
                 "gs-triangle volume",
@@ -147,7 +147,7 @@ impl ShadowMethod for GsTriangle {
             gl.uniform_1_i32(gpu.u_caps.as_ref(), i32::from(!frame.zpass));
             gl.uniform_1_i32(gpu.u_pass.as_ref(), 0);
         }
-        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
         gpu.depth.set(gl, frame);
         // SAFETY: the scene's vertex array (indices checked at upload).
         unsafe {

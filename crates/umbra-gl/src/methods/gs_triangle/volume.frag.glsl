@@ -1,8 +1,8 @@
 // gs-triangle shadow volumes: fragment shader. Stencil-only pass (paper 001 Section 2.1
 // per-triangle volumes, z-fail of Everitt & Kilgard 2002 or z-pass of Heidmann 1991): the
 // stencil operations count, colour writes are masked off; nothing to compute but the wide
-// counter's o_count and, for a fragment whose interpolated depth is NaN, its face's depth
-// (shared/nan_depth.frag.glsl, prepended with "#version 450 core").
+// counter's o_count and, for every fragment, its face's plane depth
+// (shared/face_depth.frag.glsl, prepended with "#version 450 core").
 
 // The wide counter (src/counter.rs): +1 for a front face, -1 for a back face, summed by
 // blending into an R32F buffer under Counter::Float32; under Counter::Stencil8 the colour
@@ -11,5 +11,5 @@ layout(location = 0) out float o_count;
 
 void main() {
     o_count = gl_FrontFacing ? 1.0 : -1.0;
-    umbra_repair_nan_depth();
+    umbra_write_face_depth();
 }

@@ -19,9 +19,8 @@
 // cast on their shared edge rasterize identically and cancel at every sample.
 //
 // Every emitted primitive also carries its face's window-space depth function, flat
-// (face_window_depth, shared/side_plane.glsl): the fragment shader writes it as the depth of a
-// fragment whose interpolated depth is NaN (issue 16; Conference, directional light,
-// 2560x1440, pixel (686, 1010)). This stage computes it because it is the one that knows which
+// (face_window_depth, shared/side_plane.glsl): the fragment shader writes it as every fragment's
+// depth (issue 16; shared/face_depth.frag.glsl). This stage computes it because it is the one that knows which
 // face a primitive is; sides: their plane from the edge's endpoints in canonical order (once
 // per side, shared by its two triangles and identical for both copies of a shared side); caps:
 // the far plane.

@@ -1,6 +1,6 @@
 // Window-space depth functions of volume faces, evaluated in double precision in the fragment
 // shader: the canonical side depths of the tessellated per-triangle volumes (ts-triangle,
-// ts-triangle-1pass) and the face depth every rasterized-depth volume pass gives its NaN-depth
+// ts-triangle-1pass) and the face depth every other stencil volume pass gives all its
 // fragments (gs-/vs-triangle, the silhouette methods and their caps; see umbra_face_depth_*
 // below). Paper 001, Section 2.1 (per-triangle volumes; Section 2.3 on
 // setting depths in the fragment shader), Eq. 2 (the side quad A B A' B' lies in the plane
@@ -81,19 +81,16 @@ dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
     return umbra_window_depth_plane(ac, bc, vc);
 }
 
-// Face depths for the NaN-depth fragments of the volume passes whose depth is rasterized
-// (issue 16; docs/exactness.md, "The same mechanism in the methods with rasterized depth").
-// llvmpipe computes a triangle's interpolation planes from the float area of the clipped
-// triangle (lp_state_setup.c); where that area rounds to 0 while its fixed-point (8 sub-pixel
-// bit) coverage does not, every interpolant is 0 * inf = NaN, gl_FragCoord.z included. The
-// fragment's coverage and facing are right, but a NaN depth fails every depth test, so z-fail
-// never counts it, whether its face lies behind the sample or not (found: Conference,
-// directional light, 2560x1440, pixel (686, 1010): a 3 mm x 1.29 m caster's volume behind the
-// floor sample, one face not counted: false shadow; test method_per_triangle.rs,
-// rasterized_depth_fragment_with_nan_depth_*). The stage that knows the face passes its depth
-// function, flat, as a dvec3 f: z_window = f.x x_window + f.y y_window + f.z, and the fragment
-// shader writes it as gl_FragDepth for NaN fragments only (every other fragment keeps
-// gl_FragCoord.z).
+// Face depths for every fragment of the volume passes whose depth was rasterized (issue 16;
+// docs/exactness.md). llvmpipe sets a triangle's interpolation planes up in f32 from the
+// clipped triangle (lp_state_setup.c): where the float area rounds to 0 the depth is NaN and
+// fails every depth test (Conference, directional light, 2560x1440, pixel (686, 1010); test
+// method_per_triangle.rs, rasterized_depth_fragment_with_nan_depth_*), and on a needle-shaped
+// side clipped far away it is finite but off by the depth of a point 0.165 pixel away (Crytek
+// Sponza, point light, 2560x1440, pixel (1590, 147); test
+// needle_side_behind_the_sample_counts_behind_it). The stage that knows the face passes its
+// depth function, flat, as a dvec3 f: z_window = f.x x_window + f.y y_window + f.z, and the
+// fragment shader writes it as every fragment's gl_FragDepth (shared/face_depth.frag.glsl).
 uniform float u_edge_on_depth;
 
 // A side through the clip-space points ac, bc, vc (two of its corners on the caster edge, one

@@ -23,8 +23,8 @@ in vec3 v_world_pos[];
 // u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body).
 uniform vec4 u_light;
 
-// The face's window depth function for the fragment shader's NaN-depth fragments (issue 16,
-// shared/nan_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
+// The face's window depth function for the fragment shader, which writes it as every
+// fragment's depth (issue 16, shared/face_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
 // dark cap at infinity, clamped). Written with every vertex: outputs are undefined after
 // EmitVertex.
 flat out dvec3 face_window_depth;

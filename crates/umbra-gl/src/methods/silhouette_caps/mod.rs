@@ -15,14 +15,14 @@
 //!
 //! Also home of the GLSL shared by the sides and caps of these methods
 //! (`determinism.glsl`: `umbra_side_contribution`, `umbra_cap_orientation`,
-//! `umbra_clip_from_world_point`) and their fragment shader, which gives a fragment whose
-//! interpolated depth is NaN its face's depth (`shared/nan_depth.frag.glsl`; every cap and
+//! `umbra_clip_from_world_point`) and their fragment shader, which gives every fragment its
+//! face's plane depth (`shared/face_depth.frag.glsl`; every cap and
 //! side carries its face's depth function, `shared/side_plane.glsl`; issue 16).
 
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
+use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::VolumeFrame;
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::SceneGpu;
@@ -33,7 +33,7 @@ pub(crate) const MULTIPLICITY_GLSL: &str = include_str!("../shared/multiplicity.
 pub(crate) const DEPTH_GLSL: &str = include_str!("../shared/depth.glsl");
 /// Which orientation test sides and caps use (see the file's header).
 pub(crate) const DETERMINISM_GLSL: &str = include_str!("determinism.glsl");
-/// Fragment shader body (the stencil operations count; NaN-depth fragments get their face's depth).
+/// Fragment shader body (the stencil operations count; every fragment gets its face's plane depth).
 pub(crate) const VOLUME_FRAG_GLSL: &str = include_str!("volume.frag.glsl");
 
 const CAPS_VERT: &str = include_str!("caps.vert.glsl");
@@ -50,7 +50,7 @@ pub(crate) fn with_prelude(body: &str) -> String {
 
 /// Source of the fragment shader of every silhouette volume pass (sides and caps).
 pub(crate) fn fragment_source() -> String {
-    nan_depth_fragment(VOLUME_FRAG_GLSL)
+    face_depth_fragment(VOLUME_FRAG_GLSL)
 }
 
 /// The defines of a method variant (`three_edge`: Pečiva 2013's test).
@@ -129,7 +129,7 @@ impl SilhouetteCaps {
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
         }
-        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
         gpu.depth.set(gl, frame);
         // SAFETY: the scene's vertex array (positions at location 0, in-range indices).
         unsafe {

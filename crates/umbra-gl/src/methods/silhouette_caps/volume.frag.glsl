@@ -1,9 +1,9 @@
 // Fragment shader of the GPU silhouette methods' volume passes (ts-silhouette, gs-silhouette,
 // silhouette caps). Stencil-only counting pass (paper 001 Section 2; Everitt & Kilgard 2002
 // z-fail, Heidmann 1991 z-pass): the stencil operations do the counting and colour writes are
-// masked off, so there is nothing to compute but the wide counter's o_count and, for a
-// fragment whose interpolated depth is NaN, its face's depth (from the geometry or evaluation
-// stage). Prepended: "#version 450 core" and shared/nan_depth.frag.glsl.
+// masked off, so there is nothing to compute but the wide counter's o_count and, for every
+// fragment, its face's plane depth (from the geometry or evaluation
+// stage). Prepended: "#version 450 core" and shared/face_depth.frag.glsl.
 
 // The wide counter (src/counter.rs): +1 for a front face, -1 for a back face, summed by
 // blending into an R32F buffer under Counter::Float32; under Counter::Stencil8 the colour
@@ -12,5 +12,5 @@ layout(location = 0) out float o_count;
 
 void main() {
     o_count = gl_FrontFacing ? 1.0 : -1.0;
-    umbra_repair_nan_depth();
+    umbra_write_face_depth();
 }

@@ -19,10 +19,10 @@
 //! sub-multiplicities add up ([`patches`]); the patch capacity `K` respects
 //! GL_MAX_PATCH_VERTICES (`3 + K`) and GL_MAX_TESS_GEN_LEVEL (`2K - 1`), queried at prepare.
 //!
-//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
-//! flat, computed in the control shader, once per patch ([`crate::methods::face_depth`]), which
-//! the fragment shader writes as `gl_FragDepth` where llvmpipe's interpolated depth is NaN
-//! (`shared/nan_depth.frag.glsl`).
+//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! computed in the control shader, once per patch ([`crate::methods::face_depth`]), which the
+//! fragment shader writes as every fragment's `gl_FragDepth` (`shared/face_depth.frag.glsl`:
+//! llvmpipe's interpolated depth is NaN or wrong on some faces).
 //!
 //! Once per mesh ([`ShadowMethod::prepare`]): the edge patches (vertex + element buffer, static),
 //! the vertex array, programs. Per light per frame: uniforms, one `glDrawElements(GL_PATCHES)`
@@ -302,7 +302,7 @@ impl ShadowMethod for TsSilhouette {
             gl.uniform_matrix_4_f32_slice(program.u_clip_from_world.as_ref(), false, &frame.clip_from_world_f32());
             gl.uniform_4_f32_slice(program.u_light.as_ref(), &frame.light);
         }
-        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
         program.depth.set(gl, frame);
         // SAFETY: as above.
         unsafe {

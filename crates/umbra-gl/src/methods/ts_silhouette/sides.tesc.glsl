@@ -36,8 +36,7 @@
 // Face depth (issue 16): the side's window depth function (its plane through Q0 Q1 Q2, or
 // u_edge_on_depth seen edge-on; shared/side_plane.glsl) is computed here once per patch and
 // passed, as a patch output, through the evaluation stage to the fragment shader, which writes
-// it as the depth of a fragment whose interpolated depth is NaN (Conference, directional
-// light, 2560x1440, pixel (686, 1010); shared/nan_depth.frag.glsl).
+// it as every fragment's depth (shared/face_depth.frag.glsl).
 // Prepended: "#version 450 core", shared/multiplicity.glsl, shared/depth.glsl,
 // silhouette_caps/determinism.glsl.
 

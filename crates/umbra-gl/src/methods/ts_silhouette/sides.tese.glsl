@@ -21,8 +21,8 @@
 layout(quads, fractional_odd_spacing, cw) in;
 
 patch in vec4 p_corner[4];
-// The side's window depth function, from the control stage, for the fragment shader's
-// NaN-depth fragments (shared/nan_depth.frag.glsl); doubles must be flat.
+// The side's window depth function, from the control stage, for the fragment shader,
+// which writes it as every fragment's depth (shared/face_depth.frag.glsl); doubles must be flat.
 patch in dvec3 p_face_depth;
 flat out dvec3 face_window_depth;
 

@@ -49,7 +49,7 @@ use umbra_geom::{EdgeAdjacency, Light, WeldedMesh};
 use crate::camera::DepthConvention;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
-use crate::methods::face_depth::{DepthUniforms, NAN_DEPTH_FRAG_GLSL, SIDE_PLANE_GLSL};
+use crate::methods::face_depth::{DepthUniforms, FACE_DEPTH_FRAG_GLSL, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -84,8 +84,8 @@ pub enum ShaderDialect {
 }
 
 impl ShaderDialect {
-    /// The face depth functions of the NaN-depth fragments (shared/side_plane.glsl,
-    /// shared/nan_depth.frag.glsl; issue 16): GLSL 4.50 only. They need doubles, which GLSL
+    /// The face depth functions of every fragment's depth (shared/side_plane.glsl,
+    /// shared/face_depth.frag.glsl; issue 16): GLSL 4.50 only. They need doubles, which GLSL
     /// ES 3.00 lacks; the ES build keeps the rasterized depth (the bodies test GL_ES).
     fn face_depth(self, stage: &'static str) -> &'static str {
         match self {
@@ -157,9 +157,9 @@ pub fn caps_vertex_source(dialect: ShaderDialect, records: usize) -> String {
     )
 }
 
-/// Full source of the fragment shader (GLSL 4.50: with the NaN-depth repair).
+/// Full source of the fragment shader (GLSL 4.50: with the face depths).
 pub fn fragment_source(dialect: ShaderDialect) -> String {
-    format!("{}{}\n{FRAG}", dialect.prelude(), dialect.face_depth(NAN_DEPTH_FRAG_GLSL))
+    format!("{}{}\n{FRAG}", dialect.prelude(), dialect.face_depth(FACE_DEPTH_FRAG_GLSL))
 }
 
 /// Records of `vec4s` vec4 each that fit one instance with `attribs` vertex attributes
@@ -231,7 +231,7 @@ pub struct VolumeDraw {
     /// [`VolumeFrame::far_clip_z`].
     pub far_clip_z: f32,
     /// The viewport's width and height in pixels ([`VolumeFrame::width`], `height`): the
-    /// window-space face depths of the NaN-depth fragments (GLSL 4.50 only).
+    /// window-space face depths of every fragment (GLSL 4.50 only).
     pub viewport_size: [u32; 2],
     /// [`VolumeFrame::depth_convention`], for the same.
     pub depth_convention: DepthConvention,
@@ -276,7 +276,8 @@ impl Program {
             gl.uniform_1_f32(self.far_clip_z.as_ref(), d.far_clip_z);
             gl.uniform_1_i32(self.cap_vertices.as_ref(), cap_vertices);
         }
-        // The NaN-depth fragments' face depths (GLSL 4.50; absent uniforms under ES are None).
+        // The face depth functions every fragment's depth comes from (GLSL 4.50; absent
+        // uniforms under ES are None).
         self.depth.set_for(gl, d.viewport_size, d.depth_convention, d.zpass);
     }
 }

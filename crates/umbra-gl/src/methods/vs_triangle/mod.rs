@@ -19,10 +19,10 @@
 //! second draw ("negative sides", 18 vertices per triangle) with `glFrontFace(GL_CW)`, which
 //! counts the same primitives as the opposite face.
 //!
-//! NaN-depth fragments (issue 16): every primitive carries its face's window depth function,
-//! flat, computed in the vertex shader at the provoking vertex
-//! ([`crate::methods::face_depth`]), which the fragment shader writes as `gl_FragDepth` where
-//! llvmpipe's interpolated depth is NaN (`shared/nan_depth.frag.glsl`).
+//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! computed in the vertex shader at the provoking vertex ([`crate::methods::face_depth`]),
+//! which the fragment shader writes as every fragment's `gl_FragDepth`
+//! (`shared/face_depth.frag.glsl`: llvmpipe's interpolated depth is NaN or wrong on some faces).
 //!
 //! Preprocessing (once): the program and an empty vertex array; the method owns no buffers
 //! (`gpu_bytes() == 0`). Per light: uniforms and one draw, counted with
@@ -34,7 +34,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::methods::face_depth::{nan_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
+use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -113,7 +113,7 @@ impl ShadowMethod for VsTriangle {
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
         if self.gpu.is_none() {
             let vert = vertex_source();
-            let frag = nan_depth_fragment(FRAG);
+            let frag = face_depth_fragment(FRAG);
             let positions = format!("UMBRA_POSITIONS_BINDING {POSITIONS_BINDING}");
             let triangles = format!("UMBRA_TRIANGLES_BINDING {TRIANGLES_BINDING}");
             let program = link_program(
@@ -186,7 +186,7 @@ impl ShadowMethod for VsTriangle {
             gl.uniform_4_f32_slice(gpu.u_light.as_ref(), &frame.light);
             gl.uniform_1_f32(gpu.u_far_clip_z.as_ref(), frame.far_clip_z());
         }
-        // The NaN-depth fragments' face depths (shared/side_plane.glsl).
+        // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
         gpu.depth.set(gl, frame);
         // SAFETY: as above.
         unsafe {

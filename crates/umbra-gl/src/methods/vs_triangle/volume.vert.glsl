@@ -35,9 +35,8 @@
 // so its primitives have zero area and produce no fragments.
 //
 // Face depth (issue 16): every primitive carries its face's window-space depth function, flat
-// (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as the depth of
-// a fragment whose interpolated depth is NaN (Conference, directional light, 2560x1440, pixel
-// (686, 1010)). Vertex pulling lets each vertex know its face. A flat output is taken from the
+// (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as every
+// fragment's depth (shared/face_depth.frag.glsl). Vertex pulling lets each vertex know its face. A flat output is taken from the
 // primitive's provoking vertex, the LAST one (GL_LAST_VERTEX_CONVENTION, GL's default, which
 // umbra never changes), so only those compute it: a side's plane (in double, from the edge's
 // endpoints in canonical order, identical for both copies of a shared side) at j = 2 and 5 of
