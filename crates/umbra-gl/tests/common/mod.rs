@@ -10,10 +10,10 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use umbra_geom::scene::{ground_plane, uv_sphere};
-use umbra_geom::{weld::weld, Mesh, WeldedMesh};
+use umbra_geom::{weld::weld, Light, Mesh, WeldedMesh};
 use umbra_gl::{
     create_method, Camera, CaptureFlags, ContextOptions, FrameImages, FrameParams, GlApi, HeadlessContext,
-    LightCapture, Renderer, RgbaImage, SceneGpu,
+    LightCapture, Renderer, RgbaImage, SceneGpu, ShadowMethod, StencilImage,
 };
 
 pub const SPHERE_CENTER: [f64; 3] = [0.0, 2.0, 0.0];
@@ -270,4 +270,32 @@ pub fn counting_methods() -> Vec<&'static str> {
 
 pub fn default_camera() -> Camera {
     Camera { eye: [0.0, 5.0, 8.0], target: [0.0, 0.5, 0.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.1 }
+}
+
+/// The stencil counts one light leaves after `method`'s volume pass (sample for sample).
+pub fn stencil_of(
+    ctx: &HeadlessContext,
+    scene: &SceneGpu,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+) -> StencilImage {
+    let gl = ctx.gl();
+    let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
+    let s = r.render_stencil(gl, scene, method, p, 0).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
+    r.destroy(gl);
+    s
+}
+
+/// A 200x150 frame with one light, counted with z-fail or z-pass as asked (not auto z-pass:
+/// auto_zpass.rs tests that choice).
+pub fn volume_params(eye: [f64; 3], target: [f64; 3], light: Light, zpass: bool) -> FrameParams {
+    FrameParams {
+        camera: Camera { eye, target, near: 0.01, ..Camera::default() },
+        width: 200,
+        height: 150,
+        lights: vec![light],
+        zpass,
+        auto_zpass: false,
+        ..FrameParams::default()
+    }
 }

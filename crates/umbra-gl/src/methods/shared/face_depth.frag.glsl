@@ -14,14 +14,14 @@
 //   light, 2560x1440, z-fail, pixel (686, 1010): a 3 mm x 1.29 m caster's volume lies behind
 //   the floor sample and one of its faces came as NaN-depth fragments: 1 false-shadow sample
 //   in gs-triangle, vs-triangle, gs-silhouette, ts-silhouette (and -3edge). Test
-//   method_per_triangle.rs, rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts.
+//   pinned_depths.rs, rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts.
 // * Finite but wrong. On a needle-shaped side (a 0.6-pixel edge whose extrusion runs to a
 //   vanishing point behind the eye, clipped 1,000 pixels away) the f32 gradient carries a
 //   relative error of about 2^-24 L^2 / 2A (L the longest side, A the area), here the depth of
 //   the plane 0.165 pixel away: 1.28e-6 nearer than the plane, and a side 9.5e-4 units behind
 //   the sample counted as in front. Found: Crytek Sponza default view, point light, 2560x1440,
 //   z-fail, pixel (1590, 147): 1 false-shadow sample in cpu-, vs- and cs-silhouette. Test
-//   method_per_triangle.rs, needle_side_behind_the_sample_counts_behind_it. A band term for it
+//   pinned_depths.rs, needle_side_behind_the_sample_counts_behind_it. A band term for it
 //   (4 * 2^-24 L^3 / 2A pixels, branch band-wip) made the band ten times larger and was dropped.
 //
 // So the stage that knows the face passes its window depth function f, flat

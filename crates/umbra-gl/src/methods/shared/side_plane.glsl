@@ -85,7 +85,7 @@ dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
 // docs/exactness.md). llvmpipe sets a triangle's interpolation planes up in f32 from the
 // clipped triangle (lp_state_setup.c): where the float area rounds to 0 the depth is NaN and
 // fails every depth test (Conference, directional light, 2560x1440, pixel (686, 1010); test
-// method_per_triangle.rs, rasterized_depth_fragment_with_nan_depth_*), and on a needle-shaped
+// pinned_depths.rs, rasterized_depth_fragment_with_nan_depth_*), and on a needle-shaped
 // side clipped far away it is finite but off by the depth of a point 0.165 pixel away (Crytek
 // Sponza, point light, 2560x1440, pixel (1590, 147); test
 // needle_side_behind_the_sample_counts_behind_it). The stage that knows the face passes its

@@ -69,7 +69,7 @@ void main() {
     // caster whose sides are seen as a 1,400-pixel sliver, in front of the sample: counted, a
     // stray -1) and Conference (directional light, 640x360, pixel (177, 230): a 1 cm caster's
     // tube 600 units behind the sample, one back face of its sides: not counted when such
-    // fragments never counted, a stray -1). Tests method_per_triangle.rs,
+    // fragments never counted, a stray -1). Tests pinned_depths.rs,
     // ts_triangle_fragment_with_nan_depth_*.
     if (isnan(gl_FragCoord.z)) {
         float chosen = u_far_clip_z;
