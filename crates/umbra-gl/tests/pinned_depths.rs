@@ -15,12 +15,60 @@ mod common;
 use std::sync::Arc;
 
 use common::{stencil_of, volume_params};
-use umbra_geom::{weld::weld, Mesh, WeldedMesh};
+use umbra_geom::{weld::weld, Light, Mesh, WeldedMesh};
 use umbra_gl::methods::ts_triangle::two_pass::{SideDepth, TsTriangle};
 use umbra_gl::{create_method, HeadlessContext, SceneGpu, ShadowMethod};
 
 /// The per-triangle methods (paper 001, Section 2.1).
 const METHODS: [&str; 4] = ["ts-triangle", "ts-triangle-1pass", "gs-triangle", "vs-triangle"];
+
+/// Every registered method that counts rasterized volumes in the stencil: the per-triangle
+/// ones, then the silhouette ones (their depth rasterized, or from their face since issue 16).
+const STENCIL_METHODS: [&str; 11] = [
+    "ts-triangle",
+    "ts-triangle-1pass",
+    "gs-triangle",
+    "vs-triangle",
+    "cpu-silhouette",
+    "vs-silhouette",
+    "cs-silhouette",
+    "gs-silhouette",
+    "gs-silhouette-3edge",
+    "ts-silhouette",
+    "ts-silhouette-3edge",
+];
+
+/// The frame a pinned pixel was found in: the CLI's camera and near plane, one light, the size.
+struct PinnedFrame {
+    eye: [f64; 3],
+    target: [f64; 3],
+    near: f64,
+    light: Light,
+    size: (usize, usize),
+}
+
+/// Asserts that every method of [`STENCIL_METHODS`] leaves the count 0 at `pixel` (x, y from
+/// the top) under z-fail and under z-pass; consumes the scene.
+fn assert_zero_count(ctx: &HeadlessContext, scene: SceneGpu, frame: PinnedFrame, (x, y): (usize, usize)) {
+    let (w, h) = frame.size;
+    let mut wrong = Vec::new();
+    for zpass in [false, true] {
+        let mut p = volume_params(frame.eye, frame.target, frame.light, zpass);
+        (p.width, p.height) = (w as u32, h as u32);
+        p.camera.near = frame.near;
+        for name in STENCIL_METHODS {
+            let mut m = create_method(name).expect("registered");
+            let s = stencil_of(ctx, &scene, m.as_mut(), &p);
+            m.destroy(ctx.gl());
+            let count = s.pixels[y * w + x];
+            if count != 0 {
+                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
+            }
+        }
+    }
+    scene.destroy(ctx.gl());
+    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
+}
 
 /// A scene cut down by delta debugging to the triangles that decide one pixel: the sample's
 /// own triangle and one caster (positions as f32 bit patterns), plus two small triangles at the
@@ -180,27 +228,8 @@ fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
     ];
     let scene = pinned_scene(&ctx, own, caster, (lo, hi));
     let (eye, target, near) = conference_box_camera(lo, hi);
-    let (w, h) = (2560usize, 1440usize);
-    let (x, y) = (686usize, 1010usize);
-    let rasterized_depth = ["gs-silhouette", "gs-silhouette-3edge", "ts-silhouette", "ts-silhouette-3edge"];
-    let others = ["cpu-silhouette", "vs-silhouette", "cs-silhouette"];
-    let mut wrong = Vec::new();
-    for zpass in [false, true] {
-        let mut p = volume_params(eye, target, [0.3, 1.0, 0.2, 0.0], zpass);
-        (p.width, p.height) = (w as u32, h as u32);
-        p.camera.near = near;
-        for name in METHODS.iter().chain(&rasterized_depth).chain(&others) {
-            let mut m = create_method(name).expect("registered");
-            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
-            m.destroy(ctx.gl());
-            let count = s.pixels[y * w + x];
-            if count != 0 {
-                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
-            }
-        }
-    }
-    scene.destroy(ctx.gl());
-    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
+    let frame = PinnedFrame { eye, target, near, light: [0.3, 1.0, 0.2, 0.0], size: (2560, 1440) };
+    assert_zero_count(&ctx, scene, frame, (686, 1010));
 }
 
 /// Crytek Sponza's default view with its default point light at 2560x1440, cut down by delta
@@ -242,29 +271,14 @@ fn needle_side_behind_the_sample_counts_behind_it() {
         ],
     ];
     let scene = pinned_triangles(&ctx, &triangles);
-    let eye = [-5.027343273162842, 3.5838383793830877, -0.2421875];
-    let target = [4.269531726837158, 2.1258792519569396, -0.2421875];
-    let (w, h) = (2560usize, 1440usize);
-    let (x, y) = (1590usize, 147usize);
-    let silhouette = ["cpu-silhouette", "vs-silhouette", "cs-silhouette", "gs-silhouette", "gs-silhouette-3edge"];
-    let tessellated = ["ts-silhouette", "ts-silhouette-3edge"];
-    let mut wrong = Vec::new();
-    for zpass in [false, true] {
-        let mut p = volume_params(eye, target, [2.1777349, 6.01377, 0.7585938, 1.0], zpass);
-        (p.width, p.height) = (w as u32, h as u32);
-        p.camera.near = 0.027533300399780275;
-        for name in METHODS.iter().chain(&silhouette).chain(&tessellated) {
-            let mut m = create_method(name).expect("registered");
-            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
-            m.destroy(ctx.gl());
-            let count = s.pixels[y * w + x];
-            if count != 0 {
-                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
-            }
-        }
-    }
-    scene.destroy(ctx.gl());
-    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
+    let frame = PinnedFrame {
+        eye: [-5.027343273162842, 3.5838383793830877, -0.2421875],
+        target: [4.269531726837158, 2.1258792519569396, -0.2421875],
+        near: 0.027533300399780275,
+        light: [2.1777349, 6.01377, 0.7585938, 1.0],
+        size: (2560, 1440),
+    };
+    assert_zero_count(&ctx, scene, frame, (1590, 147));
 }
 
 /// Crytek Sponza's fly-through keyframe 3 (bench/sponza.flythrough) with the default point
@@ -276,9 +290,9 @@ fn needle_side_behind_the_sample_counts_behind_it() {
 /// rasterizer clipped far off the viewport. The side of the caster's edge 0 covers the pixel
 /// 1.7 % of the edge from its end and lies 1.8e-6 (window depth) behind the sample; llvmpipe's
 /// interpolated depth put it 1.5e-8 in front, so z-fail did not count it: false shadow in
-/// gs-triangle and vs-triangle (docs/exactness.md; the whole scene failed under z-pass too). Every rasterized-depth pass now
-/// writes its face's plane depth (shared/face_depth.frag.glsl). Checked for every exact
-/// stencil method, z-fail and z-pass. Positions as f32 bit patterns.
+/// gs-triangle and vs-triangle (docs/exactness.md; the whole scene failed under z-pass too).
+/// Every rasterized-depth pass now writes its face's plane depth (shared/face_depth.frag.glsl).
+/// Checked for every exact stencil method, z-fail and z-pass. Positions as f32 bit patterns.
 #[test]
 fn side_extruded_behind_the_eye_counts_at_its_plane_depth() {
     let ctx = common::context();
@@ -295,25 +309,12 @@ fn side_extruded_behind_the_eye_counts_at_its_plane_depth() {
         ],
     ];
     let scene = pinned_triangles(&ctx, &triangles);
-    let (w, h) = (2560usize, 1440usize);
-    let (x, y) = (950usize, 40usize);
-    let silhouette = ["cpu-silhouette", "vs-silhouette", "cs-silhouette", "gs-silhouette", "gs-silhouette-3edge"];
-    let tessellated = ["ts-silhouette", "ts-silhouette-3edge"];
-    let mut wrong = Vec::new();
-    for zpass in [false, true] {
-        let mut p = volume_params([5.0, 1.5, 0.5], [-4.0, 4.0, 1.0], [2.1777349, 6.01377, 0.7585938, 1.0], zpass);
-        (p.width, p.height) = (w as u32, h as u32);
-        p.camera.near = 0.021892547607421875;
-        for name in METHODS.iter().chain(&silhouette).chain(&tessellated) {
-            let mut m = create_method(name).expect("registered");
-            let s = stencil_of(&ctx, &scene, m.as_mut(), &p);
-            m.destroy(ctx.gl());
-            let count = s.pixels[y * w + x];
-            if count != 0 {
-                wrong.push(format!("{name} zpass {zpass}: stencil {count} at ({x}, {y})"));
-            }
-        }
-    }
-    scene.destroy(ctx.gl());
-    assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
+    let frame = PinnedFrame {
+        eye: [5.0, 1.5, 0.5],
+        target: [-4.0, 4.0, 1.0],
+        near: 0.021892547607421875,
+        light: [2.1777349, 6.01377, 0.7585938, 1.0],
+        size: (2560, 1440),
+    };
+    assert_zero_count(&ctx, scene, frame, (950, 40));
 }
