@@ -125,6 +125,10 @@ struct Programs {
     caps_comp: glow::Program,
     sides_draw: glow::Program,
     caps_draw: glow::Program,
+    /// The face-depth uniforms of the two draw programs (shared/side_plane.glsl), located at
+    /// link time.
+    sides_depth: DepthUniforms,
+    caps_depth: DepthUniforms,
 }
 
 impl Programs {
@@ -244,7 +248,14 @@ impl CsSilhouette {
                 }
             }
         }
-        Ok(Programs { sides_comp: done[0], caps_comp: done[1], sides_draw: done[2], caps_draw: done[3] })
+        Ok(Programs {
+            sides_comp: done[0],
+            caps_comp: done[1],
+            sides_draw: done[2],
+            caps_draw: done[3],
+            sides_depth: DepthUniforms::locate(gl, done[2]),
+            caps_depth: DepthUniforms::locate(gl, done[3]),
+        })
     }
 
     /// Dispatches `count` invocations of the bound compute program in chunks of at most
@@ -500,7 +511,7 @@ impl ShadowMethod for CsSilhouette {
                 gl.uniform_matrix_4_f32_slice(uniform(gl, p.sides_draw, "u_clip_from_world").as_ref(), false, &clip);
                 gl.uniform_4_f32_slice(uniform(gl, p.sides_draw, "u_light").as_ref(), &frame.light);
                 // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
-                DepthUniforms::locate(gl, p.sides_draw).set(gl, frame);
+                p.sides_depth.set(gl, frame);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUADS, Some(g.quads));
                 gl.draw_arrays_indirect_offset(glow::TRIANGLES, 0);
             }
@@ -516,7 +527,7 @@ impl ShadowMethod for CsSilhouette {
                 gl.uniform_1_f32(uniform(gl, p.caps_draw, "u_far_clip_z").as_ref(), frame.far_clip_z());
                 gl.uniform_1_u32(uniform(gl, p.caps_draw, "u_vertices_per_cap").as_ref(), vertices_per_cap);
                 // The face depth functions every fragment's depth comes from (shared/side_plane.glsl).
-                DepthUniforms::locate(gl, p.caps_draw).set(gl, frame);
+                p.caps_depth.set(gl, frame);
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, CAPS, Some(g.caps));
                 gl.draw_arrays_indirect_offset(glow::TRIANGLES, COMMAND_BYTES as i32);
             }
