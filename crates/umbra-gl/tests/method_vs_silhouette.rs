@@ -339,7 +339,6 @@ fn es_stencil(ctx: &HeadlessContext, mesh: &WeldedMesh, p: &FrameParams) -> Sten
         clip_from_world: clip,
         light: p.lights[0],
         zpass: false,
-        far_clip_z: 1.0,
         viewport_size: [p.width, p.height],
         depth_convention: DepthConvention::Standard,
         state,

@@ -228,12 +228,11 @@ pub struct VolumeDraw {
     pub light: Light,
     /// z-pass: no caps.
     pub zpass: bool,
-    /// [`VolumeFrame::far_clip_z`].
-    pub far_clip_z: f32,
     /// The viewport's width and height in pixels ([`VolumeFrame::width`], `height`): the
     /// window-space face depths of every fragment (GLSL 4.50 only).
     pub viewport_size: [u32; 2],
-    /// [`VolumeFrame::depth_convention`], for the same.
+    /// [`VolumeFrame::depth_convention`]: the far plane's clip z (where light caps go) and the
+    /// face depths.
     pub depth_convention: DepthConvention,
     /// The counting state, [`VolumeFrame::shadow_volume_state`].
     pub state: GlState,
@@ -273,7 +272,7 @@ impl Program {
             gl.use_program(Some(self.program));
             gl.uniform_matrix_4_f32_slice(self.clip_from_world.as_ref(), false, &d.clip_from_world);
             gl.uniform_4_f32_slice(self.light.as_ref(), &d.light);
-            gl.uniform_1_f32(self.far_clip_z.as_ref(), d.far_clip_z);
+            gl.uniform_1_f32(self.far_clip_z.as_ref(), d.depth_convention.far_clip_z());
             gl.uniform_1_i32(self.cap_vertices.as_ref(), cap_vertices);
         }
         // The face depth functions every fragment's depth comes from (GLSL 4.50; absent
@@ -622,7 +621,6 @@ impl ShadowMethod for VsSilhouette {
             clip_from_world: frame.clip_from_world_f32(),
             light: frame.light,
             zpass: frame.zpass,
-            far_clip_z: frame.far_clip_z(),
             viewport_size: [frame.width, frame.height],
             depth_convention: frame.depth_convention(),
             state: frame.shadow_volume_state(),
