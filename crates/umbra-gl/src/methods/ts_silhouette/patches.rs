@@ -48,6 +48,7 @@
 use umbra_geom::{EdgeAdjacency, WeldedMesh};
 
 use crate::error::GlError;
+use crate::methods::face_depth::FACE_DEPTH_COMPONENTS;
 
 /// Bytes of one vertex of the vertex buffer (`vec3` of f32).
 pub const VERTEX_BYTES: usize = 12;
@@ -79,7 +80,7 @@ pub fn ts_capacity_limit(max_patch_vertices: i32, max_tess_gen_level: i32) -> us
 /// (gs_silhouette/sides.geom.glsl: 4 + 6 components per vertex, 40 per quad).
 pub fn gs_capacity_limit(max_output_vertices: i32, max_total_output_components: i32) -> usize {
     let by_vertices = max_output_vertices / 4;
-    let by_components = max_total_output_components / 40;
+    let by_components = max_total_output_components / (4 * (4 + FACE_DEPTH_COMPONENTS));
     by_vertices.min(by_components).max(0) as usize
 }
 
