@@ -1,4 +1,4 @@
-//! umbra-view: an interactive window on umbra's shadow-volume renderer (issue 9 §2).
+//! umbra-view: an interactive window on umbra's shadow-volume renderer.
 //!
 //! A winit 0.30 window with a GL 4.5 core context from glutin 0.32 (GLX or EGL on X11, EGL
 //! on Wayland), drawn by the same [`umbra_gl::Renderer`] as `umbra render`: the frame is drawn

@@ -7,7 +7,7 @@
 //! * the volume passes whose depth was rasterized (gs-triangle, vs-triangle, the silhouette
 //!   methods and their caps) give every fragment the depth of its face's plane instead of the
 //!   interpolated one, which llvmpipe's f32 triangle setup gets wrong on needle-shaped faces
-//!   and NaN on faces of zero float area (issue 16), so z-fail counts it like the face
+//!   and NaN on faces of zero float area, so z-fail counts it like the face
 //!   it belongs to.
 
 use glow::HasContext;

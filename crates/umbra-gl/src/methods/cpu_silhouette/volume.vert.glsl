@@ -33,7 +33,7 @@
 // Edge-on triangles (orientation 0) come as degenerate caps (one vertex three times): zero
 // area in both caps, no fragment.
 //
-// Face depth (issue 16): every triangle carries its face's window depth function, flat
+// Face depth: every triangle carries its face's window depth function, flat
 // (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as every
 // fragment's depth (shared/face_depth.frag.glsl). Caps: the far plane. Sides: the plane through the
 // triangle's three vertices (or u_edge_on_depth seen edge-on), computed by the provoking vertex

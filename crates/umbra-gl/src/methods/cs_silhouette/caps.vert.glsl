@@ -17,7 +17,7 @@ uniform uint u_vertices_per_cap;
 invariant gl_Position;
 
 // The face's window depth function for the fragment shader, which writes it as every
-// fragment's depth (issue 16, shared/face_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
+// fragment's depth (shared/face_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
 // dark cap at infinity, clamped).
 flat out dvec3 face_window_depth;
 

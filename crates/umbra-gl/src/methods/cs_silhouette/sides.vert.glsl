@@ -8,10 +8,10 @@
 // from shader storage. Triangles (Y, X, X_inf) and (Y, X_inf, Y_inf): exactly the vertices and
 // the order cpu-silhouette uploads (umbra_geom::silhouette).
 //
-// Face depth (issue 16): every triangle carries its side's window depth function, flat
+// Face depth: every triangle carries its side's window depth function, flat
 // (face_window_depth: the plane through Y, X, X_inf, or u_edge_on_depth seen edge-on;
 // shared/side_plane.glsl), which the fragment shader writes as every fragment's depth
-// (issue 16; shared/face_depth.frag.glsl). A flat output comes from the provoking vertex, the LAST of each
+// (shared/face_depth.frag.glsl). A flat output comes from the provoking vertex, the LAST of each
 // triangle (GL_LAST_VERTEX_CONVENTION, GL's default, which umbra never changes), so only
 // v = 2 and v = 5 compute it.
 

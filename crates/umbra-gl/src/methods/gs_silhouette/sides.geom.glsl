@@ -23,7 +23,7 @@
 // Every emitted vertex also carries the side's window depth function, flat
 // (face_window_depth: its plane through Q0 Q1 Q2, or u_edge_on_depth seen edge-on;
 // shared/side_plane.glsl), computed once per invocation: the fragment shader writes it as
-// every fragment's depth (issue 16; shared/face_depth.frag.glsl). It adds 6 components
+// every fragment's depth (shared/face_depth.frag.glsl). It adds 6 components
 // (a dvec3) to every output vertex: 10 with gl_Position (ts_silhouette/patches.rs,
 // gs_capacity_limit).
 //

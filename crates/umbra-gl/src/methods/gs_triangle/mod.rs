@@ -6,7 +6,7 @@
 //! Eq. 2 extrusion; light caps pushed to the far plane in the geometry shader (paper 003,
 //! Eq. 6). Details and the canonical side form in volume.geom.glsl.
 //!
-//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! Face depths: every primitive carries its face's window depth function, flat,
 //! computed in the geometry shader ([`crate::methods::face_depth`]), which the fragment shader
 //! writes as every fragment's `gl_FragDepth` (`shared/face_depth.frag.glsl`: llvmpipe's
 //! interpolated depth is NaN or wrong on some faces).

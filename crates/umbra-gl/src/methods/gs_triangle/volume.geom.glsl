@@ -20,7 +20,7 @@
 //
 // Every emitted primitive also carries its face's window-space depth function, flat
 // (face_window_depth, shared/side_plane.glsl): the fragment shader writes it as every fragment's
-// depth (issue 16; shared/face_depth.frag.glsl). This stage computes it because it is the one that knows which
+// depth (shared/face_depth.frag.glsl). This stage computes it because it is the one that knows which
 // face a primitive is; sides: their plane from the edge's endpoints in canonical order (once
 // per side, shared by its two triangles and identical for both copies of a shared side); caps:
 // the far plane.

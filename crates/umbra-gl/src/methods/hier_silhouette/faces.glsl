@@ -256,9 +256,9 @@ int bridge_crossings(Face F, vec3 p, vec3 q) {
 // triangle, may lie behind its own plane or a coplanar neighbour's by that rounding, and is
 // moved clear of both. A face passing within the move of S is within the sample's envelope
 // (umbra_oracle::envelope, its position part is 2^-20 of the coordinates and more): band.
-// (Found on Crytek Sponza's default view at 320 x 180: an earlier rule moved S only for the
-// faces whose plane passed within 2^-22 of it, and for no other: pixels (270, 63) and
-// (278, 161) were one count off where a bridge's line passed through such a face.)
+// (Moving S only for the faces whose plane passes within 2^-22 of it is not enough: on Crytek
+// Sponza's default view at 320 x 180, pixels (270, 63) and (278, 161) come out one count off
+// where a bridge's line passes through such a face.)
 vec3 count_point(vec3 s, uint own) {
     dvec3 a = dvec3(position(indices[3u * own]));
     dvec3 n = cross(dvec3(position(indices[3u * own + 1u])) - a, dvec3(position(indices[3u * own + 2u])) - a);

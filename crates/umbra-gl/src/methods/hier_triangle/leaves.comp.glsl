@@ -8,7 +8,7 @@
 // (gallivm's one loop limiter per shader function; docs/exactness.md, hier-silhouette): a list
 // holds one pair per triangle of a batch (at most 4,096) or of a redo round's turned-away
 // triangles, far below it on every measured frame; a longer list would be cut short silently
-// (open in issue 15). Afterwards the leaf is marked covered if
+// (a known limit, docs/exactness.md). Afterwards the leaf is marked covered if
 // all its samples are shadowed, and so is each ancestor whose non-empty children all are
 // (the smaller triangles of later batches then skip them). Prepended: hier/hierarchy.glsl,
 // hier/region.glsl, frustum.glsl.

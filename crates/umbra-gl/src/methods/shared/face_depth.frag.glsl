@@ -5,9 +5,9 @@
 // Paper 001, Section 2.3 (depths set in the fragment shader). No #version line: spliced into
 // the fragment shader after "#version 450 core".
 //
-// Why (issue 16; docs/exactness.md): llvmpipe sets a triangle's interpolation planes up in f32
+// Why (docs/exactness.md): llvmpipe sets a triangle's interpolation planes up in f32
 // from the clipped triangle (lp_state_setup.c), anchored at its first vertex. Two ways that
-// depth goes wrong on volume faces, both found on the shared scenes:
+// depth goes wrong on volume faces, both seen on the shared scenes and pinned by tests:
 // * NaN. Where the float area rounds to 0 while the fixed-point (8 sub-pixel bit) coverage
 //   does not, every interpolant is 0 * inf = NaN, gl_FragCoord.z included; a NaN depth fails
 //   every depth test, so z-fail never counts the fragment. Found: Conference, directional

@@ -81,8 +81,8 @@ dvec4 umbra_side_depth_plane(vec3 p, vec3 q, vec4 l) {
     return umbra_window_depth_plane(ac, bc, vc);
 }
 
-// Face depths for every fragment of the volume passes whose depth was rasterized (issue 16;
-// docs/exactness.md). llvmpipe sets a triangle's interpolation planes up in f32 from the
+// Face depths for every fragment of the volume passes whose depth was rasterized
+// (docs/exactness.md). llvmpipe sets a triangle's interpolation planes up in f32 from the
 // clipped triangle (lp_state_setup.c): where the float area rounds to 0 the depth is NaN and
 // fails every depth test (Conference, directional light, 2560x1440, pixel (686, 1010); test
 // pinned_depths.rs, rasterized_depth_fragment_with_nan_depth_*), and on a needle-shaped

@@ -24,7 +24,7 @@ in vec3 v_world_pos[];
 uniform vec4 u_light;
 
 // The face's window depth function for the fragment shader, which writes it as every
-// fragment's depth (issue 16, shared/face_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
+// fragment's depth (shared/face_depth.frag.glsl): both caps lie at the far plane (the light cap pushed there, the
 // dark cap at infinity, clamped). Written with every vertex: outputs are undefined after
 // EmitVertex.
 flat out dvec3 face_window_depth;

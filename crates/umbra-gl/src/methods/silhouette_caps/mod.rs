@@ -17,7 +17,7 @@
 //! (`determinism.glsl`: `umbra_side_contribution`, `umbra_cap_orientation`,
 //! `umbra_clip_from_world_point`) and their fragment shader, which gives every fragment its
 //! face's plane depth (`shared/face_depth.frag.glsl`; every cap and
-//! side carries its face's depth function, `shared/side_plane.glsl`; issue 16).
+//! side carries its face's depth function, `shared/side_plane.glsl`).
 
 use glow::HasContext;
 

@@ -33,7 +33,7 @@
 // when an edge has 3+ consistently oriented opposite vertices) about half of the copies in the
 // strip's interior still start at infinity: Alg. 5 alternates the copies' rotation by 180
 // degrees, and no other corner assignment keeps the degenerate cells degenerate.
-// Face depth (issue 16): the side's window depth function (its plane through Q0 Q1 Q2, or
+// Face depth: the side's window depth function (its plane through Q0 Q1 Q2, or
 // u_edge_on_depth seen edge-on; shared/side_plane.glsl) is computed here once per patch and
 // passed, as a patch output, through the evaluation stage to the fragment shader, which writes
 // it as every fragment's depth (shared/face_depth.frag.glsl).

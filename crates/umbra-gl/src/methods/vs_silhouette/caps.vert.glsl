@@ -18,7 +18,7 @@ uniform mat4 u_clip_from_world;
 #else
 // u_clip_from_world: declared in shared/side_plane.glsl (spliced before this body in GLSL 4.50).
 // The face's window depth function for the fragment shader, which writes
-// it as every fragment's depth (issue 16; shared/face_depth.frag.glsl).
+// it as every fragment's depth (shared/face_depth.frag.glsl).
 // GLSL 4.50 only (doubles).
 flat out dvec3 face_window_depth;
 #endif

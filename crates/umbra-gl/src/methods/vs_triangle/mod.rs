@@ -1,6 +1,5 @@
 //! `vs-triangle`: the naive per-triangle shadow volume of every triangle, extruded in the
-//! vertex shader; no silhouette. The baseline every silhouette method is measured against
-//! (issue 5).
+//! vertex shader; no silhouette. The baseline every silhouette method is measured against.
 //!
 //! Paper 001, Section 2.1 (per-triangle volumes: no preprocessing, any triangle soup),
 //! oriented through the reference edge (Section 2.2-2.3, Alg. 2-4, `umbra_triangle_orientation`)
@@ -19,7 +18,7 @@
 //! second draw ("negative sides", 18 vertices per triangle) with `glFrontFace(GL_CW)`, which
 //! counts the same primitives as the opposite face.
 //!
-//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! Face depths: every primitive carries its face's window depth function, flat,
 //! computed in the vertex shader at the provoking vertex ([`crate::methods::face_depth`]),
 //! which the fragment shader writes as every fragment's `gl_FragDepth`
 //! (`shared/face_depth.frag.glsl`: llvmpipe's interpolated depth is NaN or wrong on some faces).

@@ -34,7 +34,7 @@
 // An edge-on triangle (orientation 0) casts nothing: all its vertices collapse to one point,
 // so its primitives have zero area and produce no fragments.
 //
-// Face depth (issue 16): every primitive carries its face's window-space depth function, flat
+// Face depth: every primitive carries its face's window-space depth function, flat
 // (face_window_depth, shared/side_plane.glsl), which the fragment shader writes as every
 // fragment's depth (shared/face_depth.frag.glsl). Vertex pulling lets each vertex know its face. A flat output is taken from the
 // primitive's provoking vertex, the LAST one (GL_LAST_VERTEX_CONVENTION, GL's default, which
