@@ -225,7 +225,7 @@ pub trait ShadowMethod {
     /// silhouette methods): the auto z-pass test may then let edges of multiplicity 0 cross the
     /// eye's near pyramid ([`umbra_geom::clearance`]). Per-triangle volumes draw two coincident
     /// opposite faces there, which cancel in exact arithmetic but not after clipping near the eye
-    /// (tests/auto_zpass.rs found one wrong pixel with ts-triangle), so they keep the strict test.
+    /// (tests/auto_zpass.rs pins the wrong pixel ts-triangle gives under the loose test), so they keep the strict test.
     fn silhouette_sides(&self) -> bool {
         false
     }

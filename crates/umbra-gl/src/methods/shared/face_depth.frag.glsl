@@ -10,7 +10,7 @@
 // depth goes wrong on volume faces, both seen on the shared scenes and pinned by tests:
 // * NaN. Where the float area rounds to 0 while the fixed-point (8 sub-pixel bit) coverage
 //   does not, every interpolant is 0 * inf = NaN, gl_FragCoord.z included; a NaN depth fails
-//   every depth test, so z-fail never counts the fragment. Found: Conference, directional
+//   every depth test, so z-fail never counts the fragment. Pinned: Conference, directional
 //   light, 2560x1440, z-fail, pixel (686, 1010): a 3 mm x 1.29 m caster's volume lies behind
 //   the floor sample and one of its faces came as NaN-depth fragments: 1 false-shadow sample
 //   in gs-triangle, vs-triangle, gs-silhouette, ts-silhouette (and -3edge). Test
@@ -19,7 +19,7 @@
 //   vanishing point behind the eye, clipped 1,000 pixels away) the f32 gradient carries a
 //   relative error of about 2^-24 L^2 / 2A (L the longest side, A the area), here the depth of
 //   the plane 0.165 pixel away: 1.28e-6 nearer than the plane, and a side 9.5e-4 units behind
-//   the sample counted as in front. Found: Crytek Sponza default view, point light, 2560x1440,
+//   the sample counted as in front. Pinned: Crytek Sponza default view, point light, 2560x1440,
 //   z-fail, pixel (1590, 147): 1 false-shadow sample in cpu-, vs- and cs-silhouette. Test
 //   pinned_depths.rs, needle_side_behind_the_sample_counts_behind_it. A band term for it
 //   (4 * 2^-24 L^3 / 2A pixels, branch band-wip) made the band ten times larger and was dropped.
