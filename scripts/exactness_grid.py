@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The exactness grid of issue 16: every method that must be exact, on the three shared scenes'
+"""The exactness grid: every method that must be exact, on the three shared scenes'
 default views and the Crytek Sponza fly-through keyframes, at four sizes, with the default
 point light and a directional light, against the ray-traced reference and its band
 (docs/exactness.md). Rewrites the part of docs/exactness.md between

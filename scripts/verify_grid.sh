@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The exactness grid of issue 15: `umbra verify` of one or more methods (default hier-triangle)
+# An exactness grid of chosen methods: `umbra verify` of one or more methods (default hier-triangle)
 # on the three shared scenes' default views and on the Crytek Sponza fly-through keyframes
 # (bench/sponza.flythrough), at 640x360, 1920x1080 and 3840x2160. One TSV line per view, size
 # and method: samples, shadowed (reference), band, band mismatches, mismatches outside the band

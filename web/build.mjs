@@ -1,4 +1,4 @@
-// Builds the WebGL2 viewer into web/dist/ with esbuild (issue 7 §2).
+// Builds the WebGL2 viewer into web/dist/ with esbuild.
 //
 // The shared shadow-volume shader code is NOT copied: the virtual module `umbra:vs-silhouette`
 // is made here, at build time, from the native method's own files —

@@ -1,4 +1,4 @@
-// The browser's exactness grid (issue 16 §3; docs/web.md): every scene x size x WebGL 2
+// The browser's exactness grid (docs/web.md): every scene x size x WebGL 2
 // implementation x viewer query, the viewer's shadow mask judged by `umbra verify
 // --external-mask` (testlib/exactness.mjs) against the ray-traced reference with the oracle's
 // band, next to native vs-silhouette. Too slow for CI on big scenes at big sizes (software

@@ -1,4 +1,4 @@
-// A tiny static file server for the viewer (issue 7 §2-3), bound to 127.0.0.1 only.
+// A tiny static file server for the viewer, bound to 127.0.0.1 only.
 //
 // Serves read-only files from a few mounted directories (by default web/dist at "/" and an
 // export at "/scene/") and NEVER anything outside them: the URL path is percent-decoded once,

@@ -1,5 +1,5 @@
-//! cargo-fuzz target `gzip`: feeds arbitrary bytes to `fuzz_gzip` of fuzz/entry.rs (issue 8,
-//! Section 1); replayed by crates/umbra-geom/tests/fuzz_replay.rs.
+//! cargo-fuzz target `gzip`: feeds arbitrary bytes to `fuzz_gzip` of fuzz/entry.rs
+//! (docs/robustness.md, "Fuzzing"); replayed by crates/umbra-geom/tests/fuzz_replay.rs.
 #![no_main]
 
 include!("../entry.rs");

@@ -1,4 +1,4 @@
-// The umbra WebGL 2 viewer (issue 7 §2): loads a scene written by `umbra export`, draws it with
+// The umbra WebGL 2 viewer: loads a scene written by `umbra export`, draws it with
 // paper 003's vertex-shader silhouette shadow volumes (renderer.js), and lets the user orbit
 // the camera (drag, wheel), move the light (shift + drag, arrows, PageUp/PageDown), switch
 // shadows off (S) and show the shadow mask (M). The frame time is measured as paper 003 did

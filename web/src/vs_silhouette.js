@@ -1,7 +1,7 @@
 // vs-silhouette in WebGL 2: paper 003 (Milet et al., WebGL 1.0 shadows) Section 2, the
 // shadow-volume sides (Alg. 1) and caps (Alg. 2) of every silhouette evaluated in vertex
 // shaders from the preprocessed sides-data and caps-data (Section 2.6, Eq. 8 / Eq. 9), made
-// exact on every WebGL 2 implementation we can run (issue 16 §3, docs/web.md). Per frame:
+// exact on every WebGL 2 implementation the browser test runs (docs/web.md). Per frame:
 //
 // 1. the orientation pass (glsl/orientation.vert.glsl) orients every triangle ONCE, one texel
 //    per triangle, and everything after reads that value (the export's edge_triangles name

@@ -1,4 +1,4 @@
-// The viewer in a real browser (issue 7 §3, issue 16 §3): Debian's Chromium (/usr/bin/chromium,
+// The viewer in a real browser: Debian's Chromium (/usr/bin/chromium,
 // driven by playwright-core, never a downloaded browser), headless, on the two WebGL 2
 // implementations this machine has: SwiftShader (what a user without a GPU gets) and ANGLE on
 // the system's EGL (Mesa llvmpipe here, the native renderer's rasteriser). Scenes are exported
@@ -15,12 +15,13 @@
 //   skipped with a message when absent), 320 x 180: 0 outside the band on both.
 // * Every mask is judged with the band of the precision its WebGL context reports
 //   (`SUBPIXEL_BITS`, passed as `umbra verify --subpixel-bits`: 4 on both here).
-// * SwiftShader is held to the same 0 (issue 16): Chromium builds it with 4-bit sub-pixel
+// * SwiftShader is held to the same 0: Chromium builds it with 4-bit sub-pixel
 //   precision (SWIFTSHADER_LEGACY_PRECISION), and its masks were decided on its own depth pass,
 //   whose 1/16-pixel snapping may show another surface than the reference's sample near a
 //   crease or a silhouette; the band has that part (SEEN_SURFACE, crates/umbra-oracle/src/
-//   seen_surface.rs) for every external mask. Before it (2026-11-24, 320 x 180): default scene
-//   5 / 4 / 3 samples outside the band, Crytek Sponza 33, Conference 17, Sibenik 1-2.
+//   seen_surface.rs) for every external mask. Without that part, SwiftShader's masks at
+//   320 x 180 have samples outside the band (default scene 3-5, Crytek Sponza 33, Conference
+//   17, Sibenik 1-2).
 // * The page names each shared scene by its file name, never its path.
 // * The mask view against the shaded view, shadows off, the frame time, the error pages (no
 //   WebGL 2, no stencil, truncated buffer, version mismatch, missing export), the controls,

@@ -1,4 +1,4 @@
-// web/serve.mjs never serves outside its roots (issue 7 §3): "..", percent-encoded dots,
+// web/serve.mjs never serves outside its roots: "..", percent-encoded dots,
 // absolute paths, backslashes, NUL, symlinks out of the root. Run: node --test test/
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';

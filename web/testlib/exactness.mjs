@@ -1,4 +1,4 @@
-// The viewer judged by the oracle (issue 16 §3): the browser draws the shadow-mask view
+// The viewer judged by the oracle: the browser draws the shadow-mask view
 // (`mask=1`: white = lit, black = shadowed, as native umbra's lit mask), the mask is read back
 // and written as a PNG, and `umbra verify --method vs-silhouette --external-mask PNG` compares
 // it with the ray-traced reference of the same view under the oracle's own per-sample band —
