@@ -15,7 +15,7 @@ pub struct MeasureOptions {
     pub zpass: bool,
     /// `--zmode auto`: z-pass where provably exact.
     pub auto_zpass: bool,
-    /// `--counter` (resolved per scene and lights in [`measure`]).
+    /// `--counter` (resolved per scene and lights by each backend's driver).
     pub counter: CounterChoice,
     pub sm: SmOptions,
     pub trace_order: bool,

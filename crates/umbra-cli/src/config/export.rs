@@ -11,7 +11,7 @@ pub enum ExportConfig {
     /// `--check DIR`: read DIR's manifest back and check it and its buffer files.
     Check { dir: String },
     /// `SCENE --out DIR`.
-    Write(ExportJob),
+    Write(Box<ExportJob>),
 }
 
 /// What `umbra export SCENE --out DIR` writes.
@@ -36,7 +36,13 @@ impl ExportConfig {
         };
         let started = Instant::now();
         let view = ViewConfig::from_args(&export_view_args(scene, a))?;
-        Ok(ExportConfig::Write(ExportJob { scene: scene.clone(), out: out.clone(), ground: a.ground, view, started }))
+        Ok(ExportConfig::Write(Box::new(ExportJob {
+            scene: scene.clone(),
+            out: out.clone(),
+            ground: a.ground,
+            view,
+            started,
+        })))
     }
 }
 
