@@ -1,4 +1,4 @@
-//! `umbra export`: paper 003's preprocessed scene for a browser (issue 7 §1).
+//! `umbra export`: paper 003's preprocessed scene for a browser.
 //!
 //! Paper 003 (Milet et al., "Fast robust and precise shadow algorithm for WebGL 1.0
 //! platform"), Section 2.6: the sides-data and caps-data are built once, stored beside the
@@ -25,12 +25,11 @@
 //! (`manifest.json: $.buffers.sides_data.bytes: …`); [`check_export`] also checks every
 //! buffer file's length (`umbra export --check DIR`).
 //!
-//! Version 2 added `edge_triangles`: the viewer orients every triangle once per light and
-//! lets the sides and the caps read that one value (docs/web.md), which needs to know which
-//! triangle each opposite slot of the sides-data stands for.
+//! `edge_triangles` lets the viewer orient every triangle once per light and let the sides and
+//! the caps read that one value (docs/web.md): it says which triangle each opposite slot of the
+//! sides-data stands for.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use serde::Serialize;
 use serde_json::Value;
@@ -42,8 +41,8 @@ use umbra_geom::Aabb;
 use umbra_gl::methods::vs_silhouette::plan_portable_layout;
 use umbra_gl::scene::flat_normal;
 
-use crate::args::{ExportArgs, ViewArgs};
-use crate::config::{CliError, ViewConfig};
+use crate::config::{ExportConfig, ViewConfig};
+use crate::error::CliError;
 
 /// `format` of every manifest this module writes.
 pub const FORMAT: &str = "umbra-export";
@@ -502,42 +501,26 @@ pub fn write_export(dir: &Path, e: &Export) -> Result<(), CliError> {
     std::fs::write(&path, text).map_err(io(&path))
 }
 
-pub fn run(a: &ExportArgs) -> Result<(), CliError> {
-    if let Some(dir) = &a.check {
-        let m = check_export(Path::new(dir)).map_err(|e| CliError::Other(e.to_string()))?;
-        println!(
-            "{dir}: {} version {}, {} triangles, {} edge records, maxMult {}: sides-data {} bytes (Eq. 8), caps-data {} bytes (Eq. 9)",
-            m.format, m.version, m.counts.triangles, m.counts.sides_data_records, m.max_mult, m.sides_data_bytes, m.caps_data_bytes
-        );
-        return Ok(());
-    }
-    let (Some(scene), Some(out)) = (&a.scene, &a.out) else {
-        return Err(CliError::BadFlag {
-            flag: "--out",
-            message: "usage: umbra export SCENE --out DIR [--ground], or umbra export --check DIR".into(),
-        });
+pub fn run(c: &ExportConfig) -> Result<(), CliError> {
+    let job = match c {
+        ExportConfig::Check { dir } => {
+            let m = check_export(Path::new(dir)).map_err(|e| CliError::Other(e.to_string()))?;
+            println!(
+                "{dir}: {} version {}, {} triangles, {} edge records, maxMult {}: sides-data {} bytes (Eq. 8), caps-data {} bytes (Eq. 9)",
+                m.format, m.version, m.counts.triangles, m.counts.sides_data_records, m.max_mult, m.sides_data_bytes, m.caps_data_bytes
+            );
+            return Ok(());
+        }
+        ExportConfig::Write(job) => job,
     };
-    let start = Instant::now();
-    let flags = ViewArgs {
-        scene: scene.clone(),
-        light: a.light.iter().cloned().collect(),
-        eye: a.eye.clone(),
-        target: a.target.clone(),
-        up: "0,1,0".into(),
-        fov: 60.0,
-        size: "1280x720".into(),
-        ground: a.ground,
-        zpass: false,
-        zmode: "auto".into(),
-        max_input_bytes: a.max_input_bytes,
-    };
-    let view = ViewConfig::from_args(&flags)?;
-    let e = build_export(&view, a.ground)?;
-    write_export(Path::new(out), &e)?;
+    let e = build_export(&job.view, job.ground)?;
+    write_export(Path::new(&job.out), &e)?;
     let m = &e.manifest;
     eprintln!(
-        "umbra: exported {scene} to {out} in {:.2} s: {} triangles, {} vertices, {} edge records, maxMult {}, sides-data {} bytes, caps-data {} bytes",
-        start.elapsed().as_secs_f64(),
+        "umbra: exported {} to {} in {:.2} s: {} triangles, {} vertices, {} edge records, maxMult {}, sides-data {} bytes, caps-data {} bytes",
+        job.scene,
+        job.out,
+        job.started.elapsed().as_secs_f64(),
         m.counts.triangles,
         m.counts.vertices,
         m.counts.sides_data_records,
@@ -551,6 +534,7 @@ pub fn run(a: &ExportArgs) -> Result<(), CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::args::ViewArgs;
 
     fn sample() -> Export {
         let flags = ViewArgs {

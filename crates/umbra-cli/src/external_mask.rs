@@ -6,7 +6,7 @@ use std::path::Path;
 
 use umbra_gl::RgbaImage;
 
-use crate::config::CliError;
+use crate::error::CliError;
 
 /// Decodes an 8-bit RGB or RGBA PNG (top row first) into RGBA8; errors name the file.
 pub fn load_mask_png(path: &Path) -> Result<RgbaImage, CliError> {

@@ -7,9 +7,10 @@ use umbra_geom::weld::weld;
 use umbra_gl::methods::ts_silhouette::patch_bytes;
 use umbra_gl::methods::vs_silhouette::plan_portable_layout;
 
-use crate::args::InfoArgs;
-use crate::config::{load_scene, parse_light, CliError};
-use crate::wgpu_backend::Backend;
+use crate::backend::Backend;
+use crate::config::InfoConfig;
+use crate::error::CliError;
+use crate::scenes::load_scene;
 
 /// The JSON keys are a contract (`umbra info --json`).
 #[derive(Serialize, Debug, PartialEq)]
@@ -51,13 +52,11 @@ fn device_report(backend: Backend) -> Result<Vec<(String, String)>, CliError> {
     }
 }
 
-pub fn run(a: &InfoArgs) -> Result<(), CliError> {
-    let backend = a.backend.as_deref().map(Backend::parse).transpose()?;
-    let device = backend.map(device_report).transpose()?;
+pub fn run(a: &InfoConfig) -> Result<(), CliError> {
+    let device = a.backend.map(device_report).transpose()?;
     let Some(scene) = a.scene.as_deref() else {
-        let Some(device) = device else {
-            return Err(CliError::Other("info needs a SCENE, or --backend gl|wgpu to print the device".into()));
-        };
+        // Without a scene the configuration has a backend: the device alone.
+        let device = device.unwrap_or_default();
         if a.json {
             let map: serde_json::Map<String, serde_json::Value> =
                 device.into_iter().map(|(k, v)| (k.replace(' ', "_"), serde_json::Value::String(v))).collect();
@@ -74,7 +73,7 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
             println!("{k:<22}{v}");
         }
     }
-    let light = a.light.as_deref().map(parse_light).transpose()?;
+    let light = a.light;
     let mesh = load_scene(scene, a.ground, a.max_input_bytes)?;
     let welded = weld(&mesh);
     let adj = EdgeAdjacency::build(&welded);

@@ -1,6 +1,6 @@
 //! Shadow methods by name, as `render`, `verify` and `bench` take them: the registry's names
 //! (`umbra_gl::method_names`, parameterised ones like `shadow-map-cube:RES` included), the
-//! shadow-map options (`--sm-bias`, `--sm-pcf`, `--sm-faces`) checked once into [`SmOptions`],
+//! shadow-map options (`--sm-bias`, `--sm-pcf`, `--sm-faces`) as [`SmOptions`],
 //! and the shadow-volume counter (`--counter stencil8|float32|auto`, [`CounterChoice`]):
 //! `auto` takes float32 exactly when [`umbra_geom::winding_bound`] cannot prove every count
 //! below 256 for some light (so it never gives a silently wrapped image).
@@ -13,12 +13,11 @@ use umbra_geom::Light;
 use umbra_gl::counter::Counter;
 use umbra_gl::{create_method, method_names, Classification, ShadowMethod};
 
-use crate::args::SmArgs;
-use crate::config::CliError;
+use crate::backend::Backend;
+use crate::error::{bad, CliError};
 
-fn bad(flag: &'static str, message: impl Into<String>) -> CliError {
-    CliError::BadFlag { flag, message: message.into() }
-}
+/// The method `render` and `view` use when none is named: the best one available.
+pub const DEFAULT_METHOD: &str = "cpu-silhouette";
 
 /// Options of the shadow-map methods (`--sm-bias`, `--sm-pcf`, `--sm-faces`); `None` keeps the
 /// method's default.
@@ -33,34 +32,6 @@ pub struct SmOptions {
 impl Default for SmOptions {
     fn default() -> Self {
         Self { bias_constant: None, bias_slope: None, pcf: false, faces: FacePasses::Layered }
-    }
-}
-
-impl SmOptions {
-    pub fn from_args(a: &SmArgs) -> Result<Self, CliError> {
-        let (mut bias_constant, mut bias_slope) = (None, None);
-        if let Some(text) = &a.sm_bias {
-            let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-            if parts.is_empty() || parts.len() > 2 {
-                return Err(bad("--sm-bias", format!("expected C or C,S, got {text:?}")));
-            }
-            let num = |s: &str| -> Result<f32, CliError> {
-                s.parse::<f32>()
-                    .ok()
-                    .filter(|v| v.is_finite() && *v >= 0.0)
-                    .ok_or_else(|| bad("--sm-bias", format!("{s:?} in {text:?} is not a finite number >= 0")))
-            };
-            bias_constant = Some(num(parts[0])?);
-            if let Some(s) = parts.get(1) {
-                bias_slope = Some(num(s)?);
-            }
-        }
-        let faces = match a.sm_faces.as_str() {
-            "layered" => FacePasses::Layered,
-            "six" => FacePasses::SixPasses,
-            other => return Err(bad("--sm-faces", format!("expected layered or six, got {other:?}"))),
-        };
-        Ok(Self { bias_constant, bias_slope, pcf: a.sm_pcf, faces })
     }
 }
 
@@ -86,42 +57,15 @@ pub fn method_exists(name: &str) -> bool {
     create_method(name).is_ok()
 }
 
-/// `all` (every registered method), or a comma-separated list of names, each checked.
-pub fn parse_methods(text: &str, flag: &'static str) -> Result<Vec<String>, CliError> {
-    if text.trim() == "all" {
-        return Ok(method_names().iter().map(|s| s.to_string()).collect());
+/// `--method help` (or `list`): every method of `backend`, one per line on stdout.
+pub fn list_methods(backend: Backend) {
+    let names = match backend {
+        Backend::Gl => method_names(),
+        Backend::Wgpu => umbra_wgpu::method_names(),
+    };
+    for n in names {
+        println!("{n}");
     }
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
-    if names.is_empty() {
-        return Err(bad(flag, "no method named"));
-    }
-    for n in &names {
-        create_method(n).map_err(|e| bad(flag, e.to_string()))?;
-    }
-    Ok(names)
-}
-
-/// `--method help` (or `list`): prints every registered method, one per line, and returns
-/// true; any other name returns false.
-pub fn list_if_help(name: &str) -> bool {
-    if name == "help" || name == "list" {
-        for n in method_names() {
-            println!("{n}");
-        }
-        return true;
-    }
-    false
-}
-
-/// [`list_if_help`] for `backend`: the wgpu backend lists its own methods.
-pub fn list_if_help_for(backend: crate::wgpu_backend::Backend, name: &str) -> bool {
-    if backend == crate::wgpu_backend::Backend::Wgpu && (name == "help" || name == "list") {
-        for n in umbra_wgpu::method_names() {
-            println!("{n}");
-        }
-        return true;
-    }
-    list_if_help(name)
 }
 
 /// `--counter`: a fixed counter, or `auto`.
@@ -129,17 +73,6 @@ pub fn list_if_help_for(backend: crate::wgpu_backend::Backend, name: &str) -> bo
 pub enum CounterChoice {
     Fixed(Counter),
     Auto,
-}
-
-impl CounterChoice {
-    pub fn parse(text: &str, flag: &'static str) -> Result<Self, CliError> {
-        match text.trim() {
-            "stencil8" => Ok(CounterChoice::Fixed(Counter::Stencil8)),
-            "float32" => Ok(CounterChoice::Fixed(Counter::Float32)),
-            "auto" => Ok(CounterChoice::Auto),
-            other => Err(bad(flag, format!("expected stencil8, float32 or auto, got {other:?}"))),
-        }
-    }
 }
 
 /// The counter a frame uses, and for `auto` why.
@@ -202,14 +135,6 @@ pub fn report_counter(d: &CounterDecision) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn counter_flag_values() {
-        assert_eq!(CounterChoice::parse("stencil8", "--counter").unwrap(), CounterChoice::Fixed(Counter::Stencil8));
-        assert_eq!(CounterChoice::parse("float32", "--counter").unwrap(), CounterChoice::Fixed(Counter::Float32));
-        assert_eq!(CounterChoice::parse("auto", "--counter").unwrap(), CounterChoice::Auto);
-        assert!(CounterChoice::parse("stencil16", "--counter").is_err());
-    }
 
     #[test]
     fn auto_counter_follows_the_bound() {

@@ -6,10 +6,8 @@ use std::sync::Arc;
 use umbra_geom::weld::{weld, WeldedMesh};
 use umbra_gl::{Camera, FrameParams, HeadlessContext, Renderer, SceneGpu};
 
-use crate::config::{CliError, ViewConfig};
-
-/// The method `render` uses when none is named: the best one available.
-pub const DEFAULT_METHOD: &str = "cpu-silhouette";
+use crate::config::ViewConfig;
+use crate::error::CliError;
 
 pub struct Session {
     pub context: HeadlessContext,

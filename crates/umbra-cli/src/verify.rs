@@ -9,10 +9,10 @@ use umbra_gl::RgbaImage;
 use umbra_oracle::{diff_image_masked, mismatches_outside_band_masked};
 use umbra_verify::{raster_view, verify_external_mask, verify_method, view_reference_in, MethodReport, ViewReference};
 
-use crate::args::VerifyArgs;
-use crate::config::{CliError, ViewConfig};
+use crate::backend::Backend;
+use crate::config::VerifyConfig;
+use crate::error::CliError;
 use crate::session::Session;
-use crate::wgpu_backend::Backend;
 
 /// One line of `verify --json`; the keys are a contract.
 #[derive(Serialize)]
@@ -131,40 +131,14 @@ fn explain(
 }
 
 /// Returns whether every method that must be exact passed.
-pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
-    let backend = Backend::parse(&a.backend)?;
-    // `--method help` (or `list`): the backend's methods, one per line.
-    if crate::methods::list_if_help_for(backend, a.method.trim()) {
-        return Ok(true);
-    }
-    let methods = match backend {
-        Backend::Gl => crate::methods::parse_methods(&a.method, "--method")?,
-        Backend::Wgpu => crate::wgpu_backend::parse_methods(&a.method, "--method")?,
-    };
-    let sm = crate::methods::SmOptions::from_args(&a.sm)?;
-    let view = ViewConfig::from_args(&a.view)?;
-    // GL 4.5 requires at least 4 bits (its state tables); 16 is beyond any rasterizer's grid.
-    if let Some(bits) = a.subpixel_bits {
-        if !(4..=16).contains(&bits) {
-            return Err(CliError::BadFlag {
-                flag: "--subpixel-bits",
-                message: format!("{bits}: expected 4 to 16 (GL_SUBPIXEL_BITS)"),
-            });
-        }
-        if backend == Backend::Wgpu {
-            return Err(CliError::BadFlag {
-                flag: "--subpixel-bits",
-                message: "applies to --backend gl (external masks)".into(),
-            });
-        }
-    }
-    let choice = crate::methods::CounterChoice::parse(&a.counter, "--counter")?;
+pub fn run(a: &VerifyConfig) -> Result<bool, CliError> {
+    let (backend, methods, sm, view, choice) = (a.backend, &a.methods, &a.sm, &a.view, a.counter);
     // Per method: (report, counter label, per-light z-pass); then the reference, the mesh and
     // the device that drew them.
     let (results, reference, welded, device_name) = match backend {
         Backend::Gl => {
-            let mut s = Session::new(&view)?;
-            let mut params = s.frame_params(&view);
+            let mut s = Session::new(view)?;
+            let mut params = s.frame_params(view);
             let decision =
                 crate::methods::choose_counter(choice, &s.welded.positions, &s.welded.triangles, &params.lights)?;
             crate::methods::report_counter(&decision);
@@ -180,9 +154,9 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             let reference = view_reference_in(gl, &mut s.renderer, &s.scene, &params, raster)
                 .map_err(|e| CliError::Other(e.to_string()))?;
             let mut results = Vec::new();
-            for name in &methods {
+            for name in methods {
                 let verified = (|| {
-                    let mut method = crate::methods::make_method(name, &sm, "--method")?;
+                    let mut method = crate::methods::make_method(name, sm, "--method")?;
                     let report = verify_method(gl, &mut s.renderer, &s.scene, method.as_mut(), &params, &reference);
                     let counter = crate::methods::counter_label(method.as_ref(), params.counter);
                     let zpass = s.renderer.last_zpass().to_vec();
@@ -195,7 +169,7 @@ pub fn run(a: &VerifyArgs) -> Result<bool, CliError> {
             (results, reference, s.welded.clone(), s.context.renderer_string())
         }
         Backend::Wgpu => {
-            let (s, reference, verified) = crate::wgpu_backend::verify(&view, &methods, &sm, choice)?;
+            let (s, reference, verified) = crate::wgpu_backend::verify(view, methods, sm, choice)?;
             let mut results = Vec::new();
             for (name, v) in methods.iter().zip(verified) {
                 results.push(method_result(name, v.map(|v| (v.report, v.counter, v.zpass)), methods.len())?);

@@ -1,5 +1,5 @@
-//! `--backend wgpu`: `render`, `verify`, `bench` and `info` on umbra-wgpu (Vulkan, Metal, DX12;
-//! Mesa's lavapipe without a GPU). The same checked configuration ([`ViewConfig`]), the same
+//! `--backend wgpu`: `render`, `verify` and `info` on umbra-wgpu (Vulkan, Metal, DX12; Mesa's
+//! lavapipe without a GPU); `bench`'s wgpu frames are `bench/wgpu_driver.rs`. The same checked configuration ([`ViewConfig`]), the same
 //! frame parameters ([`crate::session::frame_params_for`]), the same verifier and output
 //! formats as the GL backend; what differs is said where it applies: the methods
 //! (`umbra_wgpu::method_names()`: no geometry or tessellation shaders on wgpu), the counter (the
@@ -9,45 +9,16 @@
 
 use std::path::Path;
 use std::sync::Arc;
-use std::time::Instant;
 
 use umbra_geom::weld::WeldedMesh;
 use umbra_wgpu::methods::shadow_map::ShadowMapConfig;
 use umbra_wgpu::{HeadlessGpu, Renderer, SceneGpu, ShadowVolumes};
 
-use crate::config::{CliError, ViewConfig};
-use crate::methods::{CounterChoice, SmOptions};
+use crate::config::{RenderConfig, ViewConfig};
+use crate::error::CliError;
+use crate::methods::{choose_counter, report_counter, CounterChoice, SmOptions};
 
-/// Which backend draws (`--backend`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    /// OpenGL 4.5 through EGL (umbra-gl), the default.
-    Gl,
-    /// wgpu: Vulkan, Metal or DX12 (umbra-wgpu).
-    Wgpu,
-}
-
-impl Backend {
-    /// `gl` or `wgpu`.
-    pub fn parse(text: &str) -> Result<Self, CliError> {
-        match text.trim() {
-            "gl" => Ok(Backend::Gl),
-            "wgpu" => Ok(Backend::Wgpu),
-            other => {
-                Err(CliError::BadFlag { flag: "--backend", message: format!("expected gl or wgpu, got {other:?}") })
-            }
-        }
-    }
-
-    /// `gl` or `wgpu`, as the JSON outputs name it.
-    pub fn name(self) -> &'static str {
-        match self {
-            Backend::Gl => "gl",
-            Backend::Wgpu => "wgpu",
-        }
-    }
-}
-
+/// A wgpu error as the CLI reports it.
 pub fn wgpu_err(e: impl std::fmt::Display) -> CliError {
     CliError::Gl(format!("wgpu: {e}"))
 }
@@ -120,8 +91,8 @@ pub fn to_wgpu(p: &umbra_gl::FrameParams) -> umbra_wgpu::FrameParams {
 /// The wgpu backend counts in the 8-bit stencil only: `float32`, or `auto` when the winding
 /// bound of some light reaches 256, is an error (never a silently wrapped image).
 pub fn check_counter(choice: CounterChoice, welded: &WeldedMesh, lights: &[umbra_geom::Light]) -> Result<(), CliError> {
-    let decision = crate::methods::choose_counter(choice, &welded.positions, &welded.triangles, lights)?;
-    crate::methods::report_counter(&decision);
+    let decision = choose_counter(choice, &welded.positions, &welded.triangles, lights)?;
+    report_counter(&decision);
     if decision.counter == umbra_gl::counter::Counter::Float32 {
         let why = match decision.bound {
             Some(b) => format!("a winding bound of {b} layers reaches 256"),
@@ -137,52 +108,23 @@ pub fn check_counter(choice: CounterChoice, welded: &WeldedMesh, lights: &[umbra
     Ok(())
 }
 
-/// `all` (every wgpu method), or a comma-separated list of names, each checked against the
-/// wgpu registry (any `shadow-map-cube:RES[+pcf]`).
-pub fn parse_methods(text: &str, flag: &'static str) -> Result<Vec<String>, CliError> {
-    if text.trim() == "all" {
-        return Ok(umbra_wgpu::method_names().iter().map(|s| s.to_string()).collect());
-    }
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
-    if names.is_empty() {
-        return Err(CliError::BadFlag { flag, message: "no method named".into() });
-    }
-    for n in &names {
-        if !umbra_wgpu::method_names().contains(&n.as_str()) && ShadowMapConfig::from_name(n).is_none() {
-            let gl_only = umbra_gl::create_method(n).is_ok();
-            return Err(CliError::BadFlag {
-                flag,
-                message: format!(
-                    "unknown shadow method {n:?} on the wgpu backend{}; known: {}",
-                    if gl_only { " (it needs geometry or tessellation shaders: --backend gl)" } else { "" },
-                    umbra_wgpu::method_names().join(", ")
-                ),
-            });
-        }
-    }
-    Ok(names)
-}
-
 /// `umbra render --backend wgpu`.
-pub fn render(a: &crate::args::RenderArgs, method_name: &str) -> Result<(), CliError> {
-    let sm = SmOptions::from_args(&a.sm)?;
-    parse_methods(method_name, "--method")?;
-    let view = ViewConfig::from_args(&a.view)?;
-    let choice = CounterChoice::parse(&a.counter, "--counter")?;
-    let mut s = WgpuSession::new(&view)?;
-    let params = s.frame_params(&view);
-    check_counter(choice, &s.welded, &params.lights)?;
-    let mut volumes = s.volumes(method_name, &sm, "--method")?;
+pub fn render(c: &RenderConfig) -> Result<(), CliError> {
+    let view = &c.view;
+    let mut s = WgpuSession::new(view)?;
+    let params = s.frame_params(view);
+    check_counter(c.counter, &s.welded, &params.lights)?;
+    let mut volumes = s.volumes(&c.method, &c.sm, "--method")?;
     let (device, queue) = (&s.gpu.device, &s.gpu.queue);
     let images = s.renderer.render(device, queue, &s.scene, &mut volumes, &params).map_err(wgpu_err)?;
-    images.rgba.save_png(Path::new(&a.out)).map_err(wgpu_err)?;
+    images.rgba.save_png(Path::new(&c.out)).map_err(wgpu_err)?;
     eprintln!(
         "umbra: wrote {} ({}x{}, {} triangles, method {}, wgpu on {})",
-        a.out,
+        c.out,
         view.width,
         view.height,
         s.welded.triangles.len(),
-        method_name,
+        c.method,
         s.gpu.adapter_line()
     );
     Ok(())
@@ -255,82 +197,4 @@ pub fn adapter_report() -> Result<Vec<(String, String)>, CliError> {
         ("depth32float-stencil8".into(), yes(umbra_wgpu::wgpu::Features::DEPTH32FLOAT_STENCIL8).into()),
         ("methods".into(), umbra_wgpu::method_names().join(", ")),
     ])
-}
-
-/// `bench --backend wgpu`: umbra-wgpu's frames ([`Renderer::draw_frame`], no readback) for
-/// the interleaved schedule; stage times from GPU timestamps at the passes' boundaries
-/// ([`Renderer::draw_frame_timed`]: prepare, depth+ambient, volumes, lighting) where the
-/// adapter has timestamp queries inside encoders.
-pub struct WgpuDriver {
-    session: WgpuSession,
-    params: umbra_wgpu::FrameParams,
-    instances: Vec<ShadowVolumes>,
-}
-
-impl WgpuDriver {
-    pub fn new(view: &ViewConfig, methods: &[String], o: &crate::bench::MeasureOptions) -> Result<Self, CliError> {
-        let session = WgpuSession::new(view)?;
-        let params = session.frame_params(view);
-        check_counter(o.counter, &session.welded, &params.lights)?;
-        let instances = methods.iter().map(|m| session.volumes(m, &o.sm, "--methods")).collect::<Result<_, _>>()?;
-        Ok(Self { session, params, instances })
-    }
-}
-
-impl crate::bench::Driver for WgpuDriver {
-    fn backend(&self) -> &'static str {
-        Backend::Wgpu.name()
-    }
-
-    fn device_name(&self) -> String {
-        self.session.gpu.adapter_line()
-    }
-
-    fn triangles(&self) -> usize {
-        self.session.welded.triangles.len()
-    }
-
-    fn lights(&self) -> usize {
-        self.params.lights.len()
-    }
-
-    fn counter(&self, method: usize) -> String {
-        if self.instances[method].counts_volumes() { "stencil8" } else { "none" }.to_string()
-    }
-
-    fn frame(&mut self, method: usize, cam: crate::bench::Keyframe) -> Result<f64, String> {
-        self.params.camera.eye = cam.eye;
-        self.params.camera.target = cam.target;
-        let s = &mut self.session;
-        let (device, queue) = (&s.gpu.device, &s.gpu.queue);
-        let wait =
-            || device.poll(umbra_wgpu::wgpu::PollType::wait_indefinitely()).map(|_| ()).map_err(|e| e.to_string());
-        // The GPU idle before; CPU clock from the first command recorded to the frame's
-        // completion (the submission waited for).
-        wait()?;
-        let start = Instant::now();
-        s.renderer
-            .draw_frame(device, queue, &s.scene, &mut self.instances[method], &self.params)
-            .map_err(|e| e.to_string())?;
-        wait()?;
-        Ok(start.elapsed().as_secs_f64() * 1e3)
-    }
-
-    fn stages(&mut self, method: usize, cam: crate::bench::Keyframe) -> Result<Vec<(String, f64)>, String> {
-        self.params.camera.eye = cam.eye;
-        self.params.camera.target = cam.target;
-        let s = &mut self.session;
-        let (device, queue) = (&s.gpu.device, &s.gpu.queue);
-        let timed = s.renderer.draw_frame_timed(device, queue, &s.scene, &mut self.instances[method], &self.params);
-        // Without timestamp queries: no stages (frame times only).
-        Ok(timed.map_err(|e| e.to_string())?.unwrap_or_default())
-    }
-
-    fn zpass_lights(&self, method: usize) -> usize {
-        self.instances[method].plans().iter().filter(|p| p.zpass).count()
-    }
-
-    fn gpu_bytes(&self, method: usize) -> usize {
-        self.instances[method].gpu_bytes() as usize
-    }
 }

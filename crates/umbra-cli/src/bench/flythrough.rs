@@ -10,7 +10,8 @@ use std::path::Path;
 
 use umbra_geom::Aabb;
 
-use crate::config::{CliError, Framing};
+use crate::error::CliError;
+use crate::scenes::Framing;
 
 /// One camera position: where the eye is, what it looks at (world space).
 #[derive(Clone, Copy, Debug, PartialEq)]

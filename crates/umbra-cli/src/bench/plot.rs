@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-use crate::config::CliError;
+use crate::error::CliError;
 
 fn plot_err(path: &Path, e: impl std::fmt::Display) -> CliError {
     CliError::Other(format!("{}: could not draw the plot: {e}", path.display()))

@@ -20,12 +20,7 @@ use std::path::{Path, PathBuf};
 
 use umbra_gl::method_names;
 
-use super::{
-    camera_path, json_rows, load_average, measure, measure_options, method_exists, parse_methods, plot, print_table,
-    write_plots, BenchScene, JsonRow, Measurement,
-};
-use crate::args::BenchArgs;
-use crate::config::{parse_size, CliError};
+use crate::error::CliError;
 
 /// How a suite's results are tabulated and plotted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -164,8 +159,7 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
             ],
         },
         "001-vs-sm" => {
-            // hier-triangle and hier-silhouette: issue 15's target "ahead of the 8K map at every
-            // size".
+            // hier-triangle and hier-silhouette against the 8K map at every size.
             let methods = strings(&["ts-silhouette", "hier-triangle", "hier-silhouette", "shadow-map-cube:8192"]);
             Suite {
                 name: "001-vs-sm",
@@ -246,8 +240,7 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
         }
         "003-stages" => {
             let (sponza, fly) = real("sponza");
-            // hier-triangle and hier-silhouette: issue 15's target "the shadow stage grows no
-            // faster than the pixels".
+            // hier-triangle and hier-silhouette: how their shadow stage grows with the pixels.
             let methods = strings(&["vs-silhouette", "hier-triangle", "hier-silhouette"]);
             Suite {
                 name: "003-stages",
@@ -281,229 +274,10 @@ pub fn suite(name: &str) -> Result<Suite, CliError> {
     Ok(s)
 }
 
-/// `--runs 1,3,5` (1-based) selects runs.
-fn parse_runs(text: &str, count: usize) -> Result<Vec<usize>, CliError> {
-    text.split(',')
-        .map(|s| {
-            s.trim().parse::<usize>().ok().filter(|&i| (1..=count).contains(&i)).map(|i| i - 1).ok_or_else(|| {
-                CliError::BadFlag { flag: "--runs", message: format!("{s:?}: expected run numbers 1..={count}") }
-            })
-        })
-        .collect()
-}
-
-pub fn run(name: &str, a: &BenchArgs) -> Result<(), CliError> {
-    if name == "list" {
-        for (n, t) in SUITES {
-            println!("{n:<12} {t}");
-        }
-        return Ok(());
-    }
-    let mut s = suite(name)?;
-    if let Some(text) = &a.runs {
-        let keep = parse_runs(text, s.runs.len())?;
-        s.runs = keep.into_iter().map(|i| s.runs[i].clone()).collect();
-    }
-    let override_methods = a.methods.as_deref().map(parse_methods).transpose()?;
-    let override_size = a.size.as_deref().map(parse_size).transpose()?;
-    let frames = a.frames.unwrap_or(s.frames);
-    if frames == 0 {
-        return Err(CliError::BadFlag { flag: "--frames", message: "must be at least 1".into() });
-    }
-    let mut notes = s.notes.clone();
-    let mut rows: Vec<JsonRow> = Vec::new();
-    let mut results: Vec<(Run, Measurement)> = Vec::new();
-    let mut renderer = String::new();
-    let load_before = load_average();
-    let started = std::time::Instant::now();
-    let total = s.runs.len();
-    for (i, r) in s.runs.iter().enumerate() {
-        let mut r = r.clone();
-        if let Some(m) = &override_methods {
-            r.methods = m.clone();
-        }
-        if let (Some((w, h)), false) = (override_size, s.kind == Kind::Stages) {
-            r.width = w;
-            r.height = h;
-        }
-        let (present, missing): (Vec<String>, Vec<String>) = r.methods.iter().cloned().partition(|m| method_exists(m));
-        for m in &missing {
-            let note = format!("{m}: not registered yet, skipped");
-            if !notes.contains(&note) {
-                notes.push(note);
-            }
-        }
-        if present.is_empty() {
-            notes.push(format!("run {}: no registered method, skipped", r.label));
-            continue;
-        }
-        if !r.scene.starts_with("spheres:") && !Path::new(&r.scene).exists() {
-            notes.push(format!("run {}: scene {} not found (set UMBRA_SCENES), skipped", r.label, r.scene));
-            continue;
-        }
-        eprintln!("umbra bench: suite {} run {}/{total}: {} at {}x{}", s.name, i + 1, r.label, r.width, r.height);
-        let o = {
-            let mut o = measure_options(a, r.width, r.height, s.stage_every, &format!("{} {}", s.name, r.label))?;
-            o.warmup = a.warmup.unwrap_or(s.warmup);
-            o
-        };
-        let scene = BenchScene::load(&r.scene, false, a.max_input_bytes, &a.light)?;
-        let cameras = camera_path(&r.path, &scene, frames)?;
-        let m = measure(&scene, &present, &cameras, &o)?;
-        renderer = m.renderer.clone();
-        rows.extend(json_rows(&m, &r.scene, r.width, r.height, Some(&r.label), Some(r.x)));
-        if let (Some(p), Kind::Scenes) = (&a.plot, s.kind) {
-            write_plots(
-                &plot::tagged_path(Path::new(p), &r.label),
-                &format!("{} {}x{}", r.label, r.width, r.height),
-                &m,
-            )?;
-        }
-        results.push((r, m));
-    }
-    let load_after = load_average();
-    if let Some(p) = &a.plot {
-        suite_plot(Path::new(p), &s, &results)?;
-    }
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&rows).map_err(|e| CliError::Other(e.to_string()))?);
-        for n in &notes {
-            eprintln!("umbra bench: note: {n}");
-        }
-        return Ok(());
-    }
-    println!("## {} — {}", s.name, s.title);
-    println!();
-    println!(
-        "{renderer}; {frames} frame(s) + {} warm-up per method and run; load average {} before, {} after; {:.0} s",
-        a.warmup.unwrap_or(s.warmup),
-        load_before.as_deref().unwrap_or("?"),
-        load_after.as_deref().unwrap_or("?"),
-        started.elapsed().as_secs_f64()
-    );
-    println!();
-    print_suite_table(&s, &results);
-    for n in &notes {
-        println!();
-        println!("Note: {n}");
-    }
-    Ok(())
-}
-
-fn cell(m: &Measurement, method: &str) -> String {
-    match m.stats.iter().find(|s| s.method == method) {
-        Some(s) => match (s.mean(), &s.error) {
-            (Some(v), _) => format!("{v:.1}"),
-            (None, Some(_)) => "error".into(),
-            (None, None) => "-".into(),
-        },
-        None => "-".into(),
-    }
-}
-
-fn all_methods(results: &[(Run, Measurement)]) -> Vec<String> {
-    let mut methods: Vec<String> = Vec::new();
-    for (_, m) in results {
-        for s in &m.stats {
-            if !methods.contains(&s.method) {
-                methods.push(s.method.clone());
-            }
-        }
-    }
-    methods
-}
-
-/// Mean frame time (ms) tables.
-pub fn print_suite_table(s: &Suite, results: &[(Run, Measurement)]) {
-    let methods = all_methods(results);
-    match s.kind {
-        Kind::Sweep => {
-            println!("Mean frame time in ms (lower is better).");
-            println!();
-            println!("| {} | triangles | {} |", s.x_desc, methods.join(" | "));
-            println!("|{}", " ---: |".repeat(2 + methods.len()));
-            for (r, m) in results {
-                let cells: Vec<String> = methods.iter().map(|n| cell(m, n)).collect();
-                println!("| {} | {} | {} |", r.label, m.triangles, cells.join(" | "));
-            }
-        }
-        Kind::Scenes => {
-            println!("Mean frame time in ms (lower is better).");
-            println!();
-            let labels: Vec<String> = results
-                .iter()
-                .map(|(r, m)| format!("{} ({}x{}, {} tris)", r.label, r.width, r.height, m.triangles))
-                .collect();
-            println!("| method | {} |", labels.join(" | "));
-            println!("| --- |{}", " ---: |".repeat(results.len()));
-            for n in &methods {
-                let cells: Vec<String> = results.iter().map(|(_, m)| cell(m, n)).collect();
-                println!("| {n} | {} |", cells.join(" | "));
-            }
-            for (r, m) in results {
-                if m.stats.iter().any(|st| !st.stage_ms.is_empty()) {
-                    println!();
-                    println!("### {} ({}x{}): frame statistics and mean stage times (ms)", r.label, r.width, r.height);
-                    println!();
-                    print_table(m);
-                }
-            }
-        }
-        Kind::Stages => {
-            for (r, m) in results {
-                println!("### {} ({} frames measured)", r.label, m.stats.first().map_or(0, |s| s.frame_ms.len()));
-                println!();
-                print_table(m);
-                println!();
-            }
-        }
-    }
-}
-
-fn suite_plot(path: &Path, s: &Suite, results: &[(Run, Measurement)]) -> Result<(), CliError> {
-    match s.kind {
-        Kind::Sweep => {
-            let series: Vec<(String, Vec<(f64, f64)>)> = all_methods(results)
-                .into_iter()
-                .map(|n| {
-                    let pts = results
-                        .iter()
-                        .filter_map(|(r, m)| {
-                            m.stats.iter().find(|st| st.method == n).and_then(|st| st.mean()).map(|v| (r.x, v))
-                        })
-                        .collect();
-                    (n, pts)
-                })
-                .collect();
-            plot::lines(path, s.title, s.x_desc, "mean ms per frame", &series, true)
-        }
-        Kind::Scenes => Ok(()),
-        Kind::Stages => {
-            let mut stage_names: Vec<String> = Vec::new();
-            for (_, m) in results {
-                for st in &m.stats {
-                    for (n, _) in &st.stage_ms {
-                        if !stage_names.contains(n) {
-                            stage_names.push(n.clone());
-                        }
-                    }
-                }
-            }
-            let rows: Vec<(String, Vec<f64>)> = results
-                .iter()
-                .flat_map(|(r, m)| {
-                    let names = &stage_names;
-                    m.stats.iter().map(move |st| {
-                        let means = st.stage_means();
-                        (
-                            format!("{} {}", st.method, r.label),
-                            names.iter().map(|n| means.iter().find(|(k, _)| k == n).map_or(0.0, |(_, v)| *v)).collect(),
-                        )
-                    })
-                })
-                .collect();
-            plot::stacked_bars(path, s.title, &stage_names, &rows)
-        }
+/// `--suite list`: every suite with its title, one per line.
+pub fn list() {
+    for (n, t) in SUITES {
+        println!("{n:<12} {t}");
     }
 }
 
@@ -532,7 +306,5 @@ mod tests {
             assert!(umbra_geom::scene::parse(&r.scene).is_ok(), "{}", r.scene);
         }
         assert!(suite("nope").is_err());
-        assert_eq!(parse_runs("1,3", 4).expect("ok"), vec![0, 2]);
-        assert!(parse_runs("0", 4).is_err() && parse_runs("5", 4).is_err());
     }
 }

@@ -1,0 +1,28 @@
+//! [`Driver`]: one backend's frames as the interleaved schedule drives them; the GL driver is
+//! `gl_driver.rs`, the wgpu driver `wgpu_driver.rs`.
+
+use super::flythrough::Keyframe;
+
+/// One backend's frames, as the interleaved schedule drives them (`measure.rs`).
+pub trait Driver {
+    /// "gl" or "wgpu".
+    fn backend(&self) -> &'static str;
+    /// The device, for the report.
+    fn device_name(&self) -> String;
+    /// Triangles drawn.
+    fn triangles(&self) -> usize;
+    /// Lights per frame.
+    fn lights(&self) -> usize;
+    /// Method `method`'s counter label ("stencil8", "float32", "none").
+    fn counter(&self, method: usize) -> String;
+    /// Draws method `method`'s frame at `cam` (no readback) and returns its time: the GPU
+    /// idle before, CPU clock from the first command to the frame's completion (ms).
+    fn frame(&mut self, method: usize, cam: Keyframe) -> Result<f64, String>;
+    /// The same frame once more with per-stage timing: (stage, GPU ms) summed over lights;
+    /// empty when the backend has no stage timing.
+    fn stages(&mut self, method: usize, cam: Keyframe) -> Result<Vec<(String, f64)>, String>;
+    /// Lights of the last frame counted z-pass.
+    fn zpass_lights(&self, method: usize) -> usize;
+    /// Bytes of GPU memory method `method` holds.
+    fn gpu_bytes(&self, method: usize) -> usize;
+}

@@ -1,0 +1,77 @@
+//! Per-method frame and stage times of one measurement, and their statistics (mean, median,
+//! nearest-rank 95th percentile, per-stage means).
+
+/// Per-method results of one measurement.
+#[derive(Clone, Debug, Default)]
+pub struct MethodStats {
+    pub method: String,
+    /// Whole-frame times of the measured rounds, in round order (ms).
+    pub frame_ms: Vec<f64>,
+    /// Per stage (first-seen order): the stage's time in each stage-timed round (ms).
+    pub stage_ms: Vec<(String, Vec<f64>)>,
+    pub gpu_bytes: usize,
+    pub error: Option<String>,
+    /// The counter the method's volume pass used ("stencil8", "float32", or "none" for a
+    /// method that does not count in the stencil).
+    pub counter: String,
+    /// Measured frames' lights counted z-pass, and all measured frames' lights.
+    pub zpass_lights: usize,
+    pub lights: usize,
+}
+
+impl MethodStats {
+    pub fn mean(&self) -> Option<f64> {
+        (!self.frame_ms.is_empty()).then(|| self.frame_ms.iter().sum::<f64>() / self.frame_ms.len() as f64)
+    }
+    pub fn median(&self) -> Option<f64> {
+        percentile_sorted(&sorted(&self.frame_ms), 0.5)
+    }
+    pub fn p95(&self) -> Option<f64> {
+        percentile_sorted(&sorted(&self.frame_ms), 0.95)
+    }
+    /// Mean of each stage over the stage-timed rounds.
+    pub fn stage_means(&self) -> Vec<(String, f64)> {
+        self.stage_ms
+            .iter()
+            .filter(|(_, v)| !v.is_empty())
+            .map(|(n, v)| (n.clone(), v.iter().sum::<f64>() / v.len() as f64))
+            .collect()
+    }
+}
+
+fn sorted(v: &[f64]) -> Vec<f64> {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s
+}
+
+/// Median (q = 0.5: mean of the middle two for even counts) or nearest-rank percentile.
+fn percentile_sorted(s: &[f64], q: f64) -> Option<f64> {
+    if s.is_empty() {
+        return None;
+    }
+    if q == 0.5 {
+        let n = s.len();
+        return Some(if n % 2 == 1 { s[n / 2] } else { 0.5 * (s[n / 2 - 1] + s[n / 2]) });
+    }
+    let rank = ((q * s.len() as f64).ceil() as usize).clamp(1, s.len());
+    Some(s[rank - 1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles() {
+        let st = MethodStats { frame_ms: vec![5.0, 1.0, 3.0, 2.0, 4.0], ..Default::default() };
+        assert_eq!(st.mean(), Some(3.0));
+        assert_eq!(st.median(), Some(3.0));
+        assert_eq!(st.p95(), Some(5.0));
+        let even = MethodStats { frame_ms: vec![4.0, 1.0, 3.0, 2.0], ..Default::default() };
+        assert_eq!(even.median(), Some(2.5));
+        let twenty = MethodStats { frame_ms: (1..=20).map(f64::from).collect(), ..Default::default() };
+        assert_eq!(twenty.p95(), Some(19.0), "nearest rank: ceil(0.95 * 20) = 19th");
+        assert_eq!(MethodStats::default().mean(), None);
+    }
+}

@@ -1,0 +1,73 @@
+//! [`ViewConfig`]: the scene, camera, lights, size and z-mode flags (`ViewArgs`) checked, as
+//! `render`, `verify`, `view` and `export` draw them.
+
+use umbra_geom::scene;
+use umbra_geom::{Aabb, Light, Mesh};
+
+use super::parse::{check_fov, parse_light, parse_size, parse_vec3, parse_zmode};
+use crate::args::ViewArgs;
+use crate::error::{bad, CliError};
+use crate::scenes::{default_camera, default_light, load_scene, CameraConfig, Framing};
+
+/// Everything `render` and `verify` need to draw a view, checked.
+#[derive(Clone, Debug)]
+pub struct ViewConfig {
+    pub scene_spec: String,
+    pub mesh: Mesh,
+    pub camera: CameraConfig,
+    pub lights: Vec<Light>,
+    pub width: u32,
+    pub height: u32,
+    /// z-pass for every light (`--zpass`, `--zmode zpass`).
+    pub zpass: bool,
+    /// z-pass where provably exact (`--zmode auto`, the default).
+    pub auto_zpass: bool,
+}
+
+impl ViewConfig {
+    /// Checks the flags, loads the scene and derives the camera and light defaults from its
+    /// bounds.
+    pub fn from_args(a: &ViewArgs) -> Result<Self, CliError> {
+        let (width, height) = parse_size(&a.size)?;
+        check_fov(a.fov)?;
+        let up = parse_vec3("--up", &a.up)?;
+        if up.iter().all(|&c| c == 0.0) {
+            return Err(bad("--up", "must not be zero"));
+        }
+        // `default` names the light derived from the scene's bounds, resolved below.
+        let explicit_lights = a
+            .light
+            .iter()
+            .map(|l| if l.trim() == "default" { Ok(None) } else { parse_light(l).map(Some) })
+            .collect::<Result<Vec<_>, _>>()?;
+        let eye = a.eye.as_deref().map(|s| parse_vec3("--eye", s)).transpose()?;
+        let target = a.target.as_deref().map(|s| parse_vec3("--target", s)).transpose()?;
+        let framing = Framing::of(&scene::parse(&a.scene)?);
+        let mut mesh = load_scene(&a.scene, false, a.max_input_bytes)?;
+        // Camera and light follow the scene itself, not the (ten times wider) ground plane.
+        let bounds = mesh.bounds().unwrap_or(Aabb { min: [-1.0; 3], max: [1.0; 3] });
+        if a.ground {
+            scene::add_ground(&mut mesh);
+        }
+        let mut camera = default_camera(&bounds, framing);
+        camera.up = up;
+        camera.fov_y_degrees = a.fov;
+        if let Some(e) = eye {
+            camera.eye = e;
+        }
+        if let Some(t) = target {
+            camera.target = t;
+        }
+        if camera.eye == camera.target {
+            return Err(bad("--eye", "the eye and the target must differ"));
+        }
+        let derived = default_light(&bounds, framing);
+        let lights = if explicit_lights.is_empty() {
+            vec![derived]
+        } else {
+            explicit_lights.into_iter().map(|l| l.unwrap_or(derived)).collect()
+        };
+        let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
+        Ok(ViewConfig { scene_spec: a.scene.clone(), mesh, camera, lights, width, height, zpass, auto_zpass })
+    }
+}
