@@ -269,7 +269,7 @@ mod tests {
     #[test]
     fn alloc_and_free() {
         let p = umbra_alloc(100);
-        assert!(!p.is_null() && p as usize % ALIGN == 0);
+        assert!(!p.is_null() && (p as usize).is_multiple_of(ALIGN));
         // SAFETY: a block of umbra_alloc(100), freed once.
         unsafe { umbra_free(p, 100) };
         let empty = umbra_alloc(0);

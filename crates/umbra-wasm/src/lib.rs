@@ -58,7 +58,7 @@ pub fn mesh_from_geometry(name: &str, positions: &[f32], index: Option<&[u32]>) 
     if positions.is_empty() {
         return err("no positions: the position attribute is empty".into());
     }
-    if positions.len() % 3 != 0 {
+    if !positions.len().is_multiple_of(3) {
         return err(format!("positions: {} floats, not a multiple of 3 (x, y, z per vertex)", positions.len()));
     }
     if let Some(i) = positions.iter().position(|v| !v.is_finite()) {
@@ -76,7 +76,7 @@ pub fn mesh_from_geometry(name: &str, positions: &[f32], index: Option<&[u32]>) 
     }
     let triangles: Vec<[u32; 3]> = match index {
         Some(index) => {
-            if index.len() % 3 != 0 {
+            if !index.len().is_multiple_of(3) {
                 return err(format!("index: {} entries, not a multiple of 3 (three per triangle)", index.len()));
             }
             if let Some(k) = index.iter().position(|&v| v as usize >= vertices) {
@@ -89,7 +89,7 @@ pub fn mesh_from_geometry(name: &str, positions: &[f32], index: Option<&[u32]>) 
             index.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
         }
         None => {
-            if vertices % 3 != 0 {
+            if !vertices.is_multiple_of(3) {
                 return err(format!(
                     "no index and {vertices} vertices, not a multiple of 3 (three per triangle without an index)"
                 ));
