@@ -12,6 +12,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
+import http from 'node:http';
 import { mkdtemp, readFile, rm } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
@@ -204,6 +205,23 @@ test('bad input: an error naming the mesh and the element, never a trap', { skip
   assert.equal(geom.prepare({ name: 'quad', positions: QUAD, index: QUAD_INDEX }).counts.triangles, 2);
 });
 
-test('a .wasm that cannot be fetched is an error, not a hang', { skip }, async () => {
-  await assert.rejects(loadUmbraGeom(new URL('file:///nonexistent/umbra_wasm.wasm')), Error);
+test('loading by URL: streamed (application/wasm), compiled from bytes (other types), HTTP errors named', { skip }, async () => {
+  const wasm = await readFile(WASM);
+  const server = http.createServer((req, res) => {
+    if (req.url === '/streamed.wasm') res.writeHead(200, { 'Content-Type': 'application/wasm' }).end(wasm);
+    else if (req.url === '/octet.wasm') res.writeHead(200, { 'Content-Type': 'application/octet-stream' }).end(wasm);
+    else res.writeHead(404).end();
+  });
+  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
+  const base = `http://127.0.0.1:${server.address().port}`;
+  try {
+    for (const file of ['streamed.wasm', 'octet.wasm']) {
+      const g = await loadUmbraGeom(`${base}/${file}`);
+      assert.equal(g.prepare({ name: file, positions: QUAD, index: QUAD_INDEX }).counts.edges, 5, file);
+    }
+    await assert.rejects(loadUmbraGeom(`${base}/missing.wasm`), (e) => e instanceof UmbraGeomError && /missing\.wasm: HTTP 404$/.test(e.message));
+    await assert.rejects(loadUmbraGeom(new Uint8Array([0, 97, 115, 109, 9, 0, 0, 0])), WebAssembly.CompileError);
+  } finally {
+    server.close();
+  }
 });
