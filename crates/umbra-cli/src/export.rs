@@ -7,7 +7,8 @@
 //! ([`umbra_geom::sides_data::build_sides_data`] / [`umbra_geom::sides_data::build_caps_data`]),
 //! same layout and `maxMult` (16 vertex attributes, the minimum of OpenGL 4.5, OpenGL ES 3.0 and
 //! WebGL 2, and what `umbra info` reports) — plus the drawable welded mesh and a JSON manifest.
-//! The buffers come from [`umbra_geom::export_buffers`], which umbra-wasm runs in a browser. Every file is little-endian binary a browser fetches as one ArrayBuffer:
+//! The buffers come from [`umbra_geom::export_buffers`], which umbra-wasm runs in a browser.
+//! Every file is little-endian binary a browser fetches as one ArrayBuffer:
 //!
 //! | buffer | file | contents | bytes |
 //! | --- | --- | --- | --- |
