@@ -4,10 +4,11 @@
 //! platform"), Section 2.6: the sides-data and caps-data are built once, stored beside the
 //! scene and downloaded; the browser's vertex shaders only evaluate them. This module writes
 //! exactly the buffers the native `vs-silhouette` method uploads — same builders
-//! ([`umbra_geom::sides_data::build_sides_data`] / [`build_caps_data`]), same layout and
-//! `maxMult` ([`plan_portable_layout`]: 16 vertex attributes, the minimum of OpenGL 4.5, OpenGL ES
-//! 3.0 and WebGL 2, and what `umbra info` reports) — plus the drawable welded mesh and a JSON
-//! manifest. Every file is little-endian binary a browser fetches as one ArrayBuffer:
+//! ([`umbra_geom::sides_data::build_sides_data`] / [`umbra_geom::sides_data::build_caps_data`]),
+//! same layout and `maxMult` (16 vertex attributes, the minimum of OpenGL 4.5, OpenGL ES 3.0 and
+//! WebGL 2, and what `umbra info` reports) — plus the drawable welded mesh and a JSON manifest.
+//! The buffers come from [`umbra_geom::export_buffers`], which umbra-wasm runs in a browser.
+//! Every file is little-endian binary a browser fetches as one ArrayBuffer:
 //!
 //! | buffer | file | contents | bytes |
 //! | --- | --- | --- | --- |
@@ -33,13 +34,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use serde_json::Value;
-use umbra_geom::adjacency::EdgeAdjacency;
-use umbra_geom::edge_triangles::build_edge_triangles;
-use umbra_geom::sides_data::{build_caps_data, build_sides_data, caps_data_bytes, sides_data_bytes, MAX_MULT_LIMIT};
-use umbra_geom::weld::{weld, WeldedMesh};
+use umbra_geom::export_buffers::{build_export_buffers, le_bytes};
+use umbra_geom::sides_data::{caps_data_bytes, sides_data_bytes, MAX_MULT_LIMIT};
+use umbra_geom::weld::weld;
 use umbra_geom::Aabb;
-use umbra_gl::methods::vs_silhouette::plan_portable_layout;
-use umbra_gl::scene::flat_normal;
 
 use crate::config::{ExportConfig, ViewConfig};
 use crate::error::CliError;
@@ -384,52 +382,23 @@ pub struct Export {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
-fn le_f32(out: &mut Vec<u8>, values: impl IntoIterator<Item = f32>) {
-    for v in values {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-}
-
-/// Bounds of the vertices the triangles use (what `SceneGpu::bounds` reports for `render`).
-fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
-    let mut it = mesh.triangles.iter().flatten().filter_map(|&i| mesh.positions.get(i as usize).copied());
-    let first = it.next()?;
-    Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
-        min: [0, 1, 2].map(|k| b.min[k].min(p[k])),
-        max: [0, 1, 2].map(|k| b.max[k].max(p[k])),
-    }))
-}
-
 /// Builds every buffer and the manifest for a checked view (its mesh, first light, camera).
 pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError> {
     let welded = weld(&view.mesh);
     if welded.triangles.is_empty() {
         return Err(CliError::Other(format!("scene {:?} has no triangles to export", view.scene_spec)));
     }
-    let adj = EdgeAdjacency::build(&welded);
-    let t = welded.triangles.len();
-    // Planned for the 16 vertex attributes GL 4.5, ES 3.0 and WebGL 2 all guarantee.
-    let layout = plan_portable_layout(&adj, t);
-    let sides = build_sides_data(&welded, &adj, layout.max_mult).map_err(|e| CliError::Other(e.to_string()))?;
-    let caps = build_caps_data(&welded).map_err(|e| CliError::Other(e.to_string()))?;
-    let edge_triangles =
-        build_edge_triangles(&welded, &adj, layout.max_mult).map_err(|e| CliError::Other(e.to_string()))?;
+    // Planned for the 16 vertex attributes GL 4.5, ES 3.0 and WebGL 2 all guarantee; the same
+    // builder umbra-wasm runs in a browser.
+    let b = build_export_buffers(&welded).map_err(|e| CliError::Other(e.to_string()))?;
+    let positions = le_bytes(&b.positions);
+    let normals = le_bytes(&b.normals);
+    let indices = le_bytes(&b.indices);
+    let sides_bytes = le_bytes(&b.sides_data);
+    let caps_bytes = le_bytes(&b.caps_data);
+    let edge_triangle_bytes = le_bytes(&b.edge_triangles);
 
-    let mut positions = Vec::with_capacity(12 * welded.positions.len());
-    le_f32(&mut positions, welded.positions.iter().flatten().copied());
-    let mut normals = Vec::with_capacity(12 * t);
-    le_f32(&mut normals, welded.triangles.iter().flat_map(|&tri| flat_normal(&welded.positions, tri)));
-    let mut indices = Vec::with_capacity(12 * t);
-    for i in welded.triangles.iter().flatten() {
-        indices.extend_from_slice(&i.to_le_bytes());
-    }
-    let mut sides_bytes = Vec::with_capacity(sides.bytes());
-    le_f32(&mut sides_bytes, sides.data.iter().flatten().copied());
-    let mut caps_bytes = Vec::with_capacity(16 * caps.len());
-    le_f32(&mut caps_bytes, caps.iter().flatten().copied());
-    let edge_triangle_bytes: Vec<u8> = edge_triangles.iter().flat_map(|v| v.to_le_bytes()).collect();
-
-    let bounds = triangle_bounds(&welded).unwrap_or(Aabb { min: [-1.0; 3], max: [1.0; 3] });
+    let bounds = b.bounds.unwrap_or(Aabb { min: [-1.0; 3], max: [1.0; 3] });
     let r = |file: &str, bytes: &[u8], component_type: &str, components: u64| BufferRef {
         file: file.into(),
         offset: 0,
@@ -444,7 +413,7 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
         indices: r("indices.bin", &indices, "u32", 3),
         sides_data: r("sides.bin", &sides_bytes, "f32", 4),
         caps_data: r("caps.bin", &caps_bytes, "f32", 4),
-        edge_triangles: r("edge_triangles.bin", &edge_triangle_bytes, "i32", layout.max_mult as u64),
+        edge_triangles: r("edge_triangles.bin", &edge_triangle_bytes, "i32", b.max_mult as u64),
     };
     let c = &view.camera;
     let manifest = Manifest {
@@ -453,14 +422,14 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
         scene: view.scene_spec.clone(),
         ground,
         counts: Counts {
-            vertices: welded.positions.len() as u64,
-            triangles: t as u64,
-            edges: adj.len() as u64,
-            sides_data_records: layout.records as u64,
+            vertices: b.vertices as u64,
+            triangles: b.triangles as u64,
+            edges: b.edges as u64,
+            sides_data_records: b.records as u64,
         },
-        max_mult: layout.max_mult as u64,
-        sides_data_bytes: layout.sides_bytes as u64,
-        caps_data_bytes: layout.caps_bytes as u64,
+        max_mult: b.max_mult as u64,
+        sides_data_bytes: sides_bytes.len() as u64,
+        caps_data_bytes: caps_bytes.len() as u64,
         bounds: Bounds { min: bounds.min, max: bounds.max },
         light: view.lights.first().copied().unwrap_or([0.0, 1.0, 0.0, 0.0]),
         camera: CameraSpec {
@@ -537,7 +506,11 @@ mod tests {
     use crate::args::ViewArgs;
 
     fn sample() -> Export {
-        let flags = ViewArgs {
+        build_export(&ViewConfig::from_args(&sample_flags()).expect("box"), true).expect("export")
+    }
+
+    fn sample_flags() -> ViewArgs {
+        ViewArgs {
             scene: "box".into(),
             light: vec![],
             eye: None,
@@ -549,8 +522,7 @@ mod tests {
             zpass: false,
             zmode: "auto".into(),
             max_input_bytes: None,
-        };
-        build_export(&ViewConfig::from_args(&flags).expect("box"), true).expect("export")
+        }
     }
 
     fn text(e: &Export) -> String {
@@ -621,6 +593,23 @@ mod tests {
         v["buffers"]["positions"]["file"] = Value::from("../etc/passwd");
         let err = parse_manifest(Path::new("m.json"), &v.to_string()).expect_err("path");
         assert!(matches!(&err, ManifestError::Field { path, .. } if path == "$.buffers.positions.file"), "{err}");
+    }
+
+    #[test]
+    fn layout_is_the_portable_plan_of_umbra_gl() {
+        use umbra_geom::export_buffers::build_export_buffers;
+        use umbra_geom::EdgeAdjacency;
+        use umbra_gl::methods::vs_silhouette::plan_portable_layout;
+        let flags = |scene: &str| ViewArgs { scene: scene.into(), ground: false, ..sample_flags() };
+        for scene in ["box", "spheres:3", "default"] {
+            let view = ViewConfig::from_args(&flags(scene)).expect("scene");
+            let welded = weld(&view.mesh);
+            let adj = EdgeAdjacency::build(&welded);
+            let plan = plan_portable_layout(&adj, welded.triangles.len());
+            let b = build_export_buffers(&welded).expect("buffers");
+            assert_eq!((b.max_mult, b.records, b.edges), (plan.max_mult, plan.records, plan.edges), "{scene}");
+            assert_eq!(4 * b.sides_data.len(), plan.sides_bytes, "{scene}");
+        }
     }
 
     #[test]

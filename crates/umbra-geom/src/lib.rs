@@ -6,6 +6,7 @@
 //! * [`weld`]: exact-position welding; degenerate triangles dropped and counted.
 //! * [`adjacency`]: every unique edge with all of its opposite vertices.
 //! * [`edge_triangles`]: the triangle behind every opposite slot of the sides-data.
+//! * [`export_buffers`]: the buffers paper 003's browser client draws from.
 //! * [`order`]: the strict vertex order of paper 001, Eq. 1 / Alg. 2.
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
@@ -93,6 +94,7 @@ pub mod adjacency;
 pub mod camera;
 pub mod clearance;
 pub mod edge_triangles;
+pub mod export_buffers;
 pub mod frame_images;
 pub mod image;
 pub mod load;

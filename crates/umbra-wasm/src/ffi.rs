@@ -1,0 +1,279 @@
+//! The functions the WebAssembly module exports (`web/umbra-geom-wasm/index.js` calls them).
+//!
+//! Memory: the caller allocates input with [`umbra_alloc`], writes positions (f32), the index
+//! (u32) and the mesh name (UTF-8) into it, calls [`umbra_prepare`], reads every output buffer
+//! through the result's accessors (pointer and length in elements of 4 bytes, little-endian),
+//! then frees the result ([`umbra_result_free`]) and its input ([`umbra_free`]).
+//! [`umbra_prepare`] never traps on bad input: the result then holds an error message
+//! ([`umbra_result_error_len`] > 0) and no buffers.
+//!
+//! Buffer numbers ([`umbra_result_buffer_ptr`]): 0 positions (f32), 1 normals (f32), 2 indices
+//! (u32), 3 sides-data (f32), 4 caps-data (f32), 5 edge triangles (i32). Count numbers
+//! ([`umbra_result_count`]): 0 welded vertices, 1 triangles, 2 edges, 3 edge records, 4 input
+//! triangles, 5 degenerate (dropped) triangles.
+
+use std::alloc::{alloc, dealloc, Layout};
+
+use crate::{prepare, PrepareError, Prepared};
+
+/// Version of this interface; the JavaScript module refuses any other.
+pub const ABI_VERSION: u32 = 1;
+
+/// Alignment of every [`umbra_alloc`] block (enough for f32, u32 and f64).
+const ALIGN: usize = 8;
+
+/// What [`umbra_prepare`] returns: the prepared geometry or its error.
+pub struct PrepareResult {
+    result: Result<Prepared, PrepareError>,
+    bounds: [f32; 6],
+}
+
+/// [`ABI_VERSION`].
+#[no_mangle]
+pub extern "C" fn umbra_abi_version() -> u32 {
+    ABI_VERSION
+}
+
+/// Allocates `len` bytes aligned to 8; null when out of memory. `len` 0 gives a dangling,
+/// aligned, non-null pointer that [`umbra_free`] accepts.
+#[no_mangle]
+pub extern "C" fn umbra_alloc(len: usize) -> *mut u8 {
+    if len == 0 {
+        return ALIGN as *mut u8;
+    }
+    match Layout::from_size_align(len, ALIGN) {
+        // SAFETY: the layout has a non-zero size.
+        Ok(layout) => unsafe { alloc(layout) },
+        Err(_) => std::ptr::null_mut(),
+    }
+}
+
+/// Frees a block of [`umbra_alloc`].
+///
+/// # Safety
+/// `ptr` and `len` must be those of one [`umbra_alloc`] call not freed yet (or `ptr` null).
+#[no_mangle]
+pub unsafe extern "C" fn umbra_free(ptr: *mut u8, len: usize) {
+    if ptr.is_null() || len == 0 {
+        return;
+    }
+    if let Ok(layout) = Layout::from_size_align(len, ALIGN) {
+        // SAFETY: the caller passes a block of umbra_alloc(len), which used this layout.
+        unsafe { dealloc(ptr, layout) }
+    }
+}
+
+/// A slice of `len` elements at `ptr`; empty for `len` 0, whatever `ptr` is.
+///
+/// # Safety
+/// For `len` > 0, `ptr` points to `len` initialised, aligned elements.
+unsafe fn slice<'a, T>(ptr: *const T, len: usize) -> &'a [T] {
+    if len == 0 || ptr.is_null() {
+        &[]
+    } else {
+        // SAFETY: guaranteed by the caller.
+        unsafe { std::slice::from_raw_parts(ptr, len) }
+    }
+}
+
+/// Prepares a geometry ([`crate::prepare`]): `positions_len` f32 at `positions`, and
+/// `index_len` u32 at `index` when `has_index` is not 0; `name_len` bytes of UTF-8 at `name`
+/// (invalid sequences replaced). Returns a result for the accessors below, which
+/// [`umbra_result_free`] frees; null only when out of memory.
+///
+/// # Safety
+/// Each pointer with a non-zero length points to that many initialised, aligned elements
+/// (blocks of [`umbra_alloc`] do), not written during the call.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_prepare(
+    name: *const u8,
+    name_len: usize,
+    positions: *const f32,
+    positions_len: usize,
+    index: *const u32,
+    index_len: usize,
+    has_index: u32,
+) -> *mut PrepareResult {
+    // SAFETY: guaranteed by the caller.
+    let (name, positions, index) =
+        unsafe { (slice(name, name_len), slice(positions, positions_len), slice(index, index_len)) };
+    let name = String::from_utf8_lossy(name);
+    let result = prepare(&name, positions, (has_index != 0).then_some(index));
+    let bounds = match &result {
+        Ok(Prepared { buffers: b, .. }) => b.bounds.map(|b| [b.min, b.max]).unwrap_or([[0.0; 3]; 2]),
+        Err(_) => [[0.0; 3]; 2],
+    };
+    let bounds = [bounds[0][0], bounds[0][1], bounds[0][2], bounds[1][0], bounds[1][1], bounds[1][2]];
+    Box::into_raw(Box::new(PrepareResult { result, bounds }))
+}
+
+/// The result behind a handle.
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+unsafe fn get<'a>(r: *const PrepareResult) -> &'a PrepareResult {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*r }
+}
+
+/// Frees a result of [`umbra_prepare`] (every pointer read from it becomes invalid).
+///
+/// # Safety
+/// `r` is a result of [`umbra_prepare`] not freed yet, or null.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_free(r: *mut PrepareResult) {
+    if !r.is_null() {
+        // SAFETY: it came from Box::into_raw in umbra_prepare.
+        drop(unsafe { Box::from_raw(r) });
+    }
+}
+
+/// Bytes of the error message; 0 when the geometry was prepared.
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_error_len(r: *const PrepareResult) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { get(r) }.result.as_ref().err().map_or(0, |e| e.0.len())
+}
+
+/// The error message (UTF-8, [`umbra_result_error_len`] bytes).
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_error_ptr(r: *const PrepareResult) -> *const u8 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { get(r) }.result.as_ref().err().map_or(std::ptr::null(), |e| e.0.as_ptr())
+}
+
+/// Start and length in elements of buffer `which` (see the module documentation).
+fn buffer(r: &PrepareResult, which: u32) -> (*const u8, usize) {
+    let Ok(p) = &r.result else { return (std::ptr::null(), 0) };
+    let b = &p.buffers;
+    match which {
+        0 => (b.positions.as_ptr().cast(), b.positions.len()),
+        1 => (b.normals.as_ptr().cast(), b.normals.len()),
+        2 => (b.indices.as_ptr().cast(), b.indices.len()),
+        3 => (b.sides_data.as_ptr().cast(), b.sides_data.len()),
+        4 => (b.caps_data.as_ptr().cast(), b.caps_data.len()),
+        5 => (b.edge_triangles.as_ptr().cast(), b.edge_triangles.len()),
+        _ => (std::ptr::null(), 0),
+    }
+}
+
+/// Where buffer `which` starts (4-byte elements, little-endian).
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_buffer_ptr(r: *const PrepareResult, which: u32) -> *const u8 {
+    // SAFETY: guaranteed by the caller.
+    buffer(unsafe { get(r) }, which).0
+}
+
+/// Elements of buffer `which` (0 for an unknown number or an error).
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_buffer_len(r: *const PrepareResult, which: u32) -> usize {
+    // SAFETY: guaranteed by the caller.
+    buffer(unsafe { get(r) }, which).1
+}
+
+/// Count `which` (see the module documentation); 0 for an unknown number or an error.
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_count(r: *const PrepareResult, which: u32) -> usize {
+    // SAFETY: guaranteed by the caller.
+    let Ok(p) = &unsafe { get(r) }.result else { return 0 };
+    let b = &p.buffers;
+    match which {
+        0 => b.vertices,
+        1 => b.triangles,
+        2 => b.edges,
+        3 => b.records,
+        4 => p.input_triangles,
+        5 => p.degenerate_triangles,
+        _ => 0,
+    }
+}
+
+/// `maxMult`: opposite slots per edge record (0 for an error).
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_max_mult(r: *const PrepareResult) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { get(r) }.result.as_ref().map_or(0, |p| p.buffers.max_mult)
+}
+
+/// Six f32, min x y z then max x y z, of the vertices the triangles use; null when there are
+/// no triangles (or for an error).
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_bounds(r: *const PrepareResult) -> *const f32 {
+    // SAFETY: guaranteed by the caller.
+    let r = unsafe { get(r) };
+    match &r.result {
+        Ok(p) if p.buffers.bounds.is_some() => r.bounds.as_ptr(),
+        _ => std::ptr::null(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read<T: Copy>(ptr: *const u8, len: usize) -> Vec<T> {
+        // SAFETY: a live buffer of the result.
+        unsafe { slice(ptr.cast::<T>(), len) }.to_vec()
+    }
+
+    #[test]
+    fn round_trip_through_the_exports() {
+        let name = b"quad";
+        let positions = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];
+        let index = [0u32, 1, 2, 0, 2, 3];
+        // SAFETY: the slices are live for the call, the result is freed once.
+        unsafe {
+            let r = umbra_prepare(name.as_ptr(), 4, positions.as_ptr(), 12, index.as_ptr(), 6, 1);
+            assert_eq!(umbra_result_error_len(r), 0);
+            assert_eq!((umbra_result_count(r, 0), umbra_result_count(r, 1), umbra_result_count(r, 2)), (4, 2, 5));
+            assert_eq!(umbra_result_max_mult(r), 2);
+            let expected = prepare("quad", &positions, Some(&index)).expect("quad").buffers;
+            assert_eq!(read::<f32>(umbra_result_buffer_ptr(r, 3), umbra_result_buffer_len(r, 3)), expected.sides_data);
+            assert_eq!(
+                read::<i32>(umbra_result_buffer_ptr(r, 5), umbra_result_buffer_len(r, 5)),
+                expected.edge_triangles
+            );
+            assert_eq!(read::<f32>(umbra_result_bounds(r).cast(), 6), vec![0.0, 0.0, 0.0, 1.0, 1.0, 0.0]);
+            umbra_result_free(r);
+
+            let r = umbra_prepare(name.as_ptr(), 4, positions.as_ptr(), 12, index.as_ptr(), 5, 1);
+            let message = String::from_utf8(read::<u8>(umbra_result_error_ptr(r), umbra_result_error_len(r)));
+            assert_eq!(message.expect("utf-8"), "quad: index: 5 entries, not a multiple of 3 (three per triangle)");
+            assert_eq!((umbra_result_buffer_len(r, 0), umbra_result_max_mult(r)), (0, 0));
+            assert!(umbra_result_bounds(r).is_null());
+            umbra_result_free(r);
+        }
+    }
+
+    #[test]
+    fn alloc_and_free() {
+        let p = umbra_alloc(100);
+        assert!(!p.is_null() && (p as usize).is_multiple_of(ALIGN));
+        // SAFETY: a block of umbra_alloc(100), freed once.
+        unsafe { umbra_free(p, 100) };
+        let empty = umbra_alloc(0);
+        // SAFETY: len 0 is accepted.
+        unsafe { umbra_free(empty, 0) };
+    }
+}

@@ -1,0 +1,67 @@
+// Type declarations of index.js (hand-written; the module has no build step of its own).
+
+/** A geometry umbra cannot prepare, or a module that cannot be loaded; the message names which. */
+export class UmbraGeomError extends Error {
+  name: 'UmbraGeomError';
+}
+
+/** What a three.js BufferGeometry holds: `geometry.attributes.position.array` and `geometry.index?.array`. */
+export interface GeometryInput {
+  /** Starts every error message (default "geometry"). */
+  name?: string;
+  /** x, y, z per vertex; finite. */
+  positions: Float32Array | ArrayLike<number>;
+  /** Three vertex numbers per triangle; without it, vertices 3t, 3t + 1, 3t + 2 form triangle t. */
+  index?: Uint16Array | Uint32Array | ArrayLike<number> | null;
+}
+
+/** The counts `umbra export` writes in its manifest, and what welding dropped. */
+export interface PreparedCounts {
+  /** Welded vertices. */
+  vertices: number;
+  /** Welded, non-degenerate triangles (t of paper 003's Eq. 9). */
+  triangles: number;
+  /** Unique edges. */
+  edges: number;
+  /** Edge records (e of Eq. 8; more than `edges` when some were split). */
+  sidesDataRecords: number;
+  /** Triangles of the input. */
+  inputTriangles: number;
+  /** Input triangles dropped because two of their welded vertices coincide. */
+  degenerateTriangles: number;
+}
+
+/** The buffers of `umbra export`, byte for byte (copied out of the module's memory). */
+export interface PreparedGeometry {
+  /** positions.bin: welded positions, 3 per vertex. */
+  positions: Float32Array;
+  /** normals.bin: flat unit normal per triangle, 3 per triangle (0 for a zero-area one). */
+  normals: Float32Array;
+  /** indices.bin: 3 welded vertex numbers per triangle, counter-clockwise = front. */
+  indices: Uint32Array;
+  /** sides.bin: sides-data, (2 + maxMult) vec4 per edge record (Eq. 8). */
+  sides: Float32Array;
+  /** caps.bin: caps-data, 3 vec4 per triangle (Eq. 9). */
+  caps: Float32Array;
+  /** edge_triangles.bin: maxMult signed triangle numbers (±(T + 1), 0 unused) per edge record. */
+  edgeTriangles: Int32Array;
+  /** Opposite-vertex slots per edge record (at least 1, at most 14). */
+  maxMult: number;
+  counts: PreparedCounts;
+  /** Bounds of the vertices the triangles use; null without triangles. */
+  bounds: { min: [number, number, number]; max: [number, number, number] } | null;
+}
+
+export interface UmbraGeom {
+  /** Welds and prepares a geometry; throws UmbraGeomError naming `name` and the bad element. */
+  prepare(input: GeometryInput): PreparedGeometry;
+  /** Bytes of the module's linear memory (it grows, never shrinks). */
+  memoryBytes(): number;
+}
+
+/**
+ * Loads the WebAssembly module: its URL (default: umbra_wasm.wasm next to index.js, fetched,
+ * streamed when served as application/wasm), a Response, its bytes or a compiled module.
+ * In Node pass the bytes.
+ */
+export function loadUmbraGeom(source?: string | URL | Response | ArrayBuffer | ArrayBufferView | WebAssembly.Module): Promise<UmbraGeom>;

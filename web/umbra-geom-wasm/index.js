@@ -1,0 +1,121 @@
+// umbra-geom in the browser: the buffers `umbra export` writes (welded mesh, flat normals,
+// paper 003's sides-data (Eq. 8) and caps-data (Eq. 9), edge triangles), computed from a
+// three.js BufferGeometry's positions and optional index by the same Rust code, compiled to
+// WebAssembly (crates/umbra-wasm). Byte-identical to `umbra export` for the same welded mesh.
+//
+// Browser: `const geom = await loadUmbraGeom()` fetches umbra_wasm.wasm next to this file
+// (or pass its URL). Node: pass the bytes, `await loadUmbraGeom(await readFile(wasmPath))`.
+// Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md.
+// Build the .wasm: node ../build-wasm.mjs.
+
+/** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
+const ABI_VERSION = 1;
+
+/** Buffer numbers of `umbra_result_buffer_ptr` and the typed arrays they are read as. */
+const BUFFERS = [
+  ['positions', Float32Array],
+  ['normals', Float32Array],
+  ['indices', Uint32Array],
+  ['sides', Float32Array],
+  ['caps', Float32Array],
+  ['edgeTriangles', Int32Array],
+];
+
+/** Count numbers of `umbra_result_count`. */
+const COUNTS = ['vertices', 'triangles', 'edges', 'sidesDataRecords', 'inputTriangles', 'degenerateTriangles'];
+
+/** A geometry umbra cannot prepare, or a module that cannot be loaded; the message names which. */
+export class UmbraGeomError extends Error {
+  constructor(message) {
+    super(message);
+    this.name = 'UmbraGeomError';
+  }
+}
+
+async function instantiate(source) {
+  const imports = {};
+  if (source instanceof WebAssembly.Module) return WebAssembly.instantiate(source, imports);
+  if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) {
+    return (await WebAssembly.instantiate(source, imports)).instance;
+  }
+  const url = source ?? new URL('./umbra_wasm.wasm', import.meta.url);
+  const response = typeof Response !== 'undefined' && url instanceof Response ? url : await fetch(url);
+  if (!response.ok) throw new UmbraGeomError(`${response.url || url}: HTTP ${response.status}`);
+  if (typeof WebAssembly.instantiateStreaming === 'function') {
+    try {
+      return (await WebAssembly.instantiateStreaming(response.clone(), imports)).instance;
+    } catch {
+      // Served without Content-Type application/wasm: compile from the bytes instead.
+    }
+  }
+  return (await WebAssembly.instantiate(await response.arrayBuffer(), imports)).instance;
+}
+
+/**
+ * Loads the WebAssembly module: `source` is its URL (default: umbra_wasm.wasm next to this
+ * file), a Response, its bytes (ArrayBuffer or typed array) or a compiled WebAssembly.Module.
+ */
+export async function loadUmbraGeom(source) {
+  const instance = await instantiate(source);
+  const w = instance.exports;
+  const abi = typeof w.umbra_abi_version === 'function' ? w.umbra_abi_version() : 0;
+  if (abi !== ABI_VERSION) throw new UmbraGeomError(`umbra-wasm: this module speaks ABI ${ABI_VERSION}, the .wasm is ABI ${abi}: rebuild it (node build-wasm.mjs)`);
+  const encoder = new TextEncoder();
+  const decoder = new TextDecoder();
+
+  // Pointers and sizes are wasm32 i32 results: `>>> 0` reads them unsigned (memory above 2 GiB).
+  const u = (v) => v >>> 0;
+  const alloc = (bytes) => {
+    const ptr = u(w.umbra_alloc(bytes));
+    if (ptr === 0) throw new UmbraGeomError(`umbra-wasm: out of memory allocating ${bytes} bytes`);
+    return ptr;
+  };
+
+  function prepare({ name = 'geometry', positions, index } = {}) {
+    name = String(name);
+    const nameBytes = encoder.encode(name);
+    const positionsLength = positions?.length ?? 0;
+    const hasIndex = index !== undefined && index !== null;
+    const indexLength = hasIndex ? index.length ?? 0 : 0;
+    const blocks = [];
+    let result = 0;
+    try {
+      const namePtr = alloc(nameBytes.length);
+      blocks.push([namePtr, nameBytes.length]);
+      const positionsPtr = alloc(4 * positionsLength);
+      blocks.push([positionsPtr, 4 * positionsLength]);
+      const indexPtr = alloc(4 * indexLength);
+      blocks.push([indexPtr, 4 * indexLength]);
+      // Views after every allocation: growing the memory detaches the old ArrayBuffer.
+      const memory = w.memory.buffer;
+      new Uint8Array(memory, namePtr, nameBytes.length).set(nameBytes);
+      if (positionsLength) new Float32Array(memory, positionsPtr, positionsLength).set(positions);
+      // Uint16 (or any) indices become u32 here.
+      if (indexLength) new Uint32Array(memory, indexPtr, indexLength).set(index);
+      result = u(w.umbra_prepare(namePtr, nameBytes.length, positionsPtr, positionsLength, indexPtr, indexLength, hasIndex ? 1 : 0));
+      if (result === 0) throw new UmbraGeomError(`${name}: umbra-wasm ran out of memory`);
+      const out = w.memory.buffer;
+      const errorLength = u(w.umbra_result_error_len(result));
+      if (errorLength) throw new UmbraGeomError(decoder.decode(new Uint8Array(out, u(w.umbra_result_error_ptr(result)), errorLength)));
+      const prepared = {};
+      BUFFERS.forEach(([key, Type], i) => {
+        prepared[key] = new Type(out, u(w.umbra_result_buffer_ptr(result, i)), u(w.umbra_result_buffer_len(result, i))).slice();
+      });
+      prepared.maxMult = u(w.umbra_result_max_mult(result));
+      prepared.counts = Object.fromEntries(COUNTS.map((key, i) => [key, u(w.umbra_result_count(result, i))]));
+      const b = u(w.umbra_result_bounds(result));
+      const bounds = b ? Array.from(new Float32Array(out, b, 6)) : null;
+      prepared.bounds = bounds && { min: bounds.slice(0, 3), max: bounds.slice(3) };
+      return prepared;
+    } finally {
+      if (result) w.umbra_result_free(result);
+      for (const [ptr, bytes] of blocks) w.umbra_free(ptr, bytes);
+    }
+  }
+
+  return {
+    prepare,
+    /** Bytes of the module's linear memory (it grows, never shrinks). */
+    memoryBytes: () => w.memory.buffer.byteLength,
+  };
+}
