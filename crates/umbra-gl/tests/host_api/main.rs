@@ -1,4 +1,4 @@
-//! umbra inside a stranger's renderer (issue 9 §1): the host draws its scene's depth with its
+//! umbra inside a stranger's renderer: the host draws its scene's depth with its
 //! own shader into its own framebuffer, then [`Renderer::count_shadows`] counts one light's
 //! volumes into the host's stencil and [`Renderer::add_light`] adds umbra's lighting.
 //!

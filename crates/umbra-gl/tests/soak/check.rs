@@ -17,7 +17,8 @@ pub(crate) const SETTLED_PHASE: usize = 6;
 /// resident memory still settles for a block (allocator arenas and Mesa's shader variants of
 /// the configurations first met there). Measured on a fresh clone with 17 methods: the
 /// first measured window's minimum 9.4 MB below the second's, then +3.3 MB over the next
-/// three; counted, that settling alone read as +18 KiB per frame and failed the short soak.
+/// three; counted, that settling alone would read as +18 KiB per frame, above the short
+/// soak's limit.
 /// The GL objects are still compared over every measured block.
 pub(crate) const MEMORY_SETTLING_BLOCKS: usize = 1;
 

@@ -120,10 +120,9 @@ impl GlObjects {
 /// The highest name a new object of each kind gets right now (each created and deleted again).
 /// Mesa hands out ever higher names per namespace, and programs and shaders share one that
 /// grows by about a hundred per recreation of all methods: after a few thousand frames their
-/// names lie far above every other kind's, so a bound found from the live names alone (the
-/// first version of [`GlObjects::count`]) stopped below them and counted 25 programs fewer
-/// (measured at block 47 of the long soak). Probing up to twice this high-water mark finds
-/// them.
+/// names lie far above every other kind's, so a bound found from the live names alone stops
+/// below them (25 programs uncounted at block 47 of the long soak, measured). Probing up to
+/// twice this high-water mark finds them.
 pub(crate) fn fresh_names_high_water(gl: &glow::Context) -> u32 {
     use glow::HasContext;
     // SAFETY: each object is created on the current context and deleted at once.

@@ -1,4 +1,4 @@
-//! Soak (issue 8, Section 4; rewritten for issue 17): one context, one [`Renderer`], a
+//! Soak: one context, one [`Renderer`], a
 //! fly-through (an orbit of the camera around `spheres:2` + ground, the light circling above
 //! it) that cycles through EVERY registered method (`umbra_gl::method_names()`), frame after
 //! frame. It detects leaks — GL objects or memory that grow with the number of frames — and
@@ -35,10 +35,10 @@
 //!
 //!   Such a plateau is real and bounded: after `shadow-map-cube:2048` is destroyed, Mesa
 //!   sometimes keeps its 96 MiB cube map alive for a while, so the old and the new instance's
-//!   maps coexist: +80 to +100 MB, measured, gone without the method. Usually it ended two
-//!   phases after the recreation; twice in 100 blocks it lasted one to three whole blocks,
-//!   which failed a first version of this check that compared single windows, and once, with
-//!   16 methods, it covered the last three blocks of the short soak. The soak therefore runs
+//!   maps coexist: +80 to +100 MB, measured, gone without the method. It usually ends two
+//!   phases after the recreation, but can last one to three whole blocks (twice in 100
+//!   blocks, measured), long enough to fail a check that compares single windows or to cover
+//!   the last three blocks of the short soak. The soak therefore runs
 //!   the shadow maps at an eighth of their registered resolution ([`soak_name`]: the same
 //!   code, 1.5 MiB instead of 96).
 //! * the fixed frame rendered by every method at the start and at the end gives the same PNG
@@ -241,8 +241,8 @@ fn soak(blocks: usize, factory: MethodFactory) -> Record {
 /// The CI version: a warm-up block and 13 measured blocks (2,856 frames with 17 methods, about
 /// 30 s), the first of them left out of the memory check ([`MEMORY_SETTLING_BLOCKS`]): 12
 /// windows, 4 per third, 1,632 frames between the thirds' middles. With 5 windows (612 frames
-/// between the thirds) one step of +11 MB that then stayed flat, seen once with 17 methods,
-/// read as +19 KiB per frame and failed the check; over 1,632 frames it reads as 7.
+/// between the thirds) a single step of +11 MB that then stays flat (measured with 17
+/// methods) would read as +19 KiB per frame, above the limit; over 1,632 frames it reads as 7.
 #[test]
 fn soak_short() {
     let record = soak(13, create_all);
