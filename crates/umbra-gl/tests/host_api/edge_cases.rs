@@ -3,8 +3,8 @@
 
 use crate::common::*;
 use crate::gl_state::{assert_same_state, query_state};
-use crate::host::Host;
-use crate::{view, DIRECTIONAL, H, POINT, W};
+use crate::host::{Host, H, W};
+use crate::{view, DIRECTIONAL, POINT};
 use umbra_gl::glow::{self, HasContext};
 use umbra_gl::{create_method, DepthConvention, FrameTarget, GlError, Renderer, SceneGpu, ShadowMethod};
 

@@ -2,12 +2,15 @@
 //! renderbuffer in the convention's format), geometry and invariant shader, its depth and
 //! ambient pass, and unusual GL state set before umbra is called.
 
-use crate::{H, W};
 use umbra_gl::glow::{self, HasContext};
 use umbra_gl::program::{link_program, uniform, ShaderSource};
 use umbra_gl::{
     camera::to_f32_cols, read_rgba8, DepthConvention, DepthConventionGl, FrameParams, HeadlessContext, Image, SceneGpu,
 };
+
+/// The host framebuffer's size.
+pub(crate) const W: u32 = 200;
+pub(crate) const H: u32 = 150;
 
 /// The host's vertex shader: the position expression of umbra's scene shader, `invariant`
 /// (count_shadows' invariance requirement).

@@ -26,15 +26,13 @@ mod mint;
 
 use common::*;
 use gl_state::{assert_same_state, query_state};
-use host::Host;
+use host::{Host, H, W};
 use umbra_gl::glow;
 use umbra_gl::{
     create_method, read_rgba8, read_stencil, CaptureFlags, Classification, DepthConvention, FrameParams, FrameTarget,
     HeadlessContext, Image, LightCapture, Renderer, SceneGpu, NO_TRIANGLE,
 };
 
-const W: u32 = 200;
-const H: u32 = 150;
 const DIRECTIONAL: [f32; 4] = [-0.4, 1.0, 0.3, 0.0];
 const POINT: [f32; 4] = [1.5, 6.0, 0.5, 1.0];
 

@@ -1,8 +1,8 @@
 //! The host API's mint types convert to umbra's at the boundary.
 
 use crate::common::*;
-use crate::host::Host;
-use crate::{view, H, POINT, W};
+use crate::host::{Host, H, W};
+use crate::{view, POINT};
 use umbra_gl::{
     camera::to_f32_cols, create_method, read_stencil, DepthConvention, FrameParams, FrameTarget, Renderer, SceneGpu,
 };

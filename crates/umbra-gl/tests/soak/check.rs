@@ -3,7 +3,7 @@
 
 use crate::gl_objects::{GlObjects, KINDS};
 use crate::plan::PHASES;
-use crate::{Record, Sample};
+use crate::record::{Record, Sample};
 
 /// The first phase of a block's memory window. After the recreation at a block's start the
 /// methods allocate what each configuration needs the first time it comes (the directional

@@ -81,37 +81,16 @@ mod gl_objects;
 mod memory;
 mod mutation;
 mod plan;
+mod record;
 
 use check::check;
 use common::*;
 use gl_objects::{GlObjects, IsFunctions};
 use memory::{fix_mmap_threshold, malloc_in_use_kib, resident_in_use_kib, rss_kib};
 use plan::{create_all, fixed_frames, fly_through, frame_of, soak_scene, MethodFactory, PHASES};
+use record::{Record, Sample};
 use std::time::Instant;
 use umbra_gl::{CaptureFlags, FrameParams, LightCapture, Renderer, SceneGpu, TimestampHook};
-
-/// One measurement, after the last frame of a cycle.
-#[derive(Clone, Debug)]
-struct Sample {
-    block: usize,
-    phase: usize,
-    /// Frames rendered so far.
-    frame: usize,
-    /// VmRSS.
-    rss_kib: u64,
-    objects: GlObjects,
-}
-
-/// Everything a soak measured.
-struct Record {
-    samples: Vec<Sample>,
-    frames_per_block: usize,
-    /// Methods whose fixed frame differs between the start and the end.
-    drift: Vec<String>,
-    /// What was left after destroying everything, when more than the (at most 4) programs
-    /// the driver still refers to.
-    left_behind: Option<String>,
-}
 
 /// Runs `blocks` measured blocks after one warm-up block with the methods of `factory`.
 /// Panics on render errors; leaves the judging to [`check`].
