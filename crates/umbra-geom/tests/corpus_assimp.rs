@@ -1,6 +1,6 @@
 //! A real corpus nobody here wrote: every OBJ, PLY, STL, glTF and GLB file (and `.gz`) of
-//! Debian's `assimp-testmodels` (`/usr/share/assimp/models`, installed by `.ci/run`; issue 8,
-//! Section 2), including its deliberately broken `invalid/` files.
+//! Debian's `assimp-testmodels` (`/usr/share/assimp/models`, installed by `.ci/run`),
+//! including its deliberately broken `invalid/` files.
 //!
 //! Each file either loads — and then goes through weld + edge adjacency + multiplicity — or
 //! returns a typed [`LoadError`] whose message names the file and a place (line, byte

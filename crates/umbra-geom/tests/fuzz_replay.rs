@@ -1,10 +1,11 @@
 //! Replays the fuzz corpus and every pinned regression input through the same entry points
 //! the cargo-fuzz targets run (fuzz/entry.rs, included below), so a parser regression is
-//! caught by a plain `cargo test` on every change without nightly or cargo-fuzz (issue 8,
-//! Section 1; why CI does it this way: docs/robustness.md).
+//! caught by a plain `cargo test` on every change without nightly or cargo-fuzz (why CI does
+//! it this way: docs/robustness.md).
 //!
 //! Inputs: `fuzz/corpus/<target>/*` (the minimised corpus the fuzzer grew) and
-//! `fuzz/regressions/<target>/*` (inputs that once crashed or hung, named after the bug),
+//! `fuzz/regressions/<target>/*` (inputs that must neither crash nor hang, named after the
+//! failure each pins),
 //! for the targets obj, ply, stl, gltf, gzip and geometry.
 
 include!("../../../fuzz/entry.rs");

@@ -1,4 +1,4 @@
-//! Hostile sizes (issue 8, Section 3): headers that claim billions of elements over a tiny
+//! Hostile sizes: headers that claim billions of elements over a tiny
 //! body, a gzip bomb, a glTF whose nodes instance one mesh thousands of times, millions of
 //! triangles on one vertex, and one edge shared by 100,000 triangles.
 //!

@@ -26,7 +26,7 @@ fn gles3_context_can_be_created() {
     let version = ctx.version_string();
     assert!(version.starts_with("OpenGL ES 3."), "GL_VERSION {version}");
     assert_eq!(ctx.api(), GlApi::Gles3);
-    // A trivial ES 3 shader compiles (the later ES 3 issue builds on this).
+    // A trivial ES 3 shader compiles (the ES 3 paths build on this).
     let gl = ctx.gl();
     let src = "#version 300 es\nprecision highp float;\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
     let p = umbra_gl::program::link_program(

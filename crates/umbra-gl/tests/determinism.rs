@@ -1,4 +1,4 @@
-//! Determinism and concurrency (issue 8, Section 4; the guide's "the same input gives the
+//! Determinism and concurrency (the guide's "the same input gives the
 //! same PNG bytes"):
 //! * every method rendering the same frame twice — on one context, and on a second
 //!   context — gives byte-identical PNG files (written by `RgbaImage::save_png`);

@@ -1,4 +1,4 @@
-//! GL failures leave the process usable (issue 8, Section 3, last bullet): a shadow-map
+//! GL failures leave the process usable: a shadow-map
 //! resolution above `GL_MAX_CUBE_MAP_TEXTURE_SIZE` and storage the driver refuses
 //! (`GL_OUT_OF_MEMORY`, provoked for real: a scene buffer, a method's buffer, a shadow map, a
 //! render target) give typed errors, never a panic or an abort, and afterwards the SAME

@@ -1,13 +1,13 @@
 //! Regressions pinned from the shared scenes where the depth a volume fragment got decided a
-//! sample (issue 16; docs/exactness.md): each scene is the handful of triangles delta debugging
-//! left of Crytek Sponza or Conference, as f32 bit patterns, with the CLI's camera, near plane
+//! sample (docs/exactness.md): each scene is the handful of triangles of Crytek Sponza or
+//! Conference that decide one pixel, as f32 bit patterns, with the CLI's camera, near plane
 //! and light, and one pixel whose count must be 0.
 //!
 //! * NaN depths (llvmpipe's float triangle setup on faces of zero float area): a fragment in
 //!   front of the sample must not count, one behind it must (ts-triangle's canonical side
 //!   depths, then every rasterized-depth pass).
 //! * Needle sides: llvmpipe's f32 interpolation plane, anchored far off the viewport, put a
-//!   side that lies behind the sample in front of it; every rasterized-depth pass now writes
+//!   side that lies behind the sample in front of it; every rasterized-depth pass writes
 //!   its face's plane depth (`shared/face_depth.frag.glsl`).
 
 mod common;
@@ -23,7 +23,7 @@ use umbra_gl::{create_method, HeadlessContext, SceneGpu, ShadowMethod};
 const METHODS: [&str; 4] = ["ts-triangle", "ts-triangle-1pass", "gs-triangle", "vs-triangle"];
 
 /// Every registered method that counts rasterized volumes in the stencil: the per-triangle
-/// ones, then the silhouette ones (their depth rasterized, or from their face since issue 16).
+/// ones, then the silhouette ones (their depth rasterized, or from their face's plane).
 const STENCIL_METHODS: [&str; 11] = [
     "ts-triangle",
     "ts-triangle-1pass",
@@ -70,7 +70,7 @@ fn assert_zero_count(ctx: &HeadlessContext, scene: SceneGpu, frame: PinnedFrame,
     assert!(wrong.is_empty(), "on {}:\n{}", ctx.renderer_string(), wrong.join("\n"));
 }
 
-/// A scene cut down by delta debugging to the triangles that decide one pixel: the sample's
+/// A scene of the triangles that decide one pixel: the sample's
 /// own triangle and one caster (positions as f32 bit patterns), plus two small triangles at the
 /// corners `lo` and `hi` of the whole scene's box, which keep the CLI's camera, near plane and
 /// z-pass clip box.
@@ -137,8 +137,8 @@ fn ts_triangle_fragment_with_nan_depth_in_front_of_the_sample_does_not_count() {
                 assert_eq!(s.pixels[py * 1920 + px], 0, "{name} zpass {zpass} at ({px}, {py})");
             }
         }
-        // What the fix is for (not asserted: it is the rasterizer's, and may change with Mesa):
-        // the paper's rasterized side depths count the NaN fragment.
+        // What the canonical side depths guard against (not asserted: it is the rasterizer's,
+        // and may change with Mesa): the paper's rasterized side depths count the NaN fragment.
         let mut raw = TsTriangle::with_side_depth(SideDepth::Rasterized);
         let s = stencil_of(&ctx, &scene, &mut raw, &p);
         raw.destroy(ctx.gl());
@@ -166,14 +166,14 @@ fn conference_box_camera(lo: [f32; 3], hi: [f32; 3]) -> ([f64; 3], [f64; 3], f64
     (eye, target, f64::from(box_.diagonal()) * 1e-3)
 }
 
-/// Conference with the directional light (0.3, 1, 0.2, 0) at 640x360, cut down by delta
-/// debugging to the triangles that decide pixel (177, 230): the floor (triangle 59, the
+/// Conference with the directional light (0.3, 1, 0.2, 0) at 640x360, the triangles
+/// that decide pixel (177, 230): the floor (triangle 59, the
 /// sample's own) and a 1 cm caster 1,865 units from the eye (196389), whose volume is a tube
 /// 0.003 pixel wide on the screen running 600 units behind the sample, plus two small
 /// triangles at the corners of the scene's box (they keep the CLI's camera and near plane). The
 /// sample lies in no volume: the count there is 0. llvmpipe rasterizes one back-facing fragment
-/// of the tube's sides at that pixel with a NaN depth; when such fragments never counted
-/// (the fix for the test above), ts-triangle-1pass lost that +1 and counted -1 there (false
+/// of the tube's sides at that pixel with a NaN depth; a pass that never counts such fragments
+/// (the rule of the test above) loses that +1 and counts -1 there in ts-triangle-1pass (false
 /// shadow; in the whole scene, false light under the ceiling's volume). Every face it could
 /// belong to lies behind the sample, so in z-fail it must count. Positions as f32 bit
 /// patterns.
@@ -204,16 +204,16 @@ fn ts_triangle_fragment_with_nan_depth_behind_the_sample_counts() {
     }
 }
 
-/// Conference with the directional light (0.3, 1, 0.2, 0) at 2560x1440, z-fail, cut down by
-/// delta debugging to the triangles that decide pixel (686, 1010): the floor (the same triangle
+/// Conference with the directional light (0.3, 1, 0.2, 0) at 2560x1440, z-fail, the
+/// triangles that decide pixel (686, 1010): the floor (the same triangle
 /// as in the test above, the sample's own) and a 3 mm x 1.29 m caster (triangle 192362), plus
 /// two small triangles at the corners of the scene's box (they keep the CLI's camera and near
-/// plane; /work/repro/conf_192362.obj kept one degenerate triangle spanning the box instead).
+/// plane).
 /// The sample is lit: the count there is 0. llvmpipe rasterizes one fragment of the caster's
 /// volume at that pixel with a NaN depth; its face lies behind the sample, so z-fail must count
-/// it, but a NaN depth fails every depth test. Every volume pass whose depth is rasterized
-/// (gs-/vs-triangle, gs-/ts-silhouette and their -3edge variants) lost it: -1 there, false
-/// shadow (docs/exactness.md). They now give such a fragment its face's depth
+/// it, but a NaN depth fails every depth test. A volume pass that keeps the rasterized depth
+/// (gs-/vs-triangle, gs-/ts-silhouette and their -3edge variants) loses it: -1 there, false
+/// shadow (docs/exactness.md). They give such a fragment its face's depth
 /// (shared/face_depth.frag.glsl). Checked for every exact stencil method, z-fail and z-pass.
 /// Positions as f32 bit patterns.
 #[test]
@@ -232,18 +232,18 @@ fn rasterized_depth_fragment_with_nan_depth_behind_the_sample_counts() {
     assert_zero_count(&ctx, scene, frame, (686, 1010));
 }
 
-/// Crytek Sponza's default view with its default point light at 2560x1440, cut down by delta
-/// debugging to the triangles that decide pixel (1590, 147): the sample's own 1 cm triangle
-/// (14931 of the welded mesh) and three small triangles of the same detail, the light 2 degrees
-/// from their plane. The camera, near plane and light are the CLI's for the cut-down scene
-/// (`umbra export`), which reproduced the pixel. The sample is lit: the count there is 0.
+/// Crytek Sponza's default view with its default point light at 2560x1440, the triangles that
+/// decide pixel (1590, 147): the sample's own 1 cm triangle (14931 of the welded mesh) and
+/// three small triangles of the same detail, the light 2 degrees from their plane. The camera,
+/// near plane and light are the CLI's for this scene (`umbra export`), which reproduces the
+/// pixel. The sample is lit: the count there is 0.
 /// Three sides cross the pixel's ray behind the sample; one of them (edge v9 -> v7 of triangle
 /// 15079) is a needle, a 0.6-pixel edge whose extrusion runs to a vanishing point behind the
-/// eye, clipped 1,000 pixels away, and llvmpipe's f32 interpolation plane gave it a depth
+/// eye, clipped 1,000 pixels away, and llvmpipe's f32 interpolation plane gives it a depth
 /// 1.28e-6 nearer than its plane, in front of the sample although it lies 9.5e-4 units
-/// behind it: z-fail did not count it, -1 there, false shadow in cpu-, vs- and cs-silhouette
-/// (docs/exactness.md; in this cut-down scene gs- and vs-triangle too). Every
-/// rasterized-depth pass now writes its face's plane depth (shared/face_depth.frag.glsl).
+/// behind it: with that depth z-fail does not count it, -1 there, false shadow in cpu-, vs- and
+/// cs-silhouette (docs/exactness.md; in this scene gs- and vs-triangle too). Every
+/// rasterized-depth pass writes its face's plane depth (shared/face_depth.frag.glsl).
 /// Checked for every exact stencil method, z-fail and z-pass. Positions as f32 bit patterns.
 #[test]
 fn needle_side_behind_the_sample_counts_behind_it() {
@@ -282,16 +282,16 @@ fn needle_side_behind_the_sample_counts_behind_it() {
 }
 
 /// Crytek Sponza's fly-through keyframe 3 (bench/sponza.flythrough) with the default point
-/// light at 2560x1440, cut down by delta debugging to the triangles that decide pixel
+/// light at 2560x1440, the triangles that decide pixel
 /// (950, 40): the sample's own 5 cm triangle (OBJ 246066) and a 5 cm caster 0.2 units away
 /// (OBJ 248392). The camera, near plane and light are the CLI's for the cut-down scene. The
 /// sample is lit: the count there is 0. The light lies beyond the caster as seen from the eye,
 /// so the caster's extrusions run back past the eye (clip w < 0) and its sides reach the
 /// rasterizer clipped far off the viewport. The side of the caster's edge 0 covers the pixel
 /// 1.7 % of the edge from its end and lies 1.8e-6 (window depth) behind the sample; llvmpipe's
-/// interpolated depth put it 1.5e-8 in front, so z-fail did not count it: false shadow in
-/// gs-triangle and vs-triangle (docs/exactness.md; the whole scene failed under z-pass too).
-/// Every rasterized-depth pass now writes its face's plane depth (shared/face_depth.frag.glsl).
+/// interpolated depth puts it 1.5e-8 in front, so with that depth z-fail does not count it:
+/// false shadow in gs-triangle and vs-triangle (docs/exactness.md; in the whole scene under
+/// z-pass too). Every rasterized-depth pass writes its face's plane depth (shared/face_depth.frag.glsl).
 /// Checked for every exact stencil method, z-fail and z-pass. Positions as f32 bit patterns.
 #[test]
 fn side_extruded_behind_the_eye_counts_at_its_plane_depth() {

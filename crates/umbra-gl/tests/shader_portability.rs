@@ -1,15 +1,15 @@
 //! GLSL that Mesa accepts but another vendor's compiler rejects, caught here without that GPU.
 //!
-//! Found on an NVIDIA H100 (driver 580.159, 2026-11-24), where llvmpipe had passed every test:
+//! Each pattern fails on an NVIDIA H100 (driver 580.159) while llvmpipe passes every test:
 //! - `dvec2(1.0e300)`: an unsuffixed literal is a `float` (GLSL 4.50, 4.1.4), and 1e300 is
-//!   beyond its range. Mesa quietly made it infinity; NVIDIA fails the compile with
-//!   "C0153: floating point constant overflow", so both hier methods failed to link. A double
+//!   beyond its range. Mesa quietly makes it infinity; NVIDIA fails the compile with
+//!   "C0153: floating point constant overflow", and the program does not link. A double
 //!   literal needs `lf` (`1.0e300LF`).
 //!
-//! The other fault found there (a depth-first walk written as one constant-bound loop per level,
-//! which NVIDIA's compiler unrolls 16^7 times and never finishes linking) is not a lexical
-//! pattern; hier_triangle/fallback.comp.glsl and hier_silhouette/fallback.comp.glsl say how
-//! the walk is written now.
+//! A depth-first walk written as one constant-bound loop per level (which NVIDIA's compiler
+//! unrolls 16^7 times and never finishes linking) is not a lexical pattern;
+//! hier_triangle/fallback.comp.glsl and hier_silhouette/fallback.comp.glsl say how the walk is
+//! written instead.
 
 use std::path::{Path, PathBuf};
 

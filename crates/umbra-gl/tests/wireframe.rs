@@ -1,4 +1,4 @@
-//! The shadow-volume wireframe ([`Renderer::draw_volume_wireframe`], issue 9 §2's viewer
+//! The shadow-volume wireframe ([`Renderer::draw_volume_wireframe`], the viewer's
 //! toggle) on the default scene (sphere over ground, point light):
 //! * drawn over a frame, it changes some pixels but far fewer than all (lines, not fills),
 //!   and only darkens them (`dst * tint` with a tint < 1);

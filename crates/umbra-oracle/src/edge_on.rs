@@ -2,7 +2,7 @@
 //! the face disagree, and the sample's count can change although the face passes nowhere near
 //! the sample.
 //!
-//! The mechanism (Mesa llvmpipe, found on Conference, default view at 640x360, pixel (114, 64)):
+//! The mechanism (Mesa llvmpipe; Conference, default view at 640x360, pixel (114, 64)):
 //! llvmpipe decides coverage with edge functions of the vertices snapped to
 //! `GL_SUBPIXEL_BITS` (lp_setup_tri.c, `subpixel_snap`), but interpolates depth with a plane
 //! equation set up from the unsnapped float window positions (lp_state_setup.c, `calc_coef4`;

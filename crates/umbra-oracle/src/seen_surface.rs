@@ -290,10 +290,10 @@ mod tests {
     /// Crytek Sponza at 320 x 180, pixel (94, 0): a sample on triangle 223, lit, and the edge
     /// of a nearer object (triangles 109771 and 109772, at 0.94 of the sample's distance, one
     /// facing the light, one facing away) 0.0058 pixel from the pixel centre. SwiftShader's
-    /// depth pass showed the nearer object there, in shadow: a false shadow outside the band
-    /// until SEEN_SURFACE (once read as the sample's facing disagreeing at SwiftShader's
-    /// precision: its light lies 7e-7 off its plane along the segment, which the plane test
-    /// does not see).
+    /// depth pass shows the nearer object there, in shadow: a false shadow outside the band
+    /// but for SEEN_SURFACE (not the sample's facing disagreeing at SwiftShader's precision:
+    /// its light lies 7e-7 off its plane along the segment, which the plane test does not
+    /// see).
     fn sponza_top_row() -> Ledge {
         let f = |b: [u32; 3]| b.map(f32::from_bits);
         // Welded vertices 214, 212, 215 (triangle 223) and 60634, 60643, 60641, 60640.

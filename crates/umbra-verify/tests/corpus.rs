@@ -1,4 +1,4 @@
-//! The assimp corpus rendered and verified (issue 8, Section 2): every OBJ, PLY, STL, glTF
+//! The assimp corpus rendered and verified: every OBJ, PLY, STL, glTF
 //! and GLB file of Debian's `assimp-testmodels` that loads with 1 to 200,000 triangles is
 //! put over a ground plane, rendered at 64 x 64 with `cpu-silhouette` and compared with the
 //! CPU ray-traced reference by `umbra_verify`: 0 mismatches outside the one-pixel band.

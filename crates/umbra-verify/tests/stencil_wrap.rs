@@ -1,4 +1,4 @@
-//! Stencil range (issue 8 §3): counts far beyond the 8-bit stencil.
+//! Stencil range: counts far beyond the 8-bit stencil.
 //!
 //! Counting shadow volumes (Heidmann 1991 z-pass, Everitt & Kilgard 2002 z-fail) leave `W`,
 //! the number of triangles between a sample and the light, in the counter; the 8-bit stencil
@@ -56,8 +56,8 @@ const BOOK_FAST: [&str; 4] = ["vs-triangle", "vs-silhouette", "gs-triangle", "gs
 
 /// Methods that miscount the book with EITHER counter (so not a counter question), with the
 /// reason; their float32 numbers are printed, not asserted.
-/// None since cs-silhouette splits long opposite lists (llvmpipe ends shader loops at 65,535
-/// iterations; it used to count 65,535 of the spine's 100,000 pages).
+/// None: cs-silhouette splits long opposite lists, so llvmpipe's limit of 65,535 shader loop
+/// iterations does not cut the spine's 100,000 pages short.
 const BOOK_EXCUSED: [(&str, &str); 0] = [];
 
 fn ground(y: f32, half: f32) -> Mesh {

@@ -515,17 +515,17 @@ fn shared_scene(file: &str) {
     let poses = [
         // (eye, target, light) as fractions of the bounding box
         ([0.3, 0.45, 0.5], [0.7, 0.3, 0.5], [0.61, 0.7, 0.57]),
-        // (Session 3: the light of pose 1 moved down from 0.8: Sibenik's sat in the vault and
-        // every sample was shadowed, so the case tested nothing; the check in `run` now fails
-        // such a pose.)
+        // (The light of pose 1 stays below 0.8: there Sibenik's light sits in the vault and
+        // every sample is shadowed, a case that tests nothing; the check in `run` fails such
+        // a pose.)
         ([0.5, 0.3, 0.3], [0.5, 0.1, 0.7], [0.35, 0.6, 0.45]),
         ([0.75, 0.55, 0.5], [0.3, 0.2, 0.4], [0.5, 0.5, 0.5]),
     ];
     for (i, (e, t, l)) in poses.into_iter().enumerate() {
-        // Pose 2's eye was at z 0.6 until session 3: inside a wall on Crytek Sponza (every
-        // sample a back face, all shadowed). At z 0.5 it is 0.0099 outside a wall the near
-        // plane cuts (which found the near-plane cut of light caps,
-        // torture_near_plane_cuts_caster), and on Conference it sees a floor sample touching a
+        // Pose 2's eye at z 0.5 (at z 0.6 it would be inside a wall on Crytek Sponza: every
+        // sample a back face, all shadowed) is 0.0099 outside a wall the near plane cuts (the
+        // near-plane cut of light caps, also pinned by torture_near_plane_cuts_caster), and on
+        // Conference it sees a floor sample touching a
         // table's side-face edge within a depth step (the *touching* band class).
         let light = at(l);
         let name: &'static str = Box::leak(format!("{}-pose{i}", file.trim_end_matches(".obj.gz")).into_boxed_str());

@@ -1,5 +1,5 @@
-//! Float inputs that once failed on the wgpu backend, pinned (run against the ray-traced
-//! reference with the verifier's band rules).
+//! Float inputs pinned on the wgpu backend, each a case the backend must decide exactly (run
+//! against the ray-traced reference with the verifier's band rules).
 
 use std::sync::Arc;
 

@@ -13,8 +13,7 @@
 //!   sub-pixel precision and llvmpipe's interpolation): a volume face, or another surface,
 //!   passing within the sample's precision envelope, a facing decided within rounding, the
 //!   reference's own tolerance, the near plane's cut. Computed per sample; nothing else is
-//!   band (the one-pixel neighbourhood rule of earlier versions is gone, see
-//!   docs/exactness.md).
+//!   band (no neighbourhood rule; docs/exactness.md).
 //!
 //! Choices made here, each explained where it is implemented:
 //! * The plane test is done in `f64` from the `f32` vertices of `T` (the cross product of two
@@ -547,8 +546,8 @@ fn mark_near_cut(
     }
 }
 
-/// The one-pixel neighbourhood rule of earlier versions, kept as a measure (it is no longer
-/// part of the reference's band, [`crate::envelope`]): a non-background sample whose 3x3 neighbourhood (itself included, clipped at the
+/// The one-pixel neighbourhood rule, a measure only (not part of the reference's band,
+/// [`crate::envelope`]): a non-background sample whose 3x3 neighbourhood (itself included, clipped at the
 /// image border) holds both a lit and a shadowed sample, or that is grazing.
 ///
 /// Background neighbours do not count as a class: the edge between a surface and the empty

@@ -1,0 +1,156 @@
+//! The two outputs, [`extract`] and [`extract_indexed`], against the straightforward serial
+//! emission, bit for bit; buffer reuse and re-entrance of the per-thread scratch.
+
+use super::emit::SCRATCH;
+use super::volume::point;
+use super::*;
+use crate::multiplicity::triangle_orientation;
+use crate::weld::tests::{reference_inputs, reference_lights};
+use crate::weld::weld;
+
+/// The straightforward serial emission (one edge after another, one triangle after
+/// another) that [`extract`] must reproduce exactly.
+fn reference_extract(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light, caps: bool) -> VolumeGeometry {
+    let mut out = VolumeGeometry::default();
+    let p = &mesh.positions;
+    for e in 0..adj.len() {
+        let [a, b] = adj.edges[e];
+        let m = edge_multiplicity(p, [a, b], adj.opposites(e), light);
+        let (a, b) = (p[a as usize], p[b as usize]);
+        let (a_inf, b_inf) = (extrude(a, light), extrude(b, light));
+        let (a, b) = (point(a), point(b));
+        let quad = if m > 0 { [b, a, a_inf, b, a_inf, b_inf] } else { [a, b, b_inf, a, b_inf, a_inf] };
+        for _ in 0..m.unsigned_abs() {
+            out.sides.extend_from_slice(&quad);
+        }
+    }
+    if caps {
+        for &tri in &mesh.triangles {
+            let s = triangle_orientation(p, tri, light);
+            if s == 0 {
+                continue;
+            }
+            let [i0, i1, i2] = if s > 0 { tri } else { [tri[0], tri[2], tri[1]] };
+            let [p0, p1, p2] = [i0, i1, i2].map(|i| p[i as usize]);
+            out.light_caps.extend_from_slice(&[point(p0), point(p1), point(p2)]);
+            if light[3] != 0.0 {
+                out.dark_caps.extend_from_slice(&[extrude(p0, light), extrude(p2, light), extrude(p1, light)]);
+            }
+        }
+    }
+    out
+}
+
+/// Bit patterns, so that `-0.0 != 0.0` and NaN == NaN.
+fn bits(v: &VolumeGeometry) -> [Vec<[u32; 4]>; 3] {
+    [&v.sides, &v.light_caps, &v.dark_caps].map(|l| l.iter().map(|x| x.map(f32::to_bits)).collect())
+}
+
+/// Many chunks, multiplicities up to ±n on non-manifold edges, edge-on triangles, both
+/// light kinds, caps on and off; one `out` reused across all of it, growing and
+/// shrinking: the parallel two-pass emission equals the serial one bit for bit.
+#[test]
+fn extract_matches_serial_reference_with_reused_output() {
+    let mut out = VolumeGeometry::default();
+    let mut indexed = IndexedVolume::default();
+    let (mut nonempty, mut with_caps, mut degenerate) = (0, 0, 0);
+    for mesh in reference_inputs() {
+        let w = weld(&mesh);
+        let adj = EdgeAdjacency::build(&w);
+        let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
+        for light in reference_lights(&w) {
+            for caps in [true, false] {
+                extract(&w, &adj, light, caps, &mut out);
+                let expected = reference_extract(&w, &adj, light, caps);
+                assert!(bits(&out) == bits(&expected), "light {light:?} caps {caps}");
+                nonempty += !out.sides.is_empty() as usize;
+                // The indexed caps stand for the very same vertices, plus degenerate caps
+                // exactly for the edge-on triangles.
+                extract_indexed(&w, &adj, &slots, light, caps, &mut indexed);
+                assert_eq!(indexed.sides, expected.sides, "indexed sides, light {light:?}");
+                assert_eq!(indexed.caps.len(), if caps { w.triangles.len() } else { 0 });
+                for (&cap, &tri) in indexed.caps.iter().zip(&w.triangles) {
+                    let edge_on = triangle_orientation(&w.positions, tri, light) == 0;
+                    assert_eq!(is_degenerate_cap(cap), edge_on, "{tri:?} {cap:?}");
+                    degenerate += edge_on as usize;
+                }
+                let drawn = IndexedVolume {
+                    sides: indexed.sides.clone(),
+                    caps: indexed.caps.iter().copied().filter(|&c| !is_degenerate_cap(c)).collect(),
+                };
+                assert!(bits(&drawn.expand(&w.positions, light)) == bits(&expected), "indexed, light {light:?}");
+                with_caps += drawn.caps.len();
+            }
+        }
+    }
+    assert!(nonempty >= 8, "the inputs must cast silhouettes ({nonempty})");
+    assert!(
+        with_caps > 1000 && degenerate > 0,
+        "the inputs must have caps ({with_caps}) and edge-on triangles ({degenerate})"
+    );
+}
+
+/// A warmed-up frame of the same size reuses every buffer: the output's and the
+/// per-thread scratch's (no reallocation, hence no allocation of ours).
+#[test]
+fn extract_reuses_buffers_when_warm() {
+    let w = weld(&reference_inputs()[1]);
+    let adj = EdgeAdjacency::build(&w);
+    let light = reference_lights(&w)[0];
+    let mut out = VolumeGeometry::default();
+    extract(&w, &adj, light, true, &mut out);
+    assert!(!out.sides.is_empty() && !out.light_caps.is_empty() && !out.dark_caps.is_empty());
+    let buffers = |out: &VolumeGeometry| {
+        let s = SCRATCH.with(|cell| {
+            let s = cell.borrow();
+            [
+                s.multiplicity.as_ptr() as usize,
+                s.orientation.as_ptr() as usize,
+                s.side_offsets.as_ptr() as usize,
+                s.cap_offsets.as_ptr() as usize,
+            ]
+        });
+        [
+            out.sides.as_ptr() as usize,
+            out.light_caps.as_ptr() as usize,
+            out.dark_caps.as_ptr() as usize,
+            s[0],
+            s[1],
+            s[2],
+            s[3],
+        ]
+    };
+    let warm = buffers(&out);
+    for caps in [true, false, true] {
+        extract(&w, &adj, light, caps, &mut out);
+        assert_eq!(buffers(&out), warm, "caps {caps}");
+    }
+    // The indexed variant reuses its own output the same way (its scratch is that of the
+    // rayon worker that runs it).
+    let mut indexed = IndexedVolume::default();
+    let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
+    extract_indexed(&w, &adj, &slots, light, true, &mut indexed);
+    assert!(!indexed.caps.is_empty());
+    let warm_indexed = [indexed.sides.as_ptr() as usize, indexed.caps.as_ptr() as usize];
+    for caps in [true, false, true] {
+        extract_indexed(&w, &adj, &slots, light, caps, &mut indexed);
+        assert_eq!([indexed.sides.as_ptr() as usize, indexed.caps.as_ptr() as usize], warm_indexed);
+    }
+}
+
+/// An extraction running inside another one on the same thread (a rayon worker picks up
+/// a second frame's job while it waits) gets its own scratch instead of a borrow panic.
+#[test]
+fn extract_reentrant_on_one_thread() {
+    let mesh = &reference_inputs()[0];
+    let w = weld(mesh);
+    let adj = EdgeAdjacency::build(&w);
+    let light = reference_lights(&w)[0];
+    let expected = reference_extract(&w, &adj, light, true);
+    SCRATCH.with(|cell| {
+        let _held = cell.borrow_mut();
+        let mut out = VolumeGeometry::default();
+        extract(&w, &adj, light, true, &mut out);
+        assert!(bits(&out) == bits(&expected));
+    });
+}
