@@ -1,10 +1,13 @@
-//! The renderer's volume wireframe (a debugging view, issue 9 §2): a method's shadow volumes
+//! The renderer's volume wireframe (a debugging view): a method's shadow volumes
 //! drawn as tinted lines over a finished frame.
 
 use glow::HasContext;
 use umbra_geom::Light;
 
-use super::{validate_view, FrameParams, FrameTarget, Renderer};
+use umbra_geom::FrameParams;
+
+use super::validate::validate_view;
+use super::{FrameTarget, Renderer};
 use crate::counter::Counter;
 use crate::error::GlError;
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark};
@@ -15,7 +18,7 @@ use crate::state::{BlendState, GlState};
 impl Renderer {
     /// Draws `method`'s shadow volumes for `light` as a tinted wireframe over a frame already
     /// in the caller's framebuffer (`target`, None = the default framebuffer) — a debugging
-    /// view (issue 9 §2, `umbra view`'s wireframe toggle). Call it after
+    /// view (`umbra view`'s wireframe toggle). Call it after
     /// [`Renderer::draw_frame`] (or [`Renderer::render`], on [`Renderer::target`]'s
     /// framebuffer) with the same `params`: the volumes are tested against the frame's depth.
     ///
