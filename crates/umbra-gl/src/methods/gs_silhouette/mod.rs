@@ -18,7 +18,7 @@
 //! GL_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS (`40K`: gl_Position and the face depth), queried at
 //! prepare; the program is compiled for the chosen `K` (`max_vertices = 4K`).
 //!
-//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! Face depths: every primitive carries its face's window depth function, flat,
 //! computed in the geometry shader, once per patch ([`crate::methods::face_depth`]), which the
 //! fragment shader writes as every fragment's `gl_FragDepth` (`shared/face_depth.frag.glsl`:
 //! llvmpipe's interpolated depth is NaN or wrong on some faces).

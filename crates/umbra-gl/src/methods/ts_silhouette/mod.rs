@@ -19,7 +19,7 @@
 //! sub-multiplicities add up ([`patches`]); the patch capacity `K` respects
 //! GL_MAX_PATCH_VERTICES (`3 + K`) and GL_MAX_TESS_GEN_LEVEL (`2K - 1`), queried at prepare.
 //!
-//! Face depths (issue 16): every primitive carries its face's window depth function, flat,
+//! Face depths: every primitive carries its face's window depth function, flat,
 //! computed in the control shader, once per patch ([`crate::methods::face_depth`]), which the
 //! fragment shader writes as every fragment's `gl_FragDepth` (`shared/face_depth.frag.glsl`:
 //! llvmpipe's interpolated depth is NaN or wrong on some faces).

@@ -85,7 +85,7 @@ pub enum ShaderDialect {
 
 impl ShaderDialect {
     /// The face depth functions of every fragment's depth (shared/side_plane.glsl,
-    /// shared/face_depth.frag.glsl; issue 16): GLSL 4.50 only. They need doubles, which GLSL
+    /// shared/face_depth.frag.glsl): GLSL 4.50 only. They need doubles, which GLSL
     /// ES 3.00 lacks; the ES build keeps the rasterized depth (the bodies test GL_ES).
     fn face_depth(self, stage: &'static str) -> &'static str {
         match self {
