@@ -55,7 +55,7 @@ impl Renderer {
     /// map renders into its own texture). With `params.counter` wide counting, umbra's own
     /// counting target is drawn and the stencil written by its resolve.
     ///
-    /// **GL state**: saved before and restored after, exactly: every [`GlState`] field
+    /// **GL state**: saved before and restored after, exactly: every [`GlState`](crate::GlState) field
     /// (depth test/func/write/clamp, stencil test, both stencil faces' func/ref/masks/ops,
     /// colour mask, cull enable/face, front face, blend enable/func/equation, polygon
     /// offset), the current program, the vertex array, the draw and read framebuffers, the
