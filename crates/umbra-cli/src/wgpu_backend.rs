@@ -43,9 +43,10 @@ impl WgpuSession {
     }
 
     /// The frame `render` and `verify` draw for `view`: the GL backend's parameters
-    /// ([`crate::session::frame_params_for`]), field for field.
+    /// ([`crate::session::frame_params_for`]), the same struct (reversed-Z and the 8-bit
+    /// stencil counter, both defaults; the counter is checked by [`check_counter`]).
     pub fn frame_params(&self, view: &ViewConfig) -> umbra_wgpu::FrameParams {
-        to_wgpu(&crate::session::frame_params_for(view, self.scene.bounds()))
+        crate::session::frame_params_for(view, self.scene.bounds())
     }
 
     /// The volumes of `name` for this session's renderer; shadow maps with the `--sm-*` options.
@@ -65,26 +66,6 @@ impl WgpuSession {
             umbra_wgpu::WgpuError::UnknownMethod { .. } => CliError::BadFlag { flag, message: e.to_string() },
             other => wgpu_err(other),
         })
-    }
-}
-
-/// umbra-gl's frame parameters as umbra-wgpu's (reversed-Z always; the counter is checked
-/// separately by [`check_counter`]).
-pub fn to_wgpu(p: &umbra_gl::FrameParams) -> umbra_wgpu::FrameParams {
-    umbra_wgpu::FrameParams {
-        camera: p.camera,
-        width: p.width,
-        height: p.height,
-        lights: p.lights.clone(),
-        light_color: p.light_color,
-        zpass: p.zpass,
-        auto_zpass: p.auto_zpass,
-        ambient: p.ambient,
-        albedo: p.albedo,
-        specular: p.specular,
-        shininess: p.shininess,
-        background: p.background,
-        capture: umbra_wgpu::CaptureFlags::default(),
     }
 }
 

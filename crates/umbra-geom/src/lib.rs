@@ -11,6 +11,8 @@
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
 //! * [`camera`]: the infinite-far camera and its depth conventions, shared by every backend.
+//! * [`frame`]: [`FrameParams`], the description of one frame every backend takes, and its
+//!   shadow-volume [`Counter`].
 //! * [`shadow_map`]: the cube and directional shadow-map matrices of the shadow-map baseline.
 //! * [`image`]: the images every backend reads back (top row first) and their PNG output.
 //!
@@ -95,6 +97,7 @@ pub mod camera;
 pub mod clearance;
 pub mod edge_triangles;
 pub mod export_buffers;
+pub mod frame;
 pub mod frame_images;
 pub mod image;
 pub mod load;
@@ -110,6 +113,7 @@ pub mod weld;
 pub mod winding_bound;
 
 pub use adjacency::EdgeAdjacency;
+pub use frame::{Counter, FrameParams};
 pub use mesh::{Aabb, Mesh};
 pub use weld::WeldedMesh;
 

@@ -33,27 +33,16 @@ use crate::error::GlError;
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::state::GlState;
 
-/// Which counter the volume pass uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Counter {
-    /// The 8-bit stencil, INCR_WRAP / DECR_WRAP: exact only while every count is below 256.
-    #[default]
-    Stencil8,
-    /// An R32F count resolved into the stencil: exact below 2^24.
-    Float32,
+pub use umbra_geom::frame::Counter;
+
+/// What a [`Counter`] means in OpenGL terms.
+pub trait CounterGl {
+    /// The counting state of a volume pass with this counter.
+    fn shadow_volume_state(self, zpass: bool, convention: DepthConvention) -> GlState;
 }
 
-impl Counter {
-    /// "stencil8" or "float32".
-    pub fn name(self) -> &'static str {
-        match self {
-            Counter::Stencil8 => "stencil8",
-            Counter::Float32 => "float32",
-        }
-    }
-
-    /// The counting state of a volume pass with this counter.
-    pub fn shadow_volume_state(self, zpass: bool, convention: DepthConvention) -> GlState {
+impl CounterGl for Counter {
+    fn shadow_volume_state(self, zpass: bool, convention: DepthConvention) -> GlState {
         match self {
             Counter::Stencil8 => GlState::shadow_volume_for(zpass, convention),
             Counter::Float32 => GlState::shadow_volume_float_for(zpass, convention),

@@ -3,8 +3,8 @@
 //! [`GlError::OutOfMemory`] (naming what was allocated and its size) instead of an empty
 //! object counted as ready, or an error that the next frame reports as its own.
 //!
-//! Not from the papers: robustness work of issue 8, Section 3 ("a buffer the driver refuses:
-//! a clear error, the process stays usable"). The pattern is the one of
+//! Not from the papers: a buffer the driver refuses is a clear error and the process stays
+//! usable. The pattern is the one of
 //! `glNamedBufferData`/`glTextureStorage*` error handling in the OpenGL 4.5 core spec,
 //! Section 2.3.1 (errors are recorded, the command has no other effect, `glGetError`
 //! returns and clears them).
@@ -16,6 +16,13 @@
 use glow::HasContext;
 
 use crate::error::{drain_get_error, GlError};
+
+/// `bytes` as glow's `i32` size; more than 2 GiB is `InvalidParams`, before any GL call.
+pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlError> {
+    i32::try_from(bytes).map_err(|_| {
+        GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)"))
+    })
+}
 
 /// How a buffer's store is specified.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,7 +119,7 @@ pub(crate) fn buffer_store(
     usage: u32,
     what: &'static str,
 ) -> Result<(), GlError> {
-    let size = crate::scene::checked_size(data.len(), what)?;
+    let size = checked_size(data.len(), what)?;
     checked_allocation(gl, what, data.len(), || {
         // SAFETY: `buffer` is a live buffer of the current context; a Bytes slice outlives the
         // call, which copies it; a Size store has exactly `size` bytes.
@@ -143,7 +150,7 @@ pub(crate) fn buffer_with_data(
     usage: u32,
     what: &'static str,
 ) -> Result<glow::Buffer, GlError> {
-    crate::scene::checked_size(data.len(), what)?;
+    checked_size(data.len(), what)?;
     // SAFETY: object creation on the current context; deleted below on every error path.
     let created = unsafe {
         match api {

@@ -13,7 +13,8 @@
 //! * [`renderer`]: the frame: depth + ambient, per light stencil volumes + additive lighting,
 //!   optional per-light lit masks (the final lit/shadow decision the image shows); and inside
 //!   a renderer of the caller's, light by light: [`Renderer::count_shadows`] (the stencil
-//!   only, on the caller's depth) and [`Renderer::add_light`].
+//!   only, on the caller's depth) and [`Renderer::add_light`]. A frame is described by
+//!   [`FrameParams`], umbra-geom's, the one umbra-wgpu takes too.
 //! * [`methods`]: [`ShadowMethod`] trait, registry ([`method_names`], [`create_method`]),
 //!   `none` and `cpu-silhouette`.
 //! * [`timing`]: glQueryCounter(GL_TIMESTAMP) stage timing.
@@ -28,6 +29,7 @@ pub mod context;
 pub mod counter;
 pub mod error;
 pub mod extra;
+mod gl_names;
 pub(crate) mod gpu_buffer;
 pub mod image;
 pub mod methods;

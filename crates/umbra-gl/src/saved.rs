@@ -9,27 +9,12 @@
 //! depth mode (when the renderer has glClipControl; without it the renderer never changes
 //! them).
 
-use std::num::NonZeroU32;
-
 use glow::HasContext;
 
 use crate::extra::GlExtra;
-use crate::renderer::SCENE_CLIP_BINDING;
-use crate::scene::NORMALS_BINDING;
+use crate::gl_names::{buffer, framebuffer, program, texture, vertex_array};
+use crate::scene::{NORMALS_BINDING, SCENE_CLIP_BINDING};
 use crate::state::GlState;
-
-pub(crate) fn buffer(name: u32) -> Option<glow::Buffer> {
-    NonZeroU32::new(name).map(glow::NativeBuffer)
-}
-pub(crate) fn framebuffer(name: u32) -> Option<glow::Framebuffer> {
-    NonZeroU32::new(name).map(glow::NativeFramebuffer)
-}
-fn program(name: u32) -> Option<glow::Program> {
-    NonZeroU32::new(name).map(glow::NativeProgram)
-}
-fn vertex_array(name: u32) -> Option<glow::VertexArray> {
-    NonZeroU32::new(name).map(glow::NativeVertexArray)
-}
 
 /// Everything the renderer changes on the context, as it was before.
 #[derive(Clone, Copy, Debug)]
@@ -228,7 +213,6 @@ impl MethodBindings {
     }
 
     pub(crate) fn restore(&self, gl: &glow::Context) {
-        let texture = |name: u32| std::num::NonZeroU32::new(name).map(glow::NativeTexture);
         // SAFETY: re-binding names that were bound before (still alive: umbra deletes none of
         // the caller's objects) and a patch size GL reported.
         unsafe {

@@ -25,7 +25,7 @@ pub use umbra_geom::weld::triangle_bounds;
 use umbra_geom::weld::triangle_normals;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
+use crate::gpu_buffer::{buffer_with_data, checked_size, BufferApi, BufferData};
 
 /// Identifies one uploaded scene (unique per process), so a method knows whether it has
 /// prepared for it.
@@ -36,6 +36,12 @@ pub struct SceneId(u64);
 pub const NORMALS_BINDING: u32 = 0;
 /// Vertex attribute location of the position (`vec3`).
 pub const POSITION_LOCATION: u32 = 0;
+/// Binding point of the uniform block `UmbraSceneClip` (methods/shared/depth.glsl): six
+/// clip-space planes of the box around the scene and the eye.
+pub const SCENE_CLIP_BINDING: u32 = 14;
+/// The scene's vertex shader (positions at [`POSITION_LOCATION`], invariant `gl_Position`),
+/// shared by the depth, lighting and sample passes.
+pub(crate) const SCENE_VERT: &str = include_str!("shaders/scene.vert.glsl");
 
 /// GPU copy of a [`WeldedMesh`]. Delete with [`SceneGpu::destroy`] while its context is
 /// current (dropping without it leaks the GL objects until the context dies).
@@ -56,12 +62,6 @@ fn as_bytes<T: Copy>(v: &[T]) -> &[u8] {
     // SAFETY: T is a plain array of f32/u32 (no padding, every bit pattern valid as bytes);
     // the slice covers exactly size_of_val(v) initialised bytes.
     unsafe { std::slice::from_raw_parts(v.as_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
-}
-
-pub(crate) fn checked_size(bytes: usize, what: &'static str) -> Result<i32, GlError> {
-    i32::try_from(bytes).map_err(|_| {
-        GlError::InvalidParams(format!("{what} needs {bytes} bytes, more than 2 GiB (GL size limit through glow)"))
-    })
 }
 
 impl SceneGpu {

@@ -393,8 +393,8 @@ fn read_bytes(
         gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
         gl.read_pixels(0, 0, width as i32, height as i32, format, ty, glow::PixelPackData::Slice(Some(&mut out)));
         gl.pixel_store_i32(glow::PACK_ALIGNMENT, prev_align);
-        gl.bind_buffer(glow::PIXEL_PACK_BUFFER, crate::saved::buffer(prev_pack_buffer));
-        gl.bind_framebuffer(glow::READ_FRAMEBUFFER, crate::saved::framebuffer(prev_read_fb));
+        gl.bind_buffer(glow::PIXEL_PACK_BUFFER, crate::gl_names::buffer(prev_pack_buffer));
+        gl.bind_framebuffer(glow::READ_FRAMEBUFFER, crate::gl_names::framebuffer(prev_read_fb));
     }
     out
 }

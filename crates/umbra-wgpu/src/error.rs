@@ -36,6 +36,18 @@ pub enum WgpuError {
     /// Parameters umbra cannot use (zero size, bad light, a scene too large for a buffer, ...).
     #[error("invalid parameters: {0}")]
     InvalidParams(String),
+    /// A frame parameter this backend cannot honour: the f32 counter, the standard depth
+    /// convention (umbra-wgpu draws reversed-Z with the 8-bit stencil counter). Refused before
+    /// any GPU work, never drawn differently.
+    #[error("the wgpu backend does not support {what} {value} (it supports {supported} only); use umbra-gl for it")]
+    Unsupported {
+        /// The parameter ("counter", "depth convention").
+        what: &'static str,
+        /// The value asked for.
+        value: String,
+        /// The one value this backend draws.
+        supported: &'static str,
+    },
     /// A method name the wgpu backend does not know.
     #[error("unknown shadow method {name:?} on the wgpu backend; known: {known}")]
     UnknownMethod {

@@ -28,6 +28,9 @@
 //!   position and triangle id for the verifier), per light volumes and lighting, PNG out,
 //!   stencil and lit-mask readback.
 //! * [`methods`]: the registry ([`method_names`]).
+//! * [`FrameParams`]: umbra-geom's description of a frame, the one umbra-gl takes; a value
+//!   this backend cannot draw (the f32 counter, the standard depth convention) is refused
+//!   with [`WgpuError::Unsupported`].
 //! * [`scene`]: [`SceneGpu`], a welded mesh uploaded once.
 //! * [`device`]: [`HeadlessGpu`]; a missing adapter is [`WgpuError::NoAdapter`], which says what
 //!   to install.
@@ -56,6 +59,8 @@
 
 #![warn(missing_docs)]
 
+mod builders;
+mod common;
 pub mod device;
 pub mod error;
 pub mod image;
@@ -63,6 +68,7 @@ pub mod methods;
 mod readback;
 pub mod renderer;
 pub mod scene;
+mod view;
 pub mod volumes;
 
 pub use device::HeadlessGpu;

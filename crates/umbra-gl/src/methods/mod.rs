@@ -28,7 +28,7 @@ use glam::DMat4;
 use umbra_geom::Light;
 
 use crate::camera::DepthConvention;
-use crate::counter::Counter;
+use crate::counter::{Counter, CounterGl};
 use crate::error::GlError;
 use crate::scene::{SceneGpu, SceneId};
 

@@ -3,12 +3,15 @@
 
 use glow::HasContext;
 
-use super::{mark, FrameParams, PassView, Renderer, SCENE_VERT};
+use umbra_geom::FrameParams;
+
+use super::view::{mark, PassView};
+use super::Renderer;
 use crate::camera::DepthConventionGl;
 use crate::error::GlError;
 use crate::methods::StageHook;
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::scene::SceneGpu;
+use crate::scene::{SceneGpu, SCENE_VERT};
 use crate::state::{GlState, StencilFace};
 use crate::target::{RenderTarget, TargetPass};
 

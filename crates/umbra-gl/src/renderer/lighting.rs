@@ -5,12 +5,15 @@
 use glow::HasContext;
 use umbra_geom::Light;
 
-use super::{mark, FrameParams, PassView, Renderer, SCENE_VERT};
+use umbra_geom::FrameParams;
+
+use super::view::{mark, PassView};
+use super::Renderer;
 use crate::error::GlError;
 use crate::image::LitMaskImage;
 use crate::methods::{Classification, ShadowMethod, StageHook};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::scene::{SceneGpu, NORMALS_BINDING};
+use crate::scene::{SceneGpu, NORMALS_BINDING, SCENE_VERT};
 use crate::state::{BlendState, GlState, StencilFace};
 use crate::target::{RenderTarget, TargetPass};
 

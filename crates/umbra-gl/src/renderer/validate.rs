@@ -2,11 +2,10 @@
 //! caller's target framebuffer.
 
 use glow::HasContext;
-use umbra_geom::Light;
-
-use super::FrameParams;
-use crate::error::GlError;
 use umbra_geom::frame_images::LightCapture;
+use umbra_geom::{FrameParams, Light};
+
+use crate::error::GlError;
 
 /// Checks parameters before any GL call.
 pub(super) fn validate(params: &FrameParams) -> Result<(), GlError> {

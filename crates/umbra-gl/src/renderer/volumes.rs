@@ -6,11 +6,14 @@ use glow::HasContext;
 use umbra_geom::clearance::scene_clip_box;
 use umbra_geom::Light;
 
-use super::{mark, FrameParams, PassView, Renderer, SCENE_CLIP_BINDING};
+use umbra_geom::FrameParams;
+
+use super::view::{mark, PassView};
+use super::Renderer;
 use crate::counter::{Counter, FloatCounter};
 use crate::error::GlError;
 use crate::methods::{Classification, ShadowMethod, StageHook, VolumeFrame};
-use crate::scene::SceneGpu;
+use crate::scene::{SceneGpu, SCENE_CLIP_BINDING};
 use crate::state::GlState;
 
 impl Renderer {

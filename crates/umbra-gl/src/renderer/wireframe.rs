@@ -4,7 +4,10 @@
 use glow::HasContext;
 use umbra_geom::Light;
 
-use super::{validate_view, FrameParams, FrameTarget, Renderer};
+use umbra_geom::FrameParams;
+
+use super::validate::validate_view;
+use super::{FrameTarget, Renderer};
 use crate::counter::Counter;
 use crate::error::GlError;
 use crate::methods::{Classification, ShadowMethod, StageHook, StageMark};

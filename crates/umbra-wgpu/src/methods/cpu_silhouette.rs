@@ -18,10 +18,10 @@
 
 use umbra_geom::silhouette::{extract_indexed, IndexedVolume, VolumeGeometry};
 
+use crate::common::{Common, LightPlan};
 use crate::error::WgpuError;
-use crate::methods::{LightFrame, Method, MethodKind};
+use crate::methods::method::{LightFrame, Method, MethodKind};
 use crate::scene::{check_size, SceneGpu, SceneId};
-use crate::volumes::{Common, LightPlan};
 
 /// Registry name.
 pub const NAME: &str = "cpu-silhouette";

@@ -1,10 +1,10 @@
 //! `none`: no shadows (every sample lit by every light whose side it sees); the baseline the
 //! verifier compares against and the frame the depth pass's captures come from.
 
+use crate::common::{Common, LightPlan};
 use crate::error::WgpuError;
-use crate::methods::{LightFrame, Method, MethodKind};
+use crate::methods::method::{LightFrame, Method, MethodKind};
 use crate::scene::{SceneGpu, SceneId};
-use crate::volumes::{Common, LightPlan};
 
 /// Registry name.
 pub const NAME: &str = "none";

@@ -21,10 +21,11 @@ use umbra_geom::camera::to_f32_cols;
 use umbra_geom::shadow_map::{face_clip_from_world, map_clip_from_world, map_from_world, parse_name, NEAR_FRACTION};
 use umbra_geom::Aabb;
 
+use crate::builders::{uniform_entry, uniform_slots, LIGHT_SLOT_BYTES};
+use crate::common::{Common, LightPlan};
 use crate::error::WgpuError;
-use crate::methods::{LightFrame, Method, MethodKind};
+use crate::methods::method::{LightFrame, Method, MethodKind};
 use crate::scene::{SceneGpu, SceneId};
-use crate::volumes::{uniform_entry, uniform_slots, Common, LightPlan, LIGHT_SLOT_BYTES};
 
 /// Name prefix of the family: `shadow-map-cube:RES[+pcf]`, RES texels per face side.
 pub const PREFIX: &str = umbra_geom::shadow_map::PREFIX;

@@ -3,9 +3,10 @@
 //! that sides and caps drawn by different pipelines read the same bits at their shared
 //! vertices (a watertight volume whatever the compiler contracts).
 
+use crate::builders::{buffers_group, compute_pipeline, dispatch_size, storage_entry};
+use crate::common::Common;
 use crate::error::WgpuError;
 use crate::scene::{buffer_zeroed, SceneGpu};
-use crate::volumes::{buffers_group, compute_pipeline, dispatch_size, storage_entry, Common};
 
 const VOLUME: &str = include_str!("../shaders/volume.wgsl");
 const TRANSFORM: &str = include_str!("../shaders/transform.wgsl");

@@ -22,11 +22,12 @@
 use umbra_geom::sides_data::{choose_max_mult, record_ranges, MAX_MULT_LIMIT};
 use umbra_geom::EdgeAdjacency;
 
+use crate::builders::{buffers_group, compute_pipeline, dispatch_size, storage_entry};
+use crate::common::{Common, LightPlan};
 use crate::error::WgpuError;
+use crate::methods::method::{LightFrame, Method, MethodKind};
 use crate::methods::transform::{ClipPositions, Transform};
-use crate::methods::{LightFrame, Method, MethodKind};
 use crate::scene::{buffer_init, buffer_zeroed, SceneGpu, SceneId};
-use crate::volumes::{buffers_group, compute_pipeline, dispatch_size, storage_entry, Common, LightPlan};
 
 /// Registry name.
 pub const NAME: &str = "vs-silhouette";

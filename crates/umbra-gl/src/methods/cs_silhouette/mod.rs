@@ -37,11 +37,11 @@
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
+use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::scene::{checked_size, SceneGpu, SceneId};
+use crate::scene::{SceneGpu, SceneId};
 
 /// Registry name.
 pub const NAME: &str = "cs-silhouette";

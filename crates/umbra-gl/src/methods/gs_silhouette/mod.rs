@@ -37,7 +37,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
+use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::DepthUniforms;
 use crate::methods::silhouette_caps::{fragment_source, with_prelude, SilhouetteCaps, THREE_EDGE_DEFINE};
 use crate::methods::ts_silhouette::patches::{
@@ -46,7 +46,7 @@ use crate::methods::ts_silhouette::patches::{
 };
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::scene::{checked_size, SceneGpu, SceneId};
+use crate::scene::{SceneGpu, SceneId};
 
 /// Registry name.
 pub const NAME: &str = "gs-silhouette";

@@ -98,7 +98,7 @@ impl SharedPrograms {
         specs.push((
             format!("{method} samples"),
             vec![
-                ShaderSource::vertex("shaders/scene.vert.glsl", crate::renderer::SCENE_VERT),
+                ShaderSource::vertex("shaders/scene.vert.glsl", crate::scene::SCENE_VERT),
                 ShaderSource::fragment("hier/samples.frag.glsl", SAMPLES_FRAG),
             ],
         ));

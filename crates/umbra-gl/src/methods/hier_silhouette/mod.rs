@@ -90,12 +90,12 @@ pub mod layout;
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
+use crate::gpu_buffer::{buffer_with_data, checked_size, BufferApi, BufferData};
 use crate::methods::hier::layout::Layout;
 use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
-use crate::scene::{checked_size, SceneGpu, SceneId};
+use crate::scene::{SceneGpu, SceneId};
 use layout::{Counts, Faces, FALLBACK_STEPS, MAX_OPPOSITES_PER_RECORD};
 
 /// Registry name.

@@ -326,7 +326,7 @@ impl ShadowMethod for HierTriangle {
             });
         }
         let plane_bytes = layout::plane_bytes(triangles.max(1));
-        crate::scene::checked_size(plane_bytes, "hier-triangle planes")?;
+        crate::gpu_buffer::checked_size(plane_bytes, "hier-triangle planes")?;
         let programs = Programs::link(gl)?;
         let delete_programs = |gl: &glow::Context, p: &Programs| {
             // SAFETY: programs we created, not used afterwards.

@@ -40,12 +40,12 @@ use glow::HasContext;
 use umbra_geom::EdgeAdjacency;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
+use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::DepthUniforms;
 use crate::methods::silhouette_caps::{fragment_source, variant_defines, with_prelude, SilhouetteCaps};
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
-use crate::scene::{checked_size, SceneGpu, SceneId};
+use crate::scene::{SceneGpu, SceneId};
 
 use patches::{choose_capacity, ts_capacity_limit, EdgePatches, MIN_MAX_PATCH_VERTICES, MIN_MAX_TESS_GEN_LEVEL};
 

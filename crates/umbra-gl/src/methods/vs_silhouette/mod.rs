@@ -306,7 +306,7 @@ impl RecordArrays {
         per_instance: usize,
     ) -> Result<Self, GlError> {
         let bytes = as_bytes(data);
-        crate::scene::checked_size(bytes.len(), what)?;
+        crate::gpu_buffer::checked_size(bytes.len(), what)?;
         let records = data.len() / vec4s.max(1);
         let record_bytes = 16 * vec4s;
         let stride = i32::try_from(record_bytes * per_instance)

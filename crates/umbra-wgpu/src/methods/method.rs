@@ -1,0 +1,69 @@
+//! The shadow-method trait of the wgpu backend ([`Method`]), what a method sees of one light
+//! ([`LightFrame`]) and what its draw leaves in the stencil ([`MethodKind`]).
+//!
+//! Per frame protocol ([`crate::ShadowVolumes`]): once per scene `prepare_scene`;
+//! per light, before the caller's passes, `prepare_light` (uniform slot, compute
+//! passes, uploads, own render passes into the encoder); then, in the caller's pass with the
+//! stencil cleared to the light's [`LightPlan::stencil_clear`], `draw`.
+
+use crate::common::{Common, LightPlan, LightSlot};
+use crate::error::WgpuError;
+use crate::scene::{SceneGpu, SceneId};
+
+/// What a method's draw leaves in the stencil.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodKind {
+    /// Shadow volumes counted into a stencil cleared to 0 (or W0 for z-pass from inside):
+    /// lit where it ends at 0. `silhouette_sides`: sides only on edges of nonzero multiplicity
+    /// (the auto z-pass test may then let edges of multiplicity 0 cross the near pyramid).
+    Counting {
+        /// Side faces only on silhouette edges.
+        silhouette_sides: bool,
+    },
+    /// The draw resolves the method's own decision into a stencil cleared to 1: 0 where lit
+    /// (shadow maps).
+    Resolve,
+}
+
+/// One light of one frame, as a method sees it.
+pub(crate) struct LightFrame {
+    /// Index of the light (its uniform slot and output buffers).
+    pub slot: usize,
+    /// How it counts.
+    pub plan: LightPlan,
+    /// Its uniform slot, to complete (records, max_mult) and write.
+    pub data: LightSlot,
+}
+
+/// A shadow method on wgpu.
+pub(crate) trait Method {
+    /// Registry name.
+    fn name(&self) -> &'static str;
+    /// What its draw leaves in the stencil.
+    fn kind(&self) -> MethodKind;
+    /// The scene the last `prepare_scene` was for.
+    fn prepared_scene(&self) -> Option<SceneId>;
+    /// Once per scene: per-mesh buffers and bind groups.
+    fn prepare_scene(&mut self, device: &wgpu::Device, scene: &SceneGpu, common: &Common) -> Result<(), WgpuError>;
+    /// Per light and frame: writes the light's uniform slot and records the method's work
+    /// into `encoder` (before the caller's passes).
+    fn prepare_light(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        common: &Common,
+        frame: &LightFrame,
+    ) -> Result<(), WgpuError>;
+    /// Draws light `slot`'s volumes (or resolve) into the caller's pass.
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, common: &Common, slot: usize, plan: LightPlan);
+    /// Bytes of GPU memory the method holds.
+    fn gpu_bytes(&self) -> u64;
+    /// Records a copy of light `slot`'s side and cap vertex counts, as the GPU decided them,
+    /// into `readback` (32 bytes, two draw-indirect commands); false for methods whose counts
+    /// the CPU knows.
+    fn copy_counts(&self, _encoder: &mut wgpu::CommandEncoder, _slot: usize, _readback: &wgpu::Buffer) -> bool {
+        false
+    }
+}
