@@ -30,7 +30,7 @@ import litFrag from './glsl/lit.frag.glsl';
 
 export { GlSetupError };
 
-/** The shading constants of FrameParams::default() (renderer.rs), so images are comparable. */
+/** The shading constants of FrameParams::default() (crates/umbra-geom/src/frame.rs), so images are comparable. */
 export const SHADING = {
   lightColor: [1, 1, 1],
   ambient: 0.15,
