@@ -1,4 +1,4 @@
-//! `umbra export` (issue 7 §1): paper 003's preprocessed scene for the WebGL 2 viewer. The
+//! `umbra export`: paper 003's preprocessed scene for the WebGL 2 viewer. The
 //! manifest's sizes are Eq. 8 / Eq. 9 and agree with `umbra info --json`; every file has
 //! exactly the stated size; the buffers are what vs-silhouette builds; a truncated or
 //! malformed export is refused by `umbra export --check` with an error naming the file and the

@@ -1,14 +1,14 @@
 //! The papers' own scenes, as a user sees them: `umbra verify` on Crytek Sponza, Conference
-//! and Sibenik at 1280 x 720 from the default camera and light (issues 3-5: every
+//! and Sibenik at 1280 x 720 from the default camera and light (every
 //! shadow-volume method exact on the shared scenes). The torture suite covers three other
 //! poses per scene at 240 x 180; this is the full-size default view, where the rarer
-//! precision cases (edge-on side faces, depth-limited creases) first showed up.
+//! precision cases (edge-on side faces, depth-limited creases) occur.
 //!
 //! Scenes come from UMBRA_SCENES (default ../shared/scenes beside the workspace); a missing
-//! scene is skipped with a message. The default test runs the methods that once failed here
-//! (one per family); `--ignored` runs every method:
-//! `cargo test --release -p umbra-cli --test shared_scenes -- --ignored`. The whole grid of
-//! issue 16 (every exact method, default views and fly-through keyframes, four sizes, point
+//! scene is skipped with a message. The default test runs one method per family, each
+//! the one with a pinned case here; `--ignored` runs every method:
+//! `cargo test --release -p umbra-cli --test shared_scenes -- --ignored`. The whole exactness grid
+//! (every exact method, default views and fly-through keyframes, four sizes, point
 //! and directional lights) is `scripts/exactness_grid.py` (hours).
 
 use std::path::{Path, PathBuf};
@@ -35,7 +35,7 @@ fn verify_default_view(file: &str, methods: &str) -> usize {
 
 /// Runs `umbra verify --json` on `file` with `methods` at `size` with the extra `args`; asserts
 /// every exact method has no mismatch outside the band and band mismatches under 0.5 % of the
-/// band (issue 3's goal), and that the exit status says the same. Returns the number of
+/// band, and that the exit status says the same. Returns the number of
 /// methods checked.
 fn verify_view(file: &str, methods: &str, size: (u32, u32), args: &[&str]) -> usize {
     let path = scenes_dir().join(file);
@@ -114,11 +114,11 @@ fn sibenik_default_view_is_exact() {
     assert!(n == 0 || n == 5, "{n} methods checked");
 }
 
-/// Issue 16: at the fly-through's first keyframe (bench/sponza.flythrough) at 1920x1080,
-/// gs-silhouette drew runs of false light along the curtains' edges: side faces of their
-/// double-layer edges (multiplicity 2) seen 7e-4 rad from edge-on, within 1e-6 pixel of the
-/// curtain samples, which llvmpipe's plane equations order differently for gs-silhouette's
-/// vertex order than for cpu-silhouette's. The envelope's side-face part makes them band
+/// The fly-through's first keyframe (bench/sponza.flythrough) at 1920x1080: along the
+/// curtains' edges, side faces of their double-layer edges (multiplicity 2) seen 7e-4 rad from
+/// edge-on pass within 1e-6 pixel of the curtain samples, which llvmpipe's plane equations
+/// order differently for gs-silhouette's vertex order than for cpu-silhouette's (runs of false
+/// light without the band). The envelope's side-face part makes them band
 /// (docs/exactness.md); every other sample must be exact, for the default point light and a
 /// directional one.
 #[test]
@@ -132,20 +132,20 @@ fn crytek_sponza_flythrough_first_keyframe_at_1920x1080_is_exact() {
     assert!(n == 0 || n == 2, "{n} methods checked");
 }
 
-/// Issue 16: Conference's default view at 640x360 with its default point light, pixel
-/// (114, 64): every rasterizing method counted the face of a pillar's top edge there (a false
-/// shadow) although the face passes hundreds of units from the sample. The eye lies 0.0064
+/// Conference's default view at 640x360 with its default point light, pixel (114, 64):
+/// every rasterizing method counts the face of a pillar's top edge there (a false shadow
+/// without the band) although the face passes hundreds of units from the sample. The eye lies 0.0064
 /// units from the face's plane: its projection is a sliver 0.0009 pixel from the pixel
-/// centre, which llvmpipe's snapped coverage took in, and the plane equation gave it a depth
-/// in front of the sample (umbra_oracle::edge_on). Now band; every other sample exact.
+/// centre, which llvmpipe's snapped coverage takes in, and the plane equation gives it a depth
+/// in front of the sample (umbra_oracle::edge_on): band; every other sample exact.
 #[test]
 fn conference_default_view_at_640x360_is_exact() {
     let n = verify_view("conference.obj.gz", "cpu-silhouette,gs-triangle", (640, 360), &[]);
     assert!(n == 0 || n == 2, "{n} methods checked");
 }
 
-/// Issue 16: the fly-through's keyframe 6 (bench/sponza.flythrough) at 1280x720, pixel
-/// (532, 533): a false shadow of ts-triangle from a face seen edge-on, as on Conference above.
+/// The fly-through's keyframe 6 (bench/sponza.flythrough) at 1280x720, pixel (532, 533):
+/// ts-triangle's face seen edge-on there (band, as on Conference above).
 #[test]
 fn crytek_sponza_flythrough_keyframe_6_at_1280x720_is_exact() {
     let n = verify_view(

@@ -1,5 +1,5 @@
 //! A minimal renderer of the caller's own that asks umbra for exact shadows of two lights —
-//! the integration pattern for an existing engine (issue 9 §1; the stencil shadow-volume
+//! the integration pattern for an existing engine (the stencil shadow-volume
 //! frame of Heidmann 1991 / Everitt & Kilgard 2002 §2, with umbra's silhouettes, paper 001).
 //!
 //! The host owns everything: its GL context, its framebuffer (RGBA8 colour, an R8 "lit bits"
