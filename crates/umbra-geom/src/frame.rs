@@ -5,9 +5,9 @@
 //! work: umbra-wgpu draws reversed-Z with the 8-bit stencil counter only, umbra-gl draws
 //! every value.
 
-use crate::camera::{Camera, DepthConvention};
-use crate::frame_images::CaptureFlags;
-use crate::Light;
+use crate::camera::{Camera, CameraError, DepthConvention};
+use crate::frame_images::{CaptureFlags, LightCapture};
+use crate::{check_light, InvalidLight, Light};
 
 /// Which counter the volume pass uses.
 ///
@@ -107,6 +107,63 @@ impl Default for FrameParams {
     }
 }
 
+/// A frame no backend can draw; the message names the parameter and the problem.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidFrame(pub String);
+
+impl From<CameraError> for InvalidFrame {
+    fn from(e: CameraError) -> Self {
+        InvalidFrame(e.0)
+    }
+}
+
+impl From<InvalidLight> for InvalidFrame {
+    fn from(e: InvalidLight) -> Self {
+        InvalidFrame(e.0)
+    }
+}
+
+impl FrameParams {
+    /// The checks every backend makes before drawing: [`Self::check_view`], every light
+    /// ([`check_light`]), the capture flags naming an existing light, [`Self::check_shading`].
+    pub fn check(&self) -> Result<(), InvalidFrame> {
+        self.check_view()?;
+        for (i, l) in self.lights.iter().enumerate() {
+            check_light(i, l)?;
+        }
+        for (what, capture) in [("stencil", self.capture.stencil), ("lit mask", self.capture.lit_mask)] {
+            if let LightCapture::Light(i) = capture {
+                if i >= self.lights.len() {
+                    return Err(InvalidFrame(format!(
+                        "{what} capture of light {i}, but {} light(s)",
+                        self.lights.len()
+                    )));
+                }
+            }
+        }
+        self.check_shading()
+    }
+
+    /// The camera defines a view ([`Camera::validate`]) and the frame has pixels.
+    pub fn check_view(&self) -> Result<(), InvalidFrame> {
+        self.camera.validate()?;
+        if self.width == 0 || self.height == 0 {
+            return Err(InvalidFrame(format!("frame size {}x{}", self.width, self.height)));
+        }
+        Ok(())
+    }
+
+    /// Colours and shading parameters are finite.
+    pub fn check_shading(&self) -> Result<(), InvalidFrame> {
+        let scalars = [self.ambient, self.specular, self.shininess];
+        if scalars.iter().chain(&self.albedo).chain(&self.light_color).chain(&self.background).any(|v| !v.is_finite()) {
+            return Err(InvalidFrame("non-finite colour or shading parameter".into()));
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,5 +177,19 @@ mod tests {
         assert_eq!(p.counter, Counter::Stencil8);
         assert_eq!(Counter::Stencil8.name(), "stencil8");
         assert_eq!(Counter::Float32.name(), "float32");
+    }
+
+    #[test]
+    fn check_names_the_bad_parameter() {
+        assert!(FrameParams::default().check().is_ok());
+        let empty = FrameParams { width: 0, ..FrameParams::default() };
+        assert_eq!(empty.check().unwrap_err().to_string(), "frame size 0x720");
+        let dark = FrameParams { lights: vec![[0.0; 4]], ..FrameParams::default() };
+        assert_eq!(dark.check().unwrap_err().to_string(), "light 0 is directional with a zero direction");
+        let capture = CaptureFlags { stencil: LightCapture::Light(1), ..CaptureFlags::default() };
+        let unknown = FrameParams { lights: vec![[0.0, 1.0, 0.0, 0.0]], capture, ..FrameParams::default() };
+        assert_eq!(unknown.check().unwrap_err().to_string(), "stencil capture of light 1, but 1 light(s)");
+        let nan = FrameParams { ambient: f32::NAN, ..FrameParams::default() };
+        assert_eq!(nan.check_shading().unwrap_err().to_string(), "non-finite colour or shading parameter");
     }
 }

@@ -113,7 +113,7 @@ pub mod weld;
 pub mod winding_bound;
 
 pub use adjacency::EdgeAdjacency;
-pub use frame::{Counter, FrameParams};
+pub use frame::{Counter, FrameParams, InvalidFrame};
 pub use mesh::{Aabb, Mesh};
 pub use weld::WeldedMesh;
 

@@ -88,6 +88,13 @@ impl From<umbra_geom::image::PngError> for GlError {
     }
 }
 
+impl From<umbra_geom::InvalidFrame> for GlError {
+    /// A frame no backend can draw is an invalid parameter.
+    fn from(e: umbra_geom::InvalidFrame) -> Self {
+        GlError::InvalidParams(e.0)
+    }
+}
+
 impl From<crate::camera::CameraError> for GlError {
     /// A camera that defines no view is an invalid parameter of the frame.
     fn from(e: crate::camera::CameraError) -> Self {

@@ -94,6 +94,12 @@ impl From<umbra_geom::image::PngError> for WgpuError {
     }
 }
 
+impl From<umbra_geom::InvalidFrame> for WgpuError {
+    fn from(e: umbra_geom::InvalidFrame) -> Self {
+        WgpuError::InvalidParams(e.0)
+    }
+}
+
 impl From<umbra_geom::InvalidLight> for WgpuError {
     fn from(e: umbra_geom::InvalidLight) -> Self {
         WgpuError::InvalidParams(e.0)

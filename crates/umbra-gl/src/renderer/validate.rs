@@ -2,58 +2,24 @@
 //! caller's target framebuffer.
 
 use glow::HasContext;
-use umbra_geom::frame_images::LightCapture;
 use umbra_geom::{FrameParams, Light};
 
 use crate::error::GlError;
 
-/// Checks parameters before any GL call.
+/// Checks parameters before any GL call ([`FrameParams::check`]).
 pub(super) fn validate(params: &FrameParams) -> Result<(), GlError> {
-    validate_size(params)?;
-    for (i, l) in params.lights.iter().enumerate() {
-        validate_light(i, l)?;
-    }
-    for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
-        if let LightCapture::Light(i) = capture {
-            if i >= params.lights.len() {
-                return Err(GlError::InvalidParams(format!(
-                    "{what} capture of light {i}, but {} light(s)",
-                    params.lights.len()
-                )));
-            }
-        }
-    }
-    validate_shading(params)
-}
-
-/// Camera and frame size.
-pub(super) fn validate_size(params: &FrameParams) -> Result<(), GlError> {
-    params.camera.validate()?;
-    if params.width == 0 || params.height == 0 {
-        return Err(GlError::InvalidParams(format!("frame size {}x{}", params.width, params.height)));
-    }
-    Ok(())
+    Ok(params.check()?)
 }
 
 /// Camera, frame size and one light (for the host API, which takes the light apart).
 pub(super) fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
-    validate_size(params)?;
-    validate_light(0, light)
-}
-
-/// Light `i`: finite, w = 0 or 1, a directional light has a direction.
-pub(super) fn validate_light(i: usize, l: &Light) -> Result<(), GlError> {
-    umbra_geom::check_light(i, l).map_err(|e| GlError::InvalidParams(e.to_string()))
+    params.check_view()?;
+    umbra_geom::check_light(0, light).map_err(|e| GlError::InvalidParams(e.to_string()))
 }
 
 /// Colours and shading parameters are finite.
 pub(super) fn validate_shading(params: &FrameParams) -> Result<(), GlError> {
-    let scalars = [params.ambient, params.specular, params.shininess];
-    if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite())
-    {
-        return Err(GlError::InvalidParams("non-finite colour or shading parameter".into()));
-    }
-    Ok(())
+    Ok(params.check_shading()?)
 }
 
 /// The bound draw framebuffer (`fb`, as the error names it) is complete and has a stencil

@@ -1,10 +1,9 @@
 //! The checks of a frame's parameters before any GPU work: what this backend cannot draw
-//! ([`WgpuError::Unsupported`]), then camera, size, lights, capture indices and shading
-//! ([`WgpuError::InvalidParams`]).
+//! ([`WgpuError::Unsupported`]), then the checks every backend makes
+//! ([`FrameParams::check`], [`WgpuError::InvalidParams`]).
 
 use umbra_geom::camera::DepthConvention;
 use umbra_geom::frame::Counter;
-use umbra_geom::frame_images::LightCapture;
 use umbra_geom::FrameParams;
 
 use crate::error::WgpuError;
@@ -25,29 +24,7 @@ pub(super) fn validate(params: &FrameParams) -> Result<(), WgpuError> {
             supported: "ReversedZ",
         });
     }
-    params.camera.validate()?;
-    if params.width == 0 || params.height == 0 {
-        return Err(WgpuError::InvalidParams(format!("frame size {}x{}", params.width, params.height)));
-    }
-    for (i, l) in params.lights.iter().enumerate() {
-        umbra_geom::check_light(i, l)?;
-    }
-    for (what, capture) in [("stencil", params.capture.stencil), ("lit mask", params.capture.lit_mask)] {
-        if let LightCapture::Light(i) = capture {
-            if i >= params.lights.len() {
-                return Err(WgpuError::InvalidParams(format!(
-                    "{what} capture of light {i}, but {} light(s)",
-                    params.lights.len()
-                )));
-            }
-        }
-    }
-    let scalars = [params.ambient, params.specular, params.shininess];
-    if scalars.iter().chain(&params.albedo).chain(&params.light_color).chain(&params.background).any(|v| !v.is_finite())
-    {
-        return Err(WgpuError::InvalidParams("non-finite colour or shading parameter".into()));
-    }
-    Ok(())
+    Ok(params.check()?)
 }
 
 #[cfg(test)]
