@@ -21,8 +21,8 @@
 use crate::adjacency::EdgeAdjacency;
 use crate::edge_triangles::{build_edge_triangles, EdgeTrianglesError};
 use crate::mesh::{flat_normal, Aabb};
-use crate::sides_data::{build_caps_data, build_sides_data, choose_max_mult, SidesDataError, MAX_MULT_LIMIT};
-use crate::weld::WeldedMesh;
+use crate::sides_data::{build_caps_data, build_sides_data, max_mult_for_attribs, SidesDataError, MAX_MULT_LIMIT};
+use crate::weld::{triangle_bounds, WeldedMesh};
 
 /// Vertex attributes every OpenGL 4.5, OpenGL ES 3.0 and WebGL 2 implementation offers
 /// (GL_MAX_VERTEX_ATTRIBS is at least 16): the budget of one edge record, `2 + maxMult` vec4.
@@ -69,20 +69,10 @@ pub struct ExportBuffers {
     pub bounds: Option<Aabb>,
 }
 
-/// `maxMult` for `adj` with [`PORTABLE_VERTEX_ATTRIBS`] attributes: [`choose_max_mult`] with
-/// at most `16 - 2` and [`MAX_MULT_LIMIT`] slots, at least 1.
+/// `maxMult` for `adj` with [`PORTABLE_VERTEX_ATTRIBS`] attributes and [`MAX_MULT_LIMIT`]
+/// slots ([`max_mult_for_attribs`]).
 pub fn portable_max_mult(adj: &EdgeAdjacency) -> usize {
-    choose_max_mult(adj, MAX_MULT_LIMIT.min(PORTABLE_VERTEX_ATTRIBS - 2)).max(1)
-}
-
-/// Bounds of the vertices `mesh`'s triangles use (indices out of range ignored).
-pub fn triangle_bounds(mesh: &WeldedMesh) -> Option<Aabb> {
-    let mut it = mesh.triangles.iter().flatten().filter_map(|&i| mesh.positions.get(i as usize).copied());
-    let first = it.next()?;
-    Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
-        min: [0, 1, 2].map(|k| b.min[k].min(p[k])),
-        max: [0, 1, 2].map(|k| b.max[k].max(p[k])),
-    }))
+    max_mult_for_attribs(adj, PORTABLE_VERTEX_ATTRIBS, MAX_MULT_LIMIT)
 }
 
 /// Builds every buffer of `mesh` (see the module documentation). A mesh without triangles
@@ -105,6 +95,7 @@ pub fn build_export_buffers(mesh: &WeldedMesh) -> Result<ExportBuffers, ExportBu
         vertices: mesh.positions.len(),
         triangles: mesh.triangles.len(),
         edges: adj.len(),
+        // build_caps_data has checked every index.
         bounds: triangle_bounds(mesh),
     })
 }

@@ -194,6 +194,15 @@ pub fn choose_max_mult(adj: &EdgeAdjacency, limit: usize) -> usize {
     largest.min(limit).min(quantile.max(1))
 }
 
+/// The `maxMult` of a vertex layout with `attribs` vertex attributes (a record takes
+/// `2 + maxMult` of them) and at most `max_mult_limit` slots: [`choose_max_mult`] under the
+/// tightest of those and [`MAX_MULT_LIMIT`], at least 1. The one rule `vs-silhouette`'s layout
+/// (umbra-gl) and the export buffers ([`crate::export_buffers`]) share.
+pub fn max_mult_for_attribs(adj: &EdgeAdjacency, attribs: usize, max_mult_limit: usize) -> usize {
+    let limit = max_mult_limit.min(MAX_MULT_LIMIT).min(attribs.saturating_sub(2)).max(1);
+    choose_max_mult(adj, limit).max(1)
+}
+
 /// Builds the compact sides-data of `mesh` with `max_mult` opposite slots per record,
 /// splitting edges with more opposites (see the module documentation).
 pub fn build_sides_data(mesh: &WeldedMesh, adj: &EdgeAdjacency, max_mult: usize) -> Result<SidesData, SidesDataError> {

@@ -41,8 +41,10 @@
 //! Stages reported: "sides", "caps".
 
 use glow::HasContext;
+use umbra_geom::export_buffers::PORTABLE_VERTEX_ATTRIBS;
 use umbra_geom::sides_data::{
-    build_caps_data, build_sides_data, caps_data_bytes, choose_max_mult, record_count, sides_data_bytes, MAX_MULT_LIMIT,
+    build_caps_data, build_sides_data, caps_data_bytes, max_mult_for_attribs, record_count, sides_data_bytes,
+    MAX_MULT_LIMIT,
 };
 use umbra_geom::{EdgeAdjacency, Light, WeldedMesh};
 
@@ -194,8 +196,7 @@ pub struct Layout {
 /// ES 3.0 implementation) and at most `max_mult_limit` opposite slots per record: no GL
 /// needed (e.g. for `umbra info`, with 16 and [`MAX_MULT_LIMIT`]).
 pub fn plan_layout(adj: &EdgeAdjacency, triangles: usize, attribs: usize, max_mult_limit: usize) -> Layout {
-    let limit = max_mult_limit.min(MAX_MULT_LIMIT).min(attribs.saturating_sub(2)).max(1);
-    let max_mult = choose_max_mult(adj, limit).max(1);
+    let max_mult = max_mult_for_attribs(adj, attribs, max_mult_limit);
     let records = record_count(adj, max_mult);
     Layout {
         max_mult,
@@ -209,8 +210,9 @@ pub fn plan_layout(adj: &EdgeAdjacency, triangles: usize, attribs: usize, max_mu
     }
 }
 
-/// GL_MAX_VERTEX_ATTRIBS guaranteed by OpenGL 4.5 and OpenGL ES 3.0 (llvmpipe reports it too).
-pub const MIN_VERTEX_ATTRIBS: usize = 16;
+/// GL_MAX_VERTEX_ATTRIBS guaranteed by OpenGL 4.5 and OpenGL ES 3.0 (llvmpipe reports it too):
+/// the export buffers' [`PORTABLE_VERTEX_ATTRIBS`].
+pub const MIN_VERTEX_ATTRIBS: usize = PORTABLE_VERTEX_ATTRIBS;
 
 /// The layout `prepare` uses on any implementation with the guaranteed minimum of vertex
 /// attributes and no tighter cap: [`plan_layout`] with [`MIN_VERTEX_ATTRIBS`] and
