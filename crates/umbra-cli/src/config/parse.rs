@@ -142,15 +142,21 @@ pub fn gl_method(name: &str, flag: &'static str) -> Result<String, CliError> {
     Ok(name.to_string())
 }
 
+/// The names of a comma-separated list, trimmed, empty entries dropped; at least one.
+fn method_list(text: &str, flag: &'static str) -> Result<Vec<String>, CliError> {
+    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
+    if names.is_empty() {
+        return Err(bad(flag, "no method named"));
+    }
+    Ok(names)
+}
+
 /// `all` (every registered GL method), or a comma-separated list of names, each checked.
 pub fn gl_methods(text: &str, flag: &'static str) -> Result<Vec<String>, CliError> {
     if text.trim() == "all" {
         return Ok(method_names().iter().map(|s| s.to_string()).collect());
     }
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
-    if names.is_empty() {
-        return Err(bad(flag, "no method named"));
-    }
+    let names = method_list(text, flag)?;
     for n in &names {
         create_method(n).map_err(|e| bad(flag, e.to_string()))?;
     }
@@ -163,21 +169,18 @@ pub fn wgpu_methods(text: &str, flag: &'static str) -> Result<Vec<String>, CliEr
     if text.trim() == "all" {
         return Ok(umbra_wgpu::method_names().iter().map(|s| s.to_string()).collect());
     }
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect();
-    if names.is_empty() {
-        return Err(CliError::BadFlag { flag, message: "no method named".into() });
-    }
+    let names = method_list(text, flag)?;
     for n in &names {
         if !umbra_wgpu::method_names().contains(&n.as_str()) && WgpuShadowMapConfig::from_name(n).is_none() {
             let gl_only = create_method(n).is_ok();
-            return Err(CliError::BadFlag {
+            return Err(bad(
                 flag,
-                message: format!(
+                format!(
                     "unknown shadow method {n:?} on the wgpu backend{}; known: {}",
                     if gl_only { " (it needs geometry or tessellation shaders: --backend gl)" } else { "" },
                     umbra_wgpu::method_names().join(", ")
                 ),
-            });
+            ));
         }
     }
     Ok(names)
