@@ -14,11 +14,12 @@
 import { execFileSync } from 'node:child_process';
 import { existsSync, readFileSync } from 'node:fs';
 import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
-import http from 'node:http';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { gzipSync } from 'node:zlib';
+import { createServer, listen } from './serve.mjs';
+import { launch } from './testlib/exactness.mjs';
 import { loadUmbraGeom } from './umbra-geom-wasm/index.js';
 
 const webDir = path.dirname(fileURLToPath(import.meta.url));
@@ -89,19 +90,14 @@ window.bench = async (runs) => {
 window.ready = true;
 </script>`;
     await writeFile(path.join(tmp, 'index.html'), page);
-    const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm', '.bin': 'application/octet-stream' };
-    const server = http.createServer(async (req, res) => {
-      const rel = decodeURIComponent(new URL(req.url, 'http://x').pathname).replace(/^\/+/, '') || 'index.html';
-      const file = rel.startsWith('umbra-geom-wasm/') ? path.join(webDir, rel) : path.join(tmp, rel);
-      if (rel.includes('..') || !existsSync(file)) return res.writeHead(404).end();
-      res.writeHead(200, { 'Content-Type': types[path.extname(file)] || 'application/octet-stream' }).end(await readFile(file));
-    });
-    await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
-    const { chromium } = await import('playwright-core');
-    const browser = await chromium.launch({ executablePath: process.env.UMBRA_CHROMIUM || '/usr/bin/chromium', headless: true, args: ['--headless', '--no-sandbox', '--disable-gpu'] });
+    // The viewer's own server (serve.mjs, which serves .wasm as application/wasm) and browser
+    // launch (testlib); WebGL is not used, so the implementation does not matter.
+    const server = createServer([['/', tmp], ['/umbra-geom-wasm/', moduleDir]]);
+    const base = await listen(server);
+    const browser = await launch(process.env.UMBRA_CHROMIUM || '/usr/bin/chromium', 'swiftshader', tmp);
     try {
       const tab = await browser.newPage();
-      await tab.goto(`http://127.0.0.1:${server.address().port}/`);
+      await tab.goto(base);
       await tab.waitForFunction(() => window.ready === true);
       const r = await tab.evaluate((n) => window.bench(n), runs);
       console.log(`chromium (${r.userAgent.match(/Chrome\/[\d.]+/)?.[0]}): instantiate ${r.instantiate.toFixed(0)} ms; prepare ${r.triangles} triangles: ${stats(r.times)}`);

@@ -22,6 +22,7 @@ const TYPES = {
   '.bin': 'application/octet-stream',
   '.png': 'image/png',
   '.css': 'text/css; charset=utf-8',
+  '.wasm': 'application/wasm',
 };
 
 /**
