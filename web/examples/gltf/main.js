@@ -1,0 +1,225 @@
+// A glTF (or OBJ, PLY) model in a plain three.js app, with umbra-three's exact shadows from a
+// PointLight and a DirectionalLight; the M key switches to three.js's own shadow maps and back.
+//
+// URL parameters (also the test hooks): model=URL (.gltf .glb .obj .ply, optionally .gz;
+// default scene.gltf beside this page), size=WxH (fixed canvas size), mask=1 (show the first
+// light's decision: white lit, black shadowed, as `umbra render`'s lit mask), eye=X,Y,Z,
+// target=X,Y,Z, up=X,Y,Z, fov=DEGREES, light=X,Y,Z[,W] (W = 0: directional, coming from
+// X,Y,Z) and maps=1 (start with three.js's shadow maps). `scene=` of the exported-scene viewer
+// has no meaning here: the model is loaded by three.js's loaders.
+// The camera and the first light are the ones `umbra render --scene MODEL` uses with the same
+// flags (view.js), so `umbra verify --external-mask` can judge the mask.
+// State: document.body.dataset.state (loading, ready, error) and window.umbra: { state, error,
+// frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), view, errors (meshes
+// umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
+// shadowed, as a latin1 string), redraw() }.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { UmbraShadows } from 'umbra-three';
+import { loadModel } from './load.js';
+import { defaultView, triangleBounds, viewFor } from './view.js';
+
+const params = new URLSearchParams(location.search);
+const $ = (id) => document.getElementById(id);
+const status = { state: 'loading', frames: 0, mode: 'umbra' };
+window.umbra = status;
+
+function fail(e) {
+  const text = `${e.name === 'ModelError' ? 'The model could not be loaded' : 'Error'}:\n${e.message}`;
+  $('message').textContent = text;
+  $('mode').textContent = '';
+  $('time').textContent = '';
+  status.state = 'error';
+  status.error = text;
+  document.body.dataset.state = 'error';
+  console.error(text);
+}
+
+function canvasSize(canvas) {
+  const size = params.get('size');
+  if (!size) return [Math.max(320, window.innerWidth), Math.max(240, window.innerHeight - 40)];
+  const m = /^(\d+)x(\d+)$/.exec(size);
+  if (!m || !(Number(m[1]) >= 1 && Number(m[2]) >= 1 && Number(m[1]) <= 16384 && Number(m[2]) <= 16384)) throw new Error(`URL parameter size=${size}: expected WxH`);
+  canvas.width = Number(m[1]);
+  canvas.height = Number(m[2]);
+  return [canvas.width, canvas.height];
+}
+
+/** The model's lights: the first from `light` (umbra's default light), a second of the other kind. */
+function makeLights(view, bounds) {
+  const c = bounds ? [0, 1, 2].map((i) => 0.5 * (bounds.min[i] + bounds.max[i])) : [0, 0, 0];
+  const diagonal = bounds ? Math.hypot(...[0, 1, 2].map((i) => bounds.max[i] - bounds.min[i])) : 2;
+  // A directional light from direction d: at d scaled by a power of two (exact, so the
+  // direction position - target is d's own), the target at the origin, far enough out that
+  // its shadow camera (for three.js's maps) sees the whole model.
+  const directional = (d) => {
+    const light = new THREE.DirectionalLight(0xffffff, 1.2);
+    const reach = Math.hypot(...c) + diagonal;
+    const scale = 2 ** Math.ceil(Math.log2(reach / Math.hypot(...d)));
+    light.position.set(d[0] * scale, d[1] * scale, d[2] * scale);
+    light.target.position.set(0, 0, 0);
+    const s = light.shadow.camera;
+    const half = Math.hypot(...c) + diagonal / 2;
+    [s.left, s.right, s.top, s.bottom, s.near, s.far] = [-half, half, half, -half, 0, Math.hypot(...d) * scale + half];
+    light.shadow.mapSize.set(2048, 2048);
+    return light;
+  };
+  const point = (p) => {
+    // No fall-off (decay 0): the model is lit evenly whatever its units.
+    const light = new THREE.PointLight(0xffffff, 2.2, 0, 0);
+    light.position.set(p[0], p[1], p[2]);
+    light.shadow.camera.near = diagonal * 1e-3;
+    light.shadow.camera.far = diagonal * 2;
+    light.shadow.mapSize.set(2048, 2048);
+    return light;
+  };
+  const first = view.light[3] === 0 ? directional(view.light) : point(view.light);
+  // The second: from above and to the side, or, when the first is directional, a point light
+  // where umbra's default light is.
+  const second = view.light[3] === 0 ? point(defaultView(bounds).light) : directional([-0.45, 1, 0.6]);
+  second.intensity *= 0.5;
+  for (const l of [first, second]) l.castShadow = true;
+  return [first, second];
+}
+
+/** A full-screen quad showing a mask (rows top-down, 255 lit) on the canvas. */
+function maskView(width, height) {
+  const texture = new THREE.DataTexture(new Uint8Array(width * height), width, height, THREE.RedFormat);
+  const material = new THREE.ShaderMaterial({
+    uniforms: { mask: { value: texture } },
+    vertexShader: 'varying vec2 uv2; void main() { uv2 = uv; gl_Position = vec4(position.xy, 0.0, 1.0); }',
+    // readMask's rows are top-down, texture rows bottom-up: flip v. Grey = red channel.
+    fragmentShader: 'uniform sampler2D mask; varying vec2 uv2; void main() { gl_FragColor = vec4(vec3(texture2D(mask, vec2(uv2.x, 1.0 - uv2.y)).r), 1.0); }',
+    depthTest: false,
+    depthWrite: false,
+  });
+  const scene = new THREE.Scene();
+  scene.add(new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material));
+  return { scene, camera: new THREE.Camera(), texture };
+}
+
+async function start() {
+  const canvas = $('canvas');
+  const [width, height] = canvasSize(canvas);
+  // Antialias off: one sample per pixel, as `umbra render`'s mask; no stencil asked for (the
+  // package brings its own depth-stencil target).
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height, false);
+  renderer.shadowMap.enabled = false;
+  renderer.shadowMap.type = THREE.PCFShadowMap;
+  const gl = renderer.getContext();
+  const dbg = gl.getExtension('WEBGL_debug_renderer_info');
+  status.renderer = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+  // The rasteriser's sub-pixel precision: `umbra verify --subpixel-bits` judges with it.
+  status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
+
+  const umbra = await UmbraShadows.create(renderer);
+  umbra.onError = (err) => console.warn(`umbra: ${err.mesh}: ${err.message}`);
+
+  const url = params.get('model') || 'scene.gltf';
+  const model = await loadModel(url);
+  model.updateMatrixWorld(true);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0x20242e);
+  scene.add(model);
+  let meshes = 0;
+  let triangles = 0;
+  model.traverse((o) => {
+    if (!o.isMesh) return;
+    meshes += 1;
+    const g = o.geometry;
+    triangles += Math.floor((g.index ? g.index.count : g.attributes.position?.count || 0) / 3);
+    // Models without normals (positions only) are shaded flat.
+    if (g.attributes.position && !g.attributes.normal) g.computeVertexNormals();
+    o.castShadow = true;
+    o.receiveShadow = true;
+    // Both faces drawn: umbra decides for whatever surface is nearest, front or back, and CAD
+    // and BIM models do not wind their faces consistently.
+    for (const m of Array.isArray(o.material) ? o.material : [o.material]) m.side = THREE.DoubleSide;
+  });
+
+  const bounds = triangleBounds(model);
+  const view = viewFor(model, params);
+  status.view = view;
+  const camera = new THREE.PerspectiveCamera(view.fov, width / height, view.near, Math.max(view.near * 1e6, 1));
+  camera.up.set(...view.up);
+  // Orbit controls first: their constructor moves the camera (update()); the view set below
+  // then stays exactly umbra's until the user drags.
+  const controls = new OrbitControls(camera, canvas);
+  camera.position.set(...view.eye);
+  camera.lookAt(...view.target);
+  camera.updateMatrixWorld(true);
+  const lights = makeLights(view, bounds);
+  scene.add(new THREE.HemisphereLight(0xc8d4ff, 0x403830, 0.35));
+  for (const l of lights) {
+    scene.add(l);
+    if (l.isDirectionalLight) scene.add(l.target);
+  }
+
+  const state = { maps: params.get('maps') === '1', mask: params.get('mask') === '1' };
+  const mask = maskView(width, height);
+  const pixel = new Uint8Array(4);
+  status.errors = umbra.errors;
+  status.readMask = () => {
+    const m = umbra.readMask(lights[0]);
+    let s = '';
+    for (let i = 0; i < m.length; i += 8192) s += String.fromCharCode.apply(null, m.subarray(i, i + 8192));
+    return s;
+  };
+  const label = () => {
+    status.mode = state.maps ? 'maps' : 'umbra';
+    $('mode').textContent = state.maps ? 'three.js shadow maps (2048)' : 'umbra: exact shadows';
+    const refused = umbra.errors.length ? ` · ${umbra.errors.length} mesh(es) refused: ${umbra.errors.map((e) => `${e.mesh}: ${e.message}`).join('; ')}` : '';
+    $('info').textContent = `${url}: ${meshes} meshes, ${triangles} triangles · ${status.renderer}${refused}`;
+  };
+
+  let pending = false;
+  const frame = () => {
+    pending = false;
+    try {
+      const t0 = performance.now();
+      // The two modes: umbra's exact decision per light (three.js's maps off), or three.js's
+      // own shadow maps (umbra off: umbra.render is then a plain renderer.render).
+      renderer.shadowMap.enabled = state.maps;
+      umbra.enabled = !state.maps;
+      umbra.render(scene, camera);
+      if (state.mask && !state.maps) {
+        mask.texture.image.data.set(umbra.readMask(lights[0]));
+        mask.texture.needsUpdate = true;
+        renderer.render(mask.scene, mask.camera);
+      }
+      // Synchronise: a readPixels waits for the whole frame.
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+      const ms = performance.now() - t0;
+      status.frames += 1;
+      status.frameMs = ms;
+      label();
+      $('time').textContent = `frame ${ms.toFixed(1)} ms${state.mask && !state.maps ? ' · mask' : ''}`;
+      status.state = 'ready';
+      document.body.dataset.state = 'ready';
+    } catch (e) {
+      fail(e);
+    }
+  };
+  const redraw = () => {
+    if (!pending) {
+      pending = true;
+      requestAnimationFrame(frame);
+    }
+  };
+  status.redraw = redraw;
+
+  controls.target.set(...view.target);
+  controls.addEventListener('change', redraw);
+  window.addEventListener('keydown', (e) => {
+    if (e.key === 'm' || e.key === 'M') state.maps = !state.maps;
+    else if (e.key === 'v' || e.key === 'V') state.mask = !state.mask;
+    else return;
+    e.preventDefault();
+    redraw();
+  });
+  redraw();
+}
+
+start().catch(fail);
