@@ -1,0 +1,168 @@
+// The benchmark page (bench/run.mjs drives it; never a test): one model, drawn the ways a
+// three.js user can draw it with a point light, frame by frame on request:
+//   none     three.js, no shadows
+//   map1024  PointLight.castShadow, shadow.mapSize 1024 (three.js's cube shadow map)
+//   map2048  the same with 2048
+//   bvh      a three-mesh-bvh shadow ray per pixel (bvh-shadow.js)
+//   umbra    the umbra-three package (exact shadow volumes)
+// Every mesh gets a MeshLambertMaterial (the bvh row: the same shading in its ShaderMaterial).
+// The camera and the light are `umbra render`'s defaults for the file (examples/gltf/view.js);
+// eye, target, fov, light query parameters override them as there.
+//
+// Query: model=URL (.obj .gltf .glb .ply, optionally .gz), size=WxH.
+// window.bench: { ready, error, triangles, renderer, first(mode) -> ms (that mode's set-up
+// and first frame: for bvh the BVH build, for umbra the module's loading and the scene's
+// preprocessing), frame(mode) -> ms, passes(n) -> umbra's pass breakdown averaged over n frames
+// (umbra.timing on) }. A frame is made synchronous with a readPixels of 1 pixel.
+import * as THREE from 'three';
+import { loadModel } from '../examples/gltf/load.js';
+import { viewFor, triangleBounds } from '../examples/gltf/view.js';
+import { bvhShadowMaterial } from './bvh-shadow.js';
+
+const params = new URLSearchParams(location.search);
+const bench = { ready: false, error: null };
+window.bench = bench;
+const say = (t) => {
+  document.getElementById('status').textContent = t;
+};
+
+async function start() {
+  const canvas = document.getElementById('canvas');
+  const m = /^(\d+)x(\d+)$/.exec(params.get('size') || '640x360');
+  if (!m) throw new Error(`URL parameter size=${params.get('size')}: expected WxH`);
+  const [width, height] = [Number(m[1]), Number(m[2])];
+  // As a user creates it: default attributes (no stencil since r163, no antialias).
+  const renderer = new THREE.WebGLRenderer({ canvas });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height, false);
+  renderer.shadowMap.type = THREE.PCFShadowMap;
+  const gl = renderer.getContext();
+  const dbg = gl.getExtension('WEBGL_debug_renderer_info');
+  bench.renderer = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+
+  const url = params.get('model');
+  if (!url) throw new Error('URL parameter model= is required');
+  let t = performance.now();
+  const model = await loadModel(url);
+  model.updateMatrixWorld(true);
+  bench.loadMs = performance.now() - t;
+  const plain = new THREE.MeshLambertMaterial({ color: 0xcccccc });
+  // umbra's meshes get their own material instance, so that the rows without umbra draw
+  // three.js's material untouched by the package's shader patch.
+  const patched = new THREE.MeshLambertMaterial({ color: 0xcccccc });
+  const meshes = [];
+  let triangles = 0;
+  model.traverse((o) => {
+    if (!o.isMesh) return;
+    if (!o.geometry.attributes.normal) o.geometry.computeVertexNormals();
+    o.material = plain;
+    o.castShadow = true;
+    o.receiveShadow = true;
+    meshes.push(o);
+    triangles += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
+  });
+  bench.triangles = triangles;
+  const scene = new THREE.Scene();
+  scene.add(model);
+  scene.add(new THREE.AmbientLight(0xffffff, 0.25));
+
+  const view = viewFor(model, params);
+  if (view.light[3] !== 1) throw new Error('the benchmark compares point lights: light= needs W = 1');
+  bench.view = view;
+  const b = triangleBounds(model);
+  const diagonal = b ? Math.hypot(...[0, 1, 2].map((i) => b.max[i] - b.min[i])) : 2;
+  const camera = new THREE.PerspectiveCamera(view.fov, width / height, view.near, diagonal * 4);
+  camera.up.set(...view.up);
+  camera.position.set(...view.eye);
+  camera.lookAt(...view.target);
+  // Two point lights at the same place, one per map size, so that the interleaved rows never
+  // reallocate a cube map: only the row's own light is visible.
+  const lights = [1024, 2048].map((size) => {
+    const light = new THREE.PointLight(0xffffff, 2.5, 0, 0);
+    light.position.set(view.light[0], view.light[1], view.light[2]);
+    light.shadow.mapSize.set(size, size);
+    light.shadow.camera.near = diagonal * 1e-2;
+    light.shadow.camera.far = diagonal * 2;
+    scene.add(light);
+    return light;
+  });
+
+  let bvh = null;
+  let umbra = null;
+  const pixel = new Uint8Array(4);
+  const setup = {
+    none: () => {},
+    map1024: () => {},
+    map2048: () => {},
+    bvh: () => {
+      bvh = bvhShadowMaterial(model, lights[1], { color: 0xcccccc, ambient: 0.25, offset: diagonal * 1e-5 });
+    },
+    umbra: async () => {
+      const { UmbraShadows } = await import('umbra-three');
+      umbra = await UmbraShadows.create(renderer);
+    },
+  };
+  const draw = (mode) => {
+    const map = mode === 'map1024' || mode === 'map2048';
+    renderer.shadowMap.enabled = map;
+    lights[0].visible = mode === 'map1024';
+    lights[1].visible = mode !== 'map1024';
+    lights[0].castShadow = mode === 'map1024';
+    lights[1].castShadow = mode === 'map2048' || mode === 'umbra';
+    for (const o of meshes) o.material = mode === 'umbra' ? patched : plain;
+    scene.overrideMaterial = mode === 'bvh' ? bvh.material : null;
+    if (mode === 'bvh') {
+      scene.updateMatrixWorld();
+      bvh.update();
+    }
+    if (mode === 'umbra') umbra.render(scene, camera);
+    else renderer.render(scene, camera);
+  };
+  const timed = (mode) => {
+    const t0 = performance.now();
+    draw(mode);
+    // Synchronise: a readPixels waits for the whole frame.
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+    const ms = performance.now() - t0;
+    const err = gl.getError();
+    if (err !== gl.NO_ERROR) throw new Error(`${mode}: GL error 0x${err.toString(16)}`);
+    if (mode === 'umbra' && umbra.errors.length) throw new Error(`umbra refused meshes: ${JSON.stringify(umbra.errors.slice(0, 3))}`);
+    return ms;
+  };
+  bench.first = async (mode) => {
+    if (!setup[mode]) throw new Error(`unknown mode ${mode}`);
+    const t0 = performance.now();
+    await setup[mode]();
+    timed(mode);
+    return performance.now() - t0;
+  };
+  bench.frame = (mode) => timed(mode);
+  bench.passes = (n) => {
+    umbra.timing = true;
+    const sum = {};
+    try {
+      for (let i = 0; i < n; i++) {
+        timed('umbra');
+        for (const [k, v] of Object.entries(umbra.info.passes || {})) sum[k] = (sum[k] || 0) + v / n;
+      }
+    } finally {
+      umbra.timing = false;
+    }
+    return { passes: sum, info: { ...umbra.info, passes: undefined } };
+  };
+  // What a row draws, as a PNG data URL (run.mjs --shots): read in the frame's own task,
+  // before the drawing buffer is presented and cleared.
+  bench.shot = (mode) => {
+    draw(mode);
+    return canvas.toDataURL('image/png');
+  };
+  bench.ready = true;
+  say(`${url}: ${triangles} triangles, ${width}x${height}, ${bench.renderer}`);
+  document.body.dataset.state = 'ready';
+}
+
+start().catch((e) => {
+  bench.error = String(e && e.stack ? `${e.message}\n${e.stack}` : e);
+  say(`Error: ${bench.error}`);
+  document.body.dataset.state = 'error';
+});

@@ -1,0 +1,152 @@
+// Frame times of umbra-three against what a three.js user has for shadows (a measurement,
+// never a test): bench/index.html in headless Chromium, the shared scenes loaded by three.js's
+// OBJLoader, each row drawn by the same page in one interleaved run:
+//   none (no shadows), map1024 and map2048 (PointLight cube shadow maps), bvh (three-mesh-bvh
+//   shadow rays in the fragment shader), umbra (the package).
+// Per scene and size: every row's first frame (its set-up included: the BVH build, the
+// package's wasm loading and preprocessing), then `--warmup` rounds, then `--frames` rounds
+// of one frame per row in turn, so that a change in the machine's load reaches every row
+// alike; mean and p95 (nearest rank) per row; then umbra's pass breakdown (umbra.timing,
+// readPixels after every pass) over `--passes` more frames, apart from the timed ones.
+//
+//   node bench/run.mjs [--scenes A,B] [--sizes 1280x720,640x360] [--frames 3] [--warmup 1]
+//                      [--passes 1] [--modes none,map1024,map2048,bvh,umbra]
+//                      [--impl swiftshader|egl] [--out FILE.json] [--shots DIR]
+//   --scenes  mesh files (default: the three shared scenes in UMBRA_SCENES, default
+//             ../shared/scenes beside the repository)
+//   --out     the results as JSON (default: print only); the markdown table goes to stdout
+//   --shots   a PNG of every row per scene and size, to check what was drawn
+// Needs /usr/bin/chromium (or UMBRA_CHROMIUM), `npm ci` in web/ and the package built.
+import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
+import { existsSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { createServer, listen } from '../serve.mjs';
+import { launch } from '../testlib/exactness.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const webDir = path.join(here, '..');
+const repo = path.join(webDir, '..');
+const arg = (name, dflt) => {
+  const i = process.argv.indexOf(name);
+  return i > 0 ? process.argv[i + 1] : dflt;
+};
+const scenesDir = process.env.UMBRA_SCENES || path.join(repo, '..', 'shared', 'scenes');
+const scenes = arg('--scenes', ['crytek-sponza', 'conference', 'sibenik'].map((s) => path.join(scenesDir, `${s}.obj.gz`)).join(',')).split(',').map((s) => path.resolve(s));
+const sizes = arg('--sizes', '1280x720,640x360').split(',');
+const frames = Number(arg('--frames', '3'));
+const warmup = Number(arg('--warmup', '1'));
+const passFrames = Number(arg('--passes', '1'));
+const modes = arg('--modes', 'none,map1024,map2048,bvh,umbra').split(',');
+const impl = arg('--impl', 'swiftshader');
+const outFile = arg('--out', null);
+const shots = arg('--shots', null);
+const LABELS = { none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three' };
+for (const m of modes) if (!LABELS[m]) throw new Error(`--modes: unknown row ${m} (${Object.keys(LABELS).join(', ')})`);
+for (const s of scenes) if (!existsSync(s)) throw new Error(`${s}: no such scene file`);
+
+/** Mean and nearest-rank p95 of `ms`. */
+function summary(ms) {
+  const s = [...ms].sort((a, b) => a - b);
+  return { mean: s.reduce((a, b) => a + b, 0) / s.length, p95: s[Math.min(s.length - 1, Math.ceil(0.95 * s.length) - 1)], min: s[0], n: s.length };
+}
+
+const tmp = await mkdtemp(path.join(os.tmpdir(), 'umbra-bench-three-'));
+const mounts = [['/', webDir]];
+scenes.forEach((s, i) => mounts.push([`/scene${i}/`, path.dirname(s)]));
+const server = createServer(mounts);
+const base = await listen(server);
+const browser = await launch(process.env.UMBRA_CHROMIUM || '/usr/bin/chromium', impl, tmp);
+const results = {
+  date: new Date().toISOString(),
+  command: `node bench/run.mjs ${process.argv.slice(2).join(' ')}`.trim(),
+  machine: `${os.cpus().length} x ${os.cpus()[0]?.model}, ${(os.totalmem() / 2 ** 30).toFixed(0)} GiB, load average ${os.loadavg().map((l) => l.toFixed(2)).join(' ')} at the start`,
+  browser: null,
+  implementation: impl,
+  frames,
+  warmup,
+  runs: [],
+};
+const fmt = (ms) => (ms >= 100 ? ms.toFixed(0) : ms.toFixed(1)).replace(/\B(?=(\d{3})+(?!\d))/g, ',');
+try {
+  if (shots) await mkdir(shots, { recursive: true });
+  for (const [i, scene] of scenes.entries()) {
+    for (const size of sizes) {
+      const name = path.basename(scene);
+      const page = await browser.newPage();
+      const logs = [];
+      page.on('console', (m) => logs.push(m.text()));
+      page.on('pageerror', (e) => logs.push(String(e)));
+      const started = performance.now();
+      await page.goto(`${base}bench/?model=/scene${i}/${encodeURIComponent(name)}&size=${size}`);
+      await page.waitForFunction(() => window.bench && (window.bench.ready || window.bench.error), null, { timeout: 1_800_000, polling: 500 });
+      const info = await page.evaluate(() => ({ userAgent: navigator.userAgent, error: window.bench.error, triangles: window.bench.triangles, renderer: window.bench.renderer, loadMs: window.bench.loadMs }));
+      results.browser ??= info.userAgent.match(/(?:Headless)?Chrome\/[\d.]+/)?.[0] ?? info.userAgent;
+      if (info.error) throw new Error(`${name} ${size}: ${info.error}\n${logs.join('\n')}`);
+      const run = { scene: name, size, triangles: info.triangles, renderer: info.renderer, loadMs: info.loadMs, first: {}, ms: {}, summary: {} };
+      console.error(`${name} ${size}: loaded in ${(performance.now() - started).toFixed(0)} ms (${info.triangles} triangles, ${info.renderer})`);
+      for (const mode of modes) {
+        run.first[mode] = await page.evaluate((m) => window.bench.first(m), mode);
+        run.ms[mode] = [];
+        console.error(`  first frame ${mode}: ${fmt(run.first[mode])} ms`);
+      }
+      for (let r = 0; r < warmup + frames; r++) {
+        const round = {};
+        for (const mode of modes) {
+          round[mode] = await page.evaluate((m) => window.bench.frame(m), mode);
+          if (r >= warmup) run.ms[mode].push(round[mode]);
+        }
+        console.error(`  round ${r + 1}/${warmup + frames}${r < warmup ? ' (warm-up)' : ''}: ${modes.map((m) => `${m} ${fmt(round[m])}`).join(', ')}`);
+      }
+      for (const mode of modes) run.summary[mode] = summary(run.ms[mode]);
+      if (modes.includes('umbra') && passFrames > 0) {
+        const p = await page.evaluate((n) => window.bench.passes(n), passFrames);
+        run.passes = p.passes;
+        run.umbraInfo = p.info;
+        console.error(`  umbra passes: ${Object.entries(p.passes).map(([k, v]) => `${k} ${fmt(v)}`).join(', ')}`);
+      }
+      if (shots) {
+        for (const mode of modes) {
+          const url = await page.evaluate((m) => window.bench.shot(m), mode);
+          await writeFile(path.join(shots, `${name.replace(/\..*$/, '')}.${size}.${mode}.png`), Buffer.from(url.split(',')[1], 'base64'));
+        }
+      }
+      await page.close();
+      results.runs.push(run);
+    }
+  }
+} finally {
+  await browser.close();
+  server.close();
+  await rm(tmp, { recursive: true, force: true });
+}
+
+if (outFile) await writeFile(outFile, JSON.stringify(results, null, 1) + '\n');
+console.log(markdown(results));
+
+/** The results as markdown tables: frame times, first frames, ratios, umbra's passes. */
+function markdown(r) {
+  const lines = [`${r.date.slice(0, 10)}, ${r.browser} (${r.implementation}), ${r.machine}; \`${r.command}\`; ${r.frames} frames per row after ${r.warmup} warm-up, interleaved.`, ''];
+  lines.push(`Mean ms per frame (p95 in brackets):`, '');
+  lines.push(`| scene | size | ${modes.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${modes.map(() => ' ---: |').join('')}`);
+  for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${modes.map((m) => `${fmt(run.summary[m].mean)} (${fmt(run.summary[m].p95)})`).join(' | ')} |`);
+  lines.push('', 'First frame, ms (set-up included: BVH build, wasm loading and preprocessing; the model\'s loading excluded):', '');
+  lines.push(`| scene | size | ${modes.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${modes.map(() => ' ---: |').join('')}`);
+  for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${modes.map((m) => fmt(run.first[m])).join(' | ')} |`);
+  if (modes.includes('umbra')) {
+    const against = ['map2048', 'bvh'].filter((m) => modes.includes(m));
+    if (against.length) {
+      lines.push('', 'Ratios of mean frame times (below 1: the package is faster):', '');
+      lines.push(`| scene | size | ${against.map((m) => `umbra-three / ${LABELS[m]}`).join(' | ')} |`, `| --- | --- |${against.map(() => ' ---: |').join('')}`);
+      for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${against.map((m) => (run.summary.umbra.mean / run.summary[m].mean).toFixed(2)).join(' | ')} |`);
+    }
+    const names = [...new Set(r.runs.flatMap((run) => Object.keys(run.passes || {})))];
+    if (names.length) {
+      lines.push('', 'umbra-three\'s frame pass by pass (umbra.timing = true: a readPixels after each pass), ms:', '');
+      lines.push(`| scene | size | ${names.join(' | ')} |`, `| --- | --- |${names.map(() => ' ---: |').join('')}`);
+      for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${names.map((n) => (run.passes?.[n] === undefined ? '-' : fmt(run.passes[n]))).join(' | ')} |`);
+    }
+  }
+  return lines.join('\n');
+}
