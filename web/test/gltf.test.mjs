@@ -1,0 +1,156 @@
+// The glTF example (examples/gltf/) in a real browser: Debian's Chromium on SwiftShader and on
+// ANGLE over the system's EGL (Mesa llvmpipe), driven by playwright-core.
+//
+// * Its mask (umbra.readMask of the first light, the page's `mask=1` view) judged by the oracle,
+//   `umbra verify --external-mask` with the flags the page was given (testlib/exactness.mjs):
+//   0 samples outside the band for the default model (scene.gltf: a torus knot, an open wall,
+//   nodes with rotations and scales) with its default point light, with a directional light,
+//   and for an OBJ through `model=`. The page's view is umbra's (test/gltf-view.test.mjs), so
+//   no camera flag is passed to either side.
+// * The M key switches to three.js's shadow maps and back; the label says which.
+// * A missing model and an unknown format: an error page naming the file, never a blank page.
+//
+// Needs the package built (node build-wasm.mjs; node umbra-three/build.mjs), `npm ci` in web/,
+// the umbra binary (UMBRA_BIN, else $CARGO_TARGET_DIR/release/umbra, else
+// target/release/umbra) and /usr/bin/chromium (skipped with a message when absent).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { existsSync } from 'node:fs';
+import { mkdtemp, rm, writeFile } from 'node:fs/promises';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { createServer, listen } from '../serve.mjs';
+import { launch, openViewer, judge } from '../testlib/exactness.mjs';
+import { encodePng } from '../testlib/png.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const webDir = path.join(here, '..');
+const repo = path.join(webDir, '..');
+const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
+const PACKAGE = path.join(webDir, 'umbra-three', 'dist', 'index.js');
+const MODEL = path.join(webDir, 'examples', 'gltf', 'scene.gltf');
+const W = 320;
+const H = 180;
+// A floor, a tilted open quad over it and a box on it (OBJ: three.js's OBJLoader).
+const OBJ = 'v -3 0 -2\nv 3 0 -2\nv 3 0 2\nv -3 0 2\nv -1 1.2 -0.5\nv 0.5 1.4 -0.5\nv 0.5 1.1 0.5\nv -1 0.9 0.5\n'
+  + 'v 1 0 0.2\nv 1.8 0 0.2\nv 1.8 0 1\nv 1 0 1\nv 1 0.8 0.2\nv 1.8 0.8 0.2\nv 1.8 0.8 1\nv 1 0.8 1\n'
+  + 'f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 13 14 15\nf 13 15 16\nf 9 10 14\nf 9 14 13\nf 10 11 15\nf 10 15 14\nf 11 12 16\nf 11 16 15\nf 12 9 13\nf 12 13 16\n';
+
+function umbraBin() {
+  const candidates = [process.env.UMBRA_BIN, process.env.CARGO_TARGET_DIR && path.join(process.env.CARGO_TARGET_DIR, 'release', 'umbra'), path.join(repo, 'target', 'release', 'umbra')];
+  const found = candidates.find((c) => c && existsSync(c));
+  if (!found) throw new Error(`no umbra binary (tried ${candidates.filter(Boolean).join(', ')}): run cargo build --release -p umbra-cli or set UMBRA_BIN`);
+  return found;
+}
+
+const skip = existsSync(CHROMIUM) ? false : `${CHROMIUM} is absent (apt-get install chromium): glTF example test skipped`;
+if (skip) console.log(`SKIP: ${skip}`);
+
+let tmp, server, base, umbra, objFile;
+const contexts = {};
+
+before(async () => {
+  if (skip) return;
+  if (!existsSync(PACKAGE)) throw new Error(`${PACKAGE} is missing: build the package first (node build-wasm.mjs && node umbra-three/build.mjs, in web/)`);
+  umbra = umbraBin();
+  tmp = await mkdtemp(path.join(tmpdir(), 'umbra-gltf-'));
+  objFile = path.join(tmp, 'canopy.obj');
+  await writeFile(objFile, OBJ);
+  // web/ as the example is served to a user (node serve.mjs --root .), the OBJ beside it.
+  server = createServer([['/', webDir], ['/models/', tmp]]);
+  base = `${await listen(server, 0)}examples/gltf/`;
+  contexts.swiftshader = await launch(CHROMIUM, 'swiftshader', tmp);
+  contexts.egl = await launch(CHROMIUM, 'egl', tmp);
+});
+
+after(async () => {
+  for (const k of ['swiftshader', 'egl']) if (contexts[k]) await contexts[k].close();
+  if (server) await new Promise((r) => server.close(r));
+  if (tmp) await rm(tmp, { recursive: true, force: true });
+});
+
+/** Opens the example with `query` at W x H, mask view; returns the page's status and its first light's mask as a PNG file. */
+async function maskOf(ctx, query, name) {
+  const { page, status, logs } = await openViewer(ctx, `${base}?size=${W}x${H}&mask=1&${query}`, 300_000);
+  try {
+    assert.equal(status.state, 'ready', `${query}: ${status.error}\n${logs.join('\n')}`);
+    const bytes = Buffer.from(await page.evaluate(() => window.umbra.readMask()), 'latin1');
+    assert.equal(bytes.length, W * H, 'readMask: one byte per pixel');
+    const rgba = new Uint8Array(W * H * 4);
+    for (let i = 0; i < W * H; i++) rgba.set([bytes[i], bytes[i], bytes[i], 255], 4 * i);
+    const png = path.join(tmp, `${name}.png`);
+    await writeFile(png, encodePng(W, H, rgba));
+    const shadowed = bytes.filter((v) => v === 0).length;
+    const lit = bytes.filter((v) => v === 255).length;
+    return { status, png, shadowed, lit };
+  } finally {
+    await page.close();
+  }
+}
+
+const CASES = [
+  { name: 'default', query: '', scene: () => MODEL, flags: [] },
+  { name: 'directional', query: 'light=-0.4,1,0.5,0', scene: () => MODEL, flags: ['--light', '-0.4,1,0.5,0'] },
+  { name: 'obj', query: 'model=/models/canopy.obj&light=0.5,3,1.5', scene: () => objFile, flags: ['--light', '0.5,3,1.5'] },
+];
+
+for (const impl of ['swiftshader', 'egl']) {
+  for (const c of CASES) {
+    test(`${impl}: ${c.name}: the example's mask has 0 samples outside the band`, { skip }, async (t) => {
+      if (impl === 'egl' && !(await eglIsLlvmpipe())) return t.skip('ANGLE/EGL is not Mesa llvmpipe here');
+      const m = await maskOf(contexts[impl], c.query, `${impl}-${c.name}`);
+      // A mask with both decisions in it: a test that can fail both ways.
+      assert.ok(m.shadowed > 100 && m.lit > 100, `shadowed ${m.shadowed}, lit ${m.lit}`);
+      assert.equal(m.shadowed + m.lit, W * H, 'every pixel is 0 or 255');
+      const bits = Number.isInteger(m.status.subpixelBits) && m.status.subpixelBits >= 4 ? ['--subpixel-bits', String(m.status.subpixelBits)] : [];
+      const r = judge(umbra, { scene: c.scene(), size: `${W}x${H}`, maskPng: m.png, extra: [...c.flags, ...bits], explain: 20 });
+      assert.ok(r.browser, `no row for the mask: ${r.stderr}`);
+      assert.equal(r.browser.mismatches_outside_band, 0, `${r.falseShadow} false shadow, ${r.falseLight} false light:\n${r.explained.join('\n')}`);
+    });
+  }
+}
+
+let eglProbe = null;
+async function eglIsLlvmpipe() {
+  if (eglProbe === null) {
+    const { page, status } = await openViewer(contexts.egl, `${base}?size=64x64`, 300_000);
+    await page.close();
+    eglProbe = /llvmpipe/.test(status.renderer || '');
+    if (!eglProbe) console.log(`SKIP the ANGLE/EGL rows: Chromium's EGL back end gave ${status.renderer || status.error}`);
+  }
+  return eglProbe;
+}
+
+test('M switches to three.js shadow maps and back, the label says which', { skip }, async () => {
+  const { page, status, logs } = await openViewer(contexts.swiftshader, `${base}?size=${W}x${H}`, 300_000);
+  try {
+    assert.equal(status.state, 'ready', `${status.error}\n${logs.join('\n')}`);
+    const shown = () => page.evaluate(() => ({ mode: window.umbra.mode, frames: window.umbra.frames, label: document.getElementById('mode').textContent, state: window.umbra.state }));
+    const before = await shown();
+    assert.equal(before.mode, 'umbra');
+    assert.match(before.label, /umbra/);
+    for (const expected of ['maps', 'umbra']) {
+      const frames = (await shown()).frames;
+      await page.keyboard.press('m');
+      await page.waitForFunction((n) => window.umbra.frames > n, frames, { timeout: 120_000 });
+      const now = await shown();
+      assert.equal(now.state, 'ready');
+      assert.equal(now.mode, expected);
+      assert.match(now.label, expected === 'maps' ? /three\.js shadow maps/ : /umbra/);
+    }
+  } finally {
+    await page.close();
+  }
+});
+
+test('a missing model and an unknown format: an error page naming the file', { skip }, async () => {
+  for (const [model, re] of [['nothere.gltf', /nothere\.gltf: HTTP 404/], ['model.xyz', /model\.xyz: unknown model format "\.xyz"/]]) {
+    const { page, status } = await openViewer(contexts.swiftshader, `${base}?size=64x64&model=${model}`, 120_000);
+    await page.close();
+    assert.equal(status.state, 'error');
+    assert.match(status.error, re);
+    assert.ok(status.visible, 'the message is shown on the page');
+    assert.match(status.message, re);
+  }
+});
