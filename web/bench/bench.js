@@ -5,7 +5,8 @@
 //   map2048  the same with 2048
 //   bvh      a three-mesh-bvh shadow ray per pixel (bvh-shadow.js)
 //   umbra    the umbra-three package (exact shadow volumes)
-// Every mesh gets a MeshLambertMaterial (the bvh row: the same shading in its ShaderMaterial).
+// Every mesh gets a MeshLambertMaterial, both faces drawn (the bvh row: the same shading in
+// its ShaderMaterial).
 // The camera and the light are `umbra render`'s defaults for the file (examples/gltf/view.js);
 // eye, target, fov, light query parameters override them as there.
 //
@@ -46,10 +47,14 @@ async function start() {
   const model = await loadModel(url);
   model.updateMatrixWorld(true);
   bench.loadMs = performance.now() - t;
-  const plain = new THREE.MeshLambertMaterial({ color: 0xcccccc });
+  // Both faces drawn (DoubleSide), as CAD and BIM models need and as umbra decides: the nearest
+  // surface whatever its winding. With front faces only, three.js would show Crytek Sponza's
+  // atrium floor through a down-facing sheet just above it, which the maps and the rays then
+  // (rightly) find in that sheet's shadow.
+  const plain = new THREE.MeshLambertMaterial({ color: 0xcccccc, side: THREE.DoubleSide });
   // umbra's meshes get their own material instance, so that the rows without umbra draw
   // three.js's material untouched by the package's shader patch.
-  const patched = new THREE.MeshLambertMaterial({ color: 0xcccccc });
+  const patched = plain.clone();
   const meshes = [];
   let triangles = 0;
   model.traverse((o) => {

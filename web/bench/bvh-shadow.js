@@ -49,6 +49,7 @@ export function bvhShadowMaterial(root, light, { color, ambient, offset }) {
   const uniform = new MeshBVHUniformStruct();
   uniform.updateFrom(bvh);
   const material = new THREE.ShaderMaterial({
+    side: THREE.DoubleSide,
     uniforms: {
       bvh: { value: uniform },
       lightPosition: { value: new THREE.Vector3() },
@@ -83,8 +84,8 @@ export function bvhShadowMaterial(root, light, { color, ambient, offset }) {
       varying vec3 vWorld;
       varying vec3 vNormal;
       void main() {
-        // The side facing the camera (MeshLambertMaterial's FrontSide draws front faces only).
-        vec3 n = normalize(vNormal);
+        // The side facing the camera (both faces are drawn, as the other rows' DoubleSide).
+        vec3 n = gl_FrontFacing ? normalize(vNormal) : -normalize(vNormal);
         vec3 toLight = lightPosition - vWorld;
         float lightDistance = length(toLight);
         vec3 direction = toLight / lightDistance;
