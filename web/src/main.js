@@ -123,6 +123,8 @@ async function start() {
   }
   renderer.setPixelRatio(1);
   renderer.setSize(canvas.width, canvas.height, false);
+  // umbra's native colours as they are (FrameParams::default()): linear output, no sRGB encoding.
+  renderer.outputColorSpace = THREE.LinearSRGBColorSpace;
   renderer.setClearColor(new THREE.Color(0.1, 0.12, 0.16));
   const snap = Number(params.get('snap') || 0);
   if (!(Number.isInteger(snap) && snap >= 0)) throw new Error(`URL parameter snap=${params.get('snap')}: expected a whole number of positions per pixel`);
@@ -185,7 +187,8 @@ async function start() {
     mesh.position.fromArray(offset);
     scene.add(mesh);
   }
-  scene.add(new THREE.AmbientLight(0xffffff, 0.15));
+  // Ambient 0.15 of the albedo: three.js's Lambert divides irradiance by pi.
+  scene.add(new THREE.AmbientLight(0xffffff, 0.15 * Math.PI));
   const makeLight = (l) => {
     // decay 0: light that does not fall off, as umbra's native shading; intensity pi cancels
     // three.js's Lambert 1/pi.

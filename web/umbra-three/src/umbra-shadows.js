@@ -103,7 +103,10 @@ export class UmbraShadows {
       }
       this.renderer.resetState();
     }
-    if (!shadowed) this.setSelects(new Map(), new Map());
+    if (!shadowed) {
+      this.channels = new Map();
+      this.setSelects(new Map(), new Map());
+    }
     this.renderer.render(scene, camera);
   }
 
@@ -247,6 +250,8 @@ export class UmbraShadows {
     }
     this.info.casters = casters;
     this.info.triangles = triangles;
+    // No caster: nothing is shadowed, and the frame is three.js's own.
+    if (casters === 0) return false;
     const timing = this.timing ? {} : null;
     this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length });
     this.info.passes = timing || {};
