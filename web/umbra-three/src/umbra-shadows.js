@@ -77,6 +77,8 @@ export class UmbraShadows {
   }
 
   report(object, message) {
+    // The entry names the object; its message need not repeat it.
+    if (message.startsWith(`${object}: `)) message = message.slice(object.length + 2);
     const key = `${object}\u0000${message}`;
     if (this.reported.has(key)) return;
     this.reported.add(key);
