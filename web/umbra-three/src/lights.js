@@ -34,7 +34,9 @@ export function lightSlots(lights) {
   let point = 0;
   let directional = 0;
   for (const l of sorted) {
-    if (l.isPointLight) slots.set(l, { kind: 'point', index: point++ });
+    // three.js tests isSunLight before isDirectionalLight: a sun is no directional light here.
+    if (l.isSunLight) slots.set(l, { kind: 'other', index: -1 });
+    else if (l.isPointLight) slots.set(l, { kind: 'point', index: point++ });
     else if (l.isDirectionalLight) slots.set(l, { kind: 'directional', index: directional++ });
     else slots.set(l, { kind: 'other', index: -1 });
   }
