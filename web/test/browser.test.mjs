@@ -1,35 +1,36 @@
-// The viewer in a real browser: Debian's Chromium (/usr/bin/chromium,
-// driven by playwright-core, never a downloaded browser), headless, on the two WebGL 2
-// implementations this machine has: SwiftShader (what a user without a GPU gets) and ANGLE on
-// the system's EGL (Mesa llvmpipe here, the native renderer's rasteriser). Scenes are exported
-// with `umbra export`, served by serve.mjs and drawn by the viewer in its shadow-mask view
-// (white = lit, as native umbra's lit mask); the mask is judged by the oracle itself,
-// `umbra verify --method vs-silhouette --external-mask` (testlib/exactness.mjs): the same
-// reference, the same per-sample band and the same --explain as every native method gets.
+// The viewer (src/main.js, a three.js page drawing with the umbra-three package) in a real
+// browser: Debian's Chromium (/usr/bin/chromium, driven by playwright-core, never a downloaded
+// browser), headless, on the two WebGL 2 implementations this machine has: SwiftShader (what a
+// user without a GPU gets) and ANGLE on the system's EGL (Mesa llvmpipe here, the native
+// renderer's rasteriser). Scenes are loaded through three.js's own loaders — OBJLoader and
+// GLTFLoader, from model files written out of an `umbra export` (testlib/models.mjs), and the
+// shared scenes' .obj.gz as they are — drawn with UmbraShadows, and each light's decision is
+// judged by the oracle itself, `umbra verify --method vs-silhouette --external-mask`
+// (testlib/exactness.mjs): the same reference, the same per-sample band and the same --explain
+// as every native method gets, with the page's eye, target, up, fov, near plane and light.
 //
-// * The default scene, both depth paths, and with a directional light: 0 samples outside the
-//   band on both.
+// * The default scene (OBJLoader: both depth paths, point and directional light; GLTFLoader;
+//   and the export itself, scene=DIR): 0 samples outside the band on both implementations.
 // * A caster the camera's near plane cuts (a wall 0.005 in front of the eye, near plane
 //   0.0143): 0 outside the band on both; the light cap's near-plane cut is what makes it so.
+// * The same wall as a mesh with a world transform (its file moved by -offset, the mesh by
+//   +offset), and two lights at once (each light's mask read with umbra.readMask): 0.
 // * The three shared scenes (UMBRA_SCENES, default ../shared/scenes beside the repository;
-//   skipped with a message when absent), 320 x 180: 0 outside the band on both.
+//   skipped with a message when absent), 320 x 180, OBJLoader: 0 outside the band on both.
 // * Every mask is judged with the band of the precision its WebGL context reports
 //   (`SUBPIXEL_BITS`, passed as `umbra verify --subpixel-bits`: 4 on both here).
-// * SwiftShader is held to the same 0: Chromium builds it with 4-bit sub-pixel
-//   precision (SWIFTSHADER_LEGACY_PRECISION), and its masks were decided on its own depth pass,
+// * SwiftShader is held to the same 0: its masks were decided on umbra's own depth pass,
 //   whose 1/16-pixel snapping may show another surface than the reference's sample near a
 //   crease or a silhouette; the band has that part (SEEN_SURFACE, crates/umbra-oracle/src/
-//   seen_surface.rs) for every external mask. Without that part, SwiftShader's masks at
-//   320 x 180 have samples outside the band (default scene 3-5, Crytek Sponza 33, Conference
-//   17, Sibenik 1-2).
-// * The page names each shared scene by its file name, never its path.
+//   seen_surface.rs) for every external mask.
 // * The mask view against the shaded view, shadows off, the frame time, the error pages (no
-//   WebGL 2, no stencil, truncated buffer, version mismatch, missing export), the controls,
-//   and screenshots saved as test artefacts (web/test-artifacts/).
+//   WebGL 2, truncated buffer, version mismatch, missing export), the controls, and
+//   screenshots saved as test artefacts (web/test-artifacts/).
 //
 // Needs: the umbra binary (UMBRA_BIN, else $CARGO_TARGET_DIR/release/umbra, else
-// target/release/umbra: build it with `cargo build --release -p umbra-cli`), /usr/bin/chromium
-// (apt-get install chromium; skipped with a message when absent), `npm ci` in web/.
+// target/release/umbra: build it with `cargo build --release -p umbra-cli`), the wasm module
+// (node build-wasm.mjs), /usr/bin/chromium (apt-get install chromium; skipped with a message
+// when absent), `npm ci` in web/.
 // Run: cd web && node --test test/
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -41,7 +42,8 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createServer, listen } from '../serve.mjs';
 import { build } from '../build.mjs';
-import { launch, openViewer, readCanvas, maskAgainstReference } from '../testlib/exactness.mjs';
+import { launch, openViewer, readCanvas, maskAgainstReference, writeLightMask, judge } from '../testlib/exactness.mjs';
+import { readExport, toObj, toGltf, viewOf } from '../testlib/models.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const webDir = path.join(here, '..');
@@ -76,7 +78,10 @@ if (skipShared && !skip) console.log(`SKIP: ${skipShared}`);
 const WALL_OBJ = `v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nv -2 0 0\nv 2 0 0\nv 2 2 0\nv -2 2 0\nf 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n`;
 const WALL_VIEW = { eye: '0,1,-0.005', target: '0,1,5', light: '0,4,-3' };
 
-let tmp, server, base, umbra, manifest, wallObj;
+const WALL_OFFSET = [3, 0, -2];
+
+let tmp, server, base, umbra, manifest, wallObj, wallManifest, modelFiles;
+const sharedManifests = [];
 const contexts = {};
 
 before(async () => {
@@ -90,11 +95,23 @@ before(async () => {
   wallObj = path.join(tmp, 'wall.obj');
   await writeFile(wallObj, WALL_OBJ);
   exp(wallObj, 'wall', ['--eye', WALL_VIEW.eye, '--target', WALL_VIEW.target, '--light', WALL_VIEW.light]);
-  const mounts = [['/', dist], ['/scene/', path.join(tmp, 'scene')], ['/wall/', path.join(tmp, 'wall')]];
+  // The default scene and the wall as model files for three.js's loaders, and the wall moved
+  // by -WALL_OFFSET (drawn with the mesh at +WALL_OFFSET: integers, exact in f32).
+  const models = path.join(tmp, 'models');
+  await mkdir(models, { recursive: true });
+  const def = await readExport(path.join(tmp, 'scene'));
+  await writeFile(path.join(models, 'default.obj'), toObj(def.positions, def.indices));
+  await writeFile(path.join(models, 'default.gltf'), toGltf(def.positions, def.indices));
+  const wall = await readExport(path.join(tmp, 'wall'));
+  wallManifest = wall.manifest;
+  await writeFile(path.join(models, 'wall-local.obj'), toObj(wall.positions, wall.indices, WALL_OFFSET));
+  modelFiles = { default: path.join(models, 'default.obj'), gltf: path.join(models, 'default.gltf') };
+  const mounts = [['/', dist], ['/scene/', path.join(tmp, 'scene')], ['/models/', models]];
   if (!skipShared) {
+    mounts.push(['/scenes/', SCENES_DIR]);
     for (const [i, s] of SHARED.entries()) {
       exp(path.join(SCENES_DIR, s), `shared${i}`);
-      mounts.push([`/shared${i}/`, path.join(tmp, `shared${i}`)]);
+      sharedManifests[i] = JSON.parse(await readFile(path.join(tmp, `shared${i}`, 'manifest.json'), 'utf8'));
     }
   }
   // Broken exports for the error pages.
@@ -126,10 +143,10 @@ const implementations = () => ['swiftshader', ...(/llvmpipe/.test(contexts.eglRe
 /** Opens the viewer in SwiftShader (or `ctx`) with `query`; returns page and status. */
 const open = (query, ctx = contexts.swiftshader) => openViewer(ctx, `${base}?${query}`, 120_000);
 
-/** The viewer's mask of `view` judged by the oracle: { native, browser, falseShadow, falseLight, explained, status }. */
-async function judged(impl, { dir, scene, width, height, query = '', extra = [] }) {
-  const maskPng = path.join(tmp, `mask-${impl}-${dir}-${width}x${height}-${query.replace(/[^a-z0-9]+/gi, '_')}.png`);
-  return maskAgainstReference(contexts[impl], umbra, { base, query: `scene=${dir}/&${query}`, scene, width, height, maskPng, extra, explain: 1_000_000 });
+/** The viewer's mask of `query` (its scene or model and view) judged by the oracle: { native, browser, falseShadow, falseLight, explained, status }. */
+async function judged(impl, { scene, width, height, query = '', extra = [] }) {
+  const maskPng = path.join(tmp, `mask-${impl}-${width}x${height}-${query.replace(/[^a-z0-9]+/gi, '_').slice(0, 120)}.png`);
+  return maskAgainstReference(contexts[impl], umbra, { base, query, scene, width, height, maskPng, extra, explain: 1_000_000 });
 }
 
 function report(what, r) {
@@ -154,32 +171,66 @@ function classify(rgba) {
   return out;
 }
 
-test('default scene: 0 samples outside the band on SwiftShader and ANGLE/llvmpipe, both depth paths, point and directional light', { skip }, async () => {
+test('default scene through OBJLoader, GLTFLoader and its export: 0 samples outside the band on SwiftShader and ANGLE/llvmpipe, both depth paths, point and directional light', { skip }, async () => {
   // The manifest's point light, and a directional one (no dark caps: zero area).
-  const directional = '0.3,1,0.2,0';
-  const cases = [['', []], ['depth=standard', []], [`light=${directional}`, ['--light', directional]]];
+  const point = viewOf(manifest.camera, manifest.light);
+  const directional = viewOf(manifest.camera, [0.3, 1, 0.2, 0]);
+  const cases = [
+    ['OBJLoader', `model=models/default.obj&${point.query}`, modelFiles.default, point.flags, 'reversed-z'],
+    ['OBJLoader, standard depth', `model=models/default.obj&${point.query}&depth=standard`, modelFiles.default, point.flags, 'standard'],
+    ['OBJLoader, directional light', `model=models/default.obj&${directional.query}`, modelFiles.default, directional.flags, 'reversed-z'],
+    ['GLTFLoader', `model=models/default.gltf&${point.query}`, modelFiles.gltf, point.flags, 'reversed-z'],
+    ['umbra export', 'scene=scene/', 'default', [], 'reversed-z'],
+  ];
   for (const impl of implementations()) {
-    for (const [query, extra] of cases) {
-      const r = await judged(impl, { dir: 'scene', scene: 'default', width: W, height: H, query, extra });
-      report(`default scene, ${impl}${query ? `, ${query}` : ''}`, r);
+    for (const [what, query, scene, extra, depth] of cases) {
+      const r = await judged(impl, { scene, width: W, height: H, query, extra });
+      report(`default scene, ${impl}, ${what}`, r);
       assert.equal(r.status.state, 'ready');
-      assert.equal(r.status.depth, query === 'depth=standard' ? 'standard' : 'reversed-z', 'reversed-Z where EXT_clip_control is offered, standard on request');
+      assert.equal(r.status.depth, depth, 'reversed-Z where EXT_clip_control is offered, standard on request');
       assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
       assert.equal(r.native.mismatches_outside_band, 0, 'native vs-silhouette');
-      assert.equal(r.browser.mismatches_outside_band, 0, `${impl}${query ? `, ${query}` : ''}: the viewer disagrees with the reference outside the band`);
+      assert.equal(r.browser.mismatches_outside_band, 0, `${impl}, ${what}: the page disagrees with the reference outside the band`);
     }
   }
 });
 
-test('a caster the near plane cuts: its light cap is cut too (ES 3.00 has no clip distances)', { skip }, async () => {
-  const extra = ['--eye', WALL_VIEW.eye, '--target', WALL_VIEW.target, '--light', WALL_VIEW.light];
+test('a caster the near plane cuts: its light cap is cut too (ES 3.00 has no clip distances); the same wall with a world transform', { skip }, async () => {
+  const v = viewOf(wallManifest.camera, wallManifest.light);
+  const cases = [
+    ['OBJLoader', `model=models/wall-local.obj&offset=${WALL_OFFSET.join(',')}&${v.query}`],
+  ];
   for (const impl of implementations()) {
-    const r = await judged(impl, { dir: 'wall', scene: wallObj, width: SW, height: SH, extra });
-    report(`wall cut by the near plane, ${impl}`, r);
-    // Both shadow and light behind the cut wall; without the cut every sample is wrong.
-    assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, 'the floor behind the wall is half in its shadow');
-    assert.equal(r.native.mismatches_outside_band, 0);
-    assert.equal(r.browser.mismatches_outside_band, 0, `${impl}: samples seen through the cut wall`);
+    for (const [what, query] of cases) {
+      const r = await judged(impl, { scene: wallObj, width: SW, height: SH, query, extra: v.flags });
+      report(`wall cut by the near plane, mesh moved by ${WALL_OFFSET}, ${impl}, ${what}`, r);
+      // Both shadow and light behind the cut wall; without the cut every sample is wrong.
+      assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, 'the floor behind the wall is half in its shadow');
+      assert.equal(r.native.mismatches_outside_band, 0);
+      assert.equal(r.browser.mismatches_outside_band, 0, `${impl}: samples seen through the cut wall`);
+    }
+  }
+});
+
+test('two lights, a point and a directional one: each light\'s decision (umbra.readMask) 0 samples outside the band', { skip }, async () => {
+  const lights = [manifest.light, [0.3, 1, 0.2, 0]];
+  const views = lights.map((l) => viewOf(manifest.camera, l));
+  for (const impl of implementations()) {
+    const { page, status, logs } = await openViewer(contexts[impl], `${base}?size=${W}x${H}&model=models/default.obj&${views[0].query}&light2=${lights[1].join(',')}`, 120_000);
+    assert.equal(status.state, 'ready', `${status.error}\n${logs.join('\n')}`);
+    const pngs = [];
+    for (const k of [0, 1]) {
+      pngs[k] = path.join(tmp, `two-lights-${impl}-${k}.png`);
+      await writeLightMask(page, k, W, H, pngs[k]);
+    }
+    await page.close();
+    for (const k of [0, 1]) {
+      const bits = ['--subpixel-bits', String(status.subpixelBits)];
+      const r = { ...judge(umbra, { scene: modelFiles.default, size: `${W}x${H}`, maskPng: pngs[k], extra: [...views[k].flags, ...bits], explain: 1_000_000 }), status };
+      report(`two lights, light ${k}, ${impl}`, r);
+      assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
+      assert.equal(r.browser.mismatches_outside_band, 0, `${impl}, light ${k}`);
+    }
   }
 });
 
@@ -188,7 +239,8 @@ test('shared scenes: 0 samples outside the band on SwiftShader and ANGLE/llvmpip
   for (const impl of implementations()) {
     for (const [i, s] of SHARED.entries()) {
       const scene = path.join(SCENES_DIR, s);
-      const r = await judged(impl, { dir: `shared${i}`, scene, width: SW, height: SH });
+      const v = viewOf(sharedManifests[i].camera, sharedManifests[i].light);
+      const r = await judged(impl, { scene, width: SW, height: SH, query: `model=scenes/${s}&${v.query}` });
       report(`${s}, ${impl}, ${SW}x${SH}`, r);
       assert.equal(r.status.state, 'ready');
       assert.match(r.status.info, new RegExp(`^${s.replace(/\./g, '\\.')}: \\d+ triangles`), 'the file name, first');
@@ -248,10 +300,10 @@ test('mask view agrees with the shaded view; shadows off; frame time', { skip },
   for (const p of [page, m.page, off.page]) await p.close();
 });
 
-test('error pages: no WebGL 2, no stencil, truncated buffer, version mismatch, missing export', { skip }, async () => {
+test('error pages: no WebGL 2, truncated buffer, version mismatch, missing export, missing model', { skip }, async () => {
   const cases = [
     ['nowebgl=1', /no WebGL 2/],
-    ['nostencil=1', /drawing buffer has 0 stencil bits/],
+    ['model=models/nothing.obj', /models\/nothing\.obj: HTTP 404/],
     ['scene=truncated/', /sides\.bin: has \d+ bytes, but \$\.buffers\.sides_data needs/],
     ['scene=version/', /\$\.version: this viewer reads version 2, the scene is version 999/],
     ['scene=nothing-here/', /manifest\.json: HTTP 404/],

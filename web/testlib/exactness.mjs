@@ -86,6 +86,19 @@ export function judge(umbra, { scene, size, maskPng, extra = [], explain = 0, di
 }
 
 /**
+ * Light `k`'s decision as the page's UmbraShadows drew it (window.umbra.readMask(k): rows
+ * top-down, 255 lit / 0 shadowed), as a PNG at `maskPng` (white lit, black shadowed).
+ */
+export async function writeLightMask(page, k, width, height, maskPng) {
+  const s = await page.evaluate((i) => window.umbra.readMask(i), k);
+  if (typeof s !== 'string' || s.length !== width * height) throw new Error(`readMask(${k}) gave ${typeof s === 'string' ? s.length : s} values, expected ${width * height}`);
+  const gray = Buffer.from(s, 'latin1');
+  const rgba = new Uint8Array(4 * width * height);
+  for (let i = 0; i < gray.length; i++) rgba.set([gray[i], gray[i], gray[i], 255], 4 * i);
+  await writeFile(maskPng, encodePng(width, height, rgba));
+}
+
+/**
  * Draws the mask view of `base` (the viewer's URL, with `scene=` etc. in `query`) in `ctx` at
  * `width`x`height`, writes it to `maskPng` and judges it. Returns judge()'s result plus the
  * page status.

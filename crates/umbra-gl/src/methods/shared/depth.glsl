@@ -37,8 +37,8 @@ float umbra_near_distance(vec4 clip) {
 }
 
 // GLSL ES 3.00 has no gl_ClipDistance: vs-silhouette's ES build does not cut light caps; the
-// WebGL viewer clips its volume polygons itself, light caps at this same near plane
-// (web/src/glsl/clip.glsl, docs/web.md).
+// WebGL drawer (web/umbra-three) clips its volume polygons itself, light caps at this same near plane
+// (web/umbra-three/src/webgl/glsl/clip.glsl, docs/web.md).
 #ifdef GL_ES
 #define UMBRA_NEAR_CLIP(d)
 #else

@@ -18,8 +18,8 @@
 //
 // Shader text: the native method's shared files (multiplicity.glsl: 001 Alg. 2-4;
 // depth.glsl: 003 Eq. 6 and the near-plane distance; volume.frag.glsl; the ES 3.00 prelude and
-// UMBRA_CULLED of vs_silhouette/mod.rs), read by build.mjs at build time as module
-// `umbra:vs-silhouette`, and the viewer's own glsl/*.glsl.
+// UMBRA_CULLED of vs_silhouette/mod.rs), read by umbra-three/build.mjs at build time as module
+// `umbra:vs-silhouette`, and the package's own glsl/*.glsl.
 import native from 'umbra:vs-silhouette';
 import elementsGlsl from './glsl/elements.glsl';
 import clipGlsl from './glsl/clip.glsl';

@@ -2,7 +2,10 @@
 // camera.rs (glam's look_at_rh and the infinite-far perspective of Everitt & Kilgard 2002), in
 // both of its depth conventions: reversed-Z (the native renderer's default; in WebGL 2 only
 // with the EXT_clip_control extension) and standard (clip z in [-w, w], depth 1 at infinity,
-// the fallback). x and y rows are the same in both, so coverage is the native frame's.
+// the fallback). x and y rows are the same in both, so coverage is the native frame's. A
+// three.js PerspectiveCamera gives fov, aspect and near (its far plane is replaced by
+// infinity: shadow volumes reach it) and its view matrix (matrixWorldInverse).
+// No three.js import here: plain arrays, testable under node --test.
 
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -50,4 +53,17 @@ export function infinitePerspectiveReversedZ(fovYDegrees, aspect, near) {
 export function clipFromWorld(cam, aspect, reversedZ = false) {
   const p = (reversedZ ? infinitePerspectiveReversedZ : infinitePerspective)(cam.fov_y_degrees, aspect, cam.near);
   return new Float32Array(mul(p, lookAt(cam.eye, cam.target, cam.up)));
+}
+
+/**
+ * clip_from_object of a mesh: projection (fov, aspect, near; infinite far) * view * model,
+ * all f64 column-major arrays of 16 (three.js Matrix4.elements), rounded once to f32.
+ */
+export function clipFromObject(projection, view, model) {
+  return new Float32Array(mul(mul(projection, view), model));
+}
+
+/** The infinite projection of the convention: reversed-Z or standard. */
+export function infiniteProjection(fovYDegrees, aspect, near, reversedZ) {
+  return (reversedZ ? infinitePerspectiveReversedZ : infinitePerspective)(fovYDegrees, aspect, near);
 }

@@ -1,4 +1,4 @@
-// The orientation pass of the WebGL viewer: every triangle's orientation
+// The orientation pass of umbra-three: every triangle's orientation
 // towards the light, computed ONCE per frame into one texel of an R8I texture, the value the
 // caps (volume.vert.glsl) and, through the multiplicity pass, the sides then read. Paper 001,
 // Alg. 3-4: umbra_triangle_orientation (shared multiplicity.glsl), the reference-edge test the

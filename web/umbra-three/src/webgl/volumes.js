@@ -1,8 +1,9 @@
-// The shadow volumes of the WebGL viewer: paper 003's vs-silhouette (vs_silhouette.js) as GL
-// objects. Owns the scene's data textures, the orientation pass (its R8I target and
-// framebuffer), the polygon pass (its transform-feedback buffer and the RGBA32F texture the
-// polygons are copied to) and the fan pass; the renderer (renderer.js) owns the frame, calls
-// prepare() before its passes and draw() under the counting state it set.
+// The shadow volumes of one caster: paper 003's vs-silhouette (vs_silhouette.js) as WebGL 2
+// objects. Owns the caster's data textures (from topology.js: the buffers `umbra export`
+// writes), the orientation pass (its R8I target and framebuffer), the polygon pass (its
+// transform-feedback buffer and the RGBA32F texture the polygons are copied to) and the fan
+// pass, with programs shared by every caster (VolumePrograms); the drawer (drawer.js) owns the
+// frame, calls prepare() per light and draw() under the counting state it set.
 import { link, GlSetupError } from './program.js';
 import {
   orientationVertexSource, pointFragmentSource, polygonsVertexSource, fanVertexSource, volumeFragmentSource,
@@ -57,19 +58,40 @@ const UNIT_EDGE_TRIANGLES = 1;
 const UNIT_ORIENTATION = 2;
 const UNIT_POLYGONS = 3;
 
-export class ShadowVolumes {
-  /** @param {WebGL2RenderingContext} gl @param scene from loadScene */
-  constructor(gl, scene) {
+/** The three volume programs, linked once per context and shared by every caster. */
+export class VolumePrograms {
+  /** @param {WebGL2RenderingContext} gl */
+  constructor(gl) {
+    const frag = volumeFragmentSource();
+    this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
+    this.orient = link(gl, 'orientation pass', 'glsl/orientation.vert.glsl', orientationVertexSource(), 'glsl/point.frag.glsl', pointFragmentSource());
+    this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
+    this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'vs_silhouette/volume.frag.glsl', frag);
     this.gl = gl;
-    const m = scene.manifest;
-    this.maxMult = m.max_mult;
-    this.records = m.counts.sides_data_records;
-    this.triangles = m.counts.triangles;
-    const s = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
+  }
+
+  dispose() {
+    for (const p of [this.orient, this.polygons, this.fan]) this.gl.deleteProgram(p.program);
+  }
+}
+
+export class ShadowVolumes {
+  /**
+   * @param {WebGL2RenderingContext} gl
+   * @param {VolumePrograms} programs
+   * @param {{maxMult: number, records: number, triangles: number, sides: Float32Array, caps: Float32Array, edgeTriangles: Int32Array}} data
+   *   one caster's buffers (topology.js), in the caster's own (object) space
+   */
+  constructor(gl, programs, data) {
+    this.gl = gl;
+    this.maxMult = data.maxMult;
+    this.records = data.records;
+    this.triangles = data.triangles;
+    const s = programs.shift;
     this.shift = s;
-    this.sidesTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, scene.sides_data, 4, this.records * (2 + this.maxMult), 'sides-data').tex;
-    this.capsTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, scene.caps_data, 4, 3 * this.triangles, 'caps-data').tex;
-    this.edgeTrianglesTex = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, scene.edge_triangles, 1, this.records * this.maxMult, 'edge triangles').tex;
+    this.sidesTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.sides, 4, this.records * (2 + this.maxMult), 'sides-data').tex;
+    this.capsTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.caps, 4, 3 * this.triangles, 'caps-data').tex;
+    this.edgeTrianglesTex = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles').tex;
     // The orientations: R8I (integer formats are colour-renderable in ES 3.0), one per triangle.
     this.orientation = dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations');
     this.orientationFbo = gl.createFramebuffer();
@@ -95,7 +117,8 @@ export class ShadowVolumes {
     const caps = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, caps);
     // STATIC_DRAW: uploaded once per scene, read by every frame.
-    gl.bufferData(gl.ARRAY_BUFFER, scene.caps_data, gl.STATIC_DRAW);
+    gl.bufferData(gl.ARRAY_BUFFER, data.caps, gl.STATIC_DRAW);
+    this.capsBuffer = caps;
     for (let k = 0; k < 3; k++) {
       gl.vertexAttribPointer(k, 4, gl.FLOAT, false, 48, 16 * k);
       gl.enableVertexAttribArray(k);
@@ -105,21 +128,28 @@ export class ShadowVolumes {
     // The other passes read textures only: an empty vertex array.
     this.emptyVao = gl.createVertexArray();
 
-    const frag = volumeFragmentSource();
-    this.orient = link(gl, 'orientation pass', 'glsl/orientation.vert.glsl', orientationVertexSource(), 'glsl/point.frag.glsl', pointFragmentSource());
-    this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
-    this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'vs_silhouette/volume.frag.glsl', frag);
-    const set = (p, values) => {
-      gl.useProgram(p.program);
-      for (const [name, v] of Object.entries(values)) if (p.u[name]) gl.uniform1i(p.u[name], v);
-    };
-    set(this.orient, { u_texture_shift: s, u_texture_rows: this.orientation.rows });
-    set(this.polygons, {
-      u_texture_shift: s, u_max_mult: this.maxMult,
-      u_data: UNIT_DATA, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION,
-    });
-    set(this.fan, { u_texture_shift: s, u_polygons: UNIT_POLYGONS });
-    gl.useProgram(null);
+    this.orient = programs.orient;
+    this.polygons = programs.polygons;
+    this.fan = programs.fan;
+  }
+
+  /** Frees every GL object of this caster (not the shared programs). */
+  dispose() {
+    const gl = this.gl;
+    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.orientation.tex, this.polygonTex]) gl.deleteTexture(t);
+    gl.deleteFramebuffer(this.orientationFbo);
+    gl.deleteBuffer(this.polygonBuffer);
+    gl.deleteBuffer(this.capsBuffer);
+    gl.deleteTransformFeedback(this.feedback);
+    gl.deleteVertexArray(this.capsVao);
+    gl.deleteVertexArray(this.emptyVao);
+  }
+
+  /** This caster's integer uniforms (the programs are shared: set before each use). */
+  setUniforms(p, values) {
+    const gl = this.gl;
+    gl.useProgram(p.program);
+    for (const [name, v] of Object.entries(values)) if (p.u[name]) gl.uniform1i(p.u[name], v);
   }
 
   bindTexture(unit, tex) {
@@ -130,8 +160,8 @@ export class ShadowVolumes {
   }
 
   /**
-   * The orientation pass: every triangle's orientation towards `light` into the R8I
-   * texture. Leaves the framebuffer unbound, depth, stencil, blend and cull off and colour
+   * The orientation pass: every triangle's orientation towards `light` (in this caster's
+   * space) into the R8I texture. Leaves the framebuffer unbound, depth, stencil, blend and cull off and colour
    * writes on (the renderer sets its own state after).
    */
   prepare(light) {
@@ -144,7 +174,7 @@ export class ShadowVolumes {
     gl.disable(gl.BLEND);
     gl.disable(gl.CULL_FACE);
     gl.colorMask(true, true, true, true);
-    gl.useProgram(this.orient.program);
+    this.setUniforms(this.orient, { u_texture_shift: this.shift, u_texture_rows: this.orientation.rows });
     gl.uniform4fv(this.orient.u.u_light, light);
     gl.bindVertexArray(this.capsVao);
     gl.drawArrays(gl.POINTS, 0, this.triangles);
@@ -155,14 +185,18 @@ export class ShadowVolumes {
   /**
    * The volumes into the stencil under the counting state the caller set and its viewport:
    * the sides of every silhouette edge, the light caps and (point lights) the dark caps, each
-   * set through the polygon pass, then the fan pass. `farClipZ`: VolumeFrame::far_clip_z of
+   * set through the polygon pass, then the fan pass. `clipFromWorld`: this caster's clip
+   * from object matrix, the one the depth pass drew it with; `light` in object space. `farClipZ`: VolumeFrame::far_clip_z of
    * the depth convention (1 standard, 0 reversed-Z); `snap`, `viewport`: the snap=N diagnostic
    * (glsl/snap.glsl) and the viewport's size in pixels. After prepare() for the same light.
    */
   draw({ clipFromWorld, light, farClipZ, snap = 0, viewport }) {
     const gl = this.gl;
     const P = this.polygons;
-    gl.useProgram(P.program);
+    this.setUniforms(P, {
+      u_texture_shift: this.shift, u_max_mult: this.maxMult,
+      u_data: UNIT_DATA, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION,
+    });
     gl.uniformMatrix4fv(P.u.u_clip_from_world, false, clipFromWorld);
     gl.uniform4fv(P.u.u_light, light);
     gl.uniform1f(P.u.u_far_clip_z, farClipZ);
@@ -193,7 +227,7 @@ export class ShadowVolumes {
       gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
       // Fan pass: the polygons into the stencil.
       const per = polygonsPerInstance(repeat);
-      gl.useProgram(this.fan.program);
+      this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
       this.bindTexture(UNIT_POLYGONS, this.polygonTex);
       gl.uniform1i(this.fan.u.u_count, count);
       gl.uniform1f(this.fan.u.u_snap, snap);

@@ -1,4 +1,4 @@
-// The polygon pass of the WebGL viewer's shadow volumes: paper 003's sides
+// The polygon pass of umbra-three's shadow volumes: paper 003's sides
 // (Section 2.4, Alg. 1) and caps (Section 2.5, Alg. 2, Eq. 6) of every edge record or
 // triangle, each computed ONCE per frame as a clipped convex polygon and captured by
 // transform feedback (one point in, one polygon out); fan.vert.glsl then draws them. What it

@@ -1,4 +1,4 @@
-// Element i of the WebGL viewer's data textures (volumes.js): texel (i mod 2^shift,
+// Element i of umbra-three's data textures (volumes.js): texel (i mod 2^shift,
 // i / 2^shift) of a texture 2^u_texture_shift texels wide, u_texture_rows high. No #version
 // line: spliced after the ES 3.00 prelude.
 

@@ -1,9 +1,9 @@
 // Homogeneous polygon clipping (Sutherland & Hodgman 1974, "Reentrant polygon clipping", in
 // clip space as Blinn & Newell 1978, "Clipping using homogeneous coordinates"), done in the
-// vertex shader for the WebGL viewer's shadow volumes (volume.vert.glsl). No #version line:
+// vertex shader for umbra-three's shadow volumes (polygons.vert.glsl). No #version line:
 // spliced after the ES 3.00 prelude and shared/depth.glsl (umbra_near_distance).
 //
-// Why the viewer clips, and to just inside the viewport: SwiftShader (Chromium's WebGL 2
+// Why umbra-three clips, and to just inside the viewport: SwiftShader (Chromium's WebGL 2
 // without a GPU) sets a triangle it has to clip up from vertex positions it recomputes after
 // clipping, and an unclipped triangle from the positions its vertex stage projected; at its
 // 1/16-pixel vertex snapping a vertex shared by the two kinds can land on two different

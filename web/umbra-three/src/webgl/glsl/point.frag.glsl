@@ -1,4 +1,4 @@
-// The per-element passes of the WebGL viewer (orientation.vert.glsl, multiplicity.vert.glsl):
+// The per-element pass of umbra-three (orientation.vert.glsl):
 // the point's integer into its texel of the R8I target, as is. No depth, stencil or blending
 // (volumes.js turns them off).
 

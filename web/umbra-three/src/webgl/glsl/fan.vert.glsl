@@ -1,4 +1,4 @@
-// The WebGL viewer's shadow volumes, drawn: every polygon of the polygon pass
+// umbra-three's shadow volumes, drawn: every polygon of the polygon pass
 // (polygons.vert.glsl; u_polygons, 9 RGBA32F texels each: its vertices v0 .. v7, then
 // (vertex count, signed repeat)) as a fan of triangles, |repeat| times (a side of
 // multiplicity m is m coincident quads, paper 003 Alg. 1), into the stencil under the

@@ -1,4 +1,4 @@
-// WebGL 2 programs for the viewer: compile and link with errors that name the shader file,
+// WebGL 2 programs of umbra-three's drawer: compile and link with errors that name the shader file,
 // and the active uniforms by name.
 
 export class GlSetupError extends Error {}

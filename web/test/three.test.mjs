@@ -1,0 +1,277 @@
+// The umbra-three package as a three.js user loads it: its built dist (umbra-three/build.mjs)
+// and three.js's own module through an import map on a blank page, no bundler, in Debian's
+// Chromium (SwiftShader, headless). What the exactness test (browser.test.mjs) does not cover:
+// * bad meshes (no position attribute, NaN positions, index out of range): an entry in
+//   umbra.errors naming each mesh, once, and onError; umbra.render never throws; the frame is
+//   drawn and the good caster still shadows;
+// * the GL state umbra touches is restored: after an umbra frame, three.js draws another scene
+//   exactly as a fresh renderer does; a scene without casters, umbra.enabled = false, and an
+//   OrthographicCamera (refused with an entry in umbra.errors) give three.js's own image;
+// * the user's renderer with stencil on or off and antialias on or off: the same decision,
+//   and the shading follows it;
+// * a mesh's world transform and a light may change every frame without re-preparing.
+//
+// Needs: /usr/bin/chromium (skipped with a message when absent), the wasm module (node
+// build-wasm.mjs), `npm ci` in web/. Run: cd web && node --test test/
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { existsSync } from 'node:fs';
+import { mkdtemp, rm, writeFile } from 'node:fs/promises';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { createServer, listen } from '../serve.mjs';
+import { buildPackage } from '../umbra-three/build.mjs';
+import { launch } from '../testlib/exactness.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const webDir = path.join(here, '..');
+const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
+const skip = existsSync(CHROMIUM) ? false : `${CHROMIUM} is absent (apt-get install chromium): umbra-three browser test skipped`;
+if (skip) console.log(`SKIP: ${skip}`);
+
+const PAGE = `<!doctype html>
+<html><head><meta charset="utf-8">
+<script type="importmap">
+{ "imports": { "three": "/three/build/three.module.js", "umbra-three": "/umbra-three/index.js" } }
+</script></head>
+<body></body></html>
+`;
+
+let tmp, server, base, ctx, page;
+
+before(async () => {
+  if (skip) return;
+  tmp = await mkdtemp(path.join(tmpdir(), 'umbra-three-'));
+  const dist = await buildPackage(path.join(tmp, 'umbra-three'));
+  const root = path.join(tmp, 'root');
+  await (await import('node:fs/promises')).mkdir(root);
+  await writeFile(path.join(root, 'index.html'), PAGE);
+  server = createServer([['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]]);
+  base = await listen(server, 0);
+  ctx = await launch(CHROMIUM, 'swiftshader', tmp);
+  page = await ctx.newPage();
+  page.on('pageerror', (e) => console.log(`page error: ${e}`));
+  await page.goto(base);
+  // The scene every test starts from: a floor, a box above it (both casting), a point light.
+  await page.evaluate(async () => {
+    const THREE = await import('three');
+    const { UmbraShadows } = await import('umbra-three');
+    window.T = { THREE, UmbraShadows };
+    window.makeRenderer = (opts = {}, w = 160, h = 120) => {
+      const canvas = document.createElement('canvas');
+      canvas.width = w;
+      canvas.height = h;
+      document.body.appendChild(canvas);
+      const r = new THREE.WebGLRenderer({ canvas, preserveDrawingBuffer: true, ...opts });
+      r.setPixelRatio(1);
+      r.setSize(w, h, false);
+      r.setClearColor(0x203040);
+      return r;
+    };
+    window.makeScene = () => {
+      const scene = new THREE.Scene();
+      const mat = new THREE.MeshLambertMaterial({ color: 0xcccccc, side: THREE.DoubleSide });
+      const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 10).rotateX(-Math.PI / 2), mat);
+      floor.name = 'floor';
+      floor.castShadow = true;
+      const box = new THREE.Mesh(new THREE.BoxGeometry(1, 1, 1), new THREE.MeshStandardMaterial({ color: 0xffffff }));
+      box.name = 'box';
+      box.position.set(0, 1, 0);
+      box.castShadow = true;
+      const light = new THREE.PointLight(0xffffff, 8, 0, 0);
+      light.position.set(1, 4, 1);
+      light.castShadow = true;
+      scene.add(floor, box, light, new THREE.AmbientLight(0xffffff, 0.3));
+      const camera = new THREE.PerspectiveCamera(50, 160 / 120, 0.1, 100);
+      camera.position.set(0, 4, 6);
+      camera.lookAt(0, 0, 0);
+      return { scene, camera, light, box, floor };
+    };
+    window.pixels = (r) => {
+      const gl = r.getContext();
+      const out = new Uint8Array(4 * gl.drawingBufferWidth * gl.drawingBufferHeight);
+      gl.readPixels(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight, gl.RGBA, gl.UNSIGNED_BYTE, out);
+      return out;
+    };
+    window.differing = (a, b) => a.reduce((n, v, i) => n + (v !== b[i]), 0);
+    window.zeros = (m) => m.reduce((n, v) => n + (v === 0), 0);
+  });
+});
+
+after(async () => {
+  if (ctx) await ctx.close();
+  if (server) await new Promise((r) => server.close(r));
+  if (tmp) await rm(tmp, { recursive: true, force: true });
+});
+
+test('bad meshes: an error naming each, once; never an exception; the frame drawn and the good caster still shadows', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const renderer = makeRenderer();
+    const umbra = await UmbraShadows.create(renderer);
+    const seen = [];
+    umbra.onError = (e) => seen.push(e.mesh);
+    const { scene, camera, light } = makeScene();
+    const bad = (name, geometry) => {
+      const m = new THREE.Mesh(geometry, new THREE.MeshLambertMaterial());
+      m.name = name;
+      m.castShadow = true;
+      scene.add(m);
+      return m;
+    };
+    bad('no-positions', new THREE.BufferGeometry());
+    const nan = new THREE.BufferGeometry();
+    nan.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0, 1, NaN, 0, 0, 1, 0], 3));
+    bad('nan-mesh', nan);
+    const range = new THREE.BufferGeometry();
+    range.setAttribute('position', new THREE.Float32BufferAttribute([0, 0, 0, 1, 0, 0, 0, 1, 0], 3));
+    range.setIndex([0, 1, 7]);
+    const unnamed = bad('', range);
+    let threw = null;
+    try {
+      umbra.render(scene, camera);
+      umbra.render(scene, camera);
+    } catch (e) {
+      threw = String(e);
+    }
+    const mask = umbra.readMask(light);
+    const px = pixels(renderer);
+    // Pixels that are not the clear colour (0x203040).
+    let drawn = 0;
+    for (let i = 0; i < px.length; i += 4) drawn += px[i] !== 0x20 || px[i + 1] !== 0x30 || px[i + 2] !== 0x40;
+    return { threw, errors: umbra.errors.map((e) => ({ ...e })), seen, uuid: unnamed.uuid, shadowed: zeros(mask), drawn, casters: umbra.info.casters };
+  });
+  assert.equal(r.threw, null, 'umbra.render threw');
+  const text = r.errors.map((e) => `${e.mesh}: ${e.message}`).join('\n');
+  console.log(text);
+  assert.ok(r.errors.some((e) => e.mesh === 'no-positions' && /no position attribute/.test(e.message)), text);
+  assert.ok(r.errors.some((e) => e.mesh === 'nan-mesh' && /NaN/.test(e.message)), text);
+  assert.ok(r.errors.some((e) => e.mesh === r.uuid && /out of range/.test(e.message)), text);
+  assert.equal(r.errors.length, r.seen.length, 'onError once per entry');
+  assert.equal(new Set(r.errors.map((e) => `${e.mesh}|${e.message}`)).size, r.errors.length, 'each error once, not once per frame');
+  assert.equal(r.casters, 2, 'the floor and the box still cast');
+  assert.ok(r.shadowed > 200, `the box's shadow: ${r.shadowed} shadowed pixels`);
+  assert.ok(r.drawn > 160 * 120 / 2, `the frame is drawn: ${r.drawn} pixels`);
+});
+
+test('state restored: three.js draws after an umbra frame as a fresh renderer does; no casters, enabled = false and an OrthographicCamera give three.js\'s own image', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const renderer = makeRenderer();
+    const fresh = makeRenderer();
+    const umbra = await UmbraShadows.create(renderer);
+    const a = makeScene();
+    umbra.render(a.scene, a.camera);
+    const shadowed = zeros(umbra.readMask(a.light));
+    // Another scene (unpatched materials, blending, depth) right after umbra's frame.
+    const other = new THREE.Scene();
+    const k = new THREE.Mesh(new THREE.TorusKnotGeometry(1, 0.3, 64, 8), new THREE.MeshNormalMaterial());
+    const glass = new THREE.Mesh(new THREE.SphereGeometry(1.2), new THREE.MeshBasicMaterial({ color: 0xff8800, transparent: true, opacity: 0.5 }));
+    other.add(k, glass);
+    renderer.render(other, a.camera);
+    fresh.render(other, a.camera);
+    const afterUmbra = differing(pixels(renderer), pixels(fresh));
+    // Casters off: a plain frame (the patched materials see every light as lit).
+    const b = makeScene();
+    b.box.castShadow = false;
+    b.floor.castShadow = false;
+    umbra.render(b.scene, b.camera);
+    const c = makeScene();
+    c.box.castShadow = false;
+    c.floor.castShadow = false;
+    fresh.render(c.scene, c.camera);
+    const noCasters = differing(pixels(renderer), pixels(fresh));
+    // umbra.enabled = false with casters.
+    umbra.enabled = false;
+    umbra.render(a.scene, a.camera);
+    const d = makeScene();
+    fresh.render(d.scene, d.camera);
+    const disabled = differing(pixels(renderer), pixels(fresh));
+    umbra.enabled = true;
+    // An OrthographicCamera: refused, drawn by three.js.
+    const ortho = new THREE.OrthographicCamera(-5, 5, 4, -4, 0.1, 100);
+    ortho.position.set(0, 4, 6);
+    ortho.lookAt(0, 0, 0);
+    let threw = null;
+    try {
+      umbra.render(a.scene, ortho);
+    } catch (e) {
+      threw = String(e);
+    }
+    fresh.render(d.scene, ortho);
+    const orthographic = differing(pixels(renderer), pixels(fresh));
+    return { shadowed, afterUmbra, noCasters, disabled, orthographic, threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
+  });
+  console.log(JSON.stringify(r));
+  assert.ok(r.shadowed > 200, 'the umbra frame had a shadow');
+  assert.equal(r.afterUmbra, 0, 'three.js after an umbra frame differs from a fresh renderer');
+  assert.equal(r.noCasters, 0, 'no casters: not three.js\'s own image');
+  assert.equal(r.disabled, 0, 'enabled = false: not three.js\'s own image');
+  assert.equal(r.threw, null);
+  assert.equal(r.orthographic, 0, 'OrthographicCamera: not three.js\'s own image');
+  assert.ok(r.errors.some((e) => /OrthographicCamera: umbra-three draws shadows for a PerspectiveCamera only/.test(e)), r.errors.join('\n'));
+});
+
+test('stencil on/off, antialias on/off: the same decision, and the shading follows it', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { UmbraShadows } = window.T;
+    const out = [];
+    for (const stencil of [true, false]) {
+      for (const antialias of [false, true]) {
+        const renderer = makeRenderer({ stencil, antialias });
+        const umbra = await UmbraShadows.create(renderer);
+        const { scene, camera, light } = makeScene();
+        umbra.render(scene, camera);
+        const mask = umbra.readMask(light);
+        const px = pixels(renderer);
+        // Mean brightness of floor pixels umbra shadowed against lit ones (rows: readMask's
+        // top-down against readPixels' bottom-up), away from the edges (MSAA blends them).
+        const w = 160;
+        const h = 120;
+        let lit = 0, nLit = 0, dark = 0, nDark = 0;
+        for (let y = 1; y < h - 1; y++) for (let x = 1; x < w - 1; x++) {
+          const i = y * w + x;
+          const same = [i - 1, i + 1, i - w, i + w].every((j) => mask[j] === mask[i]);
+          if (!same) continue;
+          const p = 4 * ((h - 1 - y) * w + x);
+          const v = px[p] + px[p + 1] + px[p + 2];
+          if (mask[i]) { lit += v; nLit++; } else { dark += v; nDark++; }
+        }
+        out.push({ stencil, antialias, mask: Array.from(mask).join(''), lit: lit / nLit, dark: dark / nDark, shadowed: zeros(mask), errors: umbra.errors.length });
+      }
+    }
+    return out;
+  });
+  for (const row of r) {
+    console.log(`stencil ${row.stencil}, antialias ${row.antialias}: ${row.shadowed} shadowed pixels, mean lit ${row.lit.toFixed(1)} / shadowed ${row.dark.toFixed(1)}`);
+    assert.equal(row.errors, 0);
+    assert.ok(row.shadowed > 200, 'a shadow');
+    assert.equal(row.mask, r[0].mask, `stencil ${row.stencil}, antialias ${row.antialias}: another decision than stencil on, antialias off`);
+    assert.ok(row.lit > row.dark + 60, 'shadowed pixels are darker');
+  }
+});
+
+test('a moving caster and a moving light: the shadow follows without re-preparing', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { UmbraShadows } = window.T;
+    const renderer = makeRenderer();
+    const umbra = await UmbraShadows.create(renderer);
+    const { scene, camera, light, box } = makeScene();
+    umbra.render(scene, camera);
+    const first = umbra.readMask(light);
+    const prepared = umbra.info.prepareMs;
+    box.position.x += 1;
+    box.rotation.y = 0.5;
+    umbra.render(scene, camera);
+    const moved = umbra.readMask(light);
+    light.position.x -= 2;
+    umbra.render(scene, camera);
+    const lit = umbra.readMask(light);
+    return { moved: differing(first, moved), lit: differing(moved, lit), samePrepare: umbra.info.prepareMs === prepared };
+  });
+  console.log(JSON.stringify(r));
+  assert.ok(r.moved > 50, 'moving the box moves its shadow');
+  assert.ok(r.lit > 50, 'moving the light moves the shadow');
+  assert.ok(r.samePrepare, 'no topology prepared again for a transform or a light');
+});

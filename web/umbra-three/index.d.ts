@@ -1,0 +1,66 @@
+// Types of umbra-three (README.md has the use). The package is an ES module with `three`
+// (^0.187.0) as a peer dependency.
+import type { WebGLRenderer, Object3D, Camera, Light, Texture } from 'three';
+
+/** A mesh or other object umbra refused, and why; the object still renders, without umbra's shadow. */
+export interface UmbraError {
+  /** The object's name, else its uuid ('(frame)' for a frame umbra could not draw). */
+  mesh: string;
+  message: string;
+}
+
+export interface UmbraInfo {
+  /** Lights umbra shadowed in the last frame (at most 4). */
+  lights: number;
+  /** Casters (meshes with castShadow and a prepared topology) in the last frame. */
+  casters: number;
+  /** Their triangles after welding. */
+  triangles: number;
+  /** Total milliseconds spent preparing topologies (wasm) so far. */
+  prepareMs: number;
+  /** Milliseconds per pass of the last frame (depth, volumes, mask), only with `timing = true`. */
+  passes: Record<string, number>;
+}
+
+export interface UmbraOptions {
+  /** umbra_wasm.wasm: its URL, a Response, its bytes or a compiled module (default: beside the package's module). */
+  wasm?: string | URL | Response | ArrayBuffer | ArrayBufferView | WebAssembly.Module;
+  /** Diagnostic: 'standard' draws umbra's depth pass without reversed-Z even where EXT_clip_control is offered. */
+  depth?: 'reversed' | 'standard';
+  /** Diagnostic: false leaves EXT_depth_clamp off even where it is offered. */
+  depthClamp?: boolean;
+  /** Diagnostic: every vertex umbra draws on a 1/snap-pixel grid (0: off). */
+  snap?: number;
+}
+
+export class UmbraShadows {
+  /** Loads the wasm and sets up on the renderer's WebGL 2 context; throws a clear Error when it cannot. */
+  static create(renderer: WebGLRenderer, options?: UmbraOptions): Promise<UmbraShadows>;
+  /** false: render() is renderer.render() and patched materials see every light as lit. */
+  enabled: boolean;
+  /** true: info.passes gets per-pass times (each pass waited for: slower; for benchmarks). */
+  timing: boolean;
+  /** Meshes refused (no positions, NaN positions, index out of range) and other problems, each once. */
+  readonly errors: UmbraError[];
+  /** Called once per new entry of `errors`. */
+  onError: ((err: UmbraError) => void) | null;
+  readonly info: UmbraInfo;
+  /** The WebGL renderer string and its SUBPIXEL_BITS (for `umbra verify --subpixel-bits`). */
+  readonly rendererName: string;
+  readonly subpixelBits: number;
+  /** 'reversed-z' or 'standard': umbra's depth convention on this context. */
+  readonly depth: 'reversed-z' | 'standard';
+  /** In place of renderer.render(scene, camera); never throws from umbra's part of the frame. */
+  render(scene: Object3D, camera: Camera): void;
+  /** The screen-sized texture holding the light's decision of the last frame (channel maskChannel(light)), or null. */
+  maskTexture(light: Light): Texture | null;
+  /** The RGBA channel of maskTexture(light) with the light's decision (1 lit, 0 shadowed), or -1. */
+  maskChannel(light: Light): number;
+  /** The light's decision of the last frame: width * height bytes, rows top-down, 255 lit / 0 shadowed; or null. */
+  readMask(light: Light): Uint8Array | null;
+  /** Frees umbra's GL objects; patched materials then see every light as lit. */
+  dispose(): void;
+}
+
+/** The error umbra's topology step reports for a geometry it refuses (the message names the mesh). */
+export class TopologyError extends Error {}

@@ -1,0 +1,302 @@
+// UmbraShadows: exact shadows for a three.js WebGLRenderer. Each frame, in place of
+// renderer.render(scene, camera):
+//   1. the scene's lights, casters and receivers are gathered (lights.js replays three.js's
+//      light order), casters prepared once per geometry version (topology.js, wasm);
+//   2. the WebGL 2 drawer (webgl/drawer.js) draws every light's decision into umbra's own
+//      mask target, on umbra's own depth pass (umbra's camera convention: reversed-Z,
+//      infinite far plane; the camera's fov, aspect and near);
+//   3. renderer.resetState(), then renderer.render(scene, camera) with the patched materials
+//      (materials.js) reading the decision of their pixel.
+// Nothing thrown inside render(): a refused mesh or a failed frame is an entry in `errors`
+// (and onError), and the frame is drawn by three.js all the same.
+import { ExternalTexture, Matrix4, Vector2, Vector3 } from 'three';
+import { Topology, TopologyError, flatTriangles, geometryPositions, meshName } from './topology.js';
+import { gatherLights, lightSlots } from './lights.js';
+import { createUniforms, patchMaterial } from './materials.js';
+import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
+import { infiniteProjection, clipFromObject } from './camera.js';
+
+const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
+
+export class UmbraShadows {
+  /**
+   * Loads the wasm preprocessing and sets up the WebGL 2 drawer on `renderer`'s context.
+   * Throws a clear Error when the context is not WebGL 2 or lacks what umbra needs.
+   * @param {import('three').WebGLRenderer} renderer
+   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number}} options
+   *   wasm: the module's URL, Response or bytes (default: umbra_wasm.wasm beside this file);
+   *   depth, depthClamp, snap: diagnostics (docs/web.md)
+   */
+  static async create(renderer, options = {}) {
+    const gl = renderer?.getContext?.();
+    if (!gl || typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext)) {
+      throw new Error('umbra-three: the renderer has no WebGL 2 context (umbra needs WebGL 2: transform feedback, integer and float textures)');
+    }
+    const topology = await Topology.load(options.wasm);
+    return new UmbraShadows(renderer, topology, options);
+  }
+
+  constructor(renderer, topology, options = {}) {
+    this.renderer = renderer;
+    this.topology = topology;
+    this.options = options;
+    const gl = renderer.getContext();
+    try {
+      this.drawer = new WebGLDrawer(gl, options);
+    } catch (e) {
+      throw new Error(`umbra-three: WebGL 2 set-up failed: ${e.message}`);
+    }
+    renderer.resetState();
+    this.enabled = true;
+    this.timing = false;
+    this.errors = [];
+    this.onError = null;
+    this.mask = new ExternalTexture(null);
+    this.uniforms = createUniforms(this.mask);
+    this.patched = new WeakSet();
+    this.casters = new WeakMap(); // geometry -> { key, volumes | error }
+    this.drawn = new WeakMap(); // geometry -> { key, buffers }
+    this.owned = new Set(); // GL objects to free on dispose
+    this.reported = new Set();
+    this.channels = new Map(); // light -> channel of the last frame
+    this.info = { lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {} };
+  }
+
+  /** The renderer's name (WEBGL_debug_renderer_info) and its SUBPIXEL_BITS, for tests. */
+  get rendererName() {
+    return this.drawer.rendererName;
+  }
+
+  get subpixelBits() {
+    return this.drawer.subpixelBits;
+  }
+
+  /** Whether umbra's depth pass is reversed-Z (EXT_clip_control) or standard. */
+  get depth() {
+    return this.drawer.reversedZ ? 'reversed-z' : 'standard';
+  }
+
+  report(object, message) {
+    // The entry names the object; its message need not repeat it.
+    if (message.startsWith(`${object}: `)) message = message.slice(object.length + 2);
+    const key = `${object}\u0000${message}`;
+    if (this.reported.has(key)) return;
+    this.reported.add(key);
+    const err = { mesh: object, message };
+    this.errors.push(err);
+    if (typeof this.onError === 'function') {
+      try {
+        this.onError(err);
+      } catch {
+        // The user's callback may not break the render loop either.
+      }
+    }
+  }
+
+  /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */
+  render(scene, camera) {
+    let shadowed = false;
+    if (this.enabled) {
+      try {
+        shadowed = this.drawDecisions(scene, camera);
+      } catch (e) {
+        this.report('(frame)', `umbra could not draw this frame's shadows: ${e.message}`);
+        shadowed = false;
+      }
+      this.renderer.resetState();
+    }
+    if (!shadowed) {
+      this.channels = new Map();
+      this.setSelects(new Map(), new Map());
+    }
+    this.renderer.render(scene, camera);
+  }
+
+  setSelects(slots, channels) {
+    const point = this.uniforms.umbraPointSelect.value;
+    const dir = this.uniforms.umbraDirectionalSelect.value;
+    for (const v of point) v.set(0, 0, 0, 0);
+    for (const v of dir) v.set(0, 0, 0, 0);
+    for (const [light, c] of channels) {
+      const s = slots.get(light);
+      const target = s.kind === 'point' ? point[s.index] : dir[s.index];
+      if (target) target.fromArray(CHANNEL_SELECT[c]);
+    }
+  }
+
+  /** The caster state of a mesh's geometry (prepared once per version), or null with an error reported. */
+  casterOf(mesh) {
+    const g = mesh.geometry;
+    const pos = g?.attributes?.position;
+    const key = `${pos?.version}/${pos?.count}/${g?.index?.version}/${g?.index?.count}`;
+    let c = this.casters.get(g);
+    if (!c || c.key !== key) {
+      if (c?.volumes) {
+        c.volumes.dispose();
+        this.owned.delete(c.volumes);
+      }
+      c = { key, volumes: null, error: null };
+      try {
+        const data = this.topology.prepare(g, meshName(mesh));
+        this.info.prepareMs += data.ms;
+        if (data.triangles > 0) {
+          c.volumes = this.drawer.createVolumes(data);
+          this.owned.add(c.volumes);
+        }
+      } catch (e) {
+        if (!(e instanceof TopologyError)) throw e;
+        c.error = e.message;
+      }
+      this.casters.set(g, c);
+    }
+    if (c.error) this.report(meshName(mesh), c.error);
+    return c.volumes;
+  }
+
+  /** A mesh's depth/mask-pass buffers (once per geometry version), or null (no positions). */
+  buffersOf(mesh) {
+    const g = mesh.geometry;
+    const pos = g?.attributes?.position;
+    const key = `${pos?.version}/${pos?.count}/${g?.index?.version}/${g?.index?.count}`;
+    let d = this.drawn.get(g);
+    if (!d || d.key !== key) {
+      if (d?.buffers) {
+        this.drawer.deleteMeshBuffers(d.buffers);
+        this.owned.delete(d.buffers);
+      }
+      d = { key, buffers: null, error: null };
+      try {
+        const positions = geometryPositions(g, meshName(mesh));
+        const index = g.index ? g.index.array.subarray(0, g.index.count) : null;
+        d.buffers = this.drawer.createMeshBuffers(flatTriangles(positions, index));
+        this.owned.add(d.buffers);
+      } catch (e) {
+        if (!(e instanceof TopologyError)) throw e;
+        d.error = e.message;
+      }
+      this.drawn.set(g, d);
+    }
+    if (d.error) this.report(meshName(mesh), d.error);
+    return d.buffers;
+  }
+
+  /** Steps 1-2 of the frame; false when there is nothing umbra shadows (a plain render). */
+  drawDecisions(scene, camera) {
+    if (scene.matrixWorldAutoUpdate) scene.updateMatrixWorld();
+    if (camera.parent === null && camera.matrixWorldAutoUpdate) camera.updateMatrixWorld();
+    const gathered = gatherLights(scene, camera);
+    const slots = lightSlots(gathered);
+    const lights = [];
+    for (const l of gathered) {
+      if (!l.castShadow || !(l.isPointLight || l.isDirectionalLight)) continue;
+      if (lights.length === MAX_LIGHTS) {
+        this.report(l.name || l.uuid, `more than ${MAX_LIGHTS} shadow-casting lights: this one is drawn without umbra's shadow`);
+        continue;
+      }
+      lights.push(l);
+    }
+    // Every drawn mesh, receivers and casters, in scene order (the depth pass needs them all).
+    const meshes = [];
+    const visit = (o) => {
+      if (o.visible === false) return;
+      if (o.isMesh && o.layers.test(camera.layers)) meshes.push(o);
+      for (const c of o.children) visit(c);
+    };
+    visit(scene);
+    for (const m of meshes) for (const mat of Array.isArray(m.material) ? m.material : [m.material]) patchMaterial(mat, this.uniforms, this.patched);
+    this.info.lights = lights.length;
+    if (lights.length === 0) return false;
+    if (!camera.isPerspectiveCamera) {
+      this.report(camera.name || camera.uuid, `${camera.type}: umbra-three draws shadows for a PerspectiveCamera only (its infinite far plane); the frame is drawn without them`);
+      return false;
+    }
+
+    const size = this.renderer.getDrawingBufferSize(new Vector2());
+    const reversed = this.drawer.reversedZ;
+    const projection = infiniteProjection(camera.getEffectiveFOV(), camera.aspect, camera.near, reversed);
+    const view = camera.matrixWorldInverse.elements;
+    const lightWorld = lights.map((l) => {
+      const p = new Vector3().setFromMatrixPosition(l.matrixWorld);
+      if (l.isPointLight) return [p.x, p.y, p.z, 1];
+      // Directional: w = 0, xyz towards the light (from its target to its position).
+      const t = new Vector3().setFromMatrixPosition(l.target.matrixWorld);
+      return [p.x - t.x, p.y - t.y, p.z - t.z, 0];
+    });
+    const inverse = new Matrix4();
+    const frameMeshes = [];
+    let casters = 0;
+    let triangles = 0;
+    for (const m of meshes) {
+      if (m.isInstancedMesh || m.isSkinnedMesh || m.isBatchedMesh) {
+        if (m.castShadow) this.report(meshName(m), `${m.type}: umbra-three casts shadows from plain Meshes only; drawn without its shadow`);
+        continue;
+      }
+      const buffers = this.buffersOf(m);
+      if (!buffers) continue;
+      const volumes = m.castShadow ? this.casterOf(m) : null;
+      if (volumes) {
+        casters++;
+        triangles += volumes.triangles;
+      }
+      inverse.copy(m.matrixWorld).invert();
+      const e = inverse.elements;
+      const toObject = (v) => new Float32Array([0, 1, 2, 3].map((r) => e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r] * v[3]));
+      frameMeshes.push({
+        buffers,
+        volumes,
+        clipFromObject: clipFromObject(projection, view, m.matrixWorld.elements),
+        // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
+        flip: m.matrixWorld.determinant() < 0 ? -1 : 1,
+        lights: lightWorld.map(toObject),
+      });
+    }
+    this.info.casters = casters;
+    this.info.triangles = triangles;
+    // No caster: nothing is shadowed, and the frame is three.js's own.
+    if (casters === 0) return false;
+    const timing = this.timing ? {} : null;
+    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length });
+    this.info.passes = timing || {};
+    this.mask.sourceTexture = this.drawer.maskTexture;
+    this.channels = new Map(lights.map((l, c) => [l, c]));
+    this.setSelects(slots, this.channels);
+    return true;
+  }
+
+  /** The texture holding `light`'s decision (screen sized; channel maskChannel(light)), or null. */
+  maskTexture(light) {
+    return this.channels.has(light) ? this.mask : null;
+  }
+
+  /** The RGBA channel of maskTexture(light) holding its decision (1 lit, 0 shadowed), or -1. */
+  maskChannel(light) {
+    return this.channels.has(light) ? this.channels.get(light) : -1;
+  }
+
+  /**
+   * `light`'s decision of the last frame: Uint8Array of width * height, rows top-down, 255 lit /
+   * 0 shadowed; null when the last frame did not shadow that light.
+   */
+  readMask(light) {
+    if (!this.channels.has(light)) return null;
+    const out = this.drawer.readMask(this.channels.get(light));
+    this.renderer.resetState();
+    return out;
+  }
+
+  /** Frees umbra's GL objects; patched materials then see every light as lit. */
+  dispose() {
+    for (const o of this.owned) {
+      if (o.dispose) o.dispose();
+      else this.drawer.deleteMeshBuffers(o);
+    }
+    this.owned.clear();
+    this.casters = new WeakMap();
+    this.drawn = new WeakMap();
+    this.drawer.dispose();
+    this.mask.sourceTexture = null;
+    this.channels = new Map();
+    this.setSelects(new Map(), new Map());
+    this.renderer.resetState();
+  }
+}

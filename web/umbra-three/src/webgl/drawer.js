@@ -1,0 +1,302 @@
+// umbra's WebGL 2 drawer: the per-light shadow decision of every pixel, drawn into umbra's own
+// render target before three.js draws the frame. Multi-pass stencil shadow volumes
+// (Heidmann 1991; Everitt & Kilgard 2002, z-fail with the infinite far plane) with paper 003's
+// vertex-shader silhouettes (volumes.js), the passes of crates/umbra-gl/src/renderer.rs:
+//   1. depth of every visible mesh (depth.vert.glsl), once per frame;
+//   per light (up to 4, a channel of the RGBA8 mask target each):
+//   2. each caster's triangles oriented towards the light, then its volumes into the stencil
+//      (sides always, caps for z-fail; volumes.js), colour and depth masked;
+//   3. the mask pass (mask.frag.glsl): 1 into the light's channel where stencil == 0, depth
+//      EQUAL and the seen side faces the light, 0 elsewhere.
+// Meshes are drawn in their own space with their clip-from-object matrix, and volumes with the
+// same matrix and the light moved into that space: rigid transforms change per frame without
+// redoing the preprocessing, and a caster's sides meet its depth-pass surface bit for bit.
+//
+// The target: DEPTH32F_STENCIL8 + RGBA8 of the drawing buffer's size, so the user's canvas
+// needs neither stencil nor depth, and antialiasing there changes nothing here (one sample per
+// pixel). Depth convention (camera.rs DepthConvention; every choice below is derived from it):
+// * reversed-Z (when the browser offers EXT_clip_control; WebGL 2 core has no glClipControl):
+//   clip control ZERO_TO_ONE, clear depth 0, "strictly nearer" = GREATER, light caps at
+//   u_far_clip_z = 0 — the native renderer's convention and depth format, so the oracle's band
+//   (built for it) applies;
+// * standard (without EXT_clip_control, or `depth: 'standard'`): DEPTH24_STENCIL8, clear
+//   depth 1, LESS, u_far_clip_z = 1; its depth steps grow with the square of the distance.
+// These are exactly VolumeFrame::far_clip_z / shadow_volume_state of the two conventions
+// (shared/depth.glsl). No three.js import: the caller (umbra-shadows.js) hands in matrices.
+import { ShadowVolumes, VolumePrograms } from './volumes.js';
+import { snapGlsl } from './vs_silhouette.js';
+import { link, GlSetupError } from './program.js';
+import depthVert from './glsl/depth.vert.glsl';
+import depthFrag from './glsl/depth.frag.glsl';
+import maskFrag from './glsl/mask.frag.glsl';
+
+export { GlSetupError };
+
+/** Lights one mask target holds: one per RGBA8 channel. */
+export const MAX_LIGHTS = 4;
+
+export class WebGLDrawer {
+  /**
+   * @param {WebGL2RenderingContext} gl
+   * @param {{depth?: 'reversed'|'standard', depthClamp?: boolean}} opts
+   */
+  constructor(gl, opts = {}) {
+    this.gl = gl;
+    this.clipControl = opts.depth === 'standard' ? null : gl.getExtension('EXT_clip_control');
+    this.reversedZ = !!this.clipControl;
+    // Depth clamp (the native counting state enables it, state.rs shadow_volume_for): used
+    // when the browser offers EXT_depth_clamp; without it the w = 0 vertices still land
+    // exactly on the far plane (z_clip = w_clip: rows 2 and 3 of the infinite projection
+    // have the same xyz), inside the clip volume.
+    this.depthClamp = opts.depthClamp === false ? null : gl.getExtension('EXT_depth_clamp');
+    const dbg = gl.getExtension('WEBGL_debug_renderer_info');
+    this.rendererName = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+    this.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
+
+    const version = '#version 300 es\n';
+    if (!depthVert.startsWith(version)) throw new GlSetupError('glsl/depth.vert.glsl must start with #version 300 es');
+    const vert = `${version}precision highp float;\n${snapGlsl}\n${depthVert.slice(version.length)}`;
+    this.depthProgram = link(gl, 'depth pass', 'glsl/depth.vert.glsl', vert, 'glsl/depth.frag.glsl', depthFrag);
+    this.maskProgram = link(gl, 'mask pass', 'glsl/depth.vert.glsl', vert, 'glsl/mask.frag.glsl', maskFrag);
+    this.volumePrograms = new VolumePrograms(gl);
+    this.target = null;
+    this.maskTexture = null;
+  }
+
+  /** The shadow volumes of one caster's prepared buffers (topology.js). */
+  createVolumes(data) {
+    return new ShadowVolumes(this.gl, this.volumePrograms, data);
+  }
+
+  /** A mesh's de-indexed triangles (topology.js flatTriangles) as a vertex array. */
+  createMeshBuffers(tri) {
+    const gl = this.gl;
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    const buffers = [];
+    for (const [loc, data] of [[0, tri.positions], [1, tri.normals]]) {
+      const b = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      // STATIC_DRAW: uploaded once per geometry version, drawn by every frame.
+      gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+      gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
+      gl.enableVertexAttribArray(loc);
+      buffers.push(b);
+    }
+    gl.bindVertexArray(null);
+    gl.bindBuffer(gl.ARRAY_BUFFER, null);
+    return { vao, buffers, vertices: 3 * tri.triangles };
+  }
+
+  deleteMeshBuffers(m) {
+    const gl = this.gl;
+    gl.deleteVertexArray(m.vao);
+    for (const b of m.buffers) gl.deleteBuffer(b);
+  }
+
+  /** umbra's target (depth-stencil + RGBA8 mask) of the drawing buffer's size; returns the framebuffer. */
+  ensureTarget(width, height) {
+    const gl = this.gl;
+    if (this.target && this.target.width === width && this.target.height === height) return this.target.framebuffer;
+    this.deleteTarget();
+    const framebuffer = gl.createFramebuffer();
+    const mask = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, mask);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA8, width, height);
+    // NEAREST: one level, complete without mipmaps; materials read it with texelFetch.
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    const depth = gl.createRenderbuffer();
+    gl.bindRenderbuffer(gl.RENDERBUFFER, depth);
+    // Float depth: reversed-Z keeps ~24 significant bits of n / d at every distance (camera.rs).
+    gl.renderbufferStorage(gl.RENDERBUFFER, this.reversedZ ? gl.DEPTH32F_STENCIL8 : gl.DEPTH24_STENCIL8, width, height);
+    gl.bindRenderbuffer(gl.RENDERBUFFER, null);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, mask, 0);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_STENCIL_ATTACHMENT, gl.RENDERBUFFER, depth);
+    const status = gl.checkFramebufferStatus(gl.FRAMEBUFFER);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    if (status !== gl.FRAMEBUFFER_COMPLETE) throw new GlSetupError(`umbra's depth-stencil + RGBA8 framebuffer is incomplete (0x${status.toString(16)})`);
+    this.target = { framebuffer, mask, depth, width, height };
+    this.maskTexture = mask;
+    return framebuffer;
+  }
+
+  deleteTarget() {
+    const gl = this.gl;
+    if (!this.target) return;
+    gl.deleteFramebuffer(this.target.framebuffer);
+    gl.deleteTexture(this.target.mask);
+    gl.deleteRenderbuffer(this.target.depth);
+    this.target = null;
+    this.maskTexture = null;
+  }
+
+  /** Waits for the GPU (a 1-pixel readPixels, as paper 003 timed its frames). */
+  sync() {
+    const gl = this.gl;
+    const px = new Uint8Array(4);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  }
+
+  /**
+   * Draws one frame's decisions into the mask target. Leaves GL's default state behind it
+   * (the caller then calls renderer.resetState()).
+   * @param {{width: number, height: number, snap?: number, timing?: object|null,
+   *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null}[],
+   *   lights: number}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space
+   */
+  frame(f) {
+    const gl = this.gl;
+    const rz = this.reversedZ;
+    const snap = f.snap || 0;
+    const timing = f.timing;
+    let t = timing ? performance.now() : 0;
+    const lap = (name) => {
+      if (!timing) return;
+      this.sync();
+      const now = performance.now();
+      timing[name] = (timing[name] || 0) + (now - t);
+      t = now;
+    };
+    const fbo = this.ensureTarget(f.width, f.height);
+    const bindTarget = () => {
+      gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
+      gl.viewport(0, 0, f.width, f.height);
+    };
+    bindTarget();
+    // Reversed-Z: clip z in [0, w].
+    if (rz) this.clipControl.clipControlEXT(this.clipControl.LOWER_LEFT_EXT, this.clipControl.ZERO_TO_ONE_EXT);
+    const nearer = rz ? gl.GREATER : gl.LESS;
+    // Clear: every write mask on first (clears obey them); mask 0 = shadowed.
+    gl.colorMask(true, true, true, true);
+    gl.depthMask(true);
+    gl.stencilMask(0xff);
+    gl.clearColor(0, 0, 0, 0);
+    gl.clearDepth(rz ? 0 : 1); // The far plane's depth (DepthConvention::far_depth).
+    gl.clearStencil(0);
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT | gl.STENCIL_BUFFER_BIT);
+
+    // Pass 1: depth. Strictly nearer wins, depth writes on, colour off; no stencil, no
+    // blending, no culling (two-sided surfaces: triangle soups have no inside).
+    gl.enable(gl.DEPTH_TEST);
+    gl.depthFunc(nearer);
+    gl.disable(gl.STENCIL_TEST);
+    gl.disable(gl.BLEND);
+    gl.disable(gl.CULL_FACE);
+    gl.colorMask(false, false, false, false);
+    const drawMeshes = (program, perMesh) => {
+      gl.useProgram(program.program);
+      gl.uniform1f(program.u.u_snap, snap);
+      gl.uniform2f(program.u.u_viewport_size, f.width, f.height);
+      for (const m of f.meshes) {
+        if (m.buffers.vertices === 0) continue;
+        gl.uniformMatrix4fv(program.u.u_clip_from_world, false, m.clipFromObject);
+        perMesh?.(m);
+        gl.bindVertexArray(m.buffers.vao);
+        gl.drawArrays(gl.TRIANGLES, 0, m.buffers.vertices);
+      }
+      gl.bindVertexArray(null);
+    };
+    drawMeshes(this.depthProgram);
+    lap('depth');
+
+    for (let k = 0; k < f.lights; k++) {
+      const casters = f.meshes.filter((m) => m.volumes);
+      if (casters.length) {
+        gl.stencilMask(0xff);
+        gl.clear(gl.STENCIL_BUFFER_BIT);
+        for (const m of casters) {
+          const light = m.lights[k];
+          // Each triangle of the caster oriented once towards the light (leaves the
+          // framebuffer unbound and depth, stencil, blend off).
+          m.volumes.prepare(light);
+          bindTarget();
+          // Pass 2: z-fail counting (state.rs shadow_volume_for(false, convention)): stencil
+          // test always passes; back faces behind the sample +1, front faces behind it -1,
+          // wrapping (exact modulo 256); depth func strictly nearer (caps at the far plane
+          // fail everywhere, background included); no depth or colour writes; no culling
+          // (both faces count in one pass); CCW = outward = front.
+          gl.enable(gl.DEPTH_TEST);
+          gl.enable(gl.STENCIL_TEST);
+          gl.stencilFunc(gl.ALWAYS, 0, 0xff);
+          gl.stencilMask(0xff);
+          gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.DECR_WRAP, gl.KEEP);
+          gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.INCR_WRAP, gl.KEEP);
+          gl.depthFunc(nearer);
+          gl.depthMask(false);
+          gl.colorMask(false, false, false, false);
+          gl.frontFace(gl.CCW);
+          // Nothing of a volume may be clipped (state.rs): depth clamp when available (the
+          // volume program clips to the viewport, and light caps to the near plane, itself).
+          if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
+          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height] });
+          if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
+        }
+        lap('volumes');
+      }
+      // Pass 3: the decision into channel k only: cleared to 0 (shadowed), then 1 where the
+      // stencil count is 0 on exactly the depth pass's surface (depth EQUAL, invariant
+      // positions) and the surface faces the light. No depth or stencil writes.
+      bindTarget();
+      const channel = [0, 1, 2, 3].map((c) => c === k);
+      gl.colorMask(...channel);
+      gl.disable(gl.DEPTH_TEST);
+      gl.disable(gl.STENCIL_TEST);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      gl.enable(gl.DEPTH_TEST);
+      gl.depthMask(false);
+      gl.depthFunc(gl.EQUAL);
+      if (casters.length) {
+        gl.enable(gl.STENCIL_TEST);
+        gl.stencilFunc(gl.EQUAL, 0, 0xff);
+        gl.stencilOp(gl.KEEP, gl.KEEP, gl.KEEP);
+      }
+      drawMeshes(this.maskProgram, (m) => {
+        gl.uniform4fv(this.maskProgram.u.u_light, m.lights[k]);
+        gl.uniform1f(this.maskProgram.u.u_flip, m.flip);
+      });
+      lap('mask');
+    }
+
+    // GL's defaults, as three.js's resetState() assumes them: clip control back to
+    // NEGATIVE_ONE_TO_ONE (three.js sets its own when it uses reversed depth), masks on,
+    // tests off, the default framebuffer.
+    if (rz) this.clipControl.clipControlEXT(this.clipControl.LOWER_LEFT_EXT, this.clipControl.NEGATIVE_ONE_TO_ONE_EXT);
+    gl.colorMask(true, true, true, true);
+    gl.depthMask(true);
+    gl.stencilMask(0xffffffff);
+    gl.depthFunc(gl.LESS);
+    gl.disable(gl.DEPTH_TEST);
+    gl.disable(gl.STENCIL_TEST);
+    gl.stencilFunc(gl.ALWAYS, 0, 0xffffffff);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  }
+
+  /** Channel `channel` of the mask target: width * height bytes, rows top-down, 255 lit / 0 shadowed. */
+  readMask(channel) {
+    const gl = this.gl;
+    if (!this.target) return null;
+    const { width, height, framebuffer } = this.target;
+    const rgba = new Uint8Array(4 * width * height);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    // Tightly packed rows: RGBA8 rows are always 4-byte aligned.
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    const out = new Uint8Array(width * height);
+    for (let y = 0; y < height; y++) {
+      const src = (height - 1 - y) * width; // readPixels rows come bottom-up
+      for (let x = 0; x < width; x++) out[y * width + x] = rgba[4 * (src + x) + channel] >= 128 ? 255 : 0;
+    }
+    return out;
+  }
+
+  dispose() {
+    const gl = this.gl;
+    this.deleteTarget();
+    gl.deleteProgram(this.depthProgram.program);
+    gl.deleteProgram(this.maskProgram.program);
+    this.volumePrograms.dispose();
+  }
+}
