@@ -5,8 +5,8 @@
 // default scene.gltf beside this page), size=WxH (fixed canvas size), mask=1 (show the first
 // light's decision: white lit, black shadowed, as `umbra render`'s lit mask), eye=X,Y,Z,
 // target=X,Y,Z, up=X,Y,Z, fov=DEGREES, light=X,Y,Z[,W] (W = 0: directional, coming from
-// X,Y,Z) and maps=1 (start with three.js's shadow maps). `scene=` of the exported-scene viewer
-// has no meaning here: the model is loaded by three.js's loaders.
+// X,Y,Z) and maps=1 (start with three.js's shadow maps). `scene=URL` is taken as `model=URL`
+// (a model file: this page loads no `umbra export` folder).
 // The camera and the first light are the ones `umbra render --scene MODEL` uses with the same
 // flags (view.js), so `umbra verify --external-mask` can judge the mask.
 // State: document.body.dataset.state (loading, ready, error) and window.umbra: { state, error,
@@ -117,7 +117,7 @@ async function start() {
   const umbra = await UmbraShadows.create(renderer);
   umbra.onError = (err) => console.warn(`umbra: ${err.mesh}: ${err.message}`);
 
-  const url = params.get('model') || 'scene.gltf';
+  const url = params.get('model') || params.get('scene') || 'scene.gltf';
   const model = await loadModel(url);
   model.updateMatrixWorld(true);
   const scene = new THREE.Scene();
