@@ -5,8 +5,10 @@
 //   umbra.errors naming each mesh, once, and onError; umbra.render never throws; the frame is
 //   drawn and the good caster still shadows;
 // * the GL state umbra touches is restored: after an umbra frame, three.js draws another scene
-//   exactly as a fresh renderer does; a scene without casters, umbra.enabled = false, and an
-//   OrthographicCamera (refused with an entry in umbra.errors) give three.js's own image;
+//   exactly as a fresh renderer does (also with three.js's reversedDepthBuffer); a scene
+//   without casters, umbra.enabled = false, an OrthographicCamera (refused with an entry in
+//   umbra.errors) and a plain renderer.render() after an umbra frame give three.js's own image;
+//   three.js's shadow maps stay off inside umbra's frame and the user's setting comes back;
 // * the user's renderer with stencil on or off and antialias on or off: the same decision,
 //   and the shading follows it;
 // * a mesh's world transform and a light may change every frame without re-preparing.
@@ -201,7 +203,29 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     }
     fresh.render(d.scene, ortho);
     const orthographic = differing(pixels(renderer), pixels(fresh));
-    return { shadowed, afterUmbra, noCasters, disabled, orthographic, threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
+    // A plain renderer.render() of the shadowed scene right after an umbra frame: three.js's own image.
+    umbra.render(a.scene, a.camera);
+    renderer.render(a.scene, a.camera);
+    fresh.render(d.scene, d.camera);
+    const plainAfter = differing(pixels(renderer), pixels(fresh));
+    // three.js's shadow maps left on by the user: off inside umbra's frame, on again after it.
+    umbra.render(a.scene, a.camera);
+    const withoutMaps = pixels(renderer);
+    renderer.shadowMap.enabled = true;
+    umbra.render(a.scene, a.camera);
+    const mapsOn = differing(pixels(renderer), withoutMaps);
+    const mapsRestored = renderer.shadowMap.enabled;
+    // A renderer with three.js's own reversed depth buffer (it sets clip control itself).
+    const rev = makeRenderer({ reversedDepthBuffer: true });
+    const revFresh = makeRenderer({ reversedDepthBuffer: true });
+    const revUmbra = await UmbraShadows.create(rev);
+    const e = makeScene();
+    revUmbra.render(e.scene, e.camera);
+    const reversedShadowed = zeros(revUmbra.readMask(e.light));
+    rev.render(other, a.camera);
+    revFresh.render(other, a.camera);
+    const reversed = differing(pixels(rev), pixels(revFresh));
+    return { shadowed, afterUmbra, noCasters, disabled, orthographic, plainAfter, mapsOn, mapsRestored, reversed, reversedShadowed, threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
   });
   console.log(JSON.stringify(r));
   assert.ok(r.shadowed > 200, 'the umbra frame had a shadow');
@@ -211,6 +235,11 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
   assert.equal(r.threw, null);
   assert.equal(r.orthographic, 0, 'OrthographicCamera: not three.js\'s own image');
   assert.ok(r.errors.some((e) => /OrthographicCamera: umbra-three draws shadows for a PerspectiveCamera only/.test(e)), r.errors.join('\n'));
+  assert.equal(r.plainAfter, 0, 'renderer.render() after an umbra frame: not three.js\'s own image');
+  assert.equal(r.mapsOn, 0, 'shadowMap.enabled = true changed umbra\'s frame');
+  assert.equal(r.mapsRestored, true, 'shadowMap.enabled is the user\'s again');
+  assert.ok(r.reversedShadowed > 200, 'reversedDepthBuffer: umbra still shadows');
+  assert.equal(r.reversed, 0, 'reversedDepthBuffer: three.js after an umbra frame differs from a fresh renderer');
 });
 
 test('stencil on/off, antialias on/off: the same decision, and the shading follows it', { skip }, async () => {

@@ -109,7 +109,17 @@ export class UmbraShadows {
       this.channels = new Map();
       this.setSelects(new Map(), new Map());
     }
-    this.renderer.render(scene, camera);
+    // three.js's shadow maps stay off in umbra's frame (a light would be shadowed twice);
+    // the selects go back to "lit" after it, so that a plain renderer.render() of the same
+    // scene (three.js's own shadow maps, say) is three.js's own image.
+    const shadowMap = this.renderer.shadowMap.enabled;
+    if (this.enabled) this.renderer.shadowMap.enabled = false;
+    try {
+      this.renderer.render(scene, camera);
+    } finally {
+      this.renderer.shadowMap.enabled = shadowMap;
+      this.setSelects(new Map(), new Map());
+    }
   }
 
   setSelects(slots, channels) {
@@ -199,7 +209,9 @@ export class UmbraShadows {
     const meshes = [];
     const visit = (o) => {
       if (o.visible === false) return;
-      if (o.isMesh && o.layers.test(camera.layers)) meshes.push(o);
+      // A mesh whose every material is invisible is not drawn by three.js: not in the depth pass.
+      const materials = Array.isArray(o.material) ? o.material : [o.material];
+      if (o.isMesh && o.layers.test(camera.layers) && materials.some((m) => m && m.visible !== false)) meshes.push(o);
       for (const c of o.children) visit(c);
     };
     visit(scene);
