@@ -13,8 +13,8 @@
 //   and the shading follows it;
 // * a mesh's world transform and a light may change every frame without re-preparing.
 //
-// Needs: /usr/bin/chromium (skipped with a message when absent), the wasm module (node
-// build-wasm.mjs), `npm ci` in web/. Run: cd web && node --test test/
+// Needs: /usr/bin/chromium and the wasm module (node build-wasm.mjs), the test skipped with a
+// message when either is absent; `npm ci` in web/. Run: cd web && node --test test/
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { existsSync } from 'node:fs';
@@ -29,7 +29,9 @@ import { launch } from '../testlib/exactness.mjs';
 const here = path.dirname(fileURLToPath(import.meta.url));
 const webDir = path.join(here, '..');
 const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
-const skip = existsSync(CHROMIUM) ? false : `${CHROMIUM} is absent (apt-get install chromium): umbra-three browser test skipped`;
+const WASM = path.join(webDir, 'umbra-geom-wasm', 'umbra_wasm.wasm');
+const skip = !existsSync(CHROMIUM) ? `${CHROMIUM} is absent (apt-get install chromium): umbra-three browser test skipped`
+  : !existsSync(WASM) ? `${WASM} is absent (node build-wasm.mjs): umbra-three browser test skipped` : false;
 if (skip) console.log(`SKIP: ${skip}`);
 
 const PAGE = `<!doctype html>
