@@ -219,6 +219,7 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     umbra.render(a.scene, a.camera);
     const mapsOn = differing(pixels(renderer), withoutMaps);
     const mapsRestored = renderer.shadowMap.enabled;
+    renderer.shadowMap.enabled = false;
     // A renderer with three.js's own reversed depth buffer (it sets clip control itself).
     const rev = makeRenderer({ reversedDepthBuffer: true });
     const revFresh = makeRenderer({ reversedDepthBuffer: true });
@@ -226,10 +227,17 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     const e = makeScene();
     revUmbra.render(e.scene, e.camera);
     const reversedShadowed = zeros(revUmbra.readMask(e.light));
-    rev.render(other, a.camera);
-    revFresh.render(other, a.camera);
+    // Its own camera: three.js sets a camera's projection for the renderer's depth convention.
+    rev.render(other, e.camera);
+    revFresh.render(other, e.camera);
     const reversed = differing(pixels(rev), pixels(revFresh));
-    return { shadowed, afterUmbra, noCasters, disabled, orthographic, plainAfter, mapsOn, mapsRestored, reversed, reversedShadowed, threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
+    // dispose(): umbra's GL objects freed, render() is three.js's own frame from then on.
+    umbra.dispose();
+    umbra.render(a.scene, a.camera);
+    fresh.render(d.scene, d.camera);
+    const disposed = differing(pixels(renderer), pixels(fresh));
+    const glError = renderer.getContext().getError();
+    return { shadowed, afterUmbra, noCasters, disabled, orthographic, plainAfter, mapsOn, mapsRestored, reversed, reversedShadowed, disposed, glError,  threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
   });
   console.log(JSON.stringify(r));
   assert.ok(r.shadowed > 200, 'the umbra frame had a shadow');
@@ -244,6 +252,8 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
   assert.equal(r.mapsRestored, true, 'shadowMap.enabled is the user\'s again');
   assert.ok(r.reversedShadowed > 200, 'reversedDepthBuffer: umbra still shadows');
   assert.equal(r.reversed, 0, 'reversedDepthBuffer: three.js after an umbra frame differs from a fresh renderer');
+  assert.equal(r.disposed, 0, 'after dispose(): not three.js\'s own image');
+  assert.equal(r.glError, 0, 'a GL error');
 });
 
 test('stencil on/off, antialias on/off: the same decision, and the shading follows it', { skip }, async () => {

@@ -58,7 +58,7 @@ export class UmbraShadows {
   maskChannel(light: Light): number;
   /** The light's decision of the last frame: width * height bytes, rows top-down, 255 lit / 0 shadowed; or null. */
   readMask(light: Light): Uint8Array | null;
-  /** Frees umbra's GL objects; patched materials then see every light as lit. */
+  /** Frees umbra's GL objects; render() is then renderer.render() and patched materials see every light as lit. */
   dispose(): void;
 }
 

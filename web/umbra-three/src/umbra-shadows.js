@@ -48,6 +48,7 @@ export class UmbraShadows {
     }
     renderer.resetState();
     this.enabled = true;
+    this.disposed = false;
     this.timing = false;
     this.errors = [];
     this.onError = null;
@@ -96,7 +97,7 @@ export class UmbraShadows {
   /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */
   render(scene, camera) {
     let shadowed = false;
-    if (this.enabled) {
+    if (this.enabled && !this.disposed) {
       try {
         shadowed = this.drawDecisions(scene, camera);
       } catch (e) {
@@ -296,8 +297,10 @@ export class UmbraShadows {
     return out;
   }
 
-  /** Frees umbra's GL objects; patched materials then see every light as lit. */
+  /** Frees umbra's GL objects; render() is then renderer.render() and patched materials see every light as lit. */
   dispose() {
+    if (this.disposed) return;
+    this.disposed = true;
     for (const o of this.owned) {
       if (o.dispose) o.dispose();
       else this.drawer.deleteMeshBuffers(o);
