@@ -288,7 +288,7 @@ export class UmbraShadows {
 
   /**
    * `light`'s decision of the last frame: Uint8Array of width * height, rows top-down, 255 lit /
-   * 0 shadowed; null when the last frame did not shadow that light.
+   * 0 shadowed (0 where no surface is seen); null when the last frame did not shadow that light.
    */
   readMask(light) {
     if (!this.channels.has(light)) return null;
