@@ -11,7 +11,7 @@
 // size=WxH (fixed canvas size), mask=1, shadows=0, light=X,Y,Z[,W] (W = 0: directional),
 // light2=X,Y,Z[,W] (a second shadowed light), eye=X,Y,Z, target=X,Y,Z, up=X,Y,Z, fov=DEG,
 // near=D, offset=X,Y,Z (the model's world translation; the camera and light stay in world
-// space), antialias=1, and the diagnostics clamp=0 (no EXT_depth_clamp), depth=standard (no
+// space), antialias=1, timing=1 (umbra.info.passes: each pass waited for), and the diagnostics clamp=0 (no EXT_depth_clamp), depth=standard (no
 // reversed-Z even when EXT_clip_control is offered), snap=N (every vertex on a 1/N-pixel grid),
 // nowebgl=1 / nostencil=1 (a browser without WebGL 2 / a canvas without a stencil buffer).
 // The page's state is in document.body.dataset.state: loading, ready, error; on error the
@@ -141,6 +141,7 @@ async function start() {
   status.depth = umbra.depth;
   status.depthClamp = params.get('clamp') !== '0';
   status.errors = umbra.errors;
+  umbra.timing = params.get('timing') === '1';
 
   // The scene: an export or a model file, as BufferGeometries.
   let geometries;

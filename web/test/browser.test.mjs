@@ -29,8 +29,8 @@
 //
 // Needs: the umbra binary (UMBRA_BIN, else $CARGO_TARGET_DIR/release/umbra, else
 // target/release/umbra: build it with `cargo build --release -p umbra-cli`), the wasm module
-// (node build-wasm.mjs), /usr/bin/chromium (apt-get install chromium; skipped with a message
-// when absent), `npm ci` in web/.
+// (node build-wasm.mjs) and /usr/bin/chromium (apt-get install chromium) — the test is
+// skipped with a message when either is absent — and `npm ci` in web/.
 // Run: cd web && node --test test/
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -66,7 +66,9 @@ function umbraBin() {
   return found;
 }
 
-const skip = existsSync(CHROMIUM) ? false : `${CHROMIUM} is absent (apt-get install chromium): browser test skipped`;
+const WASM = path.join(webDir, 'umbra-geom-wasm', 'umbra_wasm.wasm');
+const skip = !existsSync(CHROMIUM) ? `${CHROMIUM} is absent (apt-get install chromium): browser test skipped`
+  : !existsSync(WASM) ? `${WASM} is absent (node build-wasm.mjs): browser test skipped` : false;
 if (skip) console.log(`SKIP: ${skip}`);
 const sharedMissing = SHARED.filter((s) => !existsSync(path.join(SCENES_DIR, s)));
 const skipShared = skip || (sharedMissing.length ? `${sharedMissing.join(', ')} absent from ${SCENES_DIR} (UMBRA_SCENES): shared-scene browser test skipped` : false);

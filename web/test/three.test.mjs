@@ -5,14 +5,18 @@
 //   umbra.errors naming each mesh, once, and onError; umbra.render never throws; the frame is
 //   drawn and the good caster still shadows;
 // * the GL state umbra touches is restored: after an umbra frame, three.js draws another scene
-//   exactly as a fresh renderer does; a scene without casters, umbra.enabled = false, and an
-//   OrthographicCamera (refused with an entry in umbra.errors) give three.js's own image;
+//   exactly as a fresh renderer does (also with three.js's reversedDepthBuffer); a scene
+//   without casters, umbra.enabled = false, an OrthographicCamera (refused with an entry in
+//   umbra.errors) and a plain renderer.render() after an umbra frame give three.js's own image;
+//   three.js's shadow maps stay off inside umbra's frame and the user's setting comes back;
 // * the user's renderer with stencil on or off and antialias on or off: the same decision,
 //   and the shading follows it;
-// * a mesh's world transform and a light may change every frame without re-preparing.
+// * a mesh's world transform and a light may change every frame without re-preparing;
+// * the light order: a shadowed light added after an unshadowed one is multiplied by its own
+//   decision (three.js puts shadow-casting lights first), pixel for pixel.
 //
-// Needs: /usr/bin/chromium (skipped with a message when absent), the wasm module (node
-// build-wasm.mjs), `npm ci` in web/. Run: cd web && node --test test/
+// Needs: /usr/bin/chromium and the wasm module (node build-wasm.mjs), the test skipped with a
+// message when either is absent; `npm ci` in web/. Run: cd web && node --test test/
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { existsSync } from 'node:fs';
@@ -27,7 +31,9 @@ import { launch } from '../testlib/exactness.mjs';
 const here = path.dirname(fileURLToPath(import.meta.url));
 const webDir = path.join(here, '..');
 const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
-const skip = existsSync(CHROMIUM) ? false : `${CHROMIUM} is absent (apt-get install chromium): umbra-three browser test skipped`;
+const WASM = path.join(webDir, 'umbra-geom-wasm', 'umbra_wasm.wasm');
+const skip = !existsSync(CHROMIUM) ? `${CHROMIUM} is absent (apt-get install chromium): umbra-three browser test skipped`
+  : !existsSync(WASM) ? `${WASM} is absent (node build-wasm.mjs): umbra-three browser test skipped` : false;
 if (skip) console.log(`SKIP: ${skip}`);
 
 const PAGE = `<!doctype html>
@@ -201,7 +207,37 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     }
     fresh.render(d.scene, ortho);
     const orthographic = differing(pixels(renderer), pixels(fresh));
-    return { shadowed, afterUmbra, noCasters, disabled, orthographic, threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
+    // A plain renderer.render() of the shadowed scene right after an umbra frame: three.js's own image.
+    umbra.render(a.scene, a.camera);
+    renderer.render(a.scene, a.camera);
+    fresh.render(d.scene, d.camera);
+    const plainAfter = differing(pixels(renderer), pixels(fresh));
+    // three.js's shadow maps left on by the user: off inside umbra's frame, on again after it.
+    umbra.render(a.scene, a.camera);
+    const withoutMaps = pixels(renderer);
+    renderer.shadowMap.enabled = true;
+    umbra.render(a.scene, a.camera);
+    const mapsOn = differing(pixels(renderer), withoutMaps);
+    const mapsRestored = renderer.shadowMap.enabled;
+    renderer.shadowMap.enabled = false;
+    // A renderer with three.js's own reversed depth buffer (it sets clip control itself).
+    const rev = makeRenderer({ reversedDepthBuffer: true });
+    const revFresh = makeRenderer({ reversedDepthBuffer: true });
+    const revUmbra = await UmbraShadows.create(rev);
+    const e = makeScene();
+    revUmbra.render(e.scene, e.camera);
+    const reversedShadowed = zeros(revUmbra.readMask(e.light));
+    // Its own camera: three.js sets a camera's projection for the renderer's depth convention.
+    rev.render(other, e.camera);
+    revFresh.render(other, e.camera);
+    const reversed = differing(pixels(rev), pixels(revFresh));
+    // dispose(): umbra's GL objects freed, render() is three.js's own frame from then on.
+    umbra.dispose();
+    umbra.render(a.scene, a.camera);
+    fresh.render(d.scene, d.camera);
+    const disposed = differing(pixels(renderer), pixels(fresh));
+    const glError = renderer.getContext().getError();
+    return { shadowed, afterUmbra, noCasters, disabled, orthographic, plainAfter, mapsOn, mapsRestored, reversed, reversedShadowed, disposed, glError,  threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
   });
   console.log(JSON.stringify(r));
   assert.ok(r.shadowed > 200, 'the umbra frame had a shadow');
@@ -211,6 +247,13 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
   assert.equal(r.threw, null);
   assert.equal(r.orthographic, 0, 'OrthographicCamera: not three.js\'s own image');
   assert.ok(r.errors.some((e) => /OrthographicCamera: umbra-three draws shadows for a PerspectiveCamera only/.test(e)), r.errors.join('\n'));
+  assert.equal(r.plainAfter, 0, 'renderer.render() after an umbra frame: not three.js\'s own image');
+  assert.equal(r.mapsOn, 0, 'shadowMap.enabled = true changed umbra\'s frame');
+  assert.equal(r.mapsRestored, true, 'shadowMap.enabled is the user\'s again');
+  assert.ok(r.reversedShadowed > 200, 'reversedDepthBuffer: umbra still shadows');
+  assert.equal(r.reversed, 0, 'reversedDepthBuffer: three.js after an umbra frame differs from a fresh renderer');
+  assert.equal(r.disposed, 0, 'after dispose(): not three.js\'s own image');
+  assert.equal(r.glError, 0, 'a GL error');
 });
 
 test('stencil on/off, antialias on/off: the same decision, and the shading follows it', { skip }, async () => {
@@ -274,4 +317,51 @@ test('a moving caster and a moving light: the shadow follows without re-preparin
   assert.ok(r.moved > 50, 'moving the box moves its shadow');
   assert.ok(r.lit > 50, 'moving the light moves the shadow');
   assert.ok(r.samePrepare, 'no topology prepared again for a transform or a light');
+});
+
+test('light order: a shadow-casting light added after another lands on its own uniform (three.js sorts casters first)', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const build = (withA, withB) => {
+      const s = makeScene();
+      s.scene.remove(s.light);
+      // A: no umbra shadow, added first; B: umbra's, added second, on the other side.
+      const a = new THREE.PointLight(0xff0000, 6, 0, 0);
+      a.position.set(-3, 4, 0);
+      const b = new THREE.PointLight(0x00ff00, 6, 0, 0);
+      b.position.set(3, 4, 1);
+      b.castShadow = true;
+      if (withA) s.scene.add(a);
+      if (withB) s.scene.add(b);
+      return { ...s, b };
+    };
+    const renderer = makeRenderer();
+    const fresh = makeRenderer();
+    const umbra = await UmbraShadows.create(renderer);
+    const both = build(true, true);
+    umbra.render(both.scene, both.camera);
+    const mask = umbra.readMask(both.b);
+    const shaded = pixels(renderer);
+    const onlyA = build(true, false);
+    fresh.render(onlyA.scene, onlyA.camera);
+    const refA = pixels(fresh);
+    const bothPlain = build(true, true);
+    fresh.render(bothPlain.scene, bothPlain.camera);
+    const refBoth = pixels(fresh);
+    // Shadowed by B: as if B were absent; lit by B: both lights. Rows: readMask top-down.
+    const w = 160, h = 120;
+    let wrong = 0, shadowed = 0;
+    for (let y = 0; y < h; y++) for (let x = 0; x < w; x++) {
+      const p = 4 * ((h - 1 - y) * w + x);
+      const ref = mask[y * w + x] ? refBoth : refA;
+      if (!mask[y * w + x]) shadowed++;
+      if ([0, 1, 2].some((c) => Math.abs(shaded[p + c] - ref[p + c]) > 1)) wrong++;
+    }
+    return { wrong, shadowed, differs: differing(refA, refBoth) };
+  });
+  console.log(JSON.stringify(r));
+  assert.ok(r.shadowed > 1000 && r.differs > 5000, 'B shadows part of the view and lights the rest');
+  // Only silhouette pixels, where three.js's rasteriser and umbra's depth pass may show
+  // different surfaces, may differ.
+  assert.ok(r.wrong < 60, `${r.wrong} pixels shaded as neither "B shadowed" nor "B lit"`);
 });

@@ -56,9 +56,9 @@ export class UmbraShadows {
   maskTexture(light: Light): Texture | null;
   /** The RGBA channel of maskTexture(light) with the light's decision (1 lit, 0 shadowed), or -1. */
   maskChannel(light: Light): number;
-  /** The light's decision of the last frame: width * height bytes, rows top-down, 255 lit / 0 shadowed; or null. */
+  /** The light's decision of the last frame: width * height bytes, rows top-down, 255 lit / 0 shadowed (0 where no surface is seen); or null. */
   readMask(light: Light): Uint8Array | null;
-  /** Frees umbra's GL objects; patched materials then see every light as lit. */
+  /** Frees umbra's GL objects; render() is then renderer.render() and patched materials see every light as lit. */
   dispose(): void;
 }
 

@@ -48,6 +48,7 @@ export class UmbraShadows {
     }
     renderer.resetState();
     this.enabled = true;
+    this.disposed = false;
     this.timing = false;
     this.errors = [];
     this.onError = null;
@@ -96,7 +97,7 @@ export class UmbraShadows {
   /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */
   render(scene, camera) {
     let shadowed = false;
-    if (this.enabled) {
+    if (this.enabled && !this.disposed) {
       try {
         shadowed = this.drawDecisions(scene, camera);
       } catch (e) {
@@ -109,7 +110,17 @@ export class UmbraShadows {
       this.channels = new Map();
       this.setSelects(new Map(), new Map());
     }
-    this.renderer.render(scene, camera);
+    // three.js's shadow maps stay off in umbra's frame (a light would be shadowed twice);
+    // the selects go back to "lit" after it, so that a plain renderer.render() of the same
+    // scene (three.js's own shadow maps, say) is three.js's own image.
+    const shadowMap = this.renderer.shadowMap.enabled;
+    if (this.enabled) this.renderer.shadowMap.enabled = false;
+    try {
+      this.renderer.render(scene, camera);
+    } finally {
+      this.renderer.shadowMap.enabled = shadowMap;
+      this.setSelects(new Map(), new Map());
+    }
   }
 
   setSelects(slots, channels) {
@@ -199,7 +210,9 @@ export class UmbraShadows {
     const meshes = [];
     const visit = (o) => {
       if (o.visible === false) return;
-      if (o.isMesh && o.layers.test(camera.layers)) meshes.push(o);
+      // A mesh whose every material is invisible is not drawn by three.js: not in the depth pass.
+      const materials = Array.isArray(o.material) ? o.material : [o.material];
+      if (o.isMesh && o.layers.test(camera.layers) && materials.some((m) => m && m.visible !== false)) meshes.push(o);
       for (const c of o.children) visit(c);
     };
     visit(scene);
@@ -275,7 +288,7 @@ export class UmbraShadows {
 
   /**
    * `light`'s decision of the last frame: Uint8Array of width * height, rows top-down, 255 lit /
-   * 0 shadowed; null when the last frame did not shadow that light.
+   * 0 shadowed (0 where no surface is seen); null when the last frame did not shadow that light.
    */
   readMask(light) {
     if (!this.channels.has(light)) return null;
@@ -284,8 +297,10 @@ export class UmbraShadows {
     return out;
   }
 
-  /** Frees umbra's GL objects; patched materials then see every light as lit. */
+  /** Frees umbra's GL objects; render() is then renderer.render() and patched materials see every light as lit. */
   dispose() {
+    if (this.disposed) return;
+    this.disposed = true;
     for (const o of this.owned) {
       if (o.dispose) o.dispose();
       else this.drawer.deleteMeshBuffers(o);
