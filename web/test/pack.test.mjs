@@ -1,5 +1,6 @@
-// umbra-three as users install it: `npm pack` of web/umbra-three (built: dist/), the tarball and
-// three@0.187.0 installed from npm into an empty folder outside the repository, and a page
+// umbra-three as users install it: `npm pack` of web/umbra-three (its prepack script builds
+// dist/), the tarball and three@0.187.0 installed from npm into an empty folder outside the
+// repository, and a page
 // there (import map, no bundler, three.js's OBJLoader from the installed three) that draws a
 // small scene with the package in Debian's Chromium (SwiftShader). Asserts:
 // * the tarball holds what package.json's "files" names (the module, the wasm, the types, the
@@ -10,7 +11,7 @@
 // * with the umbra binary: `umbra verify --external-mask` of that mask, with the same eye,
 //   target, light and near plane (from `umbra export`'s manifest), 0 samples outside the band.
 // Skipped with a message when the npm registry cannot be reached or Chromium is absent.
-// Needs the package built (node build-wasm.mjs && node umbra-three/build.mjs, in web/).
+// Needs the wasm module the package's build copies (node build-wasm.mjs, in web/) and `npm ci`.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync, spawnSync } from 'node:child_process';
@@ -90,11 +91,11 @@ if (skip) console.log(`SKIP: ${skip}`);
 let tmp, app, tarball;
 before(async () => {
   if (skip) return;
-  if (!existsSync(path.join(packageDir, 'dist', 'index.js'))) throw new Error(`${packageDir}/dist is missing: build the package first (node build-wasm.mjs && node umbra-three/build.mjs, in web/)`);
   tmp = await mkdtemp(path.join(tmpdir(), 'umbra-pack-'));
   const packed = npm(['pack', '--json', '--pack-destination', tmp], packageDir);
   assert.equal(packed.status, 0, `npm pack: ${packed.stderr}`);
-  const [info] = JSON.parse(packed.stdout);
+  // The JSON report follows whatever the package's prepack script (its build) printed.
+  const [info] = JSON.parse(packed.stdout.slice(packed.stdout.search(/^\[/m)));
   tarball = { file: path.join(tmp, info.filename), files: info.files.map((f) => f.path) };
   // An empty project outside the repository, as a user starts one.
   app = path.join(tmp, 'app');
