@@ -1,8 +1,8 @@
 // umbra-three as users install it: `npm pack` of web/umbra-three (its prepack script builds
 // dist/), the tarball and three@0.187.0 installed from npm into an empty folder outside the
-// repository, and a page
-// there (import map, no bundler, three.js's OBJLoader from the installed three) that draws a
-// small scene with the package in Debian's Chromium (SwiftShader). Asserts:
+// repository, and a page there (import map, no bundler, three.js's OBJLoader from the
+// installed three) that draws a small scene with the package in Debian's Chromium
+// (SwiftShader). Asserts:
 // * the tarball holds what package.json's "files" names (the module, the wasm, the types, the
 //   README) and nothing of the sources;
 // * the page gets to `ready`, no mesh refused;
