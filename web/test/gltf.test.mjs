@@ -1,8 +1,9 @@
 // The glTF example (examples/gltf/) in a real browser: Debian's Chromium on SwiftShader and on
 // ANGLE over the system's EGL (Mesa llvmpipe), driven by playwright-core.
 //
-// * Its mask (umbra.readMask of the first light, the page's `mask=1` view) judged by the oracle,
-//   `umbra verify --external-mask` with the flags the page was given (testlib/exactness.mjs):
+// * Its mask (umbra.readMask of the first light, which the page's `mask=1` view shows, pixel for
+//   pixel) judged by the oracle, `umbra verify --external-mask` with the flags the page was
+//   given (testlib/exactness.mjs):
 //   0 samples outside the band for the default model (scene.gltf: a torus knot, an open wall,
 //   nodes with rotations and scales) with its default point light, with a directional light,
 //   and for an OBJ through `model=`. The page's view is umbra's (test/gltf-view.test.mjs), so
@@ -81,6 +82,12 @@ async function maskOf(ctx, query, name) {
     for (let i = 0; i < W * H; i++) rgba.set([bytes[i], bytes[i], bytes[i], 255], 4 * i);
     const png = path.join(tmp, `${name}.png`);
     await writeFile(png, encodePng(W, H, rgba));
+    // The mask view on the canvas (mask=1) is that decision, pixel for pixel.
+    const shown = Buffer.from(await page.evaluate(() => window.umbra.readCanvas()), 'latin1');
+    assert.equal(shown.length, W * H, 'canvas size');
+    let differ = 0;
+    for (let i = 0; i < W * H; i++) if (shown[i] !== bytes[i]) differ += 1;
+    assert.equal(differ, 0, 'pixels where the mask view differs from readMask');
     const shadowed = bytes.filter((v) => v === 0).length;
     const lit = bytes.filter((v) => v === 255).length;
     return { status, png, shadowed, lit };

@@ -12,7 +12,8 @@
 // State: document.body.dataset.state (loading, ready, error) and window.umbra: { state, error,
 // frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), view, errors (meshes
 // umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
-// shadowed, as a latin1 string), redraw() }.
+// shadowed, as a latin1 string), readCanvas() (a frame drawn and its red channel read back
+// the same way), redraw() }.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { UmbraShadows } from 'umbra-three';
@@ -209,6 +210,20 @@ async function start() {
     }
   };
   status.redraw = redraw;
+  // A frame drawn now and the canvas read back in the same task (before the drawing buffer is
+  // presented): its red channel, rows top-down, as a latin1 string (the tests' view of mask=1).
+  status.readCanvas = () => {
+    frame();
+    const rgba = new Uint8Array(width * height * 4);
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+    let s = '';
+    for (let y = height - 1; y >= 0; y--) {
+      const row = new Uint8Array(width);
+      for (let x = 0; x < width; x++) row[x] = rgba[4 * (y * width + x)];
+      s += String.fromCharCode.apply(null, row);
+    }
+    return s;
+  };
 
   controls.target.set(...view.target);
   controls.addEventListener('change', redraw);
