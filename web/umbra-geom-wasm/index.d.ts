@@ -13,6 +13,24 @@ export interface GeometryInput {
   positions: Float32Array | ArrayLike<number>;
   /** Three vertex numbers per triangle; without it, vertices 3t, 3t + 1, 3t + 2 form triangle t. */
   index?: Uint16Array | Uint32Array | ArrayLike<number> | null;
+  /** Also build the geometry's z-pass test (PreparedGeometry.clearance). */
+  clearance?: boolean;
+}
+
+/**
+ * The z-pass test of one prepared geometry (umbra_geom::clearance::ClearanceIndex::near_winding,
+ * with its welded mesh and edge adjacency), kept in the module's memory until free().
+ */
+export interface Clearance {
+  /**
+   * W0, the number of this geometry's shadow volumes every point of the hull of `points` (the
+   * eye and the near-plane corners, x y z each, in the geometry's own space) lies in, towards
+   * `light` (x y z w, w = 0 directional; the f32 value the volumes are drawn with); null when it
+   * is not provably one count (z-fail).
+   */
+  nearWinding(points: Float64Array | ArrayLike<number>, light: Float32Array | ArrayLike<number>): number | null;
+  /** Frees the module memory it holds (nearWinding then throws). */
+  free(): void;
 }
 
 /** The counts `umbra export` writes in its manifest, and what welding dropped. */
@@ -48,6 +66,8 @@ export interface PreparedGeometry {
   /** Opposite-vertex slots per edge record (at least 1, at most 14). */
   maxMult: number;
   counts: PreparedCounts;
+  /** The z-pass test, when prepare() was asked for it (`clearance: true`). */
+  clearance?: Clearance;
   /** Bounds of the vertices the triangles use; null without triangles. */
   bounds: { min: [number, number, number]; max: [number, number, number] } | null;
 }

@@ -5,11 +5,13 @@
 //
 // Browser: `const geom = await loadUmbraGeom()` fetches umbra_wasm.wasm next to this file
 // (or pass its URL). Node: pass the bytes, `await loadUmbraGeom(await readFile(wasmPath))`.
-// Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md.
+// Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md. With
+// `clearance: true` the result also carries the geometry's z-pass test (`nearWinding`,
+// crates/umbra-wasm/src/clearance.rs), which lives in the module until `free()`.
 // Build the .wasm: node ../build-wasm.mjs.
 
 /** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
-const ABI_VERSION = 1;
+const ABI_VERSION = 2;
 
 /** Buffer numbers of `umbra_result_buffer_ptr` and the typed arrays they are read as. */
 const BUFFERS = [
@@ -71,7 +73,39 @@ export async function loadUmbraGeom(source) {
     return ptr;
   };
 
-  function prepare({ name = 'geometry', positions, index } = {}) {
+  // A handle of umbra_result_clearance: the z-pass test of one geometry, asked per frame.
+  function clearanceOf(handle) {
+    let live = handle;
+    // Scratch blocks for the points (f64) and the light (f32), grown as needed.
+    let points = 0;
+    let pointsBytes = 0;
+    const light = alloc(16);
+    return {
+      nearWinding(p, l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: nearWinding after free()');
+        if (8 * p.length > pointsBytes) {
+          if (points) w.umbra_free(points, pointsBytes);
+          points = 0;
+          pointsBytes = 8 * p.length;
+          points = alloc(pointsBytes);
+        }
+        const memory = w.memory.buffer;
+        new Float64Array(memory, points, p.length).set(p);
+        new Float32Array(memory, light, 4).set(l);
+        const r = w.umbra_clearance_near_winding(live, points, p.length, light);
+        return r < 0 ? null : r;
+      },
+      free() {
+        if (!live) return;
+        w.umbra_clearance_free(live);
+        if (points) w.umbra_free(points, pointsBytes);
+        w.umbra_free(light, 16);
+        live = 0;
+      },
+    };
+  }
+
+  function prepare({ name = 'geometry', positions, index, clearance = false } = {}) {
     name = String(name);
     const nameBytes = encoder.encode(name);
     const positionsLength = positions?.length ?? 0;
@@ -106,6 +140,11 @@ export async function loadUmbraGeom(source) {
       const b = u(w.umbra_result_bounds(result));
       const bounds = b ? Array.from(new Float32Array(out, b, 6)) : null;
       prepared.bounds = bounds && { min: bounds.slice(0, 3), max: bounds.slice(3) };
+      if (clearance) {
+        const handle = u(w.umbra_result_clearance(result));
+        if (handle === 0) throw new UmbraGeomError(`${name}: umbra-wasm could not build the z-pass test`);
+        prepared.clearance = clearanceOf(handle);
+      }
       return prepared;
     } finally {
       if (result) w.umbra_result_free(result);

@@ -5,7 +5,9 @@
 //   1. depth of every visible mesh (depth.vert.glsl), once per frame;
 //   per light (up to 4, a channel of the RGBA8 mask target each):
 //   2. each caster's triangles oriented towards the light, then its volumes into the stencil
-//      (sides always, caps for z-fail; volumes.js), colour and depth masked;
+//      (sides always, caps for z-fail; volumes.js), colour and depth masked: z-pass from the
+//      stencil start sum(W0) when the caller proved the eye's near pyramid inside one count
+//      for every caster (f.zpass[k], umbra_geom::clearance), z-fail otherwise;
 //   3. the mask pass (mask.frag.glsl): 1 into the light's channel where stencil == 0, depth
 //      EQUAL and the seen side faces the light, 0 elsewhere.
 // Meshes are drawn in their own space with their clip-from-object matrix, and volumes with the
@@ -145,7 +147,8 @@ export class WebGLDrawer {
    * (the caller then calls renderer.resetState()).
    * @param {{width: number, height: number, snap?: number, timing?: object|null,
    *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null}[],
-   *   lights: number}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space
+   *   lights: number, zpass?: (number|null)[]}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space;
+   *   zpass[k]: light k's z-pass stencil start (sum of W0 mod 256), or null/absent for z-fail
    */
   frame(f) {
     const gl = this.gl;
@@ -204,26 +207,38 @@ export class WebGLDrawer {
 
     for (let k = 0; k < f.lights; k++) {
       const casters = f.meshes.filter((m) => m.volumes);
+      const start = f.zpass?.[k] ?? null;
+      const zpass = start !== null;
       if (casters.length) {
+        // The count starts at 0 (z-fail), or at W0 (z-pass: the eye's near pyramid lies in
+        // W0 volumes, so a sample's count W(p) - W0 + W0 is 0 exactly when it is lit).
         gl.stencilMask(0xff);
+        gl.clearStencil(zpass ? start : 0);
         gl.clear(gl.STENCIL_BUFFER_BIT);
+        gl.clearStencil(0);
         for (const m of casters) {
           const light = m.lights[k];
           // Each triangle of the caster oriented once towards the light (leaves the
           // framebuffer unbound and depth, stencil, blend off).
           m.volumes.prepare(light);
           bindTarget();
-          // Pass 2: z-fail counting (state.rs shadow_volume_for(false, convention)): stencil
-          // test always passes; back faces behind the sample +1, front faces behind it -1,
-          // wrapping (exact modulo 256); depth func strictly nearer (caps at the far plane
-          // fail everywhere, background included); no depth or colour writes; no culling
-          // (both faces count in one pass); CCW = outward = front.
+          // Pass 2: counting (state.rs shadow_volume_for(zpass, convention)): stencil test
+          // always passes; z-fail: back faces behind the sample +1, front faces behind it -1;
+          // z-pass: front faces in front of it +1, back faces in front of it -1; wrapping
+          // (exact modulo 256); depth func strictly nearer (caps at the far plane fail
+          // everywhere, background included, so z-pass may leave them out); no depth or
+          // colour writes; no culling (both faces count in one pass); CCW = outward = front.
           gl.enable(gl.DEPTH_TEST);
           gl.enable(gl.STENCIL_TEST);
           gl.stencilFunc(gl.ALWAYS, 0, 0xff);
           gl.stencilMask(0xff);
-          gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.DECR_WRAP, gl.KEEP);
-          gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.INCR_WRAP, gl.KEEP);
+          if (zpass) {
+            gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.KEEP, gl.INCR_WRAP);
+            gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.KEEP, gl.DECR_WRAP);
+          } else {
+            gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.DECR_WRAP, gl.KEEP);
+            gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.INCR_WRAP, gl.KEEP);
+          }
           gl.depthFunc(nearer);
           gl.depthMask(false);
           gl.colorMask(false, false, false, false);
@@ -231,7 +246,7 @@ export class WebGLDrawer {
           // Nothing of a volume may be clipped (state.rs): depth clamp when available (the
           // volume program clips to the viewport, and light caps to the near plane, itself).
           if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
-          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height] });
+          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height], caps: !zpass });
           if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
         }
         lap('volumes');

@@ -188,9 +188,12 @@ export class ShadowVolumes {
    * set through the polygon pass, then the fan pass. `clipFromWorld`: this caster's clip
    * from object matrix, the one the depth pass drew it with; `light` in object space. `farClipZ`: VolumeFrame::far_clip_z of
    * the depth convention (1 standard, 0 reversed-Z); `snap`, `viewport`: the snap=N diagnostic
-   * (glsl/snap.glsl) and the viewport's size in pixels. After prepare() for the same light.
+   * (glsl/snap.glsl) and the viewport's size in pixels. `caps` false (z-pass): the sides only,
+   * the caps' polygon and fan passes skipped (light caps lie on the far plane and dark caps at
+   * infinity: under the strictly-nearer test z-pass never counts them). After prepare() for
+   * the same light.
    */
-  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport }) {
+  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport, caps = true }) {
     const gl = this.gl;
     const P = this.polygons;
     this.setUniforms(P, {
@@ -237,9 +240,11 @@ export class ShadowVolumes {
       gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil(count / per));
     };
     set(0, this.sidesTex, this.records, this.maxMult);
-    set(1, this.capsTex, this.triangles, 1);
-    // A directional light's dark cap has zero area: none.
-    if (light[3] !== 0) set(2, this.capsTex, this.triangles, 1);
+    if (caps) {
+      set(1, this.capsTex, this.triangles, 1);
+      // A directional light's dark cap has zero area: none.
+      if (light[3] !== 0) set(2, this.capsTex, this.triangles, 1);
+    }
     gl.bindVertexArray(null);
   }
 }
