@@ -4,11 +4,12 @@
 // z-fail elsewhere) and with zpass=0 (every light z-fail); the two pages' frames are drawn
 // interleaved, so that the load of a shared machine falls on both alike.
 //
-//   node bench-zpass.mjs [--size WxH] [--frames N] [--impl swiftshader|egl] [--orbit K] [SCENE.obj.gz ...]
+//   node bench-zpass.mjs [--size WxH] [--frames N] [--impl swiftshader|egl] [--orbit K] [--timing 0] [SCENE.obj.gz ...]
 //
 // Prints, per scene and page, the mean and min frame (ms, performance.now() around a frame made
 // synchronous by a readPixels, with every pass waited for), the mean time per pass
-// (umbra.info.passes) and how many of the frames' lights were counted z-pass. --orbit K adds K
+// (umbra.info.passes) and how many of the frames' lights were counted z-pass. --timing 0: the
+// frames without the per-pass waits (no passes). --orbit K adds K
 // views turned about the default target (yaw steps of 360/K degrees), as a user orbiting would.
 // Scenes: file names in UMBRA_SCENES (default ../shared/scenes beside the repository);
 // default the three shared scenes. Needs /usr/bin/chromium (UMBRA_CHROMIUM), node
@@ -28,7 +29,8 @@ const size = opt('--size', '640x360');
 const frames = Number(opt('--frames', '5'));
 const impl = opt('--impl', 'swiftshader');
 const orbit = Number(opt('--orbit', '0'));
-const valued = new Set(['--size', '--frames', '--impl', '--orbit']);
+const timing = opt('--timing', '1');
+const valued = new Set(['--size', '--frames', '--impl', '--orbit', '--timing']);
 const named = argv.filter((a, i) => !a.startsWith('--') && !valued.has(argv[i - 1]));
 const scenes = named.length ? named : ['crytek-sponza.obj.gz', 'conference.obj.gz', 'sibenik.obj.gz'];
 const SCENES_DIR = process.env.UMBRA_SCENES || path.join(webDir, '..', '..', 'shared', 'scenes');
@@ -49,7 +51,7 @@ const draw = (page) => page.evaluate(async () => {
     check();
   });
   const info = u.info();
-  return { ms: u.frameMs, passes: info.passes, zpass: info.zpass };
+  return { ms: u.frameMs, passes: info.passes, zpass: info.zpass, casters: info.casters };
 });
 
 // The view turned about its target by `yaw` radians (the viewer's orbit).
@@ -63,7 +65,7 @@ const mean = (a) => a.reduce((s, v) => s + v, 0) / a.length;
 console.log(`${new Date().toISOString()} ${impl} ${size}, ${frames} frames per page and view, interleaved`);
 try {
   for (const scene of scenes) {
-    const url = `${base}?size=${size}&timing=1&model=scenes/${scene}`;
+    const url = `${base}?size=${size}&timing=${timing}&model=scenes/${scene}`;
     const pages = {};
     for (const [name, q] of [['package', ''], ['zpass=0', '&zpass=0']]) {
       const v = await openViewer(ctx, url + q);
@@ -90,7 +92,7 @@ try {
       const lights = r.flatMap((x) => x.zpass);
       const z = lights.filter((s) => s !== null).length;
       const p = Object.entries(passes).map(([k, t]) => `${k} ${t.toFixed(0)}`).join(', ');
-      console.log(`${scene} ${name}: frame mean ${mean(ms).toFixed(0)} ms, min ${Math.min(...ms).toFixed(0)} ms; passes ${p}; z-pass ${z}/${lights.length} lights`);
+      console.log(`${scene} ${name}: frame mean ${mean(ms).toFixed(0)} ms, min ${Math.min(...ms).toFixed(0)} ms; passes ${p || '(timing=0)'}; z-pass ${z}/${lights.length} lights; ${r[0].casters} casters`);
     }
     for (const p of Object.values(pages)) await p.close();
   }

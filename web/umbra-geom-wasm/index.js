@@ -6,8 +6,9 @@
 // Browser: `const geom = await loadUmbraGeom()` fetches umbra_wasm.wasm next to this file
 // (or pass its URL). Node: pass the bytes, `await loadUmbraGeom(await readFile(wasmPath))`.
 // Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md. With
-// `clearance: true` the result also carries the geometry's z-pass test (`nearWinding`,
-// crates/umbra-wasm/src/clearance.rs), which lives in the module until `free()`.
+// `caster: true` the result also carries the geometry's per-frame work (`caster`: the z-pass
+// test nearWinding, crates/umbra-wasm/src/clearance.rs, and the silhouette,
+// crates/umbra-wasm/src/silhouette.rs), which lives in the module until `free()`.
 // Build the .wasm: node ../build-wasm.mjs.
 
 /** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
@@ -73,8 +74,8 @@ export async function loadUmbraGeom(source) {
     return ptr;
   };
 
-  // A handle of umbra_result_clearance: the z-pass test of one geometry, asked per frame.
-  function clearanceOf(handle) {
+  // A handle of umbra_result_caster: the per-frame work of one geometry.
+  function casterOf(handle, triangles) {
     let live = handle;
     // Scratch blocks for the points (f64) and the light (f32), grown as needed.
     let points = 0;
@@ -92,12 +93,23 @@ export async function loadUmbraGeom(source) {
         const memory = w.memory.buffer;
         new Float64Array(memory, points, p.length).set(p);
         new Float32Array(memory, light, 4).set(l);
-        const r = w.umbra_clearance_near_winding(live, points, p.length, light);
+        const r = w.umbra_caster_near_winding(live, points, p.length, light);
         return r < 0 ? null : r;
+      },
+      silhouette(l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: silhouette after free()');
+        new Float32Array(w.memory.buffer, light, 4).set(l);
+        const n = u(w.umbra_caster_silhouette(live, light));
+        // Views of the module's memory (no copy): valid until the next call.
+        const memory = w.memory.buffer;
+        return {
+          orientation: new Int8Array(memory, u(w.umbra_caster_orientation_ptr(live)), triangles),
+          records: new Int32Array(memory, u(w.umbra_caster_records_ptr(live)), n),
+        };
       },
       free() {
         if (!live) return;
-        w.umbra_clearance_free(live);
+        w.umbra_caster_free(live);
         if (points) w.umbra_free(points, pointsBytes);
         w.umbra_free(light, 16);
         live = 0;
@@ -105,7 +117,7 @@ export async function loadUmbraGeom(source) {
     };
   }
 
-  function prepare({ name = 'geometry', positions, index, clearance = false } = {}) {
+  function prepare({ name = 'geometry', positions, index, caster = false } = {}) {
     name = String(name);
     const nameBytes = encoder.encode(name);
     const positionsLength = positions?.length ?? 0;
@@ -140,10 +152,10 @@ export async function loadUmbraGeom(source) {
       const b = u(w.umbra_result_bounds(result));
       const bounds = b ? Array.from(new Float32Array(out, b, 6)) : null;
       prepared.bounds = bounds && { min: bounds.slice(0, 3), max: bounds.slice(3) };
-      if (clearance) {
-        const handle = u(w.umbra_result_clearance(result));
-        if (handle === 0) throw new UmbraGeomError(`${name}: umbra-wasm could not build the z-pass test`);
-        prepared.clearance = clearanceOf(handle);
+      if (caster) {
+        const handle = u(w.umbra_result_caster(result));
+        if (handle === 0) throw new UmbraGeomError(`${name}: umbra-wasm could not build the caster's per-frame data`);
+        prepared.caster = casterOf(handle, prepared.counts.triangles);
       }
       return prepared;
     } finally {

@@ -26,8 +26,10 @@ use umbra_geom::{Mesh, WeldedMesh};
 
 mod clearance;
 pub mod ffi;
+mod silhouette;
 
 pub use clearance::Clearance;
+pub use silhouette::Silhouette;
 
 /// Why a geometry could not be prepared; the message starts with the mesh's name.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -3,7 +3,7 @@
 //   1. the scene's lights, casters and receivers are gathered (lights.js replays three.js's
 //      light order), casters prepared once per geometry version (topology.js, wasm);
 //   2. per light, each caster's z-pass test (topology.js: the eye's near pyramid and the light
-//      in the caster's own space) picks the count: z-pass from sum(W0) when every caster
+//      in the caster's own space; then its silhouette, also in the wasm) picks the count: z-pass from sum(W0) when every caster
 //      answers, z-fail otherwise; the WebGL 2 drawer (webgl/drawer.js) draws every light's
 //      decision into umbra's own mask target, on umbra's own depth pass (umbra's camera
 //      convention: reversed-Z, infinite far plane; the camera's fov, aspect and near);
@@ -29,7 +29,7 @@ function zpassStart(tests, k) {
   let sum = 0;
   for (const t of tests) {
     if (!t.points) return null;
-    const w0 = t.clearance.nearWinding(t.points, t.lights[k]);
+    const w0 = t.caster.nearWinding(t.points, t.lights[k]);
     if (w0 === null) return null;
     sum += w0;
   }
@@ -165,22 +165,23 @@ export class UmbraShadows {
         c.volumes.dispose();
         this.owned.delete(c.volumes);
       }
-      if (c?.clearance) {
-        c.clearance.dispose();
-        this.owned.delete(c.clearance);
+      if (c?.wasm) {
+        c.wasm.dispose();
+        this.owned.delete(c.wasm);
       }
-      c = { key, volumes: null, clearance: null, error: null };
+      c = { key, volumes: null, wasm: null, error: null };
       try {
         const data = this.topology.prepare(g, meshName(mesh));
         this.info.prepareMs += data.ms;
         if (data.triangles > 0) {
           c.volumes = this.drawer.createVolumes(data);
           this.owned.add(c.volumes);
-          // The z-pass test lives in the wasm module's memory: freed with the volumes.
-          c.clearance = { test: data.clearance, dispose: () => data.clearance.free() };
-          this.owned.add(c.clearance);
+          // The per-frame work (z-pass test, silhouette) lives in the wasm module's memory:
+          // freed with the volumes.
+          c.wasm = { caster: data.caster, dispose: () => data.caster.free() };
+          this.owned.add(c.wasm);
         } else {
-          data.clearance?.free();
+          data.caster?.free();
         }
       } catch (e) {
         if (!(e instanceof TopologyError)) throw e;
@@ -293,7 +294,7 @@ export class UmbraShadows {
         // The test in the caster's space (an affine map keeps what it proves; see
         // crates/umbra-wasm/src/clearance.rs); a projective world matrix: no test, z-fail.
         const affine = e[3] === 0 && e[7] === 0 && e[11] === 0 && e[15] === 1;
-        tests.push({ clearance: caster.clearance.test, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights });
+        tests.push({ caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights });
       }
       frameMeshes.push({
         buffers,
@@ -302,6 +303,7 @@ export class UmbraShadows {
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
         flip: m.matrixWorld.determinant() < 0 ? -1 : 1,
         lights: objectLights,
+        silhouette: caster ? (k) => caster.wasm.caster.silhouette(objectLights[k]) : null,
       });
     }
     this.info.casters = casters;
