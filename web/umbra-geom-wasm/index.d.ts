@@ -21,8 +21,10 @@ export interface GeometryInput {
 export interface SilhouetteResult {
   /** Per triangle: +1 faces the light, -1 faces away, 0 edge-on (paper 001 Alg. 4, f32). */
   orientation: Int8Array;
-  /** The sides-data records whose multiplicity is not 0, ascending. */
+  /** The sides-data records whose multiplicity is not 0: those of ±1 ascending, then the others ascending. */
   records: Int32Array;
+  /** How many of `records` (the first ones) have multiplicity ±1. */
+  single: number;
 }
 
 /**

@@ -105,6 +105,7 @@ export async function loadUmbraGeom(source) {
         return {
           orientation: new Int8Array(memory, u(w.umbra_caster_orientation_ptr(live)), triangles),
           records: new Int32Array(memory, u(w.umbra_caster_records_ptr(live)), n),
+          single: u(w.umbra_caster_single_records(live)),
         };
       },
       free() {

@@ -325,6 +325,17 @@ pub unsafe extern "C" fn umbra_caster_records_ptr(c: *const Caster) -> *const i3
     unsafe { &*c }.silhouette.records().as_ptr()
 }
 
+/// How many of the records of the last [`umbra_caster_silhouette`] (the first ones) have
+/// multiplicity ±1.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_single_records(c: *const Caster) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.silhouette.single()
+}
+
 /// Frees a handle of [`umbra_result_caster`].
 ///
 /// # Safety
@@ -407,6 +418,7 @@ mod tests {
             assert_eq!(umbra_caster_silhouette(c, light.as_ptr()), 4);
             assert_eq!(slice(umbra_caster_orientation_ptr(c), 2), &[1, 1]);
             assert_eq!(slice(umbra_caster_records_ptr(c), 4).len(), 4);
+            assert_eq!(umbra_caster_single_records(c), 4);
             umbra_caster_free(c);
 
             let r = umbra_prepare(b"sq".as_ptr(), 2, positions.as_ptr(), 12, index.as_ptr(), 5, 1);

@@ -8,7 +8,9 @@
 //! the export's sides-data whose multiplicity (Alg. 3: `sum sign_i * orientation(T_i)` over the
 //! record's opposite slots, the export's edge triangles) is not zero. The drawer uploads both:
 //! the caps and the sides read that ONE orientation array, so the volumes stay closed, and only
-//! the listed records (the silhouette) go through the polygon and fan passes.
+//! the listed records (the silhouette) go through the polygon and fan passes. The records of
+//! multiplicity ±1 come first: the fan pass draws them with one potential copy each, and only
+//! the rest with `maxMult` copies.
 
 use umbra_geom::multiplicity::triangle_orientation;
 use umbra_geom::{Light, WeldedMesh};
@@ -25,6 +27,9 @@ pub struct Silhouette {
     max_mult: usize,
     orientation: Vec<i8>,
     records: Vec<i32>,
+    /// Records of multiplicity ±2 or more, gathered apart, then appended to `records`.
+    multiple: Vec<i32>,
+    single: usize,
 }
 
 impl Silhouette {
@@ -41,16 +46,19 @@ impl Silhouette {
             max_mult,
             orientation: vec![0; mesh.triangles.len()],
             records: Vec::new(),
+            multiple: Vec::new(),
+            single: 0,
         }
     }
 
     /// Orients every triangle towards `light` (the geometry's own space, w = 0 directional)
-    /// and lists the records of nonzero multiplicity; returns how many.
+    /// and lists the records of nonzero multiplicity, those of ±1 first; returns how many.
     pub fn compute(&mut self, light: Light) -> usize {
         for (o, &t) in self.orientation.iter_mut().zip(&self.triangles) {
             *o = triangle_orientation(&self.positions, t, light) as i8;
         }
         self.records.clear();
+        self.multiple.clear();
         for (r, &count) in self.counts.iter().enumerate() {
             let slots = &self.edge_triangles[r * self.max_mult..r * self.max_mult + count as usize];
             let mut m = 0i32;
@@ -58,10 +66,14 @@ impl Silhouette {
                 let o = i32::from(self.orientation[(t.unsigned_abs() - 1) as usize]);
                 m += if t > 0 { o } else { -o };
             }
-            if m != 0 {
-                self.records.push(r as i32);
+            match m.abs() {
+                0 => {}
+                1 => self.records.push(r as i32),
+                _ => self.multiple.push(r as i32),
             }
         }
+        self.single = self.records.len();
+        self.records.extend_from_slice(&self.multiple);
         self.records.len()
     }
 
@@ -71,9 +83,15 @@ impl Silhouette {
         &self.orientation
     }
 
-    /// The records of nonzero multiplicity of the last [`Silhouette::compute`], ascending.
+    /// The records of nonzero multiplicity of the last [`Silhouette::compute`]: those of ±1,
+    /// ascending, then the others, ascending.
     pub fn records(&self) -> &[i32] {
         &self.records
+    }
+
+    /// How many of [`Silhouette::records`] (the first ones) have multiplicity ±1.
+    pub fn single(&self) -> usize {
+        self.single
     }
 }
 
@@ -125,6 +143,18 @@ mod tests {
                 }
             }
             assert!(silhouette_edges > 0 && listed.len() <= n);
+            // ±1 first, then the rest; the multiplicities recomputed from the orientations.
+            let mult = |r: i32| {
+                let r = r as usize;
+                let count = b.sides_data[r * stride + 3] as usize;
+                let slots = &b.edge_triangles[r * b.max_mult..r * b.max_mult + count];
+                slots
+                    .iter()
+                    .map(|&t| i32::from(s.orientation()[(t.unsigned_abs() - 1) as usize]) * t.signum())
+                    .sum::<i32>()
+            };
+            assert!(s.records()[..s.single()].iter().all(|&r| mult(r).abs() == 1));
+            assert!(s.records()[s.single()..].iter().all(|&r| mult(r).abs() >= 2));
         }
     }
 }

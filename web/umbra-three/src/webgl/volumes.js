@@ -98,6 +98,7 @@ export class ShadowVolumes {
     this.orientation = dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations');
     this.recordList = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records');
     this.silhouetteRecords = 0;
+    this.singleRecords = 0;
     // The polygons of one set (sides, light caps or dark caps) at a time: one capture buffer
     // and one texture for the largest set, reused by the three.
     const polygons = Math.max(this.records, this.triangles, 1);
@@ -141,10 +142,11 @@ export class ShadowVolumes {
   /**
    * The silhouette towards the light draw() is then called with (the wasm's Silhouette:
    * `orientation`, one Int8Array element per triangle, and `records`, the Int32Array of edge
-   * records of nonzero multiplicity) into this caster's two textures. Needs the unpack state
+   * records of nonzero multiplicity, the `single` ones of multiplicity ±1 first) into this
+   * caster's two textures. Needs the unpack state
    * the drawer sets (no flip, no premultiply, no row length or skips, no unpack buffer).
    */
-  prepare({ orientation, records }) {
+  prepare({ orientation, records, single }) {
     const gl = this.gl;
     const width = 2 ** this.shift;
     gl.bindTexture(gl.TEXTURE_2D, this.orientation.tex);
@@ -155,6 +157,7 @@ export class ShadowVolumes {
     }
     gl.bindTexture(gl.TEXTURE_2D, null);
     this.silhouetteRecords = records.length;
+    this.singleRecords = single;
   }
 
   /**
@@ -182,7 +185,9 @@ export class ShadowVolumes {
     this.bindTexture(UNIT_ORIENTATION, this.orientation.tex);
     this.bindTexture(UNIT_RECORDS, this.recordList.tex);
     gl.bindVertexArray(this.emptyVao);
-    const set = (mode, data, count, repeat) => {
+    // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
+    // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
+    const set = (mode, data, count, fans) => {
       if (count === 0) return;
       // Polygon pass: one point per record, its polygon captured; nothing rasterised.
       gl.useProgram(P.program);
@@ -206,23 +211,30 @@ export class ShadowVolumes {
       gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
       tick?.('volumes.polygons');
       // Fan pass: the polygons into the stencil.
-      const per = polygonsPerInstance(repeat);
       this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
       this.bindTexture(UNIT_POLYGONS, this.polygonTex);
-      gl.uniform1i(this.fan.u.u_count, count);
       gl.uniform1f(this.fan.u.u_snap, snap);
       gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
-      gl.uniform1i(this.fan.u.u_repeat, repeat);
-      gl.uniform1i(this.fan.u.u_per_instance, per);
-      gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil(count / per));
+      for (const [first, end, repeat] of fans) {
+        if (end <= first) continue;
+        const per = polygonsPerInstance(repeat);
+        gl.uniform1i(this.fan.u.u_first, first);
+        gl.uniform1i(this.fan.u.u_count, end);
+        gl.uniform1i(this.fan.u.u_repeat, repeat);
+        gl.uniform1i(this.fan.u.u_per_instance, per);
+        gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil((end - first) / per));
+      }
       tick?.('volumes.fans');
     };
     // The sides: the listed records only (every other record's multiplicity is 0: no side).
-    set(0, this.sidesTex, this.silhouetteRecords, this.maxMult);
+    // Sides of multiplicity ±1 with one potential copy each, the others with maxMult.
+    const n = this.silhouetteRecords;
+    set(0, this.sidesTex, n, [[0, this.singleRecords, 1], [this.singleRecords, n, this.maxMult]]);
     if (caps) {
-      set(1, this.capsTex, this.triangles, 1);
+      const all = [[0, this.triangles, 1]];
+      set(1, this.capsTex, this.triangles, all);
       // A directional light's dark cap has zero area: none.
-      if (light[3] !== 0) set(2, this.capsTex, this.triangles, 1);
+      if (light[3] !== 0) set(2, this.capsTex, this.triangles, all);
     }
     gl.bindVertexArray(null);
   }
