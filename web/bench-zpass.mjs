@@ -4,12 +4,14 @@
 // z-fail elsewhere) and with zpass=0 (every light z-fail); the two pages' frames are drawn
 // interleaved, so that the load of a shared machine falls on both alike.
 //
-//   node bench-zpass.mjs [--size WxH] [--frames N] [--impl swiftshader|egl] [--orbit K] [--timing 0] [SCENE.obj.gz ...]
+//   node bench-zpass.mjs [--size WxH] [--frames N] [--impl swiftshader|egl] [--orbit K] [--timing 0]
+//                        [--baseline DIST] [SCENE.obj.gz ...]
 //
 // Prints, per scene and page, the mean and min frame (ms, performance.now() around a frame made
 // synchronous by a readPixels, with every pass waited for), the mean time per pass
 // (umbra.info.passes) and how many of the frames' lights were counted z-pass. --timing 0: the
-// frames without the per-pass waits (no passes). --orbit K adds K
+// frames without the per-pass waits (no passes). --baseline DIST: a third page, another build
+// of the viewer (node build.mjs --outdir DIST in another checkout), drawn in the same rounds. --orbit K adds K
 // views turned about the default target (yaw steps of 360/K degrees), as a user orbiting would.
 // Scenes: file names in UMBRA_SCENES (default ../shared/scenes beside the repository);
 // default the three shared scenes. Needs /usr/bin/chromium (UMBRA_CHROMIUM), node
@@ -30,14 +32,17 @@ const frames = Number(opt('--frames', '5'));
 const impl = opt('--impl', 'swiftshader');
 const orbit = Number(opt('--orbit', '0'));
 const timing = opt('--timing', '1');
-const valued = new Set(['--size', '--frames', '--impl', '--orbit', '--timing']);
+const baseline = opt('--baseline', null);
+const valued = new Set(['--size', '--frames', '--impl', '--orbit', '--timing', '--baseline']);
 const named = argv.filter((a, i) => !a.startsWith('--') && !valued.has(argv[i - 1]));
 const scenes = named.length ? named : ['crytek-sponza.obj.gz', 'conference.obj.gz', 'sibenik.obj.gz'];
 const SCENES_DIR = process.env.UMBRA_SCENES || path.join(webDir, '..', '..', 'shared', 'scenes');
 const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
 
 const tmp = await mkdtemp(path.join(tmpdir(), 'umbra-bench-zpass-'));
-const server = createServer([['/', await build(path.join(tmp, 'dist'))], ['/scenes/', SCENES_DIR]]);
+const mounts = [['/', await build(path.join(tmp, 'dist'))], ['/scenes/', SCENES_DIR]];
+if (baseline) mounts.push(['/baseline/', path.resolve(baseline)], ['/baseline/scenes/', SCENES_DIR]);
+const server = createServer(mounts);
 const base = await listen(server, 0);
 const ctx = await launch(CHROMIUM, impl, tmp);
 
@@ -67,15 +72,17 @@ try {
   for (const scene of scenes) {
     const url = `${base}?size=${size}&timing=${timing}&model=scenes/${scene}`;
     const pages = {};
-    for (const [name, q] of [['package', ''], ['zpass=0', '&zpass=0']]) {
-      const v = await openViewer(ctx, url + q);
+    const variants = [['package', url], ['zpass=0', `${url}&zpass=0`]];
+    if (baseline) variants.push(['baseline', url.replace(base, `${base}baseline/`)]);
+    for (const [name, u] of variants) {
+      const v = await openViewer(ctx, u);
       if (v.status.state !== 'ready') throw new Error(`${scene}: ${v.status.error}`);
       pages[name] = v.page;
     }
     const view = await pages.package.evaluate(() => window.umbra.view?.() ?? null);
     const views = [''];
     if (orbit > 0 && view) for (let k = 1; k <= orbit; k++) views.push(`eye=${turned(view, (2 * Math.PI * k) / orbit).join(',')}`);
-    const runs = { package: [], 'zpass=0': [] };
+    const runs = Object.fromEntries(variants.map(([name]) => [name, []]));
     for (const v of views) {
       if (v) {
         for (const p of Object.values(pages)) {
@@ -90,7 +97,7 @@ try {
       const passes = {};
       for (const x of r) for (const [k, t] of Object.entries(x.passes)) passes[k] = (passes[k] || 0) + t / r.length;
       const lights = r.flatMap((x) => x.zpass);
-      const z = lights.filter((s) => s !== null).length;
+      const z = lights.filter((s) => s !== null && s !== undefined).length;
       const p = Object.entries(passes).map(([k, t]) => `${k} ${t.toFixed(0)}`).join(', ');
       console.log(`${scene} ${name}: frame mean ${mean(ms).toFixed(0)} ms, min ${Math.min(...ms).toFixed(0)} ms; passes ${p || '(timing=0)'}; z-pass ${z}/${lights.length} lights; ${r[0].casters} casters`);
     }
