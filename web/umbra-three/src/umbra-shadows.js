@@ -2,11 +2,12 @@
 // renderer.render(scene, camera):
 //   1. the scene's lights, casters and receivers are gathered (lights.js replays three.js's
 //      light order), casters prepared once per geometry version (topology.js, wasm);
-//   2. per light, each caster's z-pass test (topology.js: the eye's near pyramid and the light
-//      in the caster's own space; then its silhouette, also in the wasm) picks the count: z-pass from sum(W0) when every caster
-//      answers, z-fail otherwise; the WebGL 2 drawer (webgl/drawer.js) draws every light's
-//      decision into umbra's own mask target, on umbra's own depth pass (umbra's camera
-//      convention: reversed-Z, infinite far plane; the camera's fov, aspect and near);
+//   2. per light, each caster's z-pass test (in the wasm, topology.js: the eye's near pyramid
+//      and the light in the caster's own space) picks the count: z-pass from sum(W0) when
+//      every caster answers, z-fail otherwise; the WebGL 2 drawer (webgl/drawer.js) draws
+//      every light's decision into umbra's own mask target from each caster's silhouette
+//      (also computed in the wasm), on umbra's own depth pass (umbra's camera convention:
+//      reversed-Z, infinite far plane; the camera's fov, aspect and near);
 //   3. renderer.resetState(), then renderer.render(scene, camera) with the patched materials
 //      (materials.js) reading the decision of their pixel.
 // Nothing thrown inside render(): a refused mesh or a failed frame is an entry in `errors`
@@ -74,9 +75,9 @@ export class UmbraShadows {
     this.mask = new ExternalTexture(null);
     this.uniforms = createUniforms(this.mask);
     this.patched = new WeakSet();
-    this.casters = new WeakMap(); // geometry -> { key, volumes | error }
+    this.casters = new WeakMap(); // geometry -> { key, volumes and wasm | error }
     this.drawn = new WeakMap(); // geometry -> { key, buffers }
-    this.owned = new Set(); // GL objects and wasm z-pass tests to free on dispose
+    this.owned = new Set(); // GL objects and wasm caster handles to free on dispose
     this.reported = new Set();
     this.channels = new Map(); // light -> channel of the last frame
     this.info = { lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {}, zpass: [] };
@@ -293,7 +294,8 @@ export class UmbraShadows {
       if (caster) {
         // The test in the caster's space (an affine map keeps what it proves; see
         // crates/umbra-wasm/src/clearance.rs); a projective world matrix: no test, z-fail.
-        const affine = e[3] === 0 && e[7] === 0 && e[11] === 0 && e[15] === 1;
+        const w = m.matrixWorld.elements;
+        const affine = w[3] === 0 && w[7] === 0 && w[11] === 0 && w[15] === 1;
         tests.push({ caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights });
       }
       frameMeshes.push({
