@@ -13,10 +13,11 @@
 // near=D, offset=X,Y,Z (the model's world translation; the camera and light stay in world
 // space), antialias=1, timing=1 (umbra.info.passes: each pass waited for), and the diagnostics clamp=0 (no EXT_depth_clamp), depth=standard (no
 // reversed-Z even when EXT_clip_control is offered), snap=N (every vertex on a 1/N-pixel grid),
+// zpass=0 (every light counted z-fail; umbra.info().zpass says which count each light got),
 // nowebgl=1 / nostencil=1 (a browser without WebGL 2 / a canvas without a stencil buffer).
 // The page's state is in document.body.dataset.state: loading, ready, error; on error the
 // message is shown on the page (never a blank page) and in window.umbra.error.
-// window.umbra: { state, error, frameMs, renderer, subpixelBits, frames, depth, info,
+// window.umbra: { state, error, frameMs, renderer, subpixelBits, frames, depth, info, view,
 // errors, redraw(), readMask(k) (light k's decision as a latin1 string, rows top-down) }.
 import * as THREE from 'three';
 import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
@@ -130,7 +131,7 @@ async function start() {
   if (!(Number.isInteger(snap) && snap >= 0)) throw new Error(`URL parameter snap=${params.get('snap')}: expected a whole number of positions per pixel`);
   let umbra;
   try {
-    umbra = await UmbraShadows.create(renderer, { depth: params.get('depth') === 'standard' ? 'standard' : 'reversed', depthClamp: params.get('clamp') !== '0', snap });
+    umbra = await UmbraShadows.create(renderer, { depth: params.get('depth') === 'standard' ? 'standard' : 'reversed', depthClamp: params.get('clamp') !== '0', snap, zpass: params.get('zpass') !== '0' });
   } catch (e) {
     throw new SetupError(e.message);
   }
@@ -225,6 +226,8 @@ async function start() {
     camera.updateMatrixWorld();
   };
   placeCamera();
+  // The camera as placed (eye, target, up), for tools that orbit from it (bench-zpass.mjs).
+  status.view = () => ({ eye: [...cam.eye], target: [...cam.target], up: [...cam.up] });
 
   // The mask view: light 0's decision (white lit, black shadowed) over the whole canvas.
   const maskScene = new THREE.Scene();

@@ -15,6 +15,10 @@
 //   0.0143): 0 outside the band on both; the light cap's near-plane cut is what makes it so.
 // * The same wall as a mesh with a world transform (its file moved by -offset, the mesh by
 //   +offset), and two lights at once (each light's mask read with umbra.readMask): 0.
+// * Both counts the package picks (umbra.info().zpass): the default scene's views, Sponza's
+//   and Conference's count z-pass from 0, Sibenik's from 4 (its eye inside 4 volumes), the eye
+//   behind the moved wall in its shadow z-pass from 1, the wall cut by the near plane z-fail;
+//   all judged by the oracle, 0 outside the band.
 // * The three shared scenes (UMBRA_SCENES, default ../shared/scenes beside the repository;
 //   skipped with a message when absent), 320 x 180, OBJLoader: 0 outside the band on both.
 // * Every mask is judged with the band of the precision its WebGL context reports
@@ -58,6 +62,9 @@ const SW = 320;
 const SH = 180;
 const SCENES_DIR = process.env.UMBRA_SCENES || path.join(repo, '..', 'shared', 'scenes');
 const SHARED = ['crytek-sponza.obj.gz', 'conference.obj.gz', 'sibenik.obj.gz'];
+// The stencil start each default view counts z-pass from (umbra.info().zpass): Sibenik's eye
+// lies inside 4 of its volumes.
+const SHARED_ZPASS = { 'crytek-sponza.obj.gz': 0, 'conference.obj.gz': 0, 'sibenik.obj.gz': 4 };
 
 function umbraBin() {
   const candidates = [process.env.UMBRA_BIN, process.env.CARGO_TARGET_DIR && path.join(process.env.CARGO_TARGET_DIR, 'release', 'umbra'), path.join(repo, 'target', 'release', 'umbra')];
@@ -189,6 +196,7 @@ test('default scene through OBJLoader, GLTFLoader and its export: 0 samples outs
       const r = await judged(impl, { scene, width: W, height: H, query, extra });
       report(`default scene, ${impl}, ${what}`, r);
       assert.equal(r.status.state, 'ready');
+      assert.deepEqual(r.status.zpass, [0], `${what}: the eye in the open, counted z-pass from 0`);
       assert.equal(r.status.depth, depth, 'reversed-Z where EXT_clip_control is offered, standard on request');
       assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
       assert.equal(r.native.mismatches_outside_band, 0, 'native vs-silhouette');
@@ -206,11 +214,27 @@ test('a caster the near plane cuts: its light cap is cut too (ES 3.00 has no cli
     for (const [what, query] of cases) {
       const r = await judged(impl, { scene: wallObj, width: SW, height: SH, query, extra: v.flags });
       report(`wall cut by the near plane, mesh moved by ${WALL_OFFSET}, ${impl}, ${what}`, r);
+      assert.deepEqual(r.status.zpass, [null], 'the near plane cuts the wall: z-fail');
       // Both shadow and light behind the cut wall; without the cut every sample is wrong.
       assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, 'the floor behind the wall is half in its shadow');
       assert.equal(r.native.mismatches_outside_band, 0);
       assert.equal(r.browser.mismatches_outside_band, 0, `${impl}: samples seen through the cut wall`);
     }
+  }
+});
+
+test('the eye inside the moved wall\'s shadow: counted z-pass from 1, 0 samples outside the band', { skip }, async () => {
+  // Behind the wall (z = 0, height 2) from the light (0, 4, -3): the eye's segment to the light
+  // crosses it; looking down the floor, half in its shadow near the wall.
+  const camera = { ...wallManifest.camera, eye: [0, 0.5, 1.5], target: [0, 0, 4], up: [0, 1, 0] };
+  const v = viewOf(camera, wallManifest.light);
+  for (const impl of implementations()) {
+    const query = `model=models/wall-local.obj&offset=${WALL_OFFSET.join(',')}&${v.query}`;
+    const r = await judged(impl, { scene: wallObj, width: SW, height: SH, query, extra: v.flags });
+    report(`eye in the wall's shadow, ${impl}`, r);
+    assert.deepEqual(r.status.zpass, [1], 'z-pass from 1');
+    assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, 'shadow and light in view');
+    assert.equal(r.browser.mismatches_outside_band, 0, `${impl}: the z-pass count from 1 disagrees with the reference`);
   }
 });
 
@@ -245,6 +269,7 @@ test('shared scenes: 0 samples outside the band on SwiftShader and ANGLE/llvmpip
       const r = await judged(impl, { scene, width: SW, height: SH, query: `model=scenes/${s}&${v.query}` });
       report(`${s}, ${impl}, ${SW}x${SH}`, r);
       assert.equal(r.status.state, 'ready');
+      assert.deepEqual(r.status.zpass, [SHARED_ZPASS[s]], `${s}: its default view counts z-pass from ${SHARED_ZPASS[s]}`);
       assert.match(r.status.info, new RegExp(`^${s.replace(/\./g, '\\.')}: \\d+ triangles`), 'the file name, first');
       assert.ok(!r.status.info.includes(path.dirname(scene)), `the page shows a path: ${r.status.info}`);
       assert.equal(r.native.mismatches_outside_band, 0, `${s}: native vs-silhouette`);

@@ -13,7 +13,11 @@
 //   and the shading follows it;
 // * a mesh's world transform and a light may change every frame without re-preparing;
 // * the light order: a shadowed light added after an unshadowed one is multiplied by its own
-//   decision (three.js puts shadow-casting lights first), pixel for pixel.
+//   decision (three.js puts shadow-casting lights first), pixel for pixel;
+// * the count each light gets: z-pass with the eye in the open (start 0) and inside a
+//   transformed box's shadow (start 2: the eye's segment to the light crosses its bottom and
+//   top), z-fail with the box cut by the near plane, and a directional light; each mask equal
+//   to the one the same frame gets counted z-fail everywhere (`zpass: false`).
 //
 // Needs: /usr/bin/chromium and the wasm module (node build-wasm.mjs), the test skipped with a
 // message when either is absent; `npm ci` in web/. Run: cd web && node --test test/
@@ -364,4 +368,66 @@ test('light order: a shadow-casting light added after another lands on its own u
   // Only silhouette pixels, where three.js's rasteriser and umbra's depth pass may show
   // different surfaces, may differ.
   assert.ok(r.wrong < 60, `${r.wrong} pixels shaded as neither "B shadowed" nor "B lit"`);
+});
+
+test('z-pass where the near pyramid is proven inside one count (eye in the open, eye in a shadow), z-fail where a caster cuts it: the same mask as z-fail everywhere', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const auto = await UmbraShadows.create(makeRenderer());
+    const zfail = await UmbraShadows.create(makeRenderer(), { zpass: false });
+    const views = {
+      open: (s) => s,
+      // Under the box (scaled and turned: the test runs in its own space), inside its shadow,
+      // looking down at the floor, part of it in that shadow.
+      inShadow: (s) => {
+        s.box.scale.set(1.3, 1, 1.2);
+        s.box.rotation.y = 0.3;
+        s.camera.position.set(0, 0.3, 0);
+        s.camera.lookAt(-1.5, 0, -1);
+        return s;
+      },
+      // The near plane (0.1 in front of the eye at z = 0.52) cuts the box's corner at
+      // x = 0.5, z = 0.5: the left of the view inside the box, the right past it.
+      nearCut: (s) => {
+        s.camera.position.set(0.53, 1.2, 0.52);
+        s.camera.lookAt(0.9, 0, -2);
+        return s;
+      },
+      directional: (s) => {
+        s.scene.remove(s.light);
+        const d = new THREE.DirectionalLight(0xffffff, 2);
+        d.position.set(-2, 5, 1);
+        d.castShadow = true;
+        s.scene.add(d, d.target);
+        s.light = d;
+        return s;
+      },
+    };
+    const out = {};
+    for (const [name, view] of Object.entries(views)) {
+      const a = view(makeScene());
+      a.camera.updateMatrixWorld();
+      auto.render(a.scene, a.camera);
+      const mask = auto.readMask(a.light);
+      const b = view(makeScene());
+      b.camera.updateMatrixWorld();
+      zfail.render(b.scene, b.camera);
+      const ref = zfail.readMask(b.light);
+      out[name] = {
+        zpass: auto.info.zpass, reference: zfail.info.zpass, differing: differing(mask, ref),
+        lit: mask.reduce((n, v) => n + (v === 255), 0), dark: zeros(mask),
+      };
+    }
+    return out;
+  });
+  console.log(JSON.stringify(r));
+  assert.deepEqual(r.open.zpass, [0], 'eye in the open: z-pass from 0');
+  assert.deepEqual(r.inShadow.zpass, [2], 'eye in the box\'s shadow: z-pass from 2');
+  assert.deepEqual(r.nearCut.zpass, [null], 'the box cut by the near plane: z-fail');
+  assert.deepEqual(r.directional.zpass, [0], 'directional light, eye in the open: z-pass');
+  for (const [name, v] of Object.entries(r)) {
+    assert.deepEqual(v.reference, [null], `${name}: zpass: false counts z-fail`);
+    assert.equal(v.differing, 0, `${name}: the mask differs from z-fail's on ${v.differing} pixels`);
+    assert.ok(v.lit > 500 && v.dark > 500, `${name}: the view is partly lit, partly dark (${v.lit} / ${v.dark})`);
+  }
 });

@@ -13,6 +13,37 @@ export interface GeometryInput {
   positions: Float32Array | ArrayLike<number>;
   /** Three vertex numbers per triangle; without it, vertices 3t, 3t + 1, 3t + 2 form triangle t. */
   index?: Uint16Array | Uint32Array | ArrayLike<number> | null;
+  /** Also build the geometry's per-frame work (PreparedGeometry.caster). */
+  caster?: boolean;
+}
+
+/** The silhouette of a geometry towards one light: views of the module's memory, valid until the next call. */
+export interface SilhouetteResult {
+  /** Per triangle: +1 faces the light, -1 faces away, 0 edge-on (paper 001 Alg. 4, f32). */
+  orientation: Int8Array;
+  /** The sides-data records whose multiplicity is not 0: those of ±1 ascending, then the others ascending. */
+  records: Int32Array;
+  /** How many of `records` (the first ones) have multiplicity ±1. */
+  single: number;
+}
+
+/**
+ * The per-frame work of one prepared geometry, kept in the module's memory until free(): its
+ * z-pass test (umbra_geom::clearance::ClearanceIndex::near_winding with its welded mesh and
+ * edge adjacency) and its silhouette (crates/umbra-wasm/src/silhouette.rs).
+ */
+export interface Caster {
+  /**
+   * W0, the number of this geometry's shadow volumes every point of the hull of `points` (the
+   * eye and the near-plane corners, x y z each, in the geometry's own space) lies in, towards
+   * `light` (x y z w, w = 0 directional; the f32 value the volumes are drawn with); null when it
+   * is not provably one count (z-fail).
+   */
+  nearWinding(points: Float64Array | ArrayLike<number>, light: Float32Array | ArrayLike<number>): number | null;
+  /** Every triangle's orientation towards `light` (x y z w, the geometry's own space) and the records of nonzero multiplicity. */
+  silhouette(light: Float32Array | ArrayLike<number>): SilhouetteResult;
+  /** Frees the module memory it holds (nearWinding and silhouette then throw). */
+  free(): void;
 }
 
 /** The counts `umbra export` writes in its manifest, and what welding dropped. */
@@ -48,6 +79,8 @@ export interface PreparedGeometry {
   /** Opposite-vertex slots per edge record (at least 1, at most 14). */
   maxMult: number;
   counts: PreparedCounts;
+  /** The per-frame work, when prepare() was asked for it (`caster: true`). */
+  caster?: Caster;
   /** Bounds of the vertices the triangles use; null without triangles. */
   bounds: { min: [number, number, number]; max: [number, number, number] } | null;
 }

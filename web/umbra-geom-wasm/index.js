@@ -5,11 +5,14 @@
 //
 // Browser: `const geom = await loadUmbraGeom()` fetches umbra_wasm.wasm next to this file
 // (or pass its URL). Node: pass the bytes, `await loadUmbraGeom(await readFile(wasmPath))`.
-// Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md.
+// Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md. With
+// `caster: true` the result also carries the geometry's per-frame work (`caster`: the z-pass
+// test nearWinding, crates/umbra-wasm/src/clearance.rs, and the silhouette,
+// crates/umbra-wasm/src/silhouette.rs), which lives in the module until `free()`.
 // Build the .wasm: node ../build-wasm.mjs.
 
 /** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
-const ABI_VERSION = 1;
+const ABI_VERSION = 2;
 
 /** Buffer numbers of `umbra_result_buffer_ptr` and the typed arrays they are read as. */
 const BUFFERS = [
@@ -71,7 +74,51 @@ export async function loadUmbraGeom(source) {
     return ptr;
   };
 
-  function prepare({ name = 'geometry', positions, index } = {}) {
+  // A handle of umbra_result_caster: the per-frame work of one geometry.
+  function casterOf(handle, triangles) {
+    let live = handle;
+    // Scratch blocks for the points (f64) and the light (f32), grown as needed.
+    let points = 0;
+    let pointsBytes = 0;
+    const light = alloc(16);
+    return {
+      nearWinding(p, l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: nearWinding after free()');
+        if (8 * p.length > pointsBytes) {
+          if (points) w.umbra_free(points, pointsBytes);
+          points = 0;
+          pointsBytes = 8 * p.length;
+          points = alloc(pointsBytes);
+        }
+        const memory = w.memory.buffer;
+        new Float64Array(memory, points, p.length).set(p);
+        new Float32Array(memory, light, 4).set(l);
+        const r = w.umbra_caster_near_winding(live, points, p.length, light);
+        return r < 0 ? null : r;
+      },
+      silhouette(l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: silhouette after free()');
+        new Float32Array(w.memory.buffer, light, 4).set(l);
+        const n = u(w.umbra_caster_silhouette(live, light));
+        // Views of the module's memory (no copy): valid until the next call.
+        const memory = w.memory.buffer;
+        return {
+          orientation: new Int8Array(memory, u(w.umbra_caster_orientation_ptr(live)), triangles),
+          records: new Int32Array(memory, u(w.umbra_caster_records_ptr(live)), n),
+          single: u(w.umbra_caster_single_records(live)),
+        };
+      },
+      free() {
+        if (!live) return;
+        w.umbra_caster_free(live);
+        if (points) w.umbra_free(points, pointsBytes);
+        w.umbra_free(light, 16);
+        live = 0;
+      },
+    };
+  }
+
+  function prepare({ name = 'geometry', positions, index, caster = false } = {}) {
     name = String(name);
     const nameBytes = encoder.encode(name);
     const positionsLength = positions?.length ?? 0;
@@ -106,6 +153,11 @@ export async function loadUmbraGeom(source) {
       const b = u(w.umbra_result_bounds(result));
       const bounds = b ? Array.from(new Float32Array(out, b, 6)) : null;
       prepared.bounds = bounds && { min: bounds.slice(0, 3), max: bounds.slice(3) };
+      if (caster) {
+        const handle = u(w.umbra_result_caster(result));
+        if (handle === 0) throw new UmbraGeomError(`${name}: umbra-wasm could not build the caster's per-frame data`);
+        prepared.caster = casterOf(handle, prepared.counts.triangles);
+      }
       return prepared;
     } finally {
       if (result) w.umbra_result_free(result);

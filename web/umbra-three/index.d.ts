@@ -18,8 +18,14 @@ export interface UmbraInfo {
   triangles: number;
   /** Total milliseconds spent preparing topologies (wasm) so far. */
   prepareMs: number;
-  /** Milliseconds per pass of the last frame (depth, volumes, mask), only with `timing = true`. */
+  /** Milliseconds per pass of the last frame (clearance, depth, volumes, mask), only with `timing = true`. */
   passes: Record<string, number>;
+  /**
+   * Per light of the last frame: its count's stencil start when it was counted z-pass (the
+   * eye's near pyramid proven inside W0 volumes for every caster: sum(W0) mod 256), null when
+   * it was counted z-fail.
+   */
+  zpass: (number | null)[];
 }
 
 export interface UmbraOptions {
@@ -31,6 +37,8 @@ export interface UmbraOptions {
   depthClamp?: boolean;
   /** Diagnostic: every vertex umbra draws on a 1/snap-pixel grid (0: off). */
   snap?: number;
+  /** Diagnostic: false counts every light z-fail, never z-pass (the same decision, slower). */
+  zpass?: boolean;
 }
 
 export class UmbraShadows {

@@ -11,13 +11,21 @@
 //! (u32), 3 sides-data (f32), 4 caps-data (f32), 5 edge triangles (i32). Count numbers
 //! ([`umbra_result_count`]): 0 welded vertices, 1 triangles, 2 edges, 3 edge records, 4 input
 //! triangles, 5 degenerate (dropped) triangles.
+//!
+//! Per frame: [`umbra_result_caster`] turns a prepared result's welded mesh and buffers into a
+//! caster handle (before the result is freed; the handle outlives it), which answers the
+//! z-pass test ([`crate::Clearance`], [`umbra_caster_near_winding`]) and computes the
+//! silhouette ([`crate::Silhouette`], [`umbra_caster_silhouette`]) once per frame and light;
+//! [`umbra_caster_free`] frees it.
 
 use std::alloc::{alloc, dealloc, Layout};
 
-use crate::{prepare, PrepareError, Prepared};
+use umbra_geom::WeldedMesh;
+
+use crate::{prepare_welded, Clearance, PrepareError, Prepared, Silhouette};
 
 /// Version of this interface; the JavaScript module refuses any other.
-pub const ABI_VERSION: u32 = 1;
+pub const ABI_VERSION: u32 = 2;
 
 /// Alignment of every [`umbra_alloc`] block (enough for f32, u32 and f64).
 const ALIGN: usize = 8;
@@ -26,6 +34,8 @@ const ALIGN: usize = 8;
 pub struct PrepareResult {
     result: Result<Prepared, PrepareError>,
     bounds: [f32; 6],
+    /// The welded mesh of a prepared geometry, until [`umbra_result_caster`] takes it.
+    welded: Option<WeldedMesh>,
 }
 
 /// [`ABI_VERSION`].
@@ -98,13 +108,16 @@ pub unsafe extern "C" fn umbra_prepare(
     let (name, positions, index) =
         unsafe { (slice(name, name_len), slice(positions, positions_len), slice(index, index_len)) };
     let name = String::from_utf8_lossy(name);
-    let result = prepare(&name, positions, (has_index != 0).then_some(index));
+    let (result, welded) = match prepare_welded(&name, positions, (has_index != 0).then_some(index)) {
+        Ok((p, w)) => (Ok(p), Some(w)),
+        Err(e) => (Err(e), None),
+    };
     let bounds = match &result {
         Ok(Prepared { buffers: b, .. }) => b.bounds.map(|b| [b.min, b.max]).unwrap_or([[0.0; 3]; 2]),
         Err(_) => [[0.0; 3]; 2],
     };
     let bounds = [bounds[0][0], bounds[0][1], bounds[0][2], bounds[1][0], bounds[1][1], bounds[1][2]];
-    Box::into_raw(Box::new(PrepareResult { result, bounds }))
+    Box::into_raw(Box::new(PrepareResult { result, bounds, welded }))
 }
 
 /// The result behind a handle.
@@ -228,9 +241,117 @@ pub unsafe extern "C" fn umbra_result_bounds(r: *const PrepareResult) -> *const 
     }
 }
 
+/// What a caster handle holds: its z-pass test and its silhouette.
+pub struct Caster {
+    clearance: Clearance,
+    silhouette: Silhouette,
+}
+
+/// The caster handle of a prepared result ([`crate::Clearance`] and [`crate::Silhouette`] of
+/// its welded mesh and buffers), which [`umbra_caster_free`] frees; it stays valid after
+/// [`umbra_result_free`]. Null for an error result or a second call on the same result.
+///
+/// # Safety
+/// `r` is a live result of [`umbra_prepare`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_result_caster(r: *mut PrepareResult) -> *mut Caster {
+    // SAFETY: guaranteed by the caller.
+    let r = unsafe { &mut *r };
+    match (r.welded.take(), &r.result) {
+        (Some(welded), Ok(p)) => {
+            let b = &p.buffers;
+            let silhouette = Silhouette::new(&welded, &b.sides_data, &b.edge_triangles, b.max_mult);
+            Box::into_raw(Box::new(Caster { clearance: Clearance::new(welded), silhouette }))
+        }
+        _ => std::ptr::null_mut(),
+    }
+}
+
+/// [`crate::Clearance::near_winding`]: `points_len` f64 at `points` (x, y, z per point: the
+/// eye and the near-plane corners, the geometry's own space), the light as 4 f32 at `light`
+/// (w = 0 directional). Returns `W0`, or -1 when it is unknown (z-fail) or above `i32::MAX`.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`]; `points` points to `points_len`
+/// initialised, aligned f64 and `light` to 4 f32 (blocks of [`umbra_alloc`] do).
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_near_winding(
+    c: *const Caster,
+    points: *const f64,
+    points_len: usize,
+    light: *const f32,
+) -> i32 {
+    // SAFETY: guaranteed by the caller.
+    let (c, flat, light) = unsafe { (&*c, slice(points, points_len), slice(light, 4)) };
+    let (Ok(light), 0) = (<[f32; 4]>::try_from(light), flat.len() % 3) else { return -1 };
+    let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    c.clearance.near_winding(&points, light).and_then(|w| i32::try_from(w).ok()).unwrap_or(-1)
+}
+
+/// [`crate::Silhouette::compute`] towards the light at `light` (4 f32, the geometry's own
+/// space): returns how many records have a nonzero multiplicity; then
+/// [`umbra_caster_orientation_ptr`] (one i8 per triangle) and [`umbra_caster_records_ptr`]
+/// (that many i32) point at the results until the next call.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`], `light` points to 4 f32.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_silhouette(c: *mut Caster, light: *const f32) -> usize {
+    // SAFETY: guaranteed by the caller.
+    let (c, light) = unsafe { (&mut *c, slice(light, 4)) };
+    match <[f32; 4]>::try_from(light) {
+        Ok(light) => c.silhouette.compute(light),
+        Err(_) => 0,
+    }
+}
+
+/// The orientations of the last [`umbra_caster_silhouette`], one i8 per triangle.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_orientation_ptr(c: *const Caster) -> *const i8 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.silhouette.orientation().as_ptr()
+}
+
+/// The records of nonzero multiplicity of the last [`umbra_caster_silhouette`] (i32).
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_records_ptr(c: *const Caster) -> *const i32 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.silhouette.records().as_ptr()
+}
+
+/// How many of the records of the last [`umbra_caster_silhouette`] (the first ones) have
+/// multiplicity ±1.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_single_records(c: *const Caster) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.silhouette.single()
+}
+
+/// Frees a handle of [`umbra_result_caster`].
+///
+/// # Safety
+/// `c` is a handle of [`umbra_result_caster`] not freed yet, or null.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_free(c: *mut Caster) {
+    if !c.is_null() {
+        // SAFETY: it came from Box::into_raw in umbra_result_caster.
+        drop(unsafe { Box::from_raw(c) });
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prepare;
 
     fn read<T: Copy>(ptr: *const u8, len: usize) -> Vec<T> {
         // SAFETY: a live buffer of the result.
@@ -262,6 +383,46 @@ mod tests {
             assert_eq!(message.expect("utf-8"), "quad: index: 5 entries, not a multiple of 3 (three per triangle)");
             assert_eq!((umbra_result_buffer_len(r, 0), umbra_result_max_mult(r)), (0, 0));
             assert!(umbra_result_bounds(r).is_null());
+            umbra_result_free(r);
+        }
+    }
+
+    #[test]
+    fn caster_through_the_exports() {
+        // The unit square at z = 1, the light above it; the eye's pyramid below it (W0 = 1),
+        // beside it (0) and cut by it (unknown).
+        let positions = [0.0f32, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 1.0, 1.0];
+        let index = [0u32, 1, 2, 0, 2, 3];
+        let light = [0.5f32, 0.5, 3.0, 1.0];
+        let pyramid = |x: f64, y: f64, z: f64| -> Vec<f64> {
+            let mut p = vec![x, y, z];
+            for (dx, dy) in [(-0.01, -0.01), (0.01, -0.01), (0.01, 0.01), (-0.01, 0.01)] {
+                p.extend([x + dx, y + dy, z - 0.1]);
+            }
+            p
+        };
+        // SAFETY: the slices are live for the calls; the result and the handle are freed once.
+        unsafe {
+            let r = umbra_prepare(b"sq".as_ptr(), 2, positions.as_ptr(), 12, index.as_ptr(), 6, 1);
+            let c = umbra_result_caster(r);
+            assert!(!c.is_null());
+            assert!(umbra_result_caster(r).is_null(), "the welded mesh is taken once");
+            umbra_result_free(r);
+            let ask = |p: &[f64]| umbra_caster_near_winding(c, p.as_ptr(), p.len(), light.as_ptr());
+            assert_eq!(ask(&pyramid(0.3, 0.6, 0.5)), 1);
+            assert_eq!(ask(&pyramid(3.0, 0.5, 0.5)), 0);
+            assert_eq!(ask(&pyramid(0.5, 0.5, 1.05)), -1);
+            assert_eq!(ask(&pyramid(0.3, 0.6, 0.5)[..14]), -1, "not whole points");
+            // The light above the square: both triangles face it, its 4 border edges are the
+            // silhouette, the diagonal (multiplicity 0) is not.
+            assert_eq!(umbra_caster_silhouette(c, light.as_ptr()), 4);
+            assert_eq!(slice(umbra_caster_orientation_ptr(c), 2), &[1, 1]);
+            assert_eq!(slice(umbra_caster_records_ptr(c), 4).len(), 4);
+            assert_eq!(umbra_caster_single_records(c), 4);
+            umbra_caster_free(c);
+
+            let r = umbra_prepare(b"sq".as_ptr(), 2, positions.as_ptr(), 12, index.as_ptr(), 5, 1);
+            assert!(umbra_result_caster(r).is_null(), "an error result has none");
             umbra_result_free(r);
         }
     }

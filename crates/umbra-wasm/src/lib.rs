@@ -22,9 +22,14 @@ use std::fmt;
 
 use umbra_geom::export_buffers::{build_export_buffers, ExportBuffers};
 use umbra_geom::weld::weld;
-use umbra_geom::Mesh;
+use umbra_geom::{Mesh, WeldedMesh};
 
+mod clearance;
 pub mod ffi;
+mod silhouette;
+
+pub use clearance::Clearance;
+pub use silhouette::Silhouette;
 
 /// Why a geometry could not be prepared; the message starts with the mesh's name.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -103,10 +108,22 @@ pub fn mesh_from_geometry(name: &str, positions: &[f32], index: Option<&[u32]>) 
 /// Checks, welds and prepares a geometry (see the crate documentation); `name` starts every
 /// error message.
 pub fn prepare(name: &str, positions: &[f32], index: Option<&[u32]>) -> Result<Prepared, PrepareError> {
+    prepare_welded(name, positions, index).map(|(p, _)| p)
+}
+
+/// [`prepare`], and the welded mesh the buffers were built from (what [`Clearance::new`]
+/// takes).
+pub fn prepare_welded(
+    name: &str,
+    positions: &[f32],
+    index: Option<&[u32]>,
+) -> Result<(Prepared, WeldedMesh), PrepareError> {
     let mesh = mesh_from_geometry(name, positions, index)?;
     let welded = weld(&mesh);
     let buffers = build_export_buffers(&welded).map_err(|e| PrepareError(format!("{name}: {e}")))?;
-    Ok(Prepared { buffers, input_triangles: mesh.triangles.len(), degenerate_triangles: welded.degenerate_triangles })
+    let prepared =
+        Prepared { buffers, input_triangles: mesh.triangles.len(), degenerate_triangles: welded.degenerate_triangles };
+    Ok((prepared, welded))
 }
 
 #[cfg(test)]

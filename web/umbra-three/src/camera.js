@@ -67,3 +67,34 @@ export function clipFromObject(projection, view, model) {
 export function infiniteProjection(fovYDegrees, aspect, near, reversedZ) {
   return (reversedZ ? infinitePerspectiveReversedZ : infinitePerspective)(fovYDegrees, aspect, near);
 }
+
+/**
+ * The points whose hull with a light must be clear for z-pass (umbra_geom::camera::
+ * near_pyramid_points): the eye, then the corners of the near-plane rectangle pushed 2 %
+ * outwards from its centre, as 15 f64 (x y z each). `worldFromClip`: the inverse of the
+ * frame's clip-from-world (column-major, f64) in its convention (near plane at NDC z = 1
+ * reversed-Z, -1 standard).
+ */
+export function nearPyramidPoints(worldFromClip, eye, reversedZ) {
+  const z = reversedZ ? 1 : -1;
+  const m = worldFromClip;
+  const corners = [[-1, -1], [1, -1], [1, 1], [-1, 1]].map(([x, y]) => {
+    const h = [0, 1, 2, 3].map((r) => m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r]);
+    return [h[0] / h[3], h[1] / h[3], h[2] / h[3]];
+  });
+  const mid = [0, 1, 2].map((a) => corners.reduce((s, c) => s + c[a], 0) / 4);
+  const out = new Float64Array(15);
+  out.set(eye, 0);
+  corners.forEach((c, i) => out.set([0, 1, 2].map((a) => mid[a] + 1.02 * (c[a] - mid[a])), 3 + 3 * i));
+  return out;
+}
+
+/** Points (x y z each, f64) through an affine column-major matrix (f64), into a new Float64Array. */
+export function transformPoints(m, points) {
+  const out = new Float64Array(points.length);
+  for (let i = 0; i < points.length; i += 3) {
+    const [x, y, z] = [points[i], points[i + 1], points[i + 2]];
+    for (let r = 0; r < 3; r++) out[i + r] = m[r] * x + m[4 + r] * y + m[8 + r] * z + m[12 + r];
+  }
+  return out;
+}

@@ -1,8 +1,9 @@
 // The preprocessing of umbra-three, apart from any drawing API (the WebGL 2 drawer is
 // webgl/; a WebGPU drawer would read the same buffers):
 // * a caster's topology: the buffers `umbra export` writes (welded mesh, sides-data, caps-data,
-//   edge triangles), computed from its BufferGeometry's positions and index by umbra-geom
-//   compiled to WebAssembly (../../umbra-geom-wasm), once per geometry version;
+//   edge triangles) and its per-frame work (the z-pass test, the silhouette), computed from its
+//   BufferGeometry's positions and index by umbra-geom compiled to WebAssembly
+//   (../../umbra-geom-wasm), once per geometry version;
 // * every drawn mesh's de-indexed triangles with their flat normals (flatTriangles), what the
 //   depth and mask passes draw.
 // Bad geometry (no positions, NaN, index out of range) is a TopologyError naming the mesh.
@@ -94,14 +95,16 @@ export class Topology {
 
   /**
    * The caster buffers of `geometry` (positions in its own space), named `name` in errors:
-   * { maxMult, records, triangles, sides, caps, edgeTriangles, ms }. Throws TopologyError.
+   * { maxMult, records, triangles, sides, caps, edgeTriangles, caster, ms }; `caster` is the
+   * geometry's per-frame work in the wasm (umbra-geom-wasm's Caster: the z-pass test and the
+   * silhouette; the caller frees it). Throws TopologyError.
    */
   prepare(geometry, name) {
     const positions = geometryPositions(geometry, name);
     const t0 = performance.now();
     let p;
     try {
-      p = this.geom.prepare({ name, positions, index: geometry.index ? geometry.index.array.subarray(0, geometry.index.count) : null });
+      p = this.geom.prepare({ name, positions, index: geometry.index ? geometry.index.array.subarray(0, geometry.index.count) : null, caster: true });
     } catch (e) {
       if (e instanceof UmbraGeomError) throw new TopologyError(e.message);
       throw e;
@@ -113,6 +116,7 @@ export class Topology {
       sides: p.sides,
       caps: p.caps,
       edgeTriangles: p.edgeTriangles,
+      caster: p.caster,
       ms: performance.now() - t0,
     };
   }

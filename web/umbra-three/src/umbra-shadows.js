@@ -2,9 +2,12 @@
 // renderer.render(scene, camera):
 //   1. the scene's lights, casters and receivers are gathered (lights.js replays three.js's
 //      light order), casters prepared once per geometry version (topology.js, wasm);
-//   2. the WebGL 2 drawer (webgl/drawer.js) draws every light's decision into umbra's own
-//      mask target, on umbra's own depth pass (umbra's camera convention: reversed-Z,
-//      infinite far plane; the camera's fov, aspect and near);
+//   2. per light, each caster's z-pass test (in the wasm, topology.js: the eye's near pyramid
+//      and the light in the caster's own space) picks the count: z-pass from sum(W0) when
+//      every caster answers, z-fail otherwise; the WebGL 2 drawer (webgl/drawer.js) draws
+//      every light's decision into umbra's own mask target from each caster's silhouette
+//      (also computed in the wasm), on umbra's own depth pass (umbra's camera convention:
+//      reversed-Z, infinite far plane; the camera's fov, aspect and near);
 //   3. renderer.resetState(), then renderer.render(scene, camera) with the patched materials
 //      (materials.js) reading the decision of their pixel.
 // Nothing thrown inside render(): a refused mesh or a failed frame is an entry in `errors`
@@ -14,18 +17,35 @@ import { Topology, TopologyError, flatTriangles, geometryPositions, meshName } f
 import { gatherLights, lightSlots } from './lights.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
-import { infiniteProjection, clipFromObject } from './camera.js';
+import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
+
+/**
+ * The stencil start of light `k` under z-pass, sum(W0) mod 256 (8-bit stencil, wrapping
+ * counts), when every caster's test proves one count W0 for the eye's whole near pyramid;
+ * null (z-fail) when any caster cannot (or has no points: z-pass off, projective matrix).
+ */
+function zpassStart(tests, k) {
+  let sum = 0;
+  for (const t of tests) {
+    if (!t.points) return null;
+    const w0 = t.caster.nearWinding(t.points, t.lights[k]);
+    if (w0 === null) return null;
+    sum += w0;
+  }
+  return sum % 256;
+}
 
 export class UmbraShadows {
   /**
    * Loads the wasm preprocessing and sets up the WebGL 2 drawer on `renderer`'s context.
    * Throws a clear Error when the context is not WebGL 2 or lacks what umbra needs.
    * @param {import('three').WebGLRenderer} renderer
-   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number}} options
+   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number, zpass?: boolean}} options
    *   wasm: the module's URL, Response or bytes (default: umbra_wasm.wasm beside this file);
-   *   depth, depthClamp, snap: diagnostics (docs/web.md)
+   *   depth, depthClamp, snap: diagnostics (docs/web.md); zpass: false counts every light
+   *   z-fail (a diagnostic: the two counts give the same decision)
    */
   static async create(renderer, options = {}) {
     const gl = renderer?.getContext?.();
@@ -55,12 +75,12 @@ export class UmbraShadows {
     this.mask = new ExternalTexture(null);
     this.uniforms = createUniforms(this.mask);
     this.patched = new WeakSet();
-    this.casters = new WeakMap(); // geometry -> { key, volumes | error }
+    this.casters = new WeakMap(); // geometry -> { key, volumes and wasm | error }
     this.drawn = new WeakMap(); // geometry -> { key, buffers }
-    this.owned = new Set(); // GL objects to free on dispose
+    this.owned = new Set(); // GL objects and wasm caster handles to free on dispose
     this.reported = new Set();
     this.channels = new Map(); // light -> channel of the last frame
-    this.info = { lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {} };
+    this.info = { lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {}, zpass: [] };
   }
 
   /** The renderer's name (WEBGL_debug_renderer_info) and its SUBPIXEL_BITS, for tests. */
@@ -146,13 +166,23 @@ export class UmbraShadows {
         c.volumes.dispose();
         this.owned.delete(c.volumes);
       }
-      c = { key, volumes: null, error: null };
+      if (c?.wasm) {
+        c.wasm.dispose();
+        this.owned.delete(c.wasm);
+      }
+      c = { key, volumes: null, wasm: null, error: null };
       try {
         const data = this.topology.prepare(g, meshName(mesh));
         this.info.prepareMs += data.ms;
         if (data.triangles > 0) {
           c.volumes = this.drawer.createVolumes(data);
           this.owned.add(c.volumes);
+          // The per-frame work (z-pass test, silhouette) lives in the wasm module's memory:
+          // freed with the volumes.
+          c.wasm = { caster: data.caster, dispose: () => data.caster.free() };
+          this.owned.add(c.wasm);
+        } else {
+          data.caster?.free();
         }
       } catch (e) {
         if (!(e instanceof TopologyError)) throw e;
@@ -161,7 +191,7 @@ export class UmbraShadows {
       this.casters.set(g, c);
     }
     if (c.error) this.report(meshName(mesh), c.error);
-    return c.volumes;
+    return c.volumes ? c : null;
   }
 
   /** A mesh's depth/mask-pass buffers (once per geometry version), or null (no positions). */
@@ -236,6 +266,11 @@ export class UmbraShadows {
       return [p.x - t.x, p.y - t.y, p.z - t.z, 0];
     });
     const inverse = new Matrix4();
+    // The z-pass test's points (the eye and the near-plane corners), world space.
+    const eye = new Vector3().setFromMatrixPosition(camera.matrixWorld);
+    const worldFromClip = new Matrix4().fromArray(mul(projection, view)).invert().elements;
+    const pyramid = this.options.zpass === false ? null : nearPyramidPoints(worldFromClip, [eye.x, eye.y, eye.z], reversed);
+    const tests = [];
     const frameMeshes = [];
     let casters = 0;
     let triangles = 0;
@@ -246,7 +281,8 @@ export class UmbraShadows {
       }
       const buffers = this.buffersOf(m);
       if (!buffers) continue;
-      const volumes = m.castShadow ? this.casterOf(m) : null;
+      const caster = m.castShadow ? this.casterOf(m) : null;
+      const volumes = caster ? caster.volumes : null;
       if (volumes) {
         casters++;
         triangles += volumes.triangles;
@@ -254,13 +290,22 @@ export class UmbraShadows {
       inverse.copy(m.matrixWorld).invert();
       const e = inverse.elements;
       const toObject = (v) => new Float32Array([0, 1, 2, 3].map((r) => e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r] * v[3]));
+      const objectLights = lightWorld.map(toObject);
+      if (caster) {
+        // The test in the caster's space (an affine map keeps what it proves; see
+        // crates/umbra-wasm/src/clearance.rs); a projective world matrix: no test, z-fail.
+        const w = m.matrixWorld.elements;
+        const affine = w[3] === 0 && w[7] === 0 && w[11] === 0 && w[15] === 1;
+        tests.push({ caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights });
+      }
       frameMeshes.push({
         buffers,
         volumes,
         clipFromObject: clipFromObject(projection, view, m.matrixWorld.elements),
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
         flip: m.matrixWorld.determinant() < 0 ? -1 : 1,
-        lights: lightWorld.map(toObject),
+        lights: objectLights,
+        silhouette: caster ? (k) => caster.wasm.caster.silhouette(objectLights[k]) : null,
       });
     }
     this.info.casters = casters;
@@ -268,8 +313,12 @@ export class UmbraShadows {
     // No caster: nothing is shadowed, and the frame is three.js's own.
     if (casters === 0) return false;
     const timing = this.timing ? {} : null;
-    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length });
+    const t0 = timing ? performance.now() : 0;
+    const zpass = lights.map((_, k) => zpassStart(tests, k));
+    if (timing) timing.clearance = performance.now() - t0;
+    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length, zpass });
     this.info.passes = timing || {};
+    this.info.zpass = zpass;
     this.mask.sourceTexture = this.drawer.maskTexture;
     this.channels = new Map(lights.map((l, c) => [l, c]));
     this.setSelects(slots, this.channels);

@@ -4,8 +4,11 @@
 // vertex-shader silhouettes (volumes.js), the passes of crates/umbra-gl/src/renderer.rs:
 //   1. depth of every visible mesh (depth.vert.glsl), once per frame;
 //   per light (up to 4, a channel of the RGBA8 mask target each):
-//   2. each caster's triangles oriented towards the light, then its volumes into the stencil
-//      (sides always, caps for z-fail; volumes.js), colour and depth masked;
+//   2. each caster's silhouette towards the light (the wasm's triangle orientations and edge
+//      records of nonzero multiplicity) uploaded, then its volumes into the stencil
+//      (sides always, caps for z-fail; volumes.js), colour and depth masked: z-pass from the
+//      stencil start sum(W0) when the caller proved the eye's near pyramid inside one count
+//      for every caster (f.zpass[k], umbra_geom::clearance), z-fail otherwise;
 //   3. the mask pass (mask.frag.glsl): 1 into the light's channel where stencil == 0, depth
 //      EQUAL and the seen side faces the light, 0 elsewhere.
 // Meshes are drawn in their own space with their clip-from-object matrix, and volumes with the
@@ -144,8 +147,11 @@ export class WebGLDrawer {
    * Draws one frame's decisions into the mask target. Leaves GL's default state behind it
    * (the caller then calls renderer.resetState()).
    * @param {{width: number, height: number, snap?: number, timing?: object|null,
-   *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null}[],
-   *   lights: number}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space
+   *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null,
+   *     silhouette: ((k: number) => {orientation: Int8Array, records: Int32Array})|null}[],
+   *   lights: number, zpass?: (number|null)[]}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space;
+   *   zpass[k]: light k's z-pass stencil start (sum of W0 mod 256), or null/absent for z-fail;
+   *   mesh.silhouette(k): a caster's silhouette towards light k (volumes.js prepare())
    */
   frame(f) {
     const gl = this.gl;
@@ -160,12 +166,30 @@ export class WebGLDrawer {
       timing[name] = (timing[name] || 0) + (now - t);
       t = now;
     };
+    // The parts of the volumes pass (volumes.silhouette, .polygons, .fans), inside its lap.
+    let ts = 0;
+    const tick = timing ? (name) => {
+      this.sync();
+      const now = performance.now();
+      timing[name] = (timing[name] || 0) + (now - ts);
+      ts = now;
+    } : null;
     const fbo = this.ensureTarget(f.width, f.height);
     const bindTarget = () => {
       gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
       gl.viewport(0, 0, f.width, f.height);
     };
     bindTarget();
+    // The silhouettes are uploaded from wasm memory: plain unpacking (no flip or premultiply,
+    // which three.js sets per texture; tight rows; no unpack buffer). resetState() restores
+    // three.js's own after the frame.
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.pixelStorei(gl.UNPACK_ROW_LENGTH, 0);
+    gl.pixelStorei(gl.UNPACK_SKIP_ROWS, 0);
+    gl.pixelStorei(gl.UNPACK_SKIP_PIXELS, 0);
     // Reversed-Z: clip z in [0, w].
     if (rz) this.clipControl.clipControlEXT(this.clipControl.LOWER_LEFT_EXT, this.clipControl.ZERO_TO_ONE_EXT);
     const nearer = rz ? gl.GREATER : gl.LESS;
@@ -204,26 +228,39 @@ export class WebGLDrawer {
 
     for (let k = 0; k < f.lights; k++) {
       const casters = f.meshes.filter((m) => m.volumes);
+      const start = f.zpass?.[k] ?? null;
+      const zpass = start !== null;
       if (casters.length) {
+        // The count starts at 0 (z-fail), or at W0 (z-pass: the eye's near pyramid lies in
+        // W0 volumes, so a sample's count W(p) - W0 + W0 is 0 exactly when it is lit).
         gl.stencilMask(0xff);
+        gl.clearStencil(zpass ? start : 0);
         gl.clear(gl.STENCIL_BUFFER_BIT);
+        gl.clearStencil(0);
         for (const m of casters) {
           const light = m.lights[k];
-          // Each triangle of the caster oriented once towards the light (leaves the
-          // framebuffer unbound and depth, stencil, blend off).
-          m.volumes.prepare(light);
-          bindTarget();
-          // Pass 2: z-fail counting (state.rs shadow_volume_for(false, convention)): stencil
-          // test always passes; back faces behind the sample +1, front faces behind it -1,
-          // wrapping (exact modulo 256); depth func strictly nearer (caps at the far plane
-          // fail everywhere, background included); no depth or colour writes; no culling
-          // (both faces count in one pass); CCW = outward = front.
+          // Each triangle of the caster oriented once towards the light, and its silhouette
+          // records, from the wasm into the caster's textures.
+          if (tick) ts = performance.now();
+          m.volumes.prepare(m.silhouette(k));
+          tick?.('volumes.silhouette');
+          // Pass 2: counting (state.rs shadow_volume_for(zpass, convention)): stencil test
+          // always passes; z-fail: back faces behind the sample +1, front faces behind it -1;
+          // z-pass: front faces in front of it +1, back faces in front of it -1; wrapping
+          // (exact modulo 256); depth func strictly nearer (caps at the far plane fail
+          // everywhere, background included, so z-pass may leave them out); no depth or
+          // colour writes; no culling (both faces count in one pass); CCW = outward = front.
           gl.enable(gl.DEPTH_TEST);
           gl.enable(gl.STENCIL_TEST);
           gl.stencilFunc(gl.ALWAYS, 0, 0xff);
           gl.stencilMask(0xff);
-          gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.DECR_WRAP, gl.KEEP);
-          gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.INCR_WRAP, gl.KEEP);
+          if (zpass) {
+            gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.KEEP, gl.INCR_WRAP);
+            gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.KEEP, gl.DECR_WRAP);
+          } else {
+            gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.DECR_WRAP, gl.KEEP);
+            gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.INCR_WRAP, gl.KEEP);
+          }
           gl.depthFunc(nearer);
           gl.depthMask(false);
           gl.colorMask(false, false, false, false);
@@ -231,7 +268,7 @@ export class WebGLDrawer {
           // Nothing of a volume may be clipped (state.rs): depth clamp when available (the
           // volume program clips to the viewport, and light caps to the near plane, itself).
           if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
-          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height] });
+          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height], caps: !zpass, tick });
           if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
         }
         lap('volumes');

@@ -1,12 +1,13 @@
 // The shadow volumes of one caster: paper 003's vs-silhouette (vs_silhouette.js) as WebGL 2
 // objects. Owns the caster's data textures (from topology.js: the buffers `umbra export`
-// writes), the orientation pass (its R8I target and framebuffer), the polygon pass (its
-// transform-feedback buffer and the RGBA32F texture the polygons are copied to) and the fan
-// pass, with programs shared by every caster (VolumePrograms); the drawer (drawer.js) owns the
-// frame, calls prepare() per light and draw() under the counting state it set.
+// writes), the silhouette's textures (the triangles' orientations, R8I, and the list of edge
+// records of nonzero multiplicity, R32I, both computed by the wasm per light), the polygon
+// pass (its transform-feedback buffer and the RGBA32F texture the polygons are copied to) and
+// the fan pass, with programs shared by every caster (VolumePrograms); the drawer (drawer.js)
+// owns the frame, calls prepare() per light and draw() under the counting state it set.
 import { link, GlSetupError } from './program.js';
 import {
-  orientationVertexSource, pointFragmentSource, polygonsVertexSource, fanVertexSource, volumeFragmentSource,
+  polygonsVertexSource, fanVertexSource, volumeFragmentSource,
   POLYGON_VARYINGS, FAN_VERTICES, polygonsPerInstance, textureShift, textureRows,
 } from './vs_silhouette.js';
 
@@ -35,8 +36,8 @@ function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, te
 }
 
 /** `texels` elements into the bound texture, from `source` (a typed array, or a byte offset
- * into the bound PIXEL_UNPACK_BUFFER) at element `first`: the full rows, then the rest. Texels
- * of 4 bytes or more: every row starts aligned whatever UNPACK_ALIGNMENT is. */
+ * into the bound PIXEL_UNPACK_BUFFER) at element `first`: the full rows, then the rest. Rows
+ * are 2^11 texels or more wide: every row starts aligned whatever UNPACK_ALIGNMENT is. */
 function upload(gl, width, format, type, source, first, perTexel, texels) {
   const full = Math.floor(texels / width);
   const rest = texels - full * width;
@@ -57,21 +58,21 @@ const UNIT_DATA = 0;
 const UNIT_EDGE_TRIANGLES = 1;
 const UNIT_ORIENTATION = 2;
 const UNIT_POLYGONS = 3;
+const UNIT_RECORDS = 4;
 
-/** The three volume programs, linked once per context and shared by every caster. */
+/** The two volume programs, linked once per context and shared by every caster. */
 export class VolumePrograms {
   /** @param {WebGL2RenderingContext} gl */
   constructor(gl) {
     const frag = volumeFragmentSource();
     this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
-    this.orient = link(gl, 'orientation pass', 'glsl/orientation.vert.glsl', orientationVertexSource(), 'glsl/point.frag.glsl', pointFragmentSource());
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
     this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'vs_silhouette/volume.frag.glsl', frag);
     this.gl = gl;
   }
 
   dispose() {
-    for (const p of [this.orient, this.polygons, this.fan]) this.gl.deleteProgram(p.program);
+    for (const p of [this.polygons, this.fan]) this.gl.deleteProgram(p.program);
   }
 }
 
@@ -92,14 +93,12 @@ export class ShadowVolumes {
     this.sidesTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.sides, 4, this.records * (2 + this.maxMult), 'sides-data').tex;
     this.capsTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.caps, 4, 3 * this.triangles, 'caps-data').tex;
     this.edgeTrianglesTex = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles').tex;
-    // The orientations: R8I (integer formats are colour-renderable in ES 3.0), one per triangle.
+    // The silhouette of the current light, uploaded by prepare(): every triangle's orientation
+    // (R8I, one per triangle) and the edge records of nonzero multiplicity (R32I, at most all).
     this.orientation = dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations');
-    this.orientationFbo = gl.createFramebuffer();
-    gl.bindFramebuffer(gl.FRAMEBUFFER, this.orientationFbo);
-    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.orientation.tex, 0);
-    const status = gl.checkFramebufferStatus(gl.FRAMEBUFFER);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    if (status !== gl.FRAMEBUFFER_COMPLETE) throw new GlSetupError(`the R8I orientation framebuffer is incomplete (0x${status.toString(16)})`);
+    this.recordList = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records');
+    this.silhouetteRecords = 0;
+    this.singleRecords = 0;
     // The polygons of one set (sides, light caps or dark caps) at a time: one capture buffer
     // and one texture for the largest set, reused by the three.
     const polygons = Math.max(this.records, this.triangles, 1);
@@ -110,25 +109,9 @@ export class ShadowVolumes {
     gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, null);
     this.polygonTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, POLYGON_TEXELS * polygons, 'volume polygons').tex;
     this.feedback = gl.createTransformFeedback();
-
-    // The orientation pass reads caps-data as attributes: one point per triangle.
-    this.capsVao = gl.createVertexArray();
-    gl.bindVertexArray(this.capsVao);
-    const caps = gl.createBuffer();
-    gl.bindBuffer(gl.ARRAY_BUFFER, caps);
-    // STATIC_DRAW: uploaded once per scene, read by every frame.
-    gl.bufferData(gl.ARRAY_BUFFER, data.caps, gl.STATIC_DRAW);
-    this.capsBuffer = caps;
-    for (let k = 0; k < 3; k++) {
-      gl.vertexAttribPointer(k, 4, gl.FLOAT, false, 48, 16 * k);
-      gl.enableVertexAttribArray(k);
-    }
-    gl.bindVertexArray(null);
-    gl.bindBuffer(gl.ARRAY_BUFFER, null);
-    // The other passes read textures only: an empty vertex array.
+    // The passes read textures only: an empty vertex array.
     this.emptyVao = gl.createVertexArray();
 
-    this.orient = programs.orient;
     this.polygons = programs.polygons;
     this.fan = programs.fan;
   }
@@ -136,12 +119,9 @@ export class ShadowVolumes {
   /** Frees every GL object of this caster (not the shared programs). */
   dispose() {
     const gl = this.gl;
-    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.orientation.tex, this.polygonTex]) gl.deleteTexture(t);
-    gl.deleteFramebuffer(this.orientationFbo);
+    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.orientation.tex, this.recordList.tex, this.polygonTex]) gl.deleteTexture(t);
     gl.deleteBuffer(this.polygonBuffer);
-    gl.deleteBuffer(this.capsBuffer);
     gl.deleteTransformFeedback(this.feedback);
-    gl.deleteVertexArray(this.capsVao);
     gl.deleteVertexArray(this.emptyVao);
   }
 
@@ -160,26 +140,24 @@ export class ShadowVolumes {
   }
 
   /**
-   * The orientation pass: every triangle's orientation towards `light` (in this caster's
-   * space) into the R8I texture. Leaves the framebuffer unbound, depth, stencil, blend and cull off and colour
-   * writes on (the renderer sets its own state after).
+   * The silhouette towards the light draw() is then called with (the wasm's Silhouette:
+   * `orientation`, one Int8Array element per triangle, and `records`, the Int32Array of edge
+   * records of nonzero multiplicity, the `single` ones of multiplicity ±1 first) into this
+   * caster's two textures. Needs the unpack state
+   * the drawer sets (no flip, no premultiply, no row length or skips, no unpack buffer).
    */
-  prepare(light) {
+  prepare({ orientation, records, single }) {
     const gl = this.gl;
-    gl.bindFramebuffer(gl.FRAMEBUFFER, this.orientationFbo);
-    gl.viewport(0, 0, this.orientation.width, this.orientation.rows);
-    // One fragment per point, written as is: no tests, no blending, every channel.
-    gl.disable(gl.DEPTH_TEST);
-    gl.disable(gl.STENCIL_TEST);
-    gl.disable(gl.BLEND);
-    gl.disable(gl.CULL_FACE);
-    gl.colorMask(true, true, true, true);
-    this.setUniforms(this.orient, { u_texture_shift: this.shift, u_texture_rows: this.orientation.rows });
-    gl.uniform4fv(this.orient.u.u_light, light);
-    gl.bindVertexArray(this.capsVao);
-    gl.drawArrays(gl.POINTS, 0, this.triangles);
-    gl.bindVertexArray(null);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    const width = 2 ** this.shift;
+    gl.bindTexture(gl.TEXTURE_2D, this.orientation.tex);
+    upload(gl, width, gl.RED_INTEGER, gl.BYTE, orientation, 0, 1, this.triangles);
+    if (records.length) {
+      gl.bindTexture(gl.TEXTURE_2D, this.recordList.tex);
+      upload(gl, width, gl.RED_INTEGER, gl.INT, records, 0, 1, records.length);
+    }
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    this.silhouetteRecords = records.length;
+    this.singleRecords = single;
   }
 
   /**
@@ -188,22 +166,28 @@ export class ShadowVolumes {
    * set through the polygon pass, then the fan pass. `clipFromWorld`: this caster's clip
    * from object matrix, the one the depth pass drew it with; `light` in object space. `farClipZ`: VolumeFrame::far_clip_z of
    * the depth convention (1 standard, 0 reversed-Z); `snap`, `viewport`: the snap=N diagnostic
-   * (glsl/snap.glsl) and the viewport's size in pixels. After prepare() for the same light.
+   * (glsl/snap.glsl) and the viewport's size in pixels. `caps` false (z-pass): the sides only,
+   * the caps' polygon and fan passes skipped (light caps lie on the far plane and dark caps at
+   * infinity: under the strictly-nearer test z-pass never counts them). After prepare() for
+   * the same light. `tick(name)`, when given, is called after each polygon and fan pass (timing).
    */
-  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport }) {
+  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport, caps = true, tick = null }) {
     const gl = this.gl;
     const P = this.polygons;
     this.setUniforms(P, {
       u_texture_shift: this.shift, u_max_mult: this.maxMult,
-      u_data: UNIT_DATA, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION,
+      u_data: UNIT_DATA, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION, u_records: UNIT_RECORDS,
     });
     gl.uniformMatrix4fv(P.u.u_clip_from_world, false, clipFromWorld);
     gl.uniform4fv(P.u.u_light, light);
     gl.uniform1f(P.u.u_far_clip_z, farClipZ);
     this.bindTexture(UNIT_EDGE_TRIANGLES, this.edgeTrianglesTex);
     this.bindTexture(UNIT_ORIENTATION, this.orientation.tex);
+    this.bindTexture(UNIT_RECORDS, this.recordList.tex);
     gl.bindVertexArray(this.emptyVao);
-    const set = (mode, data, count, repeat) => {
+    // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
+    // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
+    const set = (mode, data, count, fans) => {
       if (count === 0) return;
       // Polygon pass: one point per record, its polygon captured; nothing rasterised.
       gl.useProgram(P.program);
@@ -225,21 +209,33 @@ export class ShadowVolumes {
       upload(gl, 2 ** this.shift, gl.RGBA, gl.FLOAT, 0, 0, 4, POLYGON_TEXELS * count);
       gl.bindTexture(gl.TEXTURE_2D, null);
       gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+      tick?.('volumes.polygons');
       // Fan pass: the polygons into the stencil.
-      const per = polygonsPerInstance(repeat);
       this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
       this.bindTexture(UNIT_POLYGONS, this.polygonTex);
-      gl.uniform1i(this.fan.u.u_count, count);
       gl.uniform1f(this.fan.u.u_snap, snap);
       gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
-      gl.uniform1i(this.fan.u.u_repeat, repeat);
-      gl.uniform1i(this.fan.u.u_per_instance, per);
-      gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil(count / per));
+      for (const [first, end, repeat] of fans) {
+        if (end <= first) continue;
+        const per = polygonsPerInstance(repeat);
+        gl.uniform1i(this.fan.u.u_first, first);
+        gl.uniform1i(this.fan.u.u_count, end);
+        gl.uniform1i(this.fan.u.u_repeat, repeat);
+        gl.uniform1i(this.fan.u.u_per_instance, per);
+        gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil((end - first) / per));
+      }
+      tick?.('volumes.fans');
     };
-    set(0, this.sidesTex, this.records, this.maxMult);
-    set(1, this.capsTex, this.triangles, 1);
-    // A directional light's dark cap has zero area: none.
-    if (light[3] !== 0) set(2, this.capsTex, this.triangles, 1);
+    // The sides: the listed records only (every other record's multiplicity is 0: no side).
+    // Sides of multiplicity ±1 with one potential copy each, the others with maxMult.
+    const n = this.silhouetteRecords;
+    set(0, this.sidesTex, n, [[0, this.singleRecords, 1], [this.singleRecords, n, this.maxMult]]);
+    if (caps) {
+      const all = [[0, this.triangles, 1]];
+      set(1, this.capsTex, this.triangles, all);
+      // A directional light's dark cap has zero area: none.
+      if (light[3] !== 0) set(2, this.capsTex, this.triangles, all);
+    }
     gl.bindVertexArray(null);
   }
 }

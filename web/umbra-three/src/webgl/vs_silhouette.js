@@ -3,13 +3,15 @@
 // shaders from the preprocessed sides-data and caps-data (Section 2.6, Eq. 8 / Eq. 9), made
 // exact on every WebGL 2 implementation the browser test runs (docs/web.md). Per frame:
 //
-// 1. the orientation pass (glsl/orientation.vert.glsl) orients every triangle ONCE, one texel
-//    per triangle, and everything after reads that value (the export's edge_triangles name
-//    the triangle behind each opposite slot of an edge), so no compiler contraction can give a
-//    triangle two orientations (ES 3.00 has no `precise`);
-// 2. the polygon pass (glsl/polygons.vert.glsl, transform feedback) turns every edge record
-//    and every triangle into its side or cap polygon clipped to just inside the viewport, and
-//    light caps to the near plane (glsl/clip.glsl), once: no rasteriser clips a volume;
+// 1. the wasm (crates/umbra-wasm/src/silhouette.rs) orients every triangle ONCE, uploaded one
+//    texel per triangle, and everything after reads that value (the export's edge_triangles
+//    name the triangle behind each opposite slot of an edge), so no compiler contraction can
+//    give a triangle two orientations (ES 3.00 has no `precise`); it also lists the edge
+//    records of nonzero multiplicity (the silhouette), uploaded beside it;
+// 2. the polygon pass (glsl/polygons.vert.glsl, transform feedback) turns every listed edge
+//    record and every triangle into its side or cap polygon clipped to just inside the
+//    viewport, and light caps to the near plane (glsl/clip.glsl), once: no rasteriser clips a
+//    volume;
 // 3. the fan pass (glsl/fan.vert.glsl) draws those polygons into the stencil.
 //
 // The scene's data live in textures read with texelFetch by element index
@@ -23,25 +25,14 @@
 import native from 'umbra:vs-silhouette';
 import elementsGlsl from './glsl/elements.glsl';
 import clipGlsl from './glsl/clip.glsl';
-import orientationVert from './glsl/orientation.vert.glsl';
 import polygonsVert from './glsl/polygons.vert.glsl';
 import fanVert from './glsl/fan.vert.glsl';
-import pointFrag from './glsl/point.frag.glsl';
 import snapGlsl from './glsl/snap.glsl';
 
 export const sources = native;
 export { snapGlsl };
 
 const prelude = () => native.essl300Prelude + native.culledDefine;
-
-export function orientationVertexSource() {
-  return `${prelude()}${native.multiplicity}\n${elementsGlsl}\n${orientationVert}`;
-}
-
-/** The orientation pass's fragment shader: the point's integer into its texel. */
-export function pointFragmentSource() {
-  return `${prelude()}${pointFrag}`;
-}
 
 export function polygonsVertexSource() {
   return `${prelude()}${native.multiplicity}\n${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${polygonsVert}`;

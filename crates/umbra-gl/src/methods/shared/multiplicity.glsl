@@ -10,8 +10,8 @@
 // a triangle could be lit through one edge and unlit through another (an open volume).
 // GLSL ES 3.00 has no `precise`; there vs-silhouette's ES build relies on the driver not
 // contracting (SwiftShader and llvmpipe, measured, do not), which is why it is a separate,
-// tested target. The WebGL viewer does not rely on it: it orients each triangle once per frame
-// and lets the sides and the caps read that value (web/umbra-three/src/webgl/glsl/orientation.vert.glsl).
+// tested target. The WebGL viewer does not rely on it: its wasm orients each triangle once per
+// light and the sides and the caps read that value (crates/umbra-wasm/src/silhouette.rs).
 //
 // This file has no #version line: a method splices it after its own #version / #define lines.
 

@@ -5,10 +5,13 @@
 // renderer's counting state. The vertices are read as the polygon pass wrote them: nothing
 // is computed here, so each polygon is drawn exactly as clipped.
 //
-// Instance i covers polygons i * u_per_instance ..; each has u_repeat (the largest |repeat|:
-// maxMult for sides, 1 for caps) potential copies of UMBRA_FAN vertices. Unused vertices go
-// to UMBRA_CULLED, outside the viewport, so their whole triangle is discarded.
+// Instance i covers polygons u_first + i * u_per_instance ..< u_count; each has u_repeat (the
+// largest |repeat| of the range: 1 for caps and for the sides of multiplicity +-1, which the
+// wasm lists first, maxMult for the other sides) potential copies of UMBRA_FAN vertices.
+// Unused vertices go to UMBRA_CULLED, outside the viewport, so their whole triangle is
+// discarded.
 
+uniform int u_first;
 uniform int u_count;
 uniform int u_per_instance;
 uniform int u_repeat;
@@ -19,7 +22,7 @@ const int UMBRA_FAN = 3 * (UMBRA_CLIP_MAX - 2);
 void main() {
     int per_polygon = u_repeat * UMBRA_FAN;
     int local = gl_VertexID / per_polygon;
-    int polygon = gl_InstanceID * u_per_instance + local;
+    int polygon = u_first + gl_InstanceID * u_per_instance + local;
     int within = gl_VertexID - per_polygon * local;
     int copy = within / UMBRA_FAN;
     int k = within - UMBRA_FAN * copy;

@@ -4,20 +4,22 @@
 // transform feedback (one point in, one polygon out); fan.vert.glsl then draws them. What it
 // changes from the native vs-silhouette (crates/umbra-gl/src/methods/vs_silhouette/), and why:
 //
-// 1. Orientations are read, not recomputed. The orientation pass (orientation.vert.glsl)
-//    orients every triangle once per frame; a cap reads its triangle's value, and an edge
-//    record sums sign_i * orientation(T_i) over its opposite slots (edge_triangles, from
-//    `umbra export`: T_i the slot's triangle, + when it walks the edge A -> B), which is
-//    paper 001's Alg. 3 bit for bit. GLSL ES 3.00 has no `precise`; evaluated apart for the
-//    sides and the caps, a compiler could contract the test differently and give a triangle
-//    two orientations (an open volume). One value read twice cannot disagree.
+// 1. Orientations are read, not recomputed. The wasm (crates/umbra-wasm/src/silhouette.rs)
+//    orients every triangle once per light (paper 001 Alg. 4 in f32, never contracted) into
+//    u_orientation; a cap reads its triangle's value, and an edge record sums
+//    sign_i * orientation(T_i) over its opposite slots (edge_triangles, from `umbra export`:
+//    T_i the slot's triangle, + when it walks the edge A -> B), which is paper 001's Alg. 3
+//    bit for bit. GLSL ES 3.00 has no `precise`; evaluated apart for the sides and the caps,
+//    a compiler could contract the test differently and give a triangle two orientations (an
+//    open volume). One value read twice cannot disagree. The sides visit only the records the
+//    wasm listed with the same sum nonzero (u_records): every other record has no side.
 // 2. Every polygon is clipped here (clip.glsl) to just inside the viewport, and light caps also
 //    to the camera's near plane: no rasteriser clips a volume (SwiftShader's clipper
 //    re-projects vertices that its unclipped triangles share, and the volume cracks), and
 //    ES 3.00 has no gl_ClipDistance for the near-plane cut of light caps (native umbra:
 //    gl_ClipDistance[0]).
 //
-// u_mode 0: edge record `gl_VertexID` of sides-data (u_data: 2 + maxMult RGBA32F texels per
+// u_mode 0: edge record u_records[gl_VertexID] of sides-data (u_data: 2 + maxMult RGBA32F texels per
 // record: A + count, B + split, opposites): the quad B A A_inf B_inf (the native id_CCW
 // triangles (B, A, A_inf), (B, A_inf, B_inf)) for curMult > 0, reversed for curMult < 0 (so
 // that opposite-signed records of a split edge clip to the same polygon and cancel), drawn
@@ -36,6 +38,7 @@ uniform int u_max_mult;
 uniform highp sampler2D u_data;
 uniform highp isampler2D u_edge_triangles;
 uniform highp isampler2D u_orientation;
+uniform highp isampler2D u_records;
 
 // w = 1 vertices must be bit for bit where the scene's vertex shader puts the same point
 // (same expression, invariant), so the sides meet the caster and a light cap keeps the
@@ -64,7 +67,7 @@ void main() {
     int n = 0;
     int repeat = 0;
     int planes = 4;
-    int record = gl_VertexID;
+    int record = u_mode == 0 ? texelFetch(u_records, umbra_texel(gl_VertexID), 0).r : gl_VertexID;
     if (u_mode == 0) {
         int first = record * (2 + u_max_mult);
         vec4 a = texelFetch(u_data, umbra_texel(first), 0);
