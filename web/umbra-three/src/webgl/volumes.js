@@ -6,7 +6,7 @@
 // frame, calls prepare() per light and draw() under the counting state it set.
 import { link, GlSetupError } from './program.js';
 import {
-  orientationVertexSource, pointFragmentSource, polygonsVertexSource, fanVertexSource, volumeFragmentSource,
+  orientationVertexSource, pointFragmentSource, polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource,
   POLYGON_VARYINGS, FAN_VERTICES, polygonsPerInstance, textureShift, textureRows,
 } from './vs_silhouette.js';
 
@@ -66,7 +66,7 @@ export class VolumePrograms {
     this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
     this.orient = link(gl, 'orientation pass', 'glsl/orientation.vert.glsl', orientationVertexSource(), 'glsl/point.frag.glsl', pointFragmentSource());
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
-    this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'vs_silhouette/volume.frag.glsl', frag);
+    this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'glsl/fan.frag.glsl', fanFragmentSource());
     this.gl = gl;
   }
 
@@ -230,6 +230,7 @@ export class ShadowVolumes {
       this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
       this.bindTexture(UNIT_POLYGONS, this.polygonTex);
       gl.uniform1i(this.fan.u.u_count, count);
+      gl.uniform1f(this.fan.u.u_far_clip_z, farClipZ);
       gl.uniform1f(this.fan.u.u_snap, snap);
       gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
       gl.uniform1i(this.fan.u.u_repeat, repeat);

@@ -26,6 +26,7 @@ import clipGlsl from './glsl/clip.glsl';
 import orientationVert from './glsl/orientation.vert.glsl';
 import polygonsVert from './glsl/polygons.vert.glsl';
 import fanVert from './glsl/fan.vert.glsl';
+import fanFrag from './glsl/fan.frag.glsl';
 import pointFrag from './glsl/point.frag.glsl';
 import snapGlsl from './glsl/snap.glsl';
 
@@ -51,10 +52,15 @@ export function fanVertexSource() {
   return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
 }
 
-/** The fragment shader of the polygon pass (nothing rasterised) and the fan pass (colour
- * writes off: stencil only). */
+/** The fragment shader of the polygon pass (nothing rasterised). */
 export function volumeFragmentSource() {
   return `${prelude()}${native.volumeFrag}`;
+}
+
+/** The fan pass's fragment shader (colour writes off: stencil only; each fragment's depth kept
+ * within its triangle's corners). */
+export function fanFragmentSource() {
+  return `${prelude()}${fanFrag}`;
 }
 
 /** The polygon pass's outputs, in the order they are captured (9 vec4 per polygon). */
