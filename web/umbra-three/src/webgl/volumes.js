@@ -7,7 +7,7 @@
 // owns the frame, calls prepare() per light and draw() under the counting state it set.
 import { link, GlSetupError } from './program.js';
 import {
-  polygonsVertexSource, fanVertexSource, volumeFragmentSource,
+  polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource,
   POLYGON_VARYINGS, FAN_VERTICES, polygonsPerInstance, textureShift, textureRows,
 } from './vs_silhouette.js';
 
@@ -67,7 +67,7 @@ export class VolumePrograms {
     const frag = volumeFragmentSource();
     this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
-    this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'vs_silhouette/volume.frag.glsl', frag);
+    this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'glsl/fan.frag.glsl', fanFragmentSource());
     this.gl = gl;
   }
 
@@ -213,6 +213,7 @@ export class ShadowVolumes {
       // Fan pass: the polygons into the stencil.
       this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
       this.bindTexture(UNIT_POLYGONS, this.polygonTex);
+      gl.uniform1f(this.fan.u.u_far_clip_z, farClipZ);
       gl.uniform1f(this.fan.u.u_snap, snap);
       gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
       for (const [first, end, repeat] of fans) {

@@ -27,6 +27,7 @@ import elementsGlsl from './glsl/elements.glsl';
 import clipGlsl from './glsl/clip.glsl';
 import polygonsVert from './glsl/polygons.vert.glsl';
 import fanVert from './glsl/fan.vert.glsl';
+import fanFrag from './glsl/fan.frag.glsl';
 import snapGlsl from './glsl/snap.glsl';
 
 export const sources = native;
@@ -42,10 +43,15 @@ export function fanVertexSource() {
   return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
 }
 
-/** The fragment shader of the polygon pass (nothing rasterised) and the fan pass (colour
- * writes off: stencil only). */
+/** The fragment shader of the polygon pass (nothing rasterised). */
 export function volumeFragmentSource() {
   return `${prelude()}${native.volumeFrag}`;
+}
+
+/** The fan pass's fragment shader (colour writes off: stencil only; each fragment's depth kept
+ * within its triangle's corners). */
+export function fanFragmentSource() {
+  return `${prelude()}${fanFrag}`;
 }
 
 /** The polygon pass's outputs, in the order they are captured (9 vec4 per polygon). */

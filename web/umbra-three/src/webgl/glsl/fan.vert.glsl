@@ -19,6 +19,18 @@ uniform highp sampler2D u_polygons;
 
 const int UMBRA_FAN = 3 * (UMBRA_CLIP_MAX - 2);
 
+// The (smallest, largest) window depth of this fan triangle's three corners, for fan.frag.glsl,
+// which keeps every fragment's depth in that range. Widened by 2^-20 of each end, so that the
+// rasteriser's own rounding of a corner's depth (viewport transform) is never clamped.
+flat out vec2 v_depth_range;
+
+float umbra_window_depth(vec4 clip) {
+    float z = clip.z / clip.w;
+    // u_far_clip_z (shared/depth.glsl): 0 with reversed-Z (clip control ZERO_TO_ONE, depth
+    // z/w), 1 standard (depth (z/w + 1) / 2); the depth range is [0, 1] in both.
+    return u_far_clip_z == 0.0 ? z : 0.5 * z + 0.5;
+}
+
 void main() {
     int per_polygon = u_repeat * UMBRA_FAN;
     int local = gl_VertexID / per_polygon;
@@ -29,6 +41,7 @@ void main() {
     int f = k / 3;
     int corner = k - 3 * f;
     gl_Position = UMBRA_CULLED;
+    v_depth_range = vec2(0.0);
     if (polygon >= u_count) {
         return;
     }
@@ -38,6 +51,16 @@ void main() {
     if (copy >= repeat || f + 2 >= n) {
         return; // Alg. 1, line 7: useless copy; or past the polygon's fan
     }
+    // The triangle's corners 0, f + 1, f + 2 (the polygon's fan), all read by each of them.
+    vec4 c0 = texelFetch(u_polygons, umbra_texel(9 * polygon), 0);
+    vec4 c1 = texelFetch(u_polygons, umbra_texel(9 * polygon + f + 1), 0);
+    vec4 c2 = texelFetch(u_polygons, umbra_texel(9 * polygon + f + 2), 0);
+    float z0 = umbra_window_depth(c0);
+    float z1 = umbra_window_depth(c1);
+    float z2 = umbra_window_depth(c2);
+    float lo = min(z0, min(z1, z2));
+    float hi = max(z0, max(z1, z2));
+    v_depth_range = vec2(lo - abs(lo) * (1.0 / 1048576.0), hi + abs(hi) * (1.0 / 1048576.0));
     // umbra_snap (snap.glsl): the snap=N diagnostic; unchanged by default.
-    gl_Position = umbra_snap(texelFetch(u_polygons, umbra_texel(9 * polygon + (corner == 0 ? 0 : f + corner)), 0));
+    gl_Position = umbra_snap(corner == 0 ? c0 : (corner == 1 ? c1 : c2));
 }
