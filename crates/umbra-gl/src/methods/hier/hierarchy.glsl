@@ -42,6 +42,27 @@ layout(std430, binding = 5) coherent buffer State { uint state[]; };
 // item a full queue turned away.
 layout(std430, binding = 7) buffer Queues { uvec2 queue[]; };
 
+// Work counts (methods/work_counts.rs), summed over the frame's lights when u_count_work is 1:
+// [WORK_NODES_TESTED] (item, node) tests, [WORK_LEAVES_TESTED] (item, leaf) pairs tested
+// sample by sample, [WORK_NODES_PRUNED] node tests that ended the descent. Compute stages only:
+// the resolve's fragment shader gets the no-op (WORK_STUB, hier/programs.rs), so it declares no
+// storage block beyond its own.
+const uint WORK_NODES_TESTED = 0u;
+const uint WORK_LEAVES_TESTED = 1u;
+const uint WORK_NODES_PRUNED = 2u;
+#ifdef WORK_STUB
+void count_work(uint what, uint n) {}
+#else
+layout(std430, binding = 9) buffer Work { uint work[]; };
+uniform uint u_count_work;
+void count_work(uint what, uint n) {
+    // Reason for the branch: no atomic traffic in frames that do not count.
+    if (u_count_work != 0u && n != 0u) {
+        atomicAdd(work[what], n);
+    }
+}
+#endif
+
 // Frame size in pixels.
 uniform uvec2 u_frame;
 // Levels in use (leaves included); per level: grid width, height, first node, first pair.
@@ -161,6 +182,7 @@ void descend_into(uint item, uint level, uint node) {
     uint slot = atomicAdd(state[4u * level], 1u);
     if (slot < u_queue_capacity[level]) {
         if (level == 0u) {
+            count_work(WORK_LEAVES_TESTED, 1u);
             uint next = atomicExchange(state[u_heads_offset + node], slot + 1u);
             queue[u_level[0].w + slot] = uvec2(item, next);
             if (next == 0u) {

@@ -95,6 +95,8 @@ pub const NODE_BYTES: usize = 48;
 pub const NODE_BYTES_WITH_POINT: usize = 64;
 /// Bytes of one queue entry (triangle, node).
 pub const PAIR_BYTES: usize = 8;
+/// Bytes of the work counters (hier/mod.rs WORK_WORDS words).
+pub const WORK_BYTES: usize = 16;
 
 /// One level's grid of nodes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -286,9 +288,10 @@ impl Layout {
         PAIR_BYTES * self.queue_pairs()
     }
 
-    /// Bytes of everything that depends on the frame size (samples, bounds, state, queues).
+    /// Bytes of everything that depends on the frame size (samples, bounds, state, queues,
+    /// work counters).
     pub fn frame_bytes(&self) -> usize {
-        self.sample_bytes() + self.node_bytes() + self.state_bytes() + self.queue_bytes()
+        self.sample_bytes() + self.node_bytes() + self.state_bytes() + self.queue_bytes() + WORK_BYTES
     }
 }
 

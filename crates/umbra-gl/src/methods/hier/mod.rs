@@ -30,8 +30,10 @@
 
 pub mod layout;
 mod programs;
+mod work;
 
 pub use programs::{delete_programs, fallback_source, header, link_all, link_method, MethodPrograms, SharedPrograms};
+pub use work::WorkCounter;
 
 use glow::HasContext;
 
@@ -60,6 +62,11 @@ pub const NODES: u32 = 4;
 pub const STATE: u32 = 5;
 /// The queues of (item, node) pairs and the redo lists.
 pub const QUEUES: u32 = 7;
+/// The work counters (hierarchy.glsl, `Work`; binding 8 is hier-silhouette's counts).
+pub const WORK: u32 = 9;
+/// Words of the work-counter buffer (hierarchy.glsl: nodes tested, leaves tested, nodes pruned,
+/// and one spare).
+pub const WORK_WORDS: usize = layout::WORK_BYTES / 4;
 
 /// `local_size_x` of every compute shader except args.comp.glsl.
 pub const WORKGROUP: u32 = 64;
@@ -76,6 +83,8 @@ pub struct FrameObjects {
     pub state: glow::Buffer,
     /// Queues and redo lists.
     pub queues: glow::Buffer,
+    /// The work counters ([`WORK_WORDS`] words).
+    pub work: glow::Buffer,
     /// The view serial the samples and bounds were made for.
     pub serial: Option<u64>,
 }
@@ -84,14 +93,41 @@ impl FrameObjects {
     /// Allocates the four buffers of `layout`, named by `names` (samples, nodes, state,
     /// queues) in errors. A refused store is the typed error and nothing is left behind.
     pub fn allocate(gl: &glow::Context, layout: Layout, names: [&'static str; 4]) -> Result<FrameObjects, GlError> {
-        let sizes = [layout.sample_bytes(), layout.node_bytes(), layout.state_bytes(), layout.queue_bytes()];
+        let sizes = [
+            layout.sample_bytes(),
+            layout.node_bytes(),
+            layout.state_bytes(),
+            layout.queue_bytes(),
+            layout::WORK_BYTES,
+        ];
+        let names = [names[0], names[1], names[2], names[3], "hier work counters"];
         let made = allocate_buffers(gl, &sizes, &names)?;
-        Ok(FrameObjects { layout, samples: made[0], nodes: made[1], state: made[2], queues: made[3], serial: None })
+        Ok(FrameObjects {
+            layout,
+            samples: made[0],
+            nodes: made[1],
+            state: made[2],
+            queues: made[3],
+            work: made[4],
+            serial: None,
+        })
     }
 
-    /// The four buffers.
-    pub fn buffers(&self) -> [glow::Buffer; 4] {
-        [self.samples, self.nodes, self.state, self.queues]
+    /// The five buffers.
+    pub fn buffers(&self) -> [glow::Buffer; 5] {
+        [self.samples, self.nodes, self.state, self.queues, self.work]
+    }
+
+    /// Sets the work counters to 0.
+    pub fn reset_work(&self, gl: &glow::Context) {
+        // SAFETY: our own buffer, WORK_WORDS words long.
+        unsafe { gl.named_buffer_sub_data_u8_slice(self.work, 0, &[0u8; 4 * WORK_WORDS]) };
+    }
+
+    /// The work counters read back (a stall): nodes tested, leaves tested, nodes pruned.
+    pub fn read_work(&self, gl: &glow::Context) -> [u64; 3] {
+        let w = read_words(gl, self.work, 0, WORK_WORDS);
+        [w[0], w[1], w[2]].map(u64::from)
     }
 
     /// Deletes the buffers.
@@ -252,9 +288,29 @@ pub struct Passes<'a> {
     pub layout: &'a Layout,
     /// GL_MAX_COMPUTE_WORK_GROUP_COUNT along x.
     pub max_groups: u32,
+    /// Whether the shaders add to the work counters (`u_count_work`).
+    pub count_work: bool,
+    /// Compute dispatches issued through these passes.
+    pub dispatches: std::cell::Cell<u64>,
 }
 
-impl Passes<'_> {
+impl<'a> Passes<'a> {
+    /// The passes of one light's draw: no work counted yet.
+    pub fn new(
+        gl: &'a glow::Context,
+        shared: &'a SharedPrograms,
+        layout: &'a Layout,
+        max_groups: u32,
+        count_work: bool,
+    ) -> Self {
+        Self { gl, shared, layout, max_groups, count_work, dispatches: std::cell::Cell::new(0) }
+    }
+
+    /// Counts one dispatch (work counts).
+    pub fn counted(&self) {
+        self.dispatches.set(self.dispatches.get() + 1);
+    }
+
     /// Runs `count` invocations of `program` (current) in chunks of at most `max_groups`
     /// workgroups of [`WORKGROUP`], telling the shader where each chunk starts (`u_first`).
     pub fn dispatch(&self, program: glow::Program, count: usize) {
@@ -274,6 +330,7 @@ impl Passes<'_> {
                 gl.uniform_1_u32(u_first.as_ref(), (first + start) as u32);
                 gl.dispatch_compute(n.div_ceil(WORKGROUP as usize) as u32, 1, 1);
             }
+            self.counted();
             start += n;
         }
     }
@@ -325,6 +382,7 @@ impl Passes<'_> {
             gl.uniform_3_f32_slice(u("u_ray_x").as_ref(), &light.rays[0]);
             gl.uniform_3_f32_slice(u("u_ray_y").as_ref(), &light.rays[1]);
             gl.uniform_3_f32_slice(u("u_ray_c").as_ref(), &light.rays[2]);
+            gl.uniform_1_u32(u("u_count_work").as_ref(), u32::from(self.count_work));
         }
     }
 
@@ -361,6 +419,7 @@ impl Passes<'_> {
             gl.uniform_1_u32(uniform(gl, args, "u_pairs_per_group").as_ref(), per_group);
             gl.uniform_1_u32(uniform(gl, args, "u_args_gate").as_ref(), gate.map_or(u32::MAX, |g| g as u32));
             gl.dispatch_compute(1, 1, 1);
+            self.counted();
             // Reason: COMMAND: the next dispatch sources its size from the command just
             // written; SHADER_STORAGE: and its shader reads that state.
             gl.memory_barrier(glow::COMMAND_BARRIER_BIT | glow::SHADER_STORAGE_BARRIER_BIT);
@@ -402,6 +461,7 @@ impl Passes<'_> {
                 gl.uniform_1_u32(uniform(gl, descend, "u_pass_level").as_ref(), l as u32);
                 gl.dispatch_compute_indirect(Self::command_offset(4 * l));
             }
+            self.counted();
         }
     }
 
@@ -412,6 +472,7 @@ impl Passes<'_> {
         with_method(leaves);
         // SAFETY: our program; the command was written by `indirect`.
         unsafe { self.gl.dispatch_compute_indirect(Self::command_offset(layout::ACTIVE_CONTROL)) };
+        self.counted();
     }
 
     /// Empties the queues, leaf lists and active leaves for the next batch or round (their
@@ -464,6 +525,7 @@ impl Passes<'_> {
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NODES, Some(f.nodes));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, STATE, Some(f.state));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUEUES, Some(f.queues));
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, WORK, Some(f.work));
         }
     }
 
@@ -604,6 +666,7 @@ impl Passes<'_> {
                 gl.uniform_1_u32(uniform(gl, setup, "u_from_redo").as_ref(), 1);
                 gl.dispatch_compute_indirect(Self::command_offset(in_count));
             }
+            self.counted();
             traverse(&round_light);
         }
         round_light.redo_in = (layout::REDO_ROUNDS % 2) as u32;
@@ -639,6 +702,7 @@ impl Passes<'_> {
                     gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
                 }
                 gl.dispatch_compute_indirect(Self::command_offset(last));
+                self.counted();
             }
             gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, None);
         }

@@ -133,6 +133,9 @@ void main() {
                 l -= 1u;
                 stack_node[l] = child;
                 stack_next[l] = 0u;
+                if (l == 0u) {
+                    count_work(WORK_LEAVES_TESTED, 1u);
+                }
             }
         }
     }

@@ -154,6 +154,8 @@ int visit(Frustum f, uint level, uint node) {
         return OUTSIDE;
     }
     int c = classify_node(f, level, node, lo, hi);
+    count_work(WORK_NODES_TESTED, 1u);
+    count_work(WORK_NODES_PRUNED, c == PARTIAL ? 0u : 1u);
     if (c == INSIDE) {
         state[u_covered_offset + g] = 1u;
     }

@@ -87,7 +87,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
-use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
+use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms, WorkCounter};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{SceneGpu, SceneId};
@@ -214,6 +214,7 @@ pub struct HierTriangle {
     frame: Option<FrameObjects>,
     queue_scale: f64,
     fallback_steps: u32,
+    work: WorkCounter,
 }
 
 impl Default for HierTriangle {
@@ -225,7 +226,14 @@ impl Default for HierTriangle {
 impl HierTriangle {
     /// Builds the method (no GL calls).
     pub fn new() -> Self {
-        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0, fallback_steps: layout::FALLBACK_STEPS }
+        Self {
+            prepared: None,
+            scene: None,
+            frame: None,
+            queue_scale: 1.0,
+            fallback_steps: layout::FALLBACK_STEPS,
+            work: WorkCounter::default(),
+        }
     }
 
     /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
@@ -402,6 +410,8 @@ impl ShadowMethod for HierTriangle {
             // Nothing casts a shadow: the stencil stays 0 everywhere.
             return Ok(());
         }
+        let fresh =
+            !self.frame.as_ref().is_some_and(|f| f.layout.width == frame.width && f.layout.height == frame.height);
         self.ensure_frame(gl, frame.width, frame.height)?;
         let (Some(s), Some(f)) = (self.scene.as_ref(), self.frame.as_mut()) else {
             return Err(GlError::InvalidParams("hier-triangle: objects missing".into()));
@@ -409,7 +419,8 @@ impl ShadowMethod for HierTriangle {
         let layout = f.layout.clone();
         let light = LightUniforms::new(frame, s.eps, s.centre);
         let p = &s.programs;
-        let passes = Passes { gl, shared: &p.shared, layout: &layout, max_groups: s.max_groups };
+        let passes = Passes::new(gl, &p.shared, &layout, s.max_groups, self.work.on());
+        self.work.begin(gl, f, fresh);
         passes.bind(scene, f);
         // SAFETY: our plane buffer (written and read by the compute passes).
         unsafe { gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, PLANES, Some(s.planes)) };
@@ -462,8 +473,26 @@ impl ShadowMethod for HierTriangle {
             gl.bind_vertex_array(None);
         }
         // Leave no binding of ours behind (the renderer restores the caller's).
-        passes.unbind(&[hier::POSITIONS, hier::INDICES, hier::SAMPLES, hier::NODES, hier::STATE, PLANES, hier::QUEUES]);
+        passes.unbind(&[
+            hier::POSITIONS,
+            hier::INDICES,
+            hier::SAMPLES,
+            hier::NODES,
+            hier::STATE,
+            PLANES,
+            hier::QUEUES,
+            hier::WORK,
+        ]);
+        self.work.end(&passes);
         Ok(())
+    }
+
+    fn set_count_work(&mut self, on: bool) {
+        self.work.set(on);
+    }
+
+    fn work_counts(&mut self, gl: &glow::Context) -> Option<crate::WorkCounts> {
+        self.work.read(gl, self.frame.as_ref())
     }
 
     fn gpu_bytes(&self) -> usize {
