@@ -33,8 +33,7 @@ layout(std430, binding = 4) buffer Nodes { vec4 nodes[]; };
 // [u_active_offset, +leaves): the leaves whose list is not empty (this batch);
 // [u_redo_flags_offset, +items / 32): 1 = the item is in the output redo list;
 // (per frame, not cleared per light) [u_valid_offset, +leaves): per leaf, the bits of the
-// samples present; [u_front_offset, +leaves): per leaf, the bits of the samples seen from
-// their triangle's front (samples.frag.glsl); (per scene, hier-triangle) [u_order_offset, +items): the triangles, largest
+// samples present; (per scene, hier-triangle) [u_order_offset, +items): the triangles, largest
 // first.
 layout(std430, binding = 5) coherent buffer State { uint state[]; };
 // Pairs per level, at u_level[l].w: (item, node) above the leaves; at the leaves
@@ -82,7 +81,6 @@ uniform uint u_triangles;
 uniform uint u_redo_out;
 uniform uint u_redo_in;
 uniform uint u_valid_offset;
-uniform uint u_front_offset;
 uniform uint u_order_offset;
 // The light (w = 1 point at xyz, w = 0 directional coming from xyz), the unit direction
 // towards a directional light, the origin of the plane offsets, the reference's eps and the

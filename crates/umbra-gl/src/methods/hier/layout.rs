@@ -219,8 +219,7 @@ impl Layout {
         self.node_bytes_each * self.nodes() as usize
     }
 
-    /// Words of the state buffer cleared for every light: control, one word per node (covered
-    /// flags; hier-triangle's live bitmask),
+    /// Words of the state buffer cleared for every light: control, one covered flag per node,
     /// a mask word, a list head and an active-list entry per leaf, one redo flag per triangle
     /// (32 per word).
     pub fn light_words(&self) -> usize {
@@ -232,15 +231,10 @@ impl Layout {
         self.light_words()
     }
 
-    /// Index of the first leaf's mask of samples seen from their triangle's front (per frame:
-    /// gl_FrontFacing of the samples pass) in the state buffer.
-    pub fn front_offset(&self) -> usize {
-        self.valid_offset() + self.leaves() as usize
-    }
-
-    /// Index of the triangle order (per scene: ids, largest area first) in the state buffer.
+    /// Index of the triangle order (per scene: ids, largest area first; hier-triangle) in the
+    /// state buffer.
     pub fn order_offset(&self) -> usize {
-        self.front_offset() + self.leaves() as usize
+        self.valid_offset() + self.leaves() as usize
     }
 
     /// Words of the state buffer.
@@ -347,8 +341,7 @@ mod tests {
         assert_eq!(l.active_offset(), l.heads_offset() + l.leaves() as usize);
         assert_eq!(l.redo_flags_offset(), l.active_offset() + l.leaves() as usize);
         assert_eq!(l.light_words(), l.redo_flags_offset() + 4);
-        assert_eq!(l.front_offset(), l.light_words() + l.leaves() as usize);
-        assert_eq!(l.order_offset(), l.front_offset() + l.leaves() as usize);
+        assert_eq!(l.order_offset(), l.light_words() + l.leaves() as usize);
         assert_eq!(l.state_words(), l.order_offset() + 100);
     }
 

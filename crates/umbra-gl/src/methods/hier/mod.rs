@@ -368,7 +368,6 @@ impl<'a> Passes<'a> {
             gl.uniform_1_u32(u("u_redo_out").as_ref(), light.redo_out);
             gl.uniform_1_u32(u("u_redo_in").as_ref(), light.redo_in);
             gl.uniform_1_u32(u("u_valid_offset").as_ref(), layout.valid_offset() as u32);
-            gl.uniform_1_u32(u("u_front_offset").as_ref(), layout.front_offset() as u32);
             gl.uniform_1_u32(u("u_order_offset").as_ref(), layout.order_offset() as u32);
             gl.uniform_4_f32_slice(u("u_light").as_ref(), &light.light);
             gl.uniform_3_f32_slice(u("u_dir").as_ref(), &light.dir);
@@ -560,7 +559,6 @@ impl<'a> Passes<'a> {
             return;
         }
         self.clear(light, 0, pixels);
-        self.clear_state_range(light, layout.front_offset(), layout.leaves() as usize);
         GlState {
             // Reason: exactly the visible surface of each pixel: the renderer's invariant
             // vertex shader gives the depth pass's depths bit for bit, EQUAL selects them
@@ -597,8 +595,6 @@ impl<'a> Passes<'a> {
                 &frame.clip_from_world_f32(),
             );
             gl.uniform_1_u32(uniform(gl, p.samples, "u_width").as_ref(), layout.width);
-            gl.uniform_1_u32(uniform(gl, p.samples, "u_leaves_x").as_ref(), layout.levels[0].width);
-            gl.uniform_1_u32(uniform(gl, p.samples, "u_front_offset").as_ref(), layout.front_offset() as u32);
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }
         scene.draw_triangles(gl);

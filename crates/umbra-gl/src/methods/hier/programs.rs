@@ -89,9 +89,6 @@ impl SharedPrograms {
             ("light bounds", comp(LIGHT_BOUNDS_COMP), "hier/light_bounds.comp.glsl"),
             ("args", comp(ARGS_COMP), "hier/args.comp.glsl"),
         ];
-        // The samples pass's shader has no header: the leaf side it needs, after its #version.
-        let samples_frag =
-            SAMPLES_FRAG.replacen("#version 450 core\n", &format!("#version 450 core\n#define LEAF_SIDE {LEAF_SIDE}u\n"), 1);
         let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources
             .iter()
             .map(|(label, source, file)| {
@@ -102,7 +99,7 @@ impl SharedPrograms {
             format!("{method} samples"),
             vec![
                 ShaderSource::vertex("shaders/scene.vert.glsl", crate::scene::SCENE_VERT),
-                ShaderSource::fragment("hier/samples.frag.glsl", &samples_frag),
+                ShaderSource::fragment("hier/samples.frag.glsl", SAMPLES_FRAG),
             ],
         ));
         let p = link_all(gl, &specs)?;

@@ -19,12 +19,15 @@ uniform uint u_workgroups;
 
 layout(std430, binding = 8) buffer Jobs { uint jobs[]; };
 
-// Whether the sample (world position p, on triangle t, seen from the front: `front`) certainly
-// faces away from the light as the lighting pass decides it (shaders/lighting.frag.glsl: the
-// seen side's flat normal dotted with the direction to the light, > 0 to be lit). With a wide
-// margin (the cosine below -2^-10; the lighting pass computes it in f32 from a normal and a
-// position that differ from these by rounding only), or the sample is kept.
-bool faces_away(vec3 p, uint t, bool front) {
+// Whether the sample (world position p, on triangle t) certainly faces away from the light as
+// the lighting pass decides it (shaders/lighting.frag.glsl: the seen side's flat normal dotted
+// with the direction to the light, > 0 to be lit): the eye and the light lie on opposite sides
+// of t's plane, each by a wide margin (the cosines beyond 2^-6 towards the eye, so that the
+// rasterizer's gl_FrontFacing from snapped vertices agrees, and 2^-10 towards the light; the
+// lighting pass computes from a normal and a position that differ from these by rounding
+// only). The plane decides, not the winding: a coincident duplicate of opposite winding gets
+// the same answer. Otherwise the sample is kept.
+bool faces_away(vec3 p, uint t) {
     vec3 a = vec3(positions[3u * indices[3u * t]], positions[3u * indices[3u * t] + 1u],
                   positions[3u * indices[3u * t] + 2u]);
     vec3 b = vec3(positions[3u * indices[3u * t + 1u]], positions[3u * indices[3u * t + 1u] + 1u],
@@ -32,13 +35,17 @@ bool faces_away(vec3 p, uint t, bool front) {
     vec3 c = vec3(positions[3u * indices[3u * t + 2u]], positions[3u * indices[3u * t + 2u] + 1u],
                   positions[3u * indices[3u * t + 2u] + 2u]);
     vec3 n = cross(b - a, c - a);
-    if (!front) {
-        n = -n;
-    }
+    vec3 e = u_eye_rel + u_origin - p;
     vec3 l = u_light.w != 0.0 ? u_light.xyz / u_light.w - p : u_light.xyz;
     float nn = length(n);
+    float ee = length(e);
     float ll = length(l);
-    return nn > 0.0 && ll > 0.0 && dot(n, l) < -(1.0 / 1024.0) * nn * ll;
+    if (!(nn > 0.0 && ee > 0.0 && ll > 0.0)) {
+        return false;
+    }
+    float eye_cos = dot(n, e) / (nn * ee);
+    float light_cos = dot(n, l) / (nn * ll);
+    return (eye_cos > 1.0 / 64.0 && light_cos < -1.0 / 1024.0) || (eye_cos < -1.0 / 64.0 && light_cos > 1.0 / 1024.0);
 }
 
 void main() {
@@ -66,8 +73,7 @@ void main() {
             uint pixel;
             if ((valid & (1u << k)) != 0u && leaf_pixel(i, k, pixel)) {
                 uvec4 s = samples[pixel];
-                bool front = (state[u_front_offset + i] & (1u << k)) != 0u;
-                if (!faces_away(uintBitsToFloat(s.xyz), s.w, front)) {
+                if (!faces_away(uintBitsToFloat(s.xyz), s.w)) {
                     mask |= 1u << k;
                 }
             }
