@@ -1,6 +1,7 @@
 // The view-sample hierarchy shared by hier-triangle and hier-silhouette: the buffers every
 // pass binds, the hierarchy's uniforms, the node and level helpers and the queues of
-// (item, node) pairs — an item is a triangle's shadow frustum (hier-triangle) or a shadow
+// (item, node) pairs (hier-silhouette's; hier-triangle walks the hierarchy in its own persistent
+// traversal, hier_triangle/traverse.comp.glsl) — an item is a triangle's shadow frustum or a shadow
 // volume face (hier-silhouette). Sintorn, Kämpe, Olsson, Assarsson, "Per-Triangle Shadow
 // Volumes Using a View-Sample Cluster Hierarchy" (I3D 2014), Section 4: the hierarchy of the
 // depth buffer's samples with 3-D bounds, traversed breadth-first. Prepended by hier/mod.rs:
@@ -26,9 +27,9 @@ layout(std430, binding = 4) buffer Nodes { vec4 nodes[]; };
 // [0, 4 * MAX_LEVELS): per level the queue's entry count and a DispatchIndirectCommand; then
 // the same for the list of active leaves (ACTIVE_CONTROL) and the two redo lists
 // (REDO_CONTROL + 4 * list);
-// [u_covered_offset, +nodes): 1 = every sample of the node is shadowed (hier-triangle);
-// [u_bits_offset, +leaves): per leaf, its samples' "shadowed" bits (LEAF_SAMPLES <= 32;
-// hier-triangle);
+// [u_covered_offset, +nodes): one word per node (hier-triangle's live bitmask,
+// hier_triangle/live.glsl);
+// [u_bits_offset, +leaves): per leaf, one word (unused by both methods; LEAF_SAMPLES <= 32);
 // [u_heads_offset, +leaves): per leaf, the head of its list of pairs (index + 1, 0 = empty);
 // [u_active_offset, +leaves): the leaves whose list is not empty (this batch);
 // [u_redo_flags_offset, +items / 32): 1 = the item is in the output redo list;

@@ -17,7 +17,10 @@
 //!   its own point;
 //! * per light: `light_bounds.comp.glsl`, each node's bound of its samples' directions from the
 //!   light;
-//! * the traversal of a batch: per level from the top, one invocation per queued pair running
+//! * work counting ([`WorkCounter`]: dispatches on the CPU, node and leaf tests in GPU atomic
+//!   counters, only when asked);
+//! * hier-silhouette's traversal of a batch (hier-triangle has its own persistent traversal,
+//!   `hier_triangle/traverse.comp.glsl`): per level from the top, one invocation per queued pair running
 //!   the method's `descend` program over the 16 children, then the method's `leaves` program,
 //!   one workgroup per leaf with pairs (indirect dispatches whose sizes `args.comp.glsl` writes
 //!   from the queue counts, [`Passes::traverse`]); redo rounds over the items a full queue
