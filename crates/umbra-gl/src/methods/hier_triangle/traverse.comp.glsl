@@ -1,25 +1,28 @@
-// hier-triangle, per light: the persistent traversal (Sintorn et al. 2014, Section 5; one
-// dispatch of u_workgroups workgroups, LANES invocations each). A workgroup takes the next
-// triangle from the job counter (in the largest-first order: the large shadows clear whole
-// nodes early, which the many small triangles then skip) and walks the hierarchy depth-first
-// with it: a node's children are tested in parallel, one per invocation (two where LANES is 8,
-// llvmpipe's vector width), against the triangle's shadow frustum (frustum.glsl,
-// classify_node); the children it cuts form the node's mask, exchanged through shared memory
-// (the ballot), pushed on the stack and entered one by one; a child wholly inside the shadow is
-// cleared in the global live bitmask (live.glsl, atomicAnd), so later triangles never test it
-// again; at a leaf each invocation tests its samples exactly (shadows_sample) and clears the
-// bits of those shadowed. Only live children and samples are tested. When the stack empties
-// the workgroup takes the next triangle; when the counter passes the last one it ends.
+// hier-triangle, per light: the persistent traversal (Sintorn et al. 2014; one dispatch of
+// Jobs::workgroups workgroups, LANES invocations each, a workgroup being one subgroup). A
+// workgroup takes the next job from the atomic job counter (the list setup.comp.glsl made: the
+// triangles whose frustum cuts a top node, in about the largest-first order, so that the large
+// shadows clear whole nodes early and the many small triangles then skip them) and walks the
+// hierarchy depth-first with it: a node's children are tested in parallel, one per invocation
+// (two where LANES is 8, llvmpipe's vector width), against the triangle's shadow frustum
+// (live.glsl test_child, frustum.glsl classify_node); the children it cuts form the node's
+// mask, a subgroup ballot, pushed on the stack and entered one by one; a child wholly inside
+// the shadow is cleared in the global live bitmask (live.glsl, atomicAnd), so later triangles
+// never test it again; the leaf children of a node are tested where the node is, each
+// invocation testing its samples exactly (test_sample) and clearing the bits of those
+// shadowed. Only live children and samples are tested. When the stack empties the workgroup
+// takes the next job; when the counter passes the last one it ends.
 //
 // Every invocation keeps its own copy of the stack and takes the same decisions (they depend
-// only on the ballot and the job, read by all after the step's barrier), so control flow stays
-// uniform and the one barrier per step is legal. llvmpipe ends a shader's loops silently after
-// 65,535 iterations of all loops together (docs/exactness.md): there u_loop_budget is below
-// that, each step counts the most iterations it can take (its own and clear_node's), and a
-// workgroup whose budget is spent saves its place (triangle, stack) in its slot and stops; the
-// next dispatch resumes it (hier_triangle/mod.rs repeats the dispatch until no workgroup is left
-// unfinished). Elsewhere the budget is unlimited: one dispatch. Prepended: hier/hierarchy.glsl,
-// hier/region.glsl, frustum.glsl, live.glsl.
+// only on the ballot and the job, which every invocation reads), so control flow stays uniform
+// and no barrier is needed. llvmpipe ends a shader's loops silently after 65,535 iterations of
+// all loops together (docs/exactness.md): there u_loop_budget is below that, each step counts
+// the most iterations it can take (STEP_ITERATIONS), and a workgroup whose budget is spent
+// saves its place (triangle, stack) in its slot and stops; the next dispatch resumes it
+// (hier_triangle/mod.rs repeats the dispatch until no workgroup is left unfinished). Elsewhere
+// the budget is unlimited: one dispatch. No loop nest of constant bounds (NVIDIA's compiler
+// unrolls those without end). Prepended: hier/hierarchy.glsl, hier/region.glsl, frustum.glsl,
+// live.glsl.
 
 layout(local_size_x = LANES) in;
 
@@ -36,9 +39,12 @@ uniform uint u_slots_offset;
 uniform uint u_loop_budget;
 
 const uint STACK = MAX_LEVELS + 1u;
-// Loop iterations one step may take, at most: the step itself, clear_node's (MAX_LEVELS) at
-// each of its four call sites, the leaves of a node (CHILDREN) and the pops (STACK).
-const uint STEP_ITERATIONS = 1u + 4u * uint(MAX_LEVELS) + CHILDREN + STACK;
+// Loop iterations one step may take, at most, as llvmpipe's limiter counts them (a loop under a
+// mask with no invocation in it still counts its first iteration): the step itself, clear_node's
+// (MAX_LEVELS) at the two child tests and the pops (STACK); and per leaf tested in the step
+// (LEAF_ITERATIONS) one iteration of the leaves' loop and clear_node's at its two sample tests.
+const uint STEP_ITERATIONS = 1u + 2u * uint(MAX_LEVELS) + STACK;
+const uint LEAF_ITERATIONS = 1u + 2u * uint(MAX_LEVELS);
 
 void main() {
     uint lane = gl_LocalInvocationIndex;
@@ -88,6 +94,7 @@ void main() {
             if (level == 1u) {
                 // Its children are leaves: their live samples are tested here, leaf by leaf.
                 count_work(WORK_LEAVES_TESTED, lane == 0u ? uint(bitCount(m)) : 0u);
+                spent += uint(bitCount(m)) * LEAF_ITERATIONS;
                 for (uint left = m; left != 0u; left &= left - 1u) {
                     uint leaf;
                     child_of(1u, node, uint(findLSB(left)), leaf);
