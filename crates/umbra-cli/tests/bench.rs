@@ -50,6 +50,33 @@ fn json_has_one_object_per_method_with_the_contract_keys() {
     assert!(rows[0]["stages"].get("silhouette").is_none(), "none has no silhouette stage");
 }
 
+/// The hier methods' work counts: a "work" object with the four counts (mean per counted
+/// frame) in their JSON rows and columns of the table; no "work" for a method without counts.
+#[test]
+fn work_counts_are_reported_for_the_hier_methods_only() {
+    let mut args = vec!["bench", "--json", "--methods", "none,hier-triangle", "--frames", "2", "--stage-every", "1"];
+    args.extend(SMALL);
+    let o = umbra(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    let rows = v.as_array().expect("array");
+    assert!(rows[0].get("work").is_none(), "none counts no work: {}", rows[0]);
+    let work = rows[1]["work"].as_object().expect("hier-triangle's work object");
+    for key in ["dispatches", "nodes_tested", "leaves_tested", "nodes_pruned"] {
+        let x = work.get(key).and_then(|x| x.as_f64()).unwrap_or_else(|| panic!("{key} in {work:?}"));
+        assert!(x >= 0.0 && x.is_finite(), "{key} = {x}");
+    }
+    let count = |k: &str| work[k].as_f64().unwrap_or(0.0);
+    assert!(count("dispatches") > 0.0 && count("nodes_tested") > 0.0, "{work:?}");
+    assert!(count("nodes_pruned") <= count("nodes_tested"), "{work:?}");
+    let mut table = vec!["bench", "--methods", "none,hier-triangle", "--frames", "1", "--stage-every", "1"];
+    table.extend(SMALL);
+    let o = umbra(&table);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("| nodes_tested |") && out.contains("| dispatches |"), "{out}");
+}
+
 #[test]
 fn methods_are_interleaved_frame_by_frame_after_the_warmup() {
     let o = umbra(&[

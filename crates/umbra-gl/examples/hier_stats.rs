@@ -1,6 +1,7 @@
-//! hier-triangle's and hier-silhouette's traversal statistics for one view: pairs queued per
-//! level (against the queues' capacity), per-stage times (glFinish at every stage), and the
-//! frame time of `none` and `cpu-silhouette` in the same run for comparison.
+//! hier-triangle's and hier-silhouette's traversal statistics for one view: work counts
+//! (dispatches, nodes and leaves tested, nodes pruned), hier-silhouette's pairs queued per level
+//! (against the queues' capacity), per-stage times (glFinish at every stage), and the frame time
+//! of `none` and `cpu-silhouette` in the same run for comparison.
 //!
 //! `cargo run --release -p umbra-gl --example hier_stats -- SCENE [WIDTHxHEIGHT] [EYE_X,Y,Z TARGET_X,Y,Z]`
 //! The light is the CLI's default interior light (70 % of the height, slightly off-centre);
@@ -52,7 +53,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("{spec}: {} triangles, {width}x{height}", scene.triangle_count());
     let mut hook = TimestampHook::synchronous();
     let scale: f64 = std::env::var("HIER_QUEUE_SCALE").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let mut hier = HierTriangle::with_queue_scale(scale);
+    let mut hier = HierTriangle::new();
     for frame in 0..3 {
         let t = Instant::now();
         renderer.render(gl, &scene, &mut hier, &params, Some(&mut hook))?;
@@ -64,10 +65,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         println!("hier-triangle frame {frame}: {ms:.1} ms; {}", stages.join(", "));
     }
-    println!("  redo list: {} triangles", hier.redo_triangles(gl));
-    for (l, (pairs, capacity)) in hier.queue_counts(gl).iter().enumerate() {
-        println!("  level {l}: {pairs} pairs queued, capacity {capacity}");
-    }
+    hier.set_count_work(true);
+    renderer.render(gl, &scene, &mut hier, &params, None)?;
+    println!("  work {:?}; {} traversal dispatch(es)", hier.work_counts(gl), hier.last_rounds());
+    hier.set_count_work(false);
     if let Some(layout) = hier.layout() {
         let dims: Vec<String> = layout.levels.iter().map(|l| format!("{}x{}", l.width, l.height)).collect();
         println!("  levels {}; {} MiB", dims.join(" "), hier.gpu_bytes() >> 20);
@@ -85,6 +86,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("hier-silhouette frame {frame}: {ms:.1} ms; {}", stages.join(", "));
     }
     println!("  redo list: {} faces; unsure decisions {:?}", sil.redo_faces(gl), sil.unsure_counts(gl));
+    sil.set_count_work(true);
+    renderer.render(gl, &scene, &mut sil, &params, None)?;
+    println!("  work {:?}", sil.work_counts(gl));
+    sil.set_count_work(false);
     for (l, (pairs, capacity)) in sil.queue_counts(gl).iter().enumerate() {
         println!("  level {l}: {pairs} pairs queued, capacity {capacity}");
     }

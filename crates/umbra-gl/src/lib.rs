@@ -46,6 +46,7 @@ pub use context::{ContextError, ContextOptions, GlApi, HeadlessContext};
 pub use error::{GlError, GlErrorLog};
 pub use extra::GlExtra;
 pub use image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
+pub use methods::work_counts::WorkCounts;
 pub use methods::{
     create_method, method_names, Classification, ShadowMethod, StageHook, StageMark, UnknownMethod, VolumeFrame,
 };

@@ -5,9 +5,9 @@
 //! * the stencil equals cpu-silhouette's "shadowed" decision on the sphere over the ground
 //!   (counting methods agree with the reference there), for point and directional lights,
 //!   several lights in one frame (the samples are made once per frame and reused);
-//! * queues of capacity 1 send nearly every triangle through the redo rounds and the
-//!   depth-first fallback: the stencil does not change, also when every fallback walk is cut
-//!   into passes of 16 steps and resumed;
+//! * a small loop budget stops every workgroup's walk again and again and the traversal resumes
+//!   it in further dispatches: the stencil does not change;
+//! * work counts: counted only when asked, summed over the lights, consistent with each other;
 //! * no volumes to show: the wireframe is a clear Unsupported error;
 //! * a buffer the driver refuses is the typed OutOfMemory error, nothing is left behind, and
 //!   the method works again at a size that fits (child process with a limited address space,
@@ -113,50 +113,70 @@ fn same_decision_as_cpu_silhouette_for_point_directional_and_several_lights() {
     }
 }
 
-/// hier-triangle with queues of capacity 1 against the normal method (nearly every triangle is
-/// turned away, redone and at last walked whole by the fallback, in passes of `steps` steps):
-/// the stencil must be identical, light by light.
-fn redo_and_fallback_keep_the_stencil(ctx: &HeadlessContext, steps: u32) {
+/// hier-triangle with a loop budget of one step per workgroup and dispatch (every walk stops
+/// and resumes from its saved stack many times, as llvmpipe's loop limit makes it on large
+/// frames) against the normal method: the stencil must be identical, light by light.
+#[test]
+fn walks_stopped_by_the_loop_budget_resume_without_changing_the_stencil() {
+    let ctx = context();
     let mesh = sphere_over_ground();
     let p = frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
     let mut normal = HierTriangle::new();
-    let expected = stencils(ctx, &mesh, &mut normal, &p);
-    // Every queue holds one pair: nearly every triangle is turned away and redone.
+    let expected = stencils(&ctx, &mesh, &mut normal, &p);
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
-    let mut tiny = HierTriangle::with_queue_scale(1e-9).with_fallback_steps(steps);
+    let mut budgeted = HierTriangle::new().with_loop_budget(64);
     let mut q = p.clone();
     q.capture.stencil = LightCapture::AllLights;
-    let got = r.render(gl, &scene, &mut tiny, &q, None).expect("render");
-    assert!(tiny.queue_counts(gl).iter().all(|&(_, capacity)| capacity == 1));
-    let redo = tiny.redo_triangles(gl);
-    assert!(redo > 100, "only {redo} triangles reached the fallback: the test does not exercise it");
-    tiny.destroy(gl);
+    let got = r.render(gl, &scene, &mut budgeted, &q, None).expect("render");
+    let rounds = budgeted.last_rounds();
+    assert!(rounds > 5, "only {rounds} traversal dispatches: the test does not make walks resume");
+    budgeted.destroy(gl);
     r.destroy(gl);
     scene.destroy(gl);
     assert!(ctx.take_gl_errors().is_empty());
     for (i, (a, b)) in got.stencil.iter().zip(&expected).enumerate() {
         assert!(shadowed(b).iter().filter(|&&s| s).count() > 100, "light {i}: too few shadowed samples");
         let differ = shadowed(&a.image).iter().zip(shadowed(b)).filter(|(x, y)| **x != *y).count();
-        assert_eq!(differ, 0, "light {i}, {steps} steps a pass: the fallback changed {differ} decisions");
+        assert_eq!(differ, 0, "light {i}: resuming changed {differ} decisions");
     }
 }
 
+/// Work counts: none unless asked; once asked, the frame's counts over its lights (two lights
+/// count more than one), with every count consistent (a leaf tested was a node tested first; a
+/// pruned node was tested); switched off, none again. A method without work counts says none.
 #[test]
-fn full_queues_go_through_the_redo_rounds_and_the_fallback_without_changing_the_stencil() {
-    redo_and_fallback_keep_the_stencil(&context(), layout::FALLBACK_STEPS);
-}
-
-/// llvmpipe gives a shader invocation 65,535 loop iterations in all (one budget shared by every
-/// loop of the shader), so a fallback walk longer than that must stop and go on in a further
-/// pass (hier/walk.comp.glsl, shared with hier-silhouette, whose walks were cut short at
-/// 3840 x 2160 before it resumed). Passes of 16 steps make every walk here stop and resume many
-/// times, at every kind of place (a leaf's samples, a node's children, the root's top nodes):
-/// the decision must not change.
-#[test]
-fn fallback_walks_stopped_by_the_loop_budget_resume_without_changing_the_stencil() {
-    redo_and_fallback_keep_the_stencil(&context(), 16);
+fn work_is_counted_only_when_asked_and_summed_over_lights() {
+    let ctx = context();
+    let gl = ctx.gl();
+    let scene = SceneGpu::upload(gl, sphere_over_ground()).expect("upload");
+    let mut r = Renderer::new(gl).expect("renderer");
+    let mut m = HierTriangle::new();
+    let one = frame(vec![POINT_LIGHT]);
+    let two = frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
+    r.render(gl, &scene, &mut m, &one, None).expect("render");
+    assert_eq!(m.work_counts(gl), None, "not asked");
+    m.set_count_work(true);
+    r.render(gl, &scene, &mut m, &one, None).expect("render");
+    let w1 = m.work_counts(gl).expect("counted");
+    m.set_count_work(true);
+    r.render(gl, &scene, &mut m, &two, None).expect("render");
+    let w2 = m.work_counts(gl).expect("counted");
+    assert!(w1.dispatches > 0 && w1.nodes_tested > 0 && w1.leaves_tested > 0, "{w1:?}");
+    assert!(w1.nodes_pruned <= w1.nodes_tested && w1.leaves_tested <= w1.nodes_tested, "{w1:?}");
+    assert!(w2.dispatches > w1.dispatches && w2.nodes_tested > w1.nodes_tested, "{w1:?} then {w2:?}");
+    m.set_count_work(false);
+    r.render(gl, &scene, &mut m, &one, None).expect("render");
+    assert_eq!(m.work_counts(gl), None, "switched off");
+    let mut cpu = create_method("cpu-silhouette").expect("method");
+    cpu.set_count_work(true);
+    r.render(gl, &scene, cpu.as_mut(), &one, None).expect("render");
+    assert_eq!(cpu.work_counts(gl), None, "cpu-silhouette counts no work");
+    cpu.destroy(gl);
+    m.destroy(gl);
+    r.destroy(gl);
+    scene.destroy(gl);
 }
 
 #[test]
@@ -188,7 +208,7 @@ fn gpu_bytes_is_the_layout_formula() {
     let mut m = HierTriangle::new();
     r.render(gl, &scene, &mut m, &frame(vec![POINT_LIGHT]), None).expect("render");
     let t = mesh.triangles.len();
-    let expected = layout::Layout::new(W, H, t, 1.0).frame_bytes() + layout::plane_bytes(t);
+    let expected = layout::frame_layout(W, H).frame_bytes() + layout::scene_bytes(t);
     assert_eq!(m.gpu_bytes(), expected);
     m.destroy(gl);
     assert_eq!(m.gpu_bytes(), 0);
@@ -231,7 +251,7 @@ fn child_out_of_memory() {
         Ok(_) => panic!("hier-triangle's buffers fitted into 16 MiB of address space"),
     }
     assert!(ctx.take_gl_errors().is_empty(), "the refusal left GL errors behind");
-    assert_eq!(m.gpu_bytes(), layout::plane_bytes(mesh.triangles.len()), "frame buffers left behind");
+    assert_eq!(m.gpu_bytes(), layout::scene_bytes(mesh.triangles.len()), "frame buffers left behind");
     // Usable again at a size that fits, with the same decision as a fresh method.
     let small = frame(vec![POINT_LIGHT]);
     let mut p = small.clone();

@@ -8,8 +8,8 @@
 //!
 //! A depth-first walk written as one constant-bound loop per level (which NVIDIA's compiler
 //! unrolls 16^7 times and never finishes linking) is not a lexical pattern;
-//! hier_triangle/fallback.comp.glsl and hier_silhouette/fallback.comp.glsl say how the walk is
-//! written instead.
+//! hier/walk.comp.glsl and hier_triangle/traverse.comp.glsl say how their walks are written
+//! instead.
 
 use std::path::{Path, PathBuf};
 

@@ -21,6 +21,12 @@ pub trait Driver {
     /// The same frame once more with per-stage timing: (stage, GPU ms) summed over lights;
     /// empty when the backend has no stage timing.
     fn stages(&mut self, method: usize, cam: Keyframe) -> Result<Vec<(String, f64)>, String>;
+    /// The same frame once more with work counting ([`umbra_gl::ShadowMethod::set_count_work`]):
+    /// its counts summed over lights, or `None` when the method (or backend) counts no work
+    /// (then nothing is drawn).
+    fn work(&mut self, _method: usize, _cam: Keyframe) -> Result<Option<umbra_gl::WorkCounts>, String> {
+        Ok(None)
+    }
     /// Lights of the last frame counted z-pass.
     fn zpass_lights(&self, method: usize) -> usize;
     /// Bytes of GPU memory method `method` holds.

@@ -183,6 +183,24 @@ impl Driver for GlDriver {
         Ok(stage_times(&timings).into_iter().map(|(name, gpu_ms, _)| (name, gpu_ms)).collect())
     }
 
+    fn work(&mut self, method: usize, cam: Keyframe) -> Result<Option<umbra_gl::WorkCounts>, String> {
+        self.set_camera(cam);
+        let fb = self.target();
+        let gl = self.s.context.gl();
+        let m = self.instances[method].as_mut();
+        m.set_count_work(true);
+        // A method without work counts says None at once: no frame drawn for it.
+        if m.work_counts(gl).is_none() {
+            return Ok(None);
+        }
+        m.set_count_work(true);
+        let drawn = self.s.renderer.draw_frame(gl, &self.s.scene, m, &self.params, fb, None);
+        let counts = m.work_counts(gl);
+        m.set_count_work(false);
+        drawn.map_err(|e| e.to_string())?;
+        Ok(counts)
+    }
+
     fn zpass_lights(&self, _method: usize) -> usize {
         self.s.renderer.last_zpass().iter().filter(|z| **z).count()
     }

@@ -116,6 +116,19 @@ fn run_schedule(
                     continue;
                 }
             }
+            // Work counts in a frame of their own: the counters' atomics stay out of the
+            // timed frames and the stage times.
+            if !slot.warmup {
+                match driver.work(entry.method, cam) {
+                    Ok(Some(w)) => st.work.push(w),
+                    Ok(None) => {}
+                    Err(e) => {
+                        eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
+                        st.error = Some(e);
+                        continue;
+                    }
+                }
+            }
         }
         if !slot.warmup {
             st.frame_ms.push(frame_ms);

@@ -21,6 +21,10 @@ pub struct JsonRow {
     /// Stage name -> mean ms over the stage-timed frames.
     pub stages: BTreeMap<String, f64>,
     pub gpu_bytes: usize,
+    /// Work counts (dispatches, nodes_tested, leaves_tested, nodes_pruned), mean per counted
+    /// frame (the stage-timed rounds); only for methods that count work.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub work: Option<BTreeMap<String, f64>>,
     pub scene: String,
     pub triangles: usize,
     /// "stencil8", "float32", or "none" (the method does not count in the stencil).
@@ -58,6 +62,7 @@ pub fn json_rows(
             p95_ms: s.p95(),
             stages: s.stage_means().into_iter().collect(),
             gpu_bytes: s.gpu_bytes,
+            work: (!s.work.is_empty()).then(|| s.work_means().into_iter().map(|(k, v)| (k.to_string(), v)).collect()),
             scene: scene.to_string(),
             triangles: m.triangles,
             counter: s.counter.clone(),
@@ -113,12 +118,20 @@ pub fn print_table(m: &Measurement) {
             }
         }
     }
+    let work_names: Vec<&'static str> = if m.stats.iter().any(|s| !s.work.is_empty()) {
+        umbra_gl::WorkCounts::default().entries().map(|(k, _)| k).to_vec()
+    } else {
+        Vec::new()
+    };
     let mut header = "| method | frames | mean ms | median ms | p95 ms | GPU MiB |".to_string();
     for n in &stage_names {
         header.push_str(&format!(" {n} |"));
     }
+    for n in &work_names {
+        header.push_str(&format!(" {n} |"));
+    }
     println!("{header}");
-    println!("|{}", " --- |".repeat(6 + stage_names.len()));
+    println!("|{}", " --- |".repeat(6 + stage_names.len() + work_names.len()));
     for s in &m.stats {
         let means = s.stage_means();
         let mut row = format!(
@@ -132,6 +145,11 @@ pub fn print_table(m: &Measurement) {
         );
         for n in &stage_names {
             row.push_str(&format!(" {} |", fmt_ms(means.iter().find(|(k, _)| k == n).map(|(_, v)| *v))));
+        }
+        let work = s.work_means();
+        for n in &work_names {
+            let v = work.iter().find(|(k, _)| k == n).map(|(_, v)| *v);
+            row.push_str(&format!(" {} |", v.map_or_else(|| "-".into(), |x| format!("{x:.0}"))));
         }
         if let Some(e) = &s.error {
             row.push_str(&format!(" error: {e}"));

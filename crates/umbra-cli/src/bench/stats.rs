@@ -14,6 +14,9 @@ pub struct MethodStats {
     /// The counter the method's volume pass used ("stencil8", "float32", or "none" for a
     /// method that does not count in the stencil).
     pub counter: String,
+    /// Per work-counted round (the stage-timed ones): the frame's work counts; empty for
+    /// methods that count no work.
+    pub work: Vec<umbra_gl::WorkCounts>,
     /// Measured frames' lights counted z-pass, and all measured frames' lights.
     pub zpass_lights: usize,
     pub lights: usize,
@@ -29,6 +32,23 @@ impl MethodStats {
     pub fn p95(&self) -> Option<f64> {
         percentile_sorted(&sorted(&self.frame_ms), 0.95)
     }
+    /// Mean per counted frame of each work count (key, mean), in [`umbra_gl::WorkCounts::entries`]
+    /// order; empty without counts.
+    pub fn work_means(&self) -> Vec<(&'static str, f64)> {
+        if self.work.is_empty() {
+            return Vec::new();
+        }
+        let n = self.work.len() as f64;
+        let mut sums: Vec<(&'static str, f64)> =
+            umbra_gl::WorkCounts::default().entries().iter().map(|(k, _)| (*k, 0.0)).collect();
+        for w in &self.work {
+            for (sum, (_, v)) in sums.iter_mut().zip(w.entries()) {
+                sum.1 += v as f64;
+            }
+        }
+        sums.into_iter().map(|(k, s)| (k, s / n)).collect()
+    }
+
     /// Mean of each stage over the stage-timed rounds.
     pub fn stage_means(&self) -> Vec<(String, f64)> {
         self.stage_ms

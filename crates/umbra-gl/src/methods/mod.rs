@@ -48,6 +48,7 @@ pub mod ts_silhouette;
 pub mod ts_triangle;
 pub mod vs_silhouette;
 pub mod vs_triangle;
+pub mod work_counts;
 
 /// How the lighting pass decides that a pixel is lit for the current light.
 ///
@@ -265,6 +266,16 @@ pub trait ShadowMethod {
 
     /// Bytes of GPU memory the method holds (buffers, textures).
     fn gpu_bytes(&self) -> usize;
+
+    /// Switches work counting on (the counts start from 0) or off. Methods without work counts
+    /// ignore it (the default).
+    fn set_count_work(&mut self, _on: bool) {}
+
+    /// The work counted since counting was switched on (read back from the GPU: a stall, for
+    /// benchmarks and tests); `None` for a method that does not count work.
+    fn work_counts(&mut self, _gl: &glow::Context) -> Option<work_counts::WorkCounts> {
+        None
+    }
 
     /// Frees the GL objects (context current); the method can be prepared again afterwards.
     fn destroy(&mut self, gl: &glow::Context);

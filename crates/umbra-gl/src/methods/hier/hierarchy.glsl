@@ -1,6 +1,7 @@
 // The view-sample hierarchy shared by hier-triangle and hier-silhouette: the buffers every
 // pass binds, the hierarchy's uniforms, the node and level helpers and the queues of
-// (item, node) pairs — an item is a triangle's shadow frustum (hier-triangle) or a shadow
+// (item, node) pairs (hier-silhouette's; hier-triangle walks the hierarchy in its own persistent
+// traversal, hier_triangle/traverse.comp.glsl) — an item is a triangle's shadow frustum or a shadow
 // volume face (hier-silhouette). Sintorn, Kämpe, Olsson, Assarsson, "Per-Triangle Shadow
 // Volumes Using a View-Sample Cluster Hierarchy" (I3D 2014), Section 4: the hierarchy of the
 // depth buffer's samples with 3-D bounds, traversed breadth-first. Prepended by hier/mod.rs:
@@ -26,9 +27,9 @@ layout(std430, binding = 4) buffer Nodes { vec4 nodes[]; };
 // [0, 4 * MAX_LEVELS): per level the queue's entry count and a DispatchIndirectCommand; then
 // the same for the list of active leaves (ACTIVE_CONTROL) and the two redo lists
 // (REDO_CONTROL + 4 * list);
-// [u_covered_offset, +nodes): 1 = every sample of the node is shadowed (hier-triangle);
-// [u_bits_offset, +leaves): per leaf, its samples' "shadowed" bits (LEAF_SAMPLES <= 32;
-// hier-triangle);
+// [u_covered_offset, +nodes): one word per node (hier-triangle's live bitmask,
+// hier_triangle/live.glsl);
+// [u_bits_offset, +leaves): per leaf, one word (unused by both methods; LEAF_SAMPLES <= 32);
 // [u_heads_offset, +leaves): per leaf, the head of its list of pairs (index + 1, 0 = empty);
 // [u_active_offset, +leaves): the leaves whose list is not empty (this batch);
 // [u_redo_flags_offset, +items / 32): 1 = the item is in the output redo list;
@@ -41,6 +42,27 @@ layout(std430, binding = 5) coherent buffer State { uint state[]; };
 // u_redo_offset, the two redo lists of u_triangles entries each: (item, 0) for each
 // item a full queue turned away.
 layout(std430, binding = 7) buffer Queues { uvec2 queue[]; };
+
+// Work counts (methods/work_counts.rs), summed over the frame's lights when u_count_work is 1:
+// [WORK_NODES_TESTED] (item, node) tests, [WORK_LEAVES_TESTED] (item, leaf) pairs tested
+// sample by sample, [WORK_NODES_PRUNED] node tests that ended the descent. Compute stages only:
+// the resolve's fragment shader gets the no-op (WORK_STUB, hier/programs.rs), so it declares no
+// storage block beyond its own.
+const uint WORK_NODES_TESTED = 0u;
+const uint WORK_LEAVES_TESTED = 1u;
+const uint WORK_NODES_PRUNED = 2u;
+#ifdef WORK_STUB
+void count_work(uint what, uint n) {}
+#else
+layout(std430, binding = 9) buffer Work { uint work[]; };
+uniform uint u_count_work;
+void count_work(uint what, uint n) {
+    // Reason for the branch: no atomic traffic in frames that do not count.
+    if (u_count_work != 0u && n != 0u) {
+        atomicAdd(work[what], n);
+    }
+}
+#endif
 
 // Frame size in pixels.
 uniform uvec2 u_frame;
@@ -161,6 +183,7 @@ void descend_into(uint item, uint level, uint node) {
     uint slot = atomicAdd(state[4u * level], 1u);
     if (slot < u_queue_capacity[level]) {
         if (level == 0u) {
+            count_work(WORK_LEAVES_TESTED, 1u);
             uint next = atomicExchange(state[u_heads_offset + node], slot + 1u);
             queue[u_level[0].w + slot] = uvec2(item, next);
             if (next == 0u) {

@@ -10,10 +10,10 @@
 //! leaves, enough for 65,536 pixels). Tiles are counted from the bottom-left pixel (GL's window
 //! coordinates); the last tile of a row or column may be cut.
 //!
-//! The items a method tests against the hierarchy (hier-triangle's triangles, hier-silhouette's
-//! shadow-volume faces) are processed in batches of at most [`BATCH`] (hier-triangle: largest
-//! first, in an order fixed per scene; after each batch, every node whose samples are all
-//! shadowed is marked covered, so the smaller triangles of later batches skip it). Queues hold
+//! hier-triangle uses the samples, the node bounds and the per-node state words of this layout
+//! and walks the hierarchy in its own persistent traversal (`hier_triangle/traverse.comp.glsl`,
+//! [`Layout::new`] with no items and the least queues). The items hier-silhouette tests against
+//! the hierarchy (its shadow-volume faces) are processed in batches of at most [`BATCH`]. Queues hold
 //! (item, node) pairs whose node the item's test cuts; level `l`'s queue feeds the pass that
 //! tests the children of those nodes, the leaves' queue is threaded into one list per leaf.
 //! Their capacity is fixed per frame size ([`queue_capacity`]): a pair that does not fit sends
@@ -95,6 +95,8 @@ pub const NODE_BYTES: usize = 48;
 pub const NODE_BYTES_WITH_POINT: usize = 64;
 /// Bytes of one queue entry (triangle, node).
 pub const PAIR_BYTES: usize = 8;
+/// Bytes of the work counters (hier/mod.rs WORK_WORDS words).
+pub const WORK_BYTES: usize = 16;
 
 /// One level's grid of nodes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -286,9 +288,10 @@ impl Layout {
         PAIR_BYTES * self.queue_pairs()
     }
 
-    /// Bytes of everything that depends on the frame size (samples, bounds, state, queues).
+    /// Bytes of everything that depends on the frame size (samples, bounds, state, queues,
+    /// work counters).
     pub fn frame_bytes(&self) -> usize {
-        self.sample_bytes() + self.node_bytes() + self.state_bytes() + self.queue_bytes()
+        self.sample_bytes() + self.node_bytes() + self.state_bytes() + self.queue_bytes() + WORK_BYTES
     }
 }
 

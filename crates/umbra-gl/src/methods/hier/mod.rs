@@ -17,7 +17,10 @@
 //!   its own point;
 //! * per light: `light_bounds.comp.glsl`, each node's bound of its samples' directions from the
 //!   light;
-//! * the traversal of a batch: per level from the top, one invocation per queued pair running
+//! * work counting ([`WorkCounter`]: dispatches on the CPU, node and leaf tests in GPU atomic
+//!   counters, only when asked);
+//! * hier-silhouette's traversal of a batch (hier-triangle has its own persistent traversal,
+//!   `hier_triangle/traverse.comp.glsl`): per level from the top, one invocation per queued pair running
 //!   the method's `descend` program over the 16 children, then the method's `leaves` program,
 //!   one workgroup per leaf with pairs (indirect dispatches whose sizes `args.comp.glsl` writes
 //!   from the queue counts, [`Passes::traverse`]); redo rounds over the items a full queue
@@ -28,15 +31,18 @@
 //! [`layout::Layout::frame_bytes`]; every allocation is checked, one the GL refuses is
 //! [`GlError::OutOfMemory`] and nothing is left behind.
 
+mod buffers;
 pub mod layout;
 mod programs;
+mod work;
 
+pub use buffers::{allocate_buffers, read_words};
 pub use programs::{delete_programs, fallback_source, header, link_all, link_method, MethodPrograms, SharedPrograms};
+pub use work::WorkCounter;
 
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::VolumeFrame;
 use crate::program::uniform;
 use crate::scene::SceneGpu;
@@ -60,6 +66,11 @@ pub const NODES: u32 = 4;
 pub const STATE: u32 = 5;
 /// The queues of (item, node) pairs and the redo lists.
 pub const QUEUES: u32 = 7;
+/// The work counters (hierarchy.glsl, `Work`; binding 8 is hier-silhouette's counts).
+pub const WORK: u32 = 9;
+/// Words of the work-counter buffer (hierarchy.glsl: nodes tested, leaves tested, nodes pruned,
+/// and one spare).
+pub const WORK_WORDS: usize = layout::WORK_BYTES / 4;
 
 /// `local_size_x` of every compute shader except args.comp.glsl.
 pub const WORKGROUP: u32 = 64;
@@ -76,6 +87,8 @@ pub struct FrameObjects {
     pub state: glow::Buffer,
     /// Queues and redo lists.
     pub queues: glow::Buffer,
+    /// The work counters ([`WORK_WORDS`] words).
+    pub work: glow::Buffer,
     /// The view serial the samples and bounds were made for.
     pub serial: Option<u64>,
 }
@@ -84,14 +97,41 @@ impl FrameObjects {
     /// Allocates the four buffers of `layout`, named by `names` (samples, nodes, state,
     /// queues) in errors. A refused store is the typed error and nothing is left behind.
     pub fn allocate(gl: &glow::Context, layout: Layout, names: [&'static str; 4]) -> Result<FrameObjects, GlError> {
-        let sizes = [layout.sample_bytes(), layout.node_bytes(), layout.state_bytes(), layout.queue_bytes()];
+        let sizes = [
+            layout.sample_bytes(),
+            layout.node_bytes(),
+            layout.state_bytes(),
+            layout.queue_bytes(),
+            layout::WORK_BYTES,
+        ];
+        let names = [names[0], names[1], names[2], names[3], "hier work counters"];
         let made = allocate_buffers(gl, &sizes, &names)?;
-        Ok(FrameObjects { layout, samples: made[0], nodes: made[1], state: made[2], queues: made[3], serial: None })
+        Ok(FrameObjects {
+            layout,
+            samples: made[0],
+            nodes: made[1],
+            state: made[2],
+            queues: made[3],
+            work: made[4],
+            serial: None,
+        })
     }
 
-    /// The four buffers.
-    pub fn buffers(&self) -> [glow::Buffer; 4] {
-        [self.samples, self.nodes, self.state, self.queues]
+    /// The five buffers.
+    pub fn buffers(&self) -> [glow::Buffer; 5] {
+        [self.samples, self.nodes, self.state, self.queues, self.work]
+    }
+
+    /// Sets the work counters to 0.
+    pub fn reset_work(&self, gl: &glow::Context) {
+        // SAFETY: our own buffer, WORK_WORDS words long.
+        unsafe { gl.named_buffer_sub_data_u8_slice(self.work, 0, &[0u8; 4 * WORK_WORDS]) };
+    }
+
+    /// The work counters read back (a stall): nodes tested, leaves tested, nodes pruned.
+    pub fn read_work(&self, gl: &glow::Context) -> [u64; 3] {
+        let w = read_words(gl, self.work, 0, WORK_WORDS);
+        [w[0], w[1], w[2]].map(u64::from)
     }
 
     /// Deletes the buffers.
@@ -111,21 +151,6 @@ impl FrameObjects {
     }
 }
 
-/// `count` u32 words of `buffer` from word `first`, read back (a stall; tests and statistics).
-pub fn read_words(gl: &glow::Context, buffer: glow::Buffer, first: usize, count: usize) -> Vec<u32> {
-    let mut bytes = vec![0u8; 4 * count];
-    // SAFETY: reading a range the caller knows to lie within the buffer, through
-    // COPY_READ_BUFFER, unbound again afterwards.
-    unsafe {
-        // Reason: the shaders' writes must be visible to the read.
-        gl.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
-        gl.bind_buffer(glow::COPY_READ_BUFFER, Some(buffer));
-        gl.get_buffer_sub_data(glow::COPY_READ_BUFFER, (4 * first) as i32, &mut bytes);
-        gl.bind_buffer(glow::COPY_READ_BUFFER, None);
-    }
-    bytes.chunks_exact(4).map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]])).collect()
-}
-
 /// Refuses a frame whose hierarchy has more nodes than a fallback walk's place holds
 /// ([`layout::PLACE_NODE_BITS`]; 16,384 x 16,384 has about 2^24): the error names `method` and
 /// the size.
@@ -140,45 +165,6 @@ pub fn check_places(method: &str, layout: &Layout) -> Result<(), GlError> {
         )));
     }
     Ok(())
-}
-
-/// Buffers of `sizes` bytes (DYNAMIC_COPY: written and read by the GPU every frame), named by
-/// `names` in errors; on any failure the ones made are deleted and the typed error returned.
-pub fn allocate_buffers(
-    gl: &glow::Context,
-    sizes: &[usize],
-    names: &[&'static str],
-) -> Result<Vec<glow::Buffer>, GlError> {
-    let mut made = Vec::with_capacity(sizes.len());
-    let mut failure = None;
-    for (&bytes, &what) in sizes.iter().zip(names) {
-        // SAFETY: creating a buffer name on the current context (deleted on error below).
-        match unsafe { gl.create_named_buffer() } {
-            Ok(b) => {
-                made.push(b);
-                // Checked: a refused store is this call's typed error, never an empty buffer
-                // counted as ready.
-                if let Err(e) = buffer_store(gl, b, BufferApi::Dsa, BufferData::Size(bytes), glow::DYNAMIC_COPY, what) {
-                    failure = Some(e);
-                    break;
-                }
-            }
-            Err(detail) => {
-                failure = Some(GlError::Create { what, detail });
-                break;
-            }
-        }
-    }
-    if let Some(e) = failure {
-        // SAFETY: our own buffers, never handed out.
-        unsafe {
-            for b in made {
-                gl.delete_buffer(b);
-            }
-        }
-        return Err(e);
-    }
-    Ok(made)
 }
 
 /// hierarchy.glsl's light and view uniforms for one light of one frame.
@@ -252,9 +238,29 @@ pub struct Passes<'a> {
     pub layout: &'a Layout,
     /// GL_MAX_COMPUTE_WORK_GROUP_COUNT along x.
     pub max_groups: u32,
+    /// Whether the shaders add to the work counters (`u_count_work`).
+    pub count_work: bool,
+    /// Compute dispatches issued through these passes.
+    pub dispatches: std::cell::Cell<u64>,
 }
 
-impl Passes<'_> {
+impl<'a> Passes<'a> {
+    /// The passes of one light's draw: no work counted yet.
+    pub fn new(
+        gl: &'a glow::Context,
+        shared: &'a SharedPrograms,
+        layout: &'a Layout,
+        max_groups: u32,
+        count_work: bool,
+    ) -> Self {
+        Self { gl, shared, layout, max_groups, count_work, dispatches: std::cell::Cell::new(0) }
+    }
+
+    /// Counts one dispatch (work counts).
+    pub fn counted(&self) {
+        self.dispatches.set(self.dispatches.get() + 1);
+    }
+
     /// Runs `count` invocations of `program` (current) in chunks of at most `max_groups`
     /// workgroups of [`WORKGROUP`], telling the shader where each chunk starts (`u_first`).
     pub fn dispatch(&self, program: glow::Program, count: usize) {
@@ -274,6 +280,7 @@ impl Passes<'_> {
                 gl.uniform_1_u32(u_first.as_ref(), (first + start) as u32);
                 gl.dispatch_compute(n.div_ceil(WORKGROUP as usize) as u32, 1, 1);
             }
+            self.counted();
             start += n;
         }
     }
@@ -325,6 +332,7 @@ impl Passes<'_> {
             gl.uniform_3_f32_slice(u("u_ray_x").as_ref(), &light.rays[0]);
             gl.uniform_3_f32_slice(u("u_ray_y").as_ref(), &light.rays[1]);
             gl.uniform_3_f32_slice(u("u_ray_c").as_ref(), &light.rays[2]);
+            gl.uniform_1_u32(u("u_count_work").as_ref(), u32::from(self.count_work));
         }
     }
 
@@ -361,6 +369,7 @@ impl Passes<'_> {
             gl.uniform_1_u32(uniform(gl, args, "u_pairs_per_group").as_ref(), per_group);
             gl.uniform_1_u32(uniform(gl, args, "u_args_gate").as_ref(), gate.map_or(u32::MAX, |g| g as u32));
             gl.dispatch_compute(1, 1, 1);
+            self.counted();
             // Reason: COMMAND: the next dispatch sources its size from the command just
             // written; SHADER_STORAGE: and its shader reads that state.
             gl.memory_barrier(glow::COMMAND_BARRIER_BIT | glow::SHADER_STORAGE_BARRIER_BIT);
@@ -402,6 +411,7 @@ impl Passes<'_> {
                 gl.uniform_1_u32(uniform(gl, descend, "u_pass_level").as_ref(), l as u32);
                 gl.dispatch_compute_indirect(Self::command_offset(4 * l));
             }
+            self.counted();
         }
     }
 
@@ -412,6 +422,7 @@ impl Passes<'_> {
         with_method(leaves);
         // SAFETY: our program; the command was written by `indirect`.
         unsafe { self.gl.dispatch_compute_indirect(Self::command_offset(layout::ACTIVE_CONTROL)) };
+        self.counted();
     }
 
     /// Empties the queues, leaf lists and active leaves for the next batch or round (their
@@ -464,6 +475,7 @@ impl Passes<'_> {
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NODES, Some(f.nodes));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, STATE, Some(f.state));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUEUES, Some(f.queues));
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, WORK, Some(f.work));
         }
     }
 
@@ -604,6 +616,7 @@ impl Passes<'_> {
                 gl.uniform_1_u32(uniform(gl, setup, "u_from_redo").as_ref(), 1);
                 gl.dispatch_compute_indirect(Self::command_offset(in_count));
             }
+            self.counted();
             traverse(&round_light);
         }
         round_light.redo_in = (layout::REDO_ROUNDS % 2) as u32;
@@ -639,6 +652,7 @@ impl Passes<'_> {
                     gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
                 }
                 gl.dispatch_compute_indirect(Self::command_offset(last));
+                self.counted();
             }
             gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, None);
         }

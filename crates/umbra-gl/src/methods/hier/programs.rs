@@ -136,7 +136,10 @@ pub fn link_method(
         .iter()
         .map(|(label, file, body)| (format!("{method} {label}"), *file, format!("{head}\n{body}")))
         .collect();
-    let resolve_frag = format!("{head}\n{}", resolve.1);
+    // The resolve counts no work: WORK_STUB right after the #version line gives it the no-op
+    // count_work and no work-counter block (hierarchy.glsl).
+    let resolve_head = head.replacen("#version 450 core\n", "#version 450 core\n#define WORK_STUB 1\n", 1);
+    let resolve_frag = format!("{resolve_head}\n{}", resolve.1);
     let mut specs: Vec<(String, Vec<ShaderSource<'_>>)> = sources
         .iter()
         .map(|(name, file, source)| {

@@ -1,5 +1,5 @@
-// The fallback of both hier methods, per light: the items (hier-triangle's triangles,
-// hier-silhouette's faces) a full queue turned away in the last redo round (redo list
+// hier-silhouette's fallback (shared code, with the method's hooks), per light: the items (its
+// faces) a full queue turned away in the last redo round (redo list
 // u_redo_in, hierarchy.glsl descend_into), each processed whole by one invocation: the item
 // against every top node and, depth-first, down to the samples of every node its test cuts
 // (Sintorn et al. 2014's traversal, without the queues). Normally the list is empty and the
@@ -133,6 +133,9 @@ void main() {
                 l -= 1u;
                 stack_node[l] = child;
                 stack_next[l] = 0u;
+                if (l == 0u) {
+                    count_work(WORK_LEAVES_TESTED, 1u);
+                }
             }
         }
     }

@@ -427,18 +427,12 @@ Frustum face_frustum(Face F) {
     return f;
 }
 
-// Whether face F (its bounds f) may meet the region of node `node` at `level` that holds the
-// node's samples, its lifted points and so every bridge below it: OUTSIDE or PARTIAL. The
-// direction bounds first, then the planes through the light over the node's directions, then
-// every plane over the world box and the frustum slab. The face's own plane must be straddled,
-// the others must not have the whole node on their outer side.
-int classify_face(Frustum f, bool quad, uint level, uint node) {
+// classify_face's tests of a non-empty node (bounds lo, hi): the direction bounds first, then
+// the planes through the light over the node's directions, then every plane over the world
+// box and the frustum slab. The face's own plane must be straddled, the others must not have
+// the whole node on their outer side.
+int classify_face_bounds(Frustum f, bool quad, uint level, uint node, vec4 lo, vec4 hi) {
     uint g = node_index(level, node);
-    vec4 lo = nodes[NODE_VEC4S * g];
-    vec4 hi = nodes[NODE_VEC4S * g + 1u];
-    if (lo.w > hi.w) {
-        return OUTSIDE;
-    }
     vec4 lb = nodes[NODE_VEC4S * g + 2u];
     if (!directions_meet(f.p[8], lb)) {
         return OUTSIDE;
@@ -475,6 +469,22 @@ int classify_face(Frustum f, bool quad, uint level, uint node) {
         return OUTSIDE;
     }
     return PARTIAL;
+}
+
+// Whether face F (its bounds f) may meet the region of node `node` at `level` that holds the
+// node's samples, its lifted points and so every bridge below it: OUTSIDE or PARTIAL (an empty
+// node is OUTSIDE untested). Counted as work when it tests.
+int classify_face(Frustum f, bool quad, uint level, uint node) {
+    uint g = node_index(level, node);
+    vec4 lo = nodes[NODE_VEC4S * g];
+    vec4 hi = nodes[NODE_VEC4S * g + 1u];
+    if (lo.w > hi.w) {
+        return OUTSIDE;
+    }
+    int c = classify_face_bounds(f, quad, level, node, lo, hi);
+    count_work(WORK_NODES_TESTED, 1u);
+    count_work(WORK_NODES_PRUNED, c == PARTIAL ? 0u : 1u);
+    return c;
 }
 
 // A node's point (the lifted point of one of its samples; hier/bounds.comp.glsl).

@@ -92,7 +92,7 @@ use glow::HasContext;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, checked_size, BufferApi, BufferData};
 use crate::methods::hier::layout::Layout;
-use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
+use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms, WorkCounter};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{SceneGpu, SceneId};
@@ -206,6 +206,7 @@ pub struct HierSilhouette {
     frame: Option<FrameCounts>,
     queue_scale: f64,
     fallback_steps: u32,
+    work: WorkCounter,
 }
 
 impl Default for HierSilhouette {
@@ -217,7 +218,14 @@ impl Default for HierSilhouette {
 impl HierSilhouette {
     /// Builds the method (no GL calls).
     pub fn new() -> Self {
-        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0, fallback_steps: FALLBACK_STEPS }
+        Self {
+            prepared: None,
+            scene: None,
+            frame: None,
+            queue_scale: 1.0,
+            fallback_steps: FALLBACK_STEPS,
+            work: WorkCounter::default(),
+        }
     }
 
     /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
@@ -540,6 +548,10 @@ impl ShadowMethod for HierSilhouette {
             // Nothing casts a shadow: the stencil stays 0 everywhere.
             return Ok(());
         }
+        let fresh = !self
+            .frame
+            .as_ref()
+            .is_some_and(|f| f.hierarchy.layout.width == frame.width && f.hierarchy.layout.height == frame.height);
         self.ensure_frame(gl, frame.width, frame.height)?;
         let (Some(s), Some(fc)) = (self.scene.as_ref(), self.frame.as_mut()) else {
             return Err(GlError::InvalidParams("hier-silhouette: objects missing".into()));
@@ -549,7 +561,8 @@ impl ShadowMethod for HierSilhouette {
         let layout = f.layout.clone();
         let light = LightUniforms::new(frame, 0.0, s.centre);
         let p = &s.programs;
-        let passes = Passes { gl, shared: &p.shared, layout: &layout, max_groups: s.max_groups };
+        let passes = Passes::new(gl, &p.shared, &layout, s.max_groups, self.work.on());
+        self.work.begin(gl, f, fresh);
         passes.bind(scene, f);
         // SAFETY: our buffers (edges only read; counts written and read by the passes).
         unsafe {
@@ -636,8 +649,18 @@ impl ShadowMethod for HierSilhouette {
             EDGES,
             hier::QUEUES,
             COUNTS,
+            hier::WORK,
         ]);
+        self.work.end(&passes);
         Ok(())
+    }
+
+    fn set_count_work(&mut self, on: bool) {
+        self.work.set(on);
+    }
+
+    fn work_counts(&mut self, gl: &glow::Context) -> Option<crate::WorkCounts> {
+        self.work.read(gl, self.frame.as_ref().map(|f| &f.hierarchy))
     }
 
     fn gpu_bytes(&self) -> usize {

@@ -5,9 +5,10 @@
 //! View-Sample Cluster Hierarchy", I3D 2014. Each triangle's shadow volume is a frustum of four
 //! planes (its own plane and three planes through the light and an edge); it is tested against
 //! a hierarchy of clusters of view samples with 3-D bounds, top-down: a node outside the
-//! frustum is dropped, a node inside is marked "all shadowed", a node it cuts is refined, and at
-//! the leaves every sample is tested exactly. A sample is shadowed when any triangle's frustum
-//! holds it (an OR: no counting, no multiplicity, no adjacency, no caps, no z-pass / z-fail).
+//! frustum is dropped, a node inside is cleared from a global bitmask of live nodes (every
+//! later triangle skips it), a node it cuts is refined, and at the leaves every live sample is
+//! tested exactly. A sample is shadowed when any triangle's frustum holds it (an OR: no
+//! counting, no multiplicity, no adjacency, no caps, no z-pass / z-fail).
 //!
 //! What umbra adds: the tests are the ray-traced reference's rule (`frustum.glsl`): a sample is
 //! shadowed by another triangle whose closed, two-sided surface the segment to the light meets
@@ -17,95 +18,103 @@
 //! decision matches `umbra verify`'s reference outside the band, and none of the band's
 //! depth-test precision classes concern it (docs/exactness.md).
 //!
-//! The view samples, their hierarchy and its breadth-first traversal are shared with
-//! hier-silhouette ([`crate::methods::hier`]). Per frame (once for all lights;
-//! [`VolumeFrame::view_serial`]):
-//! 1. "samples": the samples buffer is cleared, then the scene is drawn with the renderer's own
-//!    vertex shader over the frame's depth, depth func EQUAL, all writes masked: the fragment
-//!    shader (`samples.frag.glsl`, early fragment tests) stores each visible sample's world
-//!    position and triangle id — the same samples the renderer's depth pass produced;
-//! 2. "hierarchy": `bounds.comp.glsl`, per node (leaves of 4 x 4 pixels, then 4 x 4 children
-//!    per level up to one root, [`layout`]) the world box of its samples and the range of their
-//!    clip w (with the node's screen tile: a frustum slab).
+//! The view samples and their hierarchy are shared with hier-silhouette
+//! ([`crate::methods::hier`]). Per frame (once for all lights; [`VolumeFrame::view_serial`]):
+//! 1. "samples": the scene drawn with the renderer's own vertex shader over the frame's depth,
+//!    depth func EQUAL, all writes masked: the fragment shader (`hier/samples.frag.glsl`) stores
+//!    each visible sample's world position and triangle id, and whether the rasterizer saw its
+//!    triangle's front;
+//! 2. "hierarchy": `hier/bounds.comp.glsl`, per node (leaves of 4 x 4 pixels, then 4 x 4
+//!    children per level up to one root, [`layout`]) the world box of its samples and the range
+//!    of their clip w (with the node's screen tile: a frustum slab).
 //!
 //! Per light:
-//! 3. "light-bounds": `light_bounds.comp.glsl`, per node the bound of its samples' directions
-//!    from the light; the per-light state cleared;
-//! 4. "batches": the triangles, largest first, in batches ([`layout::batches`]); per batch
-//!    `setup.comp.glsl` (one invocation per triangle: its planes in f64, its direction bound,
-//!    its test against the root), per level `args.comp.glsl` + `descend.comp.glsl` (the
-//!    children of each queued pair), then `leaves.comp.glsl` (one workgroup per leaf with
-//!    pairs, one invocation per sample: the exact test against the leaf's list; afterwards the
-//!    leaf, and each ancestor whose samples are then all shadowed, is marked covered, which the
-//!    later batches skip);
-//! 5. "redo": [`layout::REDO_ROUNDS`] rounds of the same passes over the triangles a full queue
-//!    turned away; "fallback": the shared walk `hier/walk.comp.glsl` with this method's hooks
-//!    (`fallback.comp.glsl`), what is still left, one invocation per triangle descending
-//!    depth-first (normally no workgroup at all);
-//! 6. "stencil": `resolve.frag.glsl` on a full-screen triangle writes stencil 1 where the sample
-//!    is shadowed (its bit, or its leaf or an ancestor covered): [`Classification::StencilZero`]
-//!    as every counting method, so the lighting pass, [`crate::Renderer::count_shadows`] and
-//!    `umbra verify` read it unchanged ([`ShadowMethod::fills_volumes`] is false: the renderer
-//!    clears the stencil to 0 and sets up no counting for it).
+//! 3. "light-bounds": `hier/light_bounds.comp.glsl`, per node the bound of its samples'
+//!    directions from the light;
+//! 4. "setup": `setup.comp.glsl`, one invocation per triangle: its planes in f64 and its
+//!    direction bound; `init.comp.glsl`, per level from the leaves up: the live bitmask
+//!    (`live.glsl`): the samples present, less those whose seen side certainly faces away from
+//!    the light (the lighting pass never lights them: they are dropped before any triangle is
+//!    tested), and per node its children with live samples;
+//! 5. "traverse": `traverse.comp.glsl`, one persistent dispatch: each workgroup takes triangles,
+//!    largest first ([`largest_first`]), from an atomic job counter and walks the hierarchy
+//!    depth-first with each, a node's 16 children tested in parallel ([`lanes`] invocations
+//!    per workgroup, one child each, or two), their mask exchanged through shared memory (the
+//!    ballot), a child inside the shadow cleared with atomicAnd, a leaf's live samples tested
+//!    exactly. No per-level dispatch, no queue, no fallback;
+//! 6. "stencil": `resolve.frag.glsl` on a full-screen triangle, the merge: stencil 1 where the
+//!    sample's bit or a node on its path was cleared ([`Classification::StencilZero`] as every
+//!    counting method, so the lighting pass, [`crate::Renderer::count_shadows`] and `umbra
+//!    verify` read it unchanged; [`ShadowMethod::fills_volumes`] is false: the renderer clears
+//!    the stencil to 0 and sets up no counting for it).
 //!
 //! A node is tested against a triangle's frustum with three bounds of its samples, each
 //! conservative by a rounding margin: the world box, the frustum slab and the direction bound
-//! (`frustum.glsl`, classify_node). Found while measuring (Sibenik, 320 x 180): with the world
-//! box alone, 97 % of the (triangle, leaf) pairs it let through held no sample inside the
-//! frustum; the slab, the direction bounds and the triangle's own direction bound (a small
-//! triangle's cone is missed by most nodes near it, which its edge planes alone cannot show)
-//! halved the pairs, and 4 x 4 leaves instead of 8 x 8 cut the per-sample work by 2.7.
+//! (`frustum.glsl`, classify_node; the triangle's own direction bound rejects the nodes off the
+//! corners of a small triangle's cone, which its edge planes alone cannot).
 //!
-//! Bounds on work and memory: every shader loop runs at most 64 iterations (a leaf's samples,
-//! a node's 16 children, the top nodes), except the walk of a leaf's list and the fallback's
-//! walk. llvmpipe gives a shader invocation 65,535 loop iterations in all, every loop together
-//! (gallivm keeps one loop limiter per function; measured, docs/exactness.md): a leaf's list
-//! stays far below it (one pair per triangle of a batch or redo round); the fallback's
-//! depth-first walk of a large frustum at 3840x2160 can exceed it, so it runs at most
-//! [`layout::FALLBACK_STEPS`] steps per pass and resumes across passes (`hier/walk.comp.glsl`,
-//! shared with hier-silhouette). The queues have a fixed capacity per frame size
-//! ([`layout::queue_capacity`]); a pair that does not fit sends its triangle to a redo list
-//! (bounded by the triangle count): slower, never wrong. The fallback walks depth-first with an
-//! explicit stack (not one constant-bound loop per level, which NVIDIA's compiler unrolls 16^7
-//! times and never finishes linking) in a program of its own: llvmpipe runs a shader's untaken
-//! branches under a mask, so the walk inlined into the main passes made them 10 times slower
-//! even when no queue overflowed (measured). Memory: [`layout::Layout::frame_bytes`] per frame
-//! size plus [`layout::plane_bytes`] per scene (docs/benchmarks.md states it per resolution).
-//! Every allocation is checked: one the GL refuses is [`GlError::OutOfMemory`], nothing is
-//! left behind and the method stays usable (at another size, or later).
+//! Bounds on work and memory: llvmpipe gives a shader invocation 65,535 loop iterations in all,
+//! every loop together, and ends them silently after that (docs/exactness.md). There the
+//! traversal runs with a loop budget below it ([`LOOP_BUDGET`]): a workgroup that spends it
+//! saves its triangle and stack in its slot of the job buffer and the dispatch is repeated
+//! (after reading back how many workgroups it left unfinished) until none is; each repetition
+//! resumes every walk where it stopped. On other drivers one dispatch runs to the end. The
+//! stack holds one entry per level (no recursion, no constant-bound loop nest, which NVIDIA's
+//! compiler unrolls without end). Memory: [`layout::frame_layout`]'s
+//! [`layout::Layout::frame_bytes`] per frame size plus [`layout::scene_bytes`] per scene
+//! (planes, order and slots; docs/benchmarks.md states it per resolution), independent of how
+//! much work a frame holds. Every allocation is checked: one the GL refuses is
+//! [`GlError::OutOfMemory`], nothing is left behind and the method stays usable (at another
+//! size, or later).
 //!
 //! Samples are the visible surfaces of *umbra's scene*: with
 //! [`crate::Renderer::count_shadows`] on a caller's depth that also holds other geometry, the
 //! pixels of that geometry get no sample and stay lit (stencil 0).
 //!
-//! Stages reported: "samples", "hierarchy", "light-bounds", "batches", "redo", "fallback",
-//! "stencil".
+//! Stages reported: "samples", "hierarchy", "light-bounds", "setup", "traverse", "stencil".
 
 pub mod layout;
 
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
-use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms};
+use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms, WorkCounter};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{SceneGpu, SceneId};
-use layout::Layout;
+use layout::{Jobs, Layout};
 
 /// Registry name.
 pub const NAME: &str = "hier-triangle";
 
 const FRUSTUM: &str = include_str!("frustum.glsl");
+const LIVE: &str = include_str!("live.glsl");
 const SETUP_COMP: &str = include_str!("setup.comp.glsl");
-const DESCEND_COMP: &str = include_str!("descend.comp.glsl");
-const LEAVES_COMP: &str = include_str!("leaves.comp.glsl");
-const FALLBACK_COMP: &str = include_str!("fallback.comp.glsl");
+const INIT_COMP: &str = include_str!("init.comp.glsl");
+const TRAVERSE_COMP: &str = include_str!("traverse.comp.glsl");
 const RESOLVE_FRAG: &str = include_str!("resolve.frag.glsl");
 
 /// Shader-storage binding of the per-triangle planes (frustum.glsl); the hierarchy's are
 /// [`hier::POSITIONS`] .. [`hier::QUEUES`].
 const PLANES: u32 = 6;
+/// Shader-storage binding of the job buffer (traverse.comp.glsl, init.comp.glsl).
+const JOBS: u32 = 8;
+
+/// The traversal's loop budget per workgroup and dispatch where the driver ends loops after
+/// 65,535 iterations (llvmpipe): below it by more than one step's iterations and the final
+/// stores' (traverse.comp.glsl counts them).
+pub const LOOP_BUDGET: u32 = 60_000;
+
+/// Invocations per traversal workgroup on a driver whose renderer string is `renderer`: 8 on
+/// llvmpipe (its vector width: a workgroup is one vector, each invocation tests two children),
+/// 16 elsewhere (one child per invocation).
+pub fn lanes(renderer: &str) -> u32 {
+    if renderer.contains("llvmpipe") {
+        8
+    } else {
+        16
+    }
+}
 
 /// The reference's self-intersection eps (umbra_oracle::segment_epsilon, which this must
 /// equal): `1e-5` of the larger of the bounding-box diagonal and the largest absolute
@@ -143,59 +152,59 @@ pub fn largest_first(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<u32>
 }
 
 /// The GLSL text before every stage's own source: the hierarchy's header (3 vec4 per node, no
-/// lifted points) and frustum.glsl.
-fn header() -> String {
-    format!("{}{FRUSTUM}\n", hier::header(3, false))
+/// lifted points), the traversal's constants, frustum.glsl and live.glsl.
+fn header(lanes: u32) -> String {
+    // The extensions right after #version: GLSL allows #extension only before any code.
+    let version = "#version 450 core\n";
+    let extensions =
+        "#version 450 core\n#extension GL_ARB_shader_ballot : require\n#extension GL_ARB_gpu_shader_int64 : require\n";
+    format!(
+        "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n{FRUSTUM}\n{LIVE}\n",
+        hier::header(3, false).replacen(version, extensions, 1),
+        layout::SLOT_WORDS
+    )
 }
 
 struct Programs {
     shared: SharedPrograms,
-    fallback: glow::Program,
     setup: glow::Program,
-    descend: glow::Program,
-    leaves: glow::Program,
+    init: glow::Program,
+    traverse: glow::Program,
     resolve: glow::Program,
 }
 
 impl Programs {
     fn all(&self) -> Vec<glow::Program> {
         let mut v = self.shared.all().to_vec();
-        v.extend([self.fallback, self.setup, self.descend, self.leaves, self.resolve]);
+        v.extend([self.setup, self.init, self.traverse, self.resolve]);
         v
     }
 
-    fn link(gl: &glow::Context) -> Result<Programs, GlError> {
-        let fallback = hier::fallback_source(FALLBACK_COMP);
+    fn link(gl: &glow::Context, lanes: u32) -> Result<Programs, GlError> {
         let computes = [
             ("setup", "hier_triangle/setup.comp.glsl", SETUP_COMP),
-            ("descend", "hier_triangle/descend.comp.glsl", DESCEND_COMP),
-            ("leaves", "hier_triangle/leaves.comp.glsl", LEAVES_COMP),
-            ("fallback", "hier_triangle/fallback.comp.glsl", &fallback),
+            ("init", "hier_triangle/init.comp.glsl", INIT_COMP),
+            ("traverse", "hier_triangle/traverse.comp.glsl", TRAVERSE_COMP),
         ];
         let p = hier::link_method(
             gl,
             NAME,
-            &header(),
+            &header(lanes),
             &hier::header(3, false),
             &computes,
             ("hier_triangle/resolve.frag.glsl", RESOLVE_FRAG),
         )?;
         let own = p.own;
-        Ok(Programs {
-            shared: p.shared,
-            setup: own[0],
-            descend: own[1],
-            leaves: own[2],
-            fallback: own[3],
-            resolve: own[4],
-        })
+        Ok(Programs { shared: p.shared, setup: own[0], init: own[1], traverse: own[2], resolve: own[3] })
     }
 }
 
-/// Per scene: programs, the plane buffer, the resolve's empty vertex array.
+/// Per scene: programs, the plane and job buffers, the resolve's empty vertex array.
 struct SceneObjects {
     programs: Programs,
     planes: glow::Buffer,
+    jobs_buffer: glow::Buffer,
+    jobs: Jobs,
     empty_vao: glow::VertexArray,
     triangles: usize,
     max_groups: u32,
@@ -203,8 +212,9 @@ struct SceneObjects {
     /// of the scene's bounds).
     eps: f32,
     centre: [f32; 3],
-    /// Triangle ids, largest area first (the order of the batches).
-    order: Vec<u32>,
+    /// Whether loops end after 65,535 iterations (llvmpipe): the traversal then runs in
+    /// budgeted dispatches.
+    loop_limited: bool,
 }
 
 /// See the module documentation.
@@ -212,8 +222,9 @@ pub struct HierTriangle {
     prepared: Option<SceneId>,
     scene: Option<SceneObjects>,
     frame: Option<FrameObjects>,
-    queue_scale: f64,
-    fallback_steps: u32,
+    loop_budget: Option<u32>,
+    rounds: u32,
+    work: WorkCounter,
 }
 
 impl Default for HierTriangle {
@@ -225,20 +236,14 @@ impl Default for HierTriangle {
 impl HierTriangle {
     /// Builds the method (no GL calls).
     pub fn new() -> Self {
-        Self { prepared: None, scene: None, frame: None, queue_scale: 1.0, fallback_steps: layout::FALLBACK_STEPS }
+        Self { prepared: None, scene: None, frame: None, loop_budget: None, rounds: 0, work: WorkCounter::default() }
     }
 
-    /// The same method with every queue's capacity multiplied by `scale` (> 0): tests shrink
-    /// the queues to send pairs down the fallback walk; the decision must not change.
-    pub fn with_queue_scale(scale: f64) -> Self {
-        Self { queue_scale: if scale > 0.0 && scale.is_finite() { scale } else { 1.0 }, ..Self::new() }
-    }
-
-    /// The same method with fallback passes of `steps` steps (at least 1; the default is
-    /// [`layout::FALLBACK_STEPS`]): tests make every walk of the fallback stop and resume many
-    /// times; the decision must not change.
-    pub fn with_fallback_steps(self, steps: u32) -> Self {
-        Self { fallback_steps: steps.clamp(1, layout::FALLBACK_STEPS), ..self }
+    /// The same method with a traversal loop budget of `budget` iterations per workgroup and
+    /// dispatch (at least one step's) on every driver: tests make every walk stop and resume
+    /// many times; the decision must not change.
+    pub fn with_loop_budget(self, budget: u32) -> Self {
+        Self { loop_budget: Some(budget.clamp(64, LOOP_BUDGET)), ..self }
     }
 
     /// The layout of the last frame size drawn, if any.
@@ -246,18 +251,10 @@ impl HierTriangle {
         self.frame.as_ref().map(|f| &f.layout)
     }
 
-    /// Per level (leaves first): the pairs the last batch of the last light queued at that
-    /// level — more than the capacity when some were turned away — and the capacity.
-    pub fn queue_counts(&self, gl: &glow::Context) -> Vec<(u32, u32)> {
-        let Some(f) = self.frame.as_ref() else { return Vec::new() };
-        let words = f.control_words(gl);
-        f.layout.levels.iter().enumerate().map(|(l, level)| (words[4 * l], level.queue_capacity)).collect()
-    }
-
-    /// Triangles of the last light that a full queue sent to the redo list (processed by the
-    /// fallback pass).
-    pub fn redo_triangles(&self, gl: &glow::Context) -> u32 {
-        self.frame.as_ref().map_or(0, |f| f.control_words(gl).get(layout::REDO_CONTROL).copied().unwrap_or(0))
+    /// Traversal dispatches of the last light drawn (1 unless the loop budget stopped some
+    /// workgroups).
+    pub fn last_rounds(&self) -> u32 {
+        self.rounds
     }
 
     fn destroy_frame(&mut self, gl: &glow::Context) {
@@ -268,24 +265,78 @@ impl HierTriangle {
 
     /// The frame-size objects for `width x height`, (re)allocated when the size changed.
     fn ensure_frame(&mut self, gl: &glow::Context, width: u32, height: u32) -> Result<(), GlError> {
-        let Some(triangles) = self.scene.as_ref().map(|s| s.triangles) else {
-            return Err(GlError::InvalidParams("hier-triangle: draw_volumes before prepare".into()));
-        };
         if self.frame.as_ref().is_some_and(|f| f.layout.width == width && f.layout.height == height) {
             return Ok(());
         }
         self.destroy_frame(gl);
-        let layout = Layout::new(width, height, triangles, self.queue_scale);
-        hier::check_places(NAME, &layout)?;
+        let layout = layout::frame_layout(width, height);
+        if layout.top().nodes() > hier::layout::CHILDREN {
+            return Err(GlError::InvalidParams(format!(
+                "hier-triangle: {width}x{height} has {} top nodes, more than the root's {} children",
+                layout.top().nodes(),
+                hier::layout::CHILDREN
+            )));
+        }
         let names =
             ["hier-triangle samples", "hier-triangle node bounds", "hier-triangle state", "hier-triangle queues"];
-        let f = FrameObjects::allocate(gl, layout, names)?;
-        let order: Vec<u8> =
-            self.scene.as_ref().map_or(&[][..], |s| &s.order[..]).iter().flat_map(|i| i.to_ne_bytes()).collect();
-        // SAFETY: the order fits the state buffer's last `triangles` words (Layout::state_words).
-        unsafe { gl.named_buffer_sub_data_u8_slice(f.state, (4 * f.layout.order_offset()) as i32, &order) };
-        self.frame = Some(f);
+        self.frame = Some(FrameObjects::allocate(gl, layout, names)?);
         Ok(())
+    }
+
+    /// Stage "traverse": the persistent dispatch, repeated while the loop budget leaves
+    /// workgroups unfinished. Returns the dispatches issued.
+    fn traverse(&self, passes: &Passes<'_>, light: &LightUniforms) -> Result<u32, GlError> {
+        let Some(s) = self.scene.as_ref() else {
+            return Err(GlError::InvalidParams("hier-triangle: objects missing".into()));
+        };
+        let gl = passes.gl;
+        let p = &s.programs;
+        let budget = match (self.loop_budget, s.loop_limited) {
+            (Some(b), _) => b,
+            (None, true) => LOOP_BUDGET,
+            (None, false) => u32::MAX,
+        };
+        passes.use_with_common(p.traverse, light);
+        // SAFETY: our program; uniform types match traverse.comp.glsl.
+        unsafe {
+            gl.uniform_1_u32(uniform(gl, p.traverse, "u_jobs_list").as_ref(), s.jobs.list_offset() as u32);
+            gl.uniform_1_u32(uniform(gl, p.traverse, "u_slots_offset").as_ref(), s.jobs.slots_offset() as u32);
+            gl.uniform_1_u32(uniform(gl, p.traverse, "u_loop_budget").as_ref(), budget);
+        }
+        let mut rounds = 0u32;
+        loop {
+            // SAFETY: barrier and dispatch of our current program (workgroups <= WORKGROUPS,
+            // within every driver's limit).
+            unsafe {
+                // Reason: the init pass (or the last round) wrote the live words and slots read
+                // next.
+                gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
+                gl.dispatch_compute(s.jobs.workgroups as u32, 1, 1);
+            }
+            passes.counted();
+            rounds += 1;
+            if budget == u32::MAX {
+                break;
+            }
+            // Workgroups left unfinished (a read-back stall: only where the budget applies).
+            let unfinished = hier::read_words(gl, s.jobs_buffer, 1, 1)[0];
+            if unfinished == 0 {
+                break;
+            }
+            // A round always moves every unfinished walk on; this many cannot be needed by
+            // any frame the layout allows, but ends a broken driver's loop.
+            if rounds >= 1 << 20 {
+                return Err(GlError::InvalidParams("hier-triangle: the traversal did not finish".into()));
+            }
+            // SAFETY: our own buffer; word 1 is this round's count of unfinished workgroups.
+            unsafe {
+                // Reason: the read-back above must see the shaders' writes, the reset below
+                // must not race them.
+                gl.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+                gl.named_buffer_sub_data_u8_slice(s.jobs_buffer, 4, &0u32.to_ne_bytes());
+            }
+        }
+        Ok(rounds)
     }
 }
 
@@ -295,7 +346,7 @@ impl ShadowMethod for HierTriangle {
     }
 
     fn stages(&self) -> &'static [&'static str] {
-        &["samples", "hierarchy", "light-bounds", "batches", "redo", "fallback", "stencil"]
+        &["samples", "hierarchy", "light-bounds", "setup", "traverse", "stencil"]
     }
 
     fn fills_volumes(&self) -> bool {
@@ -325,59 +376,60 @@ impl ShadowMethod for HierTriangle {
                 ),
             });
         }
+        let jobs = Jobs::new(triangles);
         let plane_bytes = layout::plane_bytes(triangles.max(1));
         crate::gpu_buffer::checked_size(plane_bytes, "hier-triangle planes")?;
-        let programs = Programs::link(gl)?;
-        let delete_programs = |gl: &glow::Context, p: &Programs| {
-            // SAFETY: programs we created, not used afterwards.
-            unsafe {
-                for q in p.all() {
-                    gl.delete_program(q);
-                }
-            }
-        };
-        // SAFETY: object creation on the current context; deleted on every error path.
-        let planes = match unsafe { gl.create_named_buffer() } {
-            Ok(b) => b,
-            Err(detail) => {
-                delete_programs(gl, &programs);
-                return Err(GlError::Create { what: "hier-triangle planes", detail });
-            }
-        };
-        if let Err(e) = buffer_store(
-            gl,
-            planes,
-            BufferApi::Dsa,
-            BufferData::Size(plane_bytes),
-            glow::DYNAMIC_COPY,
-            "hier-triangle planes",
-        ) {
-            // SAFETY: our own buffer.
-            unsafe { gl.delete_buffer(planes) };
-            delete_programs(gl, &programs);
-            return Err(e);
+        crate::gpu_buffer::checked_size(jobs.bytes(), "hier-triangle jobs")?;
+        let renderer = crate::context::renderer_string(gl);
+        // The traversal's child mask is a subgroup ballot (64-bit masks).
+        let extensions = gl.supported_extensions();
+        if let Some(missing) =
+            ["GL_ARB_shader_ballot", "GL_ARB_gpu_shader_int64"].into_iter().find(|e| !extensions.contains(*e))
+        {
+            return Err(GlError::Unsupported { method: NAME, reason: format!("needs {missing}") });
         }
-        // SAFETY: as above.
+        let programs = Programs::link(gl, lanes(&renderer))?;
+        let buffers = match hier::allocate_buffers(
+            gl,
+            &[plane_bytes, jobs.bytes()],
+            &["hier-triangle planes", "hier-triangle jobs"],
+        ) {
+            Ok(b) => b,
+            Err(e) => {
+                hier::delete_programs(gl, &programs.all());
+                return Err(e);
+            }
+        };
+        // SAFETY: object creation on the current context; deleted on the error path.
         let empty_vao = match unsafe { gl.create_named_vertex_array() } {
             Ok(v) => v,
             Err(detail) => {
-                // SAFETY: our own buffer.
-                unsafe { gl.delete_buffer(planes) };
-                delete_programs(gl, &programs);
+                // SAFETY: our own buffers.
+                unsafe {
+                    for b in &buffers {
+                        gl.delete_buffer(*b);
+                    }
+                }
+                hier::delete_programs(gl, &programs.all());
                 return Err(GlError::Create { what: "hier-triangle vertex array", detail });
             }
         };
+        let order: Vec<u8> =
+            largest_first(&mesh.positions, &mesh.triangles).iter().flat_map(|i| i.to_ne_bytes()).collect();
+        // SAFETY: the order fits the job buffer's order region (Jobs::words).
+        unsafe { gl.named_buffer_sub_data_u8_slice(buffers[1], (4 * jobs.order_offset()) as i32, &order) };
         let centre = scene.bounds().map_or([0.0; 3], |b| b.center());
-        let order = largest_first(&mesh.positions, &mesh.triangles);
         self.scene = Some(SceneObjects {
             programs,
-            planes,
+            planes: buffers[0],
+            jobs_buffer: buffers[1],
+            jobs,
             empty_vao,
             triangles,
             max_groups: max_groups.clamp(1, i32::MAX) as u32,
             eps: segment_epsilon(&mesh.positions) as f32,
             centre,
-            order,
+            loop_limited: renderer.contains("llvmpipe"),
         });
         self.prepared = Some(scene.id());
         Ok(())
@@ -402,6 +454,8 @@ impl ShadowMethod for HierTriangle {
             // Nothing casts a shadow: the stencil stays 0 everywhere.
             return Ok(());
         }
+        let fresh =
+            !self.frame.as_ref().is_some_and(|f| f.layout.width == frame.width && f.layout.height == frame.height);
         self.ensure_frame(gl, frame.width, frame.height)?;
         let (Some(s), Some(f)) = (self.scene.as_ref(), self.frame.as_mut()) else {
             return Err(GlError::InvalidParams("hier-triangle: objects missing".into()));
@@ -409,47 +463,55 @@ impl ShadowMethod for HierTriangle {
         let layout = f.layout.clone();
         let light = LightUniforms::new(frame, s.eps, s.centre);
         let p = &s.programs;
-        let passes = Passes { gl, shared: &p.shared, layout: &layout, max_groups: s.max_groups };
+        let passes = Passes::new(gl, &p.shared, &layout, s.max_groups, self.work.on());
+        self.work.begin(gl, f, fresh);
         passes.bind(scene, f);
-        // SAFETY: our plane buffer (written and read by the compute passes).
-        unsafe { gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, PLANES, Some(s.planes)) };
+        // SAFETY: our plane and job buffers (written and read by the compute passes).
+        unsafe {
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, PLANES, Some(s.planes));
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, JOBS, Some(s.jobs_buffer));
+        }
         passes.samples_and_hierarchy(scene, frame, f, &light);
         passes.light_bounds(frame, &light);
-        let no_uniforms = |_: glow::Program| {};
 
-        frame.mark(gl, "batches");
-        // SAFETY: binding our state buffer as the indirect dispatch source (unbound by the
-        // fallback).
-        unsafe { gl.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, Some(f.state)) };
-        for (i, batch) in layout::batches(triangles).into_iter().enumerate() {
-            // SAFETY: barrier only. Reason: the cleared state, or the previous batch's queues
-            // (consumed), lists and coverage, are written next.
+        frame.mark(gl, "setup");
+        // The live bitmask, level by level from the leaves up to the virtual root.
+        for level in 0..=layout.levels.len() {
+            // Level 0's dispatch also resets the slots: at least one invocation per workgroup.
+            let nodes = layout.levels.get(level).map_or(1, |l| l.nodes() as usize);
+            let count = if level == 0 { nodes.max(s.jobs.workgroups) } else { nodes };
+            // SAFETY: barrier only. Reason: each level reads the words of the level below (the
+            // first, the light bounds' clear).
             unsafe { gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT) };
-            if i > 0 {
-                passes.reset_queues(&light);
-            }
-            passes.use_with_common(p.setup, &light);
-            // SAFETY: our program; uniform types match setup.comp.glsl.
+            passes.use_with_common(p.init, &light);
+            // SAFETY: our program; uniform types match init.comp.glsl.
             unsafe {
-                gl.uniform_1_u32(uniform(gl, p.setup, "u_batch_end").as_ref(), batch.end as u32);
-                gl.uniform_1_u32(uniform(gl, p.setup, "u_from_redo").as_ref(), 0);
+                gl.uniform_1_u32(uniform(gl, p.init, "u_init_level").as_ref(), level as u32);
+                gl.uniform_1_u32(uniform(gl, p.init, "u_slots_offset").as_ref(), s.jobs.slots_offset() as u32);
+                gl.uniform_1_u32(uniform(gl, p.init, "u_workgroups").as_ref(), s.jobs.workgroups as u32);
             }
-            passes.dispatch_from(p.setup, batch.start, batch.len());
-            passes.traverse(p.descend, p.leaves, &light, &no_uniforms);
+            passes.dispatch(p.init, count);
         }
-        // Redo rounds: the triangles a full queue turned away, through the same passes; what
-        // is left after the last round goes to the fallback pass, whole.
-        frame.mark(gl, "redo");
-        let traverse = |l: &LightUniforms| passes.traverse(p.descend, p.leaves, l, &no_uniforms);
-        let round_light = passes.redo_rounds(p.setup, &light, &no_uniforms, &traverse);
-        frame.mark(gl, "fallback");
-        passes.fallback(p.fallback, &round_light, &no_uniforms, self.fallback_steps);
+        // The frusta, and the job list of those that cut a top node.
+        // SAFETY: barrier only. Reason: setup reads the live words and the reset job list.
+        unsafe { gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT) };
+        passes.use_with_common(p.setup, &light);
+        // SAFETY: our program; uniform types match setup.comp.glsl.
+        unsafe {
+            gl.uniform_1_u32(uniform(gl, p.setup, "u_jobs_triangles").as_ref(), triangles as u32);
+            gl.uniform_1_u32(uniform(gl, p.setup, "u_jobs_order").as_ref(), s.jobs.order_offset() as u32);
+            gl.uniform_1_u32(uniform(gl, p.setup, "u_jobs_list").as_ref(), s.jobs.list_offset() as u32);
+        }
+        passes.dispatch(p.setup, triangles);
+
+        frame.mark(gl, "traverse");
+        let rounds = self.traverse(&passes, &light)?;
 
         frame.mark(gl, "stencil");
         crate::state::GlState::stencil_mark_resolve().apply(gl);
         // SAFETY: our program and empty vertex array; the frame's target and viewport.
         unsafe {
-            // Reason: the fragment shader reads the masks and flags the compute passes wrote.
+            // Reason: the fragment shader reads the live words the traversal cleared.
             gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, frame.target_framebuffer);
             gl.viewport(0, 0, layout.width as i32, layout.height as i32);
@@ -462,24 +524,43 @@ impl ShadowMethod for HierTriangle {
             gl.bind_vertex_array(None);
         }
         // Leave no binding of ours behind (the renderer restores the caller's).
-        passes.unbind(&[hier::POSITIONS, hier::INDICES, hier::SAMPLES, hier::NODES, hier::STATE, PLANES, hier::QUEUES]);
+        passes.unbind(&[
+            hier::POSITIONS,
+            hier::INDICES,
+            hier::SAMPLES,
+            hier::NODES,
+            hier::STATE,
+            PLANES,
+            hier::QUEUES,
+            JOBS,
+            hier::WORK,
+        ]);
+        self.work.end(&passes);
+        self.rounds = rounds;
         Ok(())
     }
 
+    fn set_count_work(&mut self, on: bool) {
+        self.work.set(on);
+    }
+
+    fn work_counts(&mut self, gl: &glow::Context) -> Option<crate::WorkCounts> {
+        self.work.read(gl, self.frame.as_ref())
+    }
+
     fn gpu_bytes(&self) -> usize {
-        self.scene.as_ref().map_or(0, |s| layout::plane_bytes(s.triangles.max(1)))
+        self.scene.as_ref().map_or(0, |s| layout::scene_bytes(s.triangles))
             + self.frame.as_ref().map_or(0, |f| f.layout.frame_bytes())
     }
 
     fn destroy(&mut self, gl: &glow::Context) {
         self.destroy_frame(gl);
         if let Some(s) = self.scene.take() {
+            hier::delete_programs(gl, &s.programs.all());
             // SAFETY: our own objects, not used afterwards.
             unsafe {
-                for p in s.programs.all() {
-                    gl.delete_program(p);
-                }
                 gl.delete_buffer(s.planes);
+                gl.delete_buffer(s.jobs_buffer);
                 gl.delete_vertex_array(s.empty_vao);
             }
         }

@@ -1,18 +1,30 @@
 // hier-triangle, per light: the decision into the stencil (Classification::StencilZero: lit
-// where 0). Full-screen; a pixel whose sample is shadowed — its bit in the leaf's mask, or its
-// leaf or an ancestor covered — survives and the stencil state writes 1 (REPLACE); the others
-// (background included) are discarded and keep the cleared 0. No colour, no depth. Prepended:
-// hier/hierarchy.glsl, hier/region.glsl, frustum.glsl.
+// where 0), the merge of the live bitmask per pixel (Sintorn et al. 2014: a sample is shadowed
+// when its bit, or the bit of any node on its path to the root, was cleared; live.glsl).
+// Full-screen; a shadowed sample survives and the stencil state writes 1 (REPLACE); the others
+// (background included) are discarded and keep the cleared 0. No colour, no depth. At most
+// MAX_LEVELS iterations. Prepended: hier/hierarchy.glsl, hier/region.glsl, frustum.glsl,
+// live.glsl.
 
 void main() {
     uvec2 p = uvec2(gl_FragCoord.xy);
     uvec2 tile = p / LEAF_SIDE;
     uint leaf = tile.y * u_level[0].x + tile.x;
     uint k = (p.y % LEAF_SIDE) * LEAF_SIDE + p.x % LEAF_SIDE;
-    uint bit = 1u << k;
-    // Only samples: a covered node's background pixels stay 0 (count_shadows' contract).
-    bool present = (state[u_valid_offset + leaf] & bit) != 0u;
-    if (!present || ((state[u_bits_offset + leaf] & bit) == 0u && !covered_from_above(0u, leaf))) {
+    // Only samples: a cleared node's background pixels stay 0 (count_shadows' contract).
+    if ((state[u_valid_offset + leaf] & (1u << k)) == 0u) {
+        discard;
+    }
+    bool shadowed = (state[live_word(0u, leaf)] & (1u << k)) == 0u;
+    uint node = leaf;
+    for (uint l = 0u; l < u_levels && !shadowed; ++l) {
+        uint parent;
+        uint bit;
+        parent_of(l, node, parent, bit);
+        shadowed = (state[live_word(l + 1u, parent)] & (1u << bit)) == 0u;
+        node = parent;
+    }
+    if (!shadowed) {
         discard;
     }
 }

@@ -1,10 +1,11 @@
-// hier-triangle, per light and batch, one invocation per triangle of the batch (positions
-// u_first .. u_batch_end of the largest-first order) or of a redo round's list: the
-// triangle's shadow frustum as four
-// planes (Sintorn et al. 2014, Section 3: the triangle's plane and the three planes through the
-// light and an edge; for a directional light, through the edge along the light's direction),
-// then its test against every top node of the hierarchy. Prepended:
-// hier/hierarchy.glsl, hier/region.glsl, frustum.glsl.
+// hier-triangle, per light, one invocation per triangle, in the largest-first order: the
+// triangle's shadow frustum as four planes (Sintorn et al. 2014, Section 3: the triangle's
+// plane and the three planes through the light and an edge; for a directional light, through
+// the edge along the light's direction) and the bound of its directions from the light; then
+// its test against the top nodes (live.glsl, test_child: a top node inside its shadow is
+// cleared): a triangle whose frustum cuts one is appended to the job list with the mask of
+// those it cuts, for the traversal (traverse.comp.glsl). Prepended: hier/hierarchy.glsl,
+// hier/region.glsl, frustum.glsl, live.glsl.
 //
 // The planes are computed in double precision from the f32 vertices (differences and products
 // exact, one rounding per sum), normalised, and rounded to f32 once. An edge plane is computed
@@ -22,9 +23,12 @@
 layout(local_size_x = 64) in;
 
 uniform uint u_first;
-uniform uint u_batch_end;
-// 1: a redo round: the triangles of redo list u_redo_in (indirect dispatch), not a batch.
-uniform uint u_from_redo;
+// Triangles, and the job buffer's order and list (hier_triangle/layout.rs Jobs).
+uniform uint u_jobs_triangles;
+uniform uint u_jobs_order;
+uniform uint u_jobs_list;
+
+layout(std430, binding = 8) coherent buffer Jobs { uint jobs[]; };
 
 dvec3 position(uint i) {
     return dvec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
@@ -41,20 +45,11 @@ bool lex_less(dvec3 a, dvec3 b) {
 }
 
 void main() {
-    uint tri;
-    if (u_from_redo != 0u) {
-        uint i = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
-        if (i >= state[REDO_CONTROL + 4u * u_redo_in]) {
-            return;
-        }
-        tri = queue[u_redo_offset + u_redo_in * u_triangles + i].x;
-    } else {
-        uint rank = u_first + gl_GlobalInvocationID.x;
-        if (rank >= u_batch_end) {
-            return;
-        }
-        tri = state[u_order_offset + rank];
+    uint rank = u_first + gl_GlobalInvocationID.x;
+    if (rank >= u_jobs_triangles) {
+        return;
     }
+    uint tri = jobs[u_jobs_order + rank];
     dvec3 q[3] = dvec3[3](position(indices[3u * tri]), position(indices[3u * tri + 1u]),
                           position(indices[3u * tri + 2u]));
     bool point = u_light.w != 0.0;
@@ -132,12 +127,17 @@ void main() {
     }
     planes[9u * tri + 8u] = bound;
 
-    uint top = u_levels - 1u;
-    uint top_nodes = u_level[top].x * u_level[top].y;
+    // The top nodes (the virtual root's children; at most 16, hier_triangle/mod.rs).
     Frustum f = load_frustum(tri);
-    for (uint node = 0u; node < top_nodes; ++node) {
-        if (visit(f, top, node) == PARTIAL) {
-            descend_into(tri, top, node);
+    uint mask = 0u;
+    for (uint k = 0u; k < CHILDREN; ++k) {
+        if (test_child(f, u_levels, 0u, k)) {
+            mask |= 1u << k;
         }
+    }
+    if (mask != 0u) {
+        uint job = atomicAdd(jobs[2], 1u);
+        jobs[u_jobs_list + 2u * job] = tri;
+        jobs[u_jobs_list + 2u * job + 1u] = mask;
     }
 }
