@@ -258,3 +258,26 @@ pub fn lex_greater(a: [f32; 3], b: [f32; 3]) -> bool {
     }
     false
 }
+
+/// The ray-traced reference's self-intersection eps, which the shadow rays' limits must equal
+/// (`umbra_oracle::segment_epsilon`; tested equal in umbra-verify's tests/ray_bvh.rs): `1e-5`
+/// of the larger of the bounding-box diagonal and the largest absolute coordinate, over the
+/// finite positions; 0 without one.
+pub fn segment_epsilon(positions: &[[f32; 3]]) -> f64 {
+    let mut min = [f64::INFINITY; 3];
+    let mut max = [f64::NEG_INFINITY; 3];
+    let mut largest = 0f64;
+    for p in positions.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
+        for k in 0..3 {
+            let c = f64::from(p[k]);
+            min[k] = min[k].min(c);
+            max[k] = max[k].max(c);
+            largest = largest.max(c.abs());
+        }
+    }
+    if min[0] > max[0] {
+        return 0.0;
+    }
+    let diagonal = (0..3).map(|k| (max[k] - min[k]).powi(2)).sum::<f64>().sqrt();
+    1e-5 * diagonal.max(largest)
+}
