@@ -1,10 +1,10 @@
 //! The binned-SAH build of [`RayBvh`] (Wald, "On fast Construction of SAH-based Bounding Volume
 //! Hierarchies", 2007: [`BINS`] bins of the centroids per axis, the split of least
-//! `area * count` on either side), then the flattening into depth-first preorder with skip
-//! indices. Iterative throughout (an explicit stack): a degenerate SAH tree as deep as the
-//! triangle count cannot overflow the thread's stack.
+//! `area * count` on either side), then the flattening into the GPU layout (siblings
+//! adjacent, parent indices). Iterative throughout (an explicit stack): a degenerate SAH tree as
+//! deep as the triangle count cannot overflow the thread's stack.
 
-use super::{lex_greater, RayBvh, BINS, LEAF_COUNT_BITS, MAX_LEAF, NODE_VEC4S, TRIANGLE_VEC4S};
+use super::{lex_greater, RayBvh, BINS, LEAF_BIT, LEAF_COUNT_BITS, MAX_LEAF, NODE_VEC4S, NO_PARENT, TRIANGLE_VEC4S};
 
 #[derive(Clone, Copy)]
 struct Bounds {
@@ -38,8 +38,16 @@ impl Bounds {
 }
 
 enum Kind {
-    Leaf { first: usize, count: usize },
-    Inner { left: usize, right: usize },
+    Leaf {
+        first: usize,
+        count: usize,
+    },
+    /// `left` holds the centroids below the split along `axis`.
+    Inner {
+        left: usize,
+        right: usize,
+        axis: u32,
+    },
 }
 
 struct Node {
@@ -114,7 +122,7 @@ fn split_all(refs: &mut [(u32, Bounds, [f32; 3])], nodes: &mut Vec<Node>) {
             centres.grow(r.2);
         }
         nodes[at].bounds = bounds;
-        let Some(mid) = choose_split(range, &centres, bounds.half_area()) else {
+        let Some((mid, axis)) = choose_split(range, &centres, bounds.half_area()) else {
             nodes[at].kind = Kind::Leaf { first, count };
             continue;
         };
@@ -122,16 +130,17 @@ fn split_all(refs: &mut [(u32, Bounds, [f32; 3])], nodes: &mut Vec<Node>) {
         for _ in 0..2 {
             nodes.push(Node { bounds: Bounds::EMPTY, kind: Kind::Leaf { first: 0, count: 0 } });
         }
-        nodes[at].kind = Kind::Inner { left, right };
+        nodes[at].kind = Kind::Inner { left, right, axis };
         todo.push((left, first, mid));
         todo.push((right, first + mid, count - mid));
     }
 }
 
-/// Partitions `range` at the cheapest binned SAH split and returns the left side's size, or
+/// Partitions `range` at the cheapest binned SAH split and returns the left side's size and the
+/// axis, or
 /// `None` to make it a leaf (at most [`MAX_LEAF`] triangles and no split cheaper than the leaf).
 /// More than [`MAX_LEAF`] triangles whose centroids coincide are split in the middle.
-fn choose_split(range: &mut [(u32, Bounds, [f32; 3])], centres: &Bounds, area: f64) -> Option<usize> {
+fn choose_split(range: &mut [(u32, Bounds, [f32; 3])], centres: &Bounds, area: f64) -> Option<(usize, u32)> {
     let n = range.len();
     if n == 1 {
         return None;
@@ -183,16 +192,16 @@ fn choose_split(range: &mut [(u32, Bounds, [f32; 3])], centres: &Bounds, area: f
                     mid += 1;
                 }
             }
-            Some(mid)
+            Some((mid, axis as u32))
         }
         None if n <= MAX_LEAF => None,
-        None => Some(n / 2),
+        None => Some((n / 2, 0)),
     }
 }
 
-/// Writes `nodes` in depth-first preorder with skip indices (the child of larger area first:
-/// a shadow ray stops at its first hit, which the larger box more likely holds), and the
-/// triangle records in the leaves' order.
+/// Writes `nodes` in the GPU layout: the root at 0, the two children of every inner node at
+/// `c` (left, odd) and `c + 1` (right), each node with its parent's index; and the triangle
+/// records in the leaves' order.
 fn flatten(
     nodes: &[Node],
     refs: &[(u32, Bounds, [f32; 3])],
@@ -201,43 +210,33 @@ fn flatten(
     out: &mut RayBvh,
 ) {
     let n = nodes.len();
-    // Subtree sizes: children come after their parent, so one reverse sweep sums them.
-    let mut size = vec![1usize; n];
-    for i in (0..n).rev() {
-        if let Kind::Inner { left, right } = nodes[i].kind {
-            size[i] = 1 + size[left] + size[right];
-        }
-    }
     out.nodes = vec![[0.0; 4]; NODE_VEC4S * n];
     out.triangles = Vec::with_capacity(TRIANGLE_VEC4S * refs.len());
     let pad = out.pad;
-    // (node, preorder index, skip, depth)
-    let mut todo = if n > 0 { vec![(0usize, 0usize, n, 0usize)] } else { Vec::new() };
-    while let Some((i, at, skip, depth)) = todo.pop() {
+    let mut next = 1usize;
+    // (node, its index, its parent's index, depth)
+    let mut todo = if n > 0 { vec![(0usize, 0usize, NO_PARENT, 0usize)] } else { Vec::new() };
+    while let Some((i, at, parent, depth)) = todo.pop() {
         out.depth = out.depth.max(depth);
         let b = nodes[i].bounds;
-        let leaf = match nodes[i].kind {
+        let word = match nodes[i].kind {
             Kind::Leaf { first, count } => {
                 let record = out.triangles.len() / TRIANGLE_VEC4S;
                 for r in &refs[first..first + count] {
                     push_record(out, positions, triangles[r.0 as usize], r.0);
                 }
-                ((record as u32) << LEAF_COUNT_BITS) | count as u32
+                LEAF_BIT | ((record as u32) << LEAF_COUNT_BITS) | count as u32
             }
-            Kind::Inner { left, right } => {
-                let (a, c) = if nodes[right].bounds.half_area() > nodes[left].bounds.half_area() {
-                    (right, left)
-                } else {
-                    (left, right)
-                };
-                // Popped in preorder: the first child last pushed.
-                todo.push((c, at + 1 + size[a], skip, depth + 1));
-                todo.push((a, at + 1, at + 1 + size[a], depth + 1));
-                0
+            Kind::Inner { left, right, axis } => {
+                let c = next;
+                next += 2;
+                todo.push((right, c + 1, at as u32, depth + 1));
+                todo.push((left, c, at as u32, depth + 1));
+                ((c as u32) << 2) | axis
             }
         };
-        out.nodes[NODE_VEC4S * at] = [b.lo[0] - pad, b.lo[1] - pad, b.lo[2] - pad, f32::from_bits(skip as u32)];
-        out.nodes[NODE_VEC4S * at + 1] = [b.hi[0] + pad, b.hi[1] + pad, b.hi[2] + pad, f32::from_bits(leaf)];
+        out.nodes[NODE_VEC4S * at] = [b.lo[0] - pad, b.lo[1] - pad, b.lo[2] - pad, f32::from_bits(parent)];
+        out.nodes[NODE_VEC4S * at + 1] = [b.hi[0] + pad, b.hi[1] + pad, b.hi[2] + pad, f32::from_bits(word)];
     }
 }
 

@@ -1,6 +1,6 @@
 //! The bounding-volume hierarchy of the `ray-bvh` shadow method: built on the CPU once per
 //! scene (binned SAH, [`build`]), flattened into two arrays of `vec4` that GLSL (std430) and
-//! WGSL read alike, and traversed per shadow ray by the GPU ([`RayBvh::occluded`] is the same
+//! WGSL read alike, and traversed per shadow ray by the GPU ([`RayBvh::walk`] is the same
 //! traversal on the CPU, for tests and as the shaders' specification).
 //!
 //! It is not the ray-traced reference's BVH (`umbra-oracle`): the reference never shares code
@@ -8,17 +8,25 @@
 //!
 //! # Layout
 //!
-//! * `nodes`, [`NODE_VEC4S`] `vec4` per node, in depth-first preorder:
-//!   `(lo.xyz, skip)`, `(hi.xyz, leaf)` as f32 bits of `u32` in the `w`s. `skip` is the index of
-//!   the node after this node's subtree (the node count at the end): a stackless traversal
-//!   needs one index of state, so a walk stopped by a step budget resumes from that index alone.
-//!   `leaf` is 0 for an inner node (its first child is the next node), else
-//!   `first << LEAF_COUNT_BITS | count`: `count` (1 ..= [`MAX_LEAF`]) triangle records from
-//!   `first`. The boxes are the triangles' f32 bounds padded by [`RayBvh::pad`] (see there).
+//! * `nodes`, [`NODE_VEC4S`] `vec4` per node, the root first: `(lo.xyz, parent)`,
+//!   `(hi.xyz, word)` as f32 bits of `u32` in the `w`s (the root's parent is [`NO_PARENT`]).
+//!   The two children of an inner node are adjacent, the left one (centroids below the split)
+//!   at an odd index: `word` = `left << 2 | axis` (the split's axis). A leaf's `word` is
+//!   [`LEAF_BIT`] ` | first << LEAF_COUNT_BITS | count`: `count` (1 ..= [`MAX_LEAF`]) triangle
+//!   records from `first`. The boxes are the triangles' f32 bounds padded by [`RayBvh::pad`].
 //! * `triangles`, [`TRIANGLE_VEC4S`] `vec4` per record: `(a.xyz, id)`, `(b.xyz, edges)`,
 //!   `(c.xyz, 0)`: the vertices, the id (index into the scene's triangles, the samples'
 //!   triangle id) and three bits, bit k set when edge k (`ab`, `bc`, `ca`) runs against the
 //!   lexicographic order of its endpoints (see [`edge_function`]).
+//!
+//! # The walk
+//!
+//! Hapala, Davidovič, Wald, Havran, Slusallek, "Efficient Stack-less BVH Traversal for Ray
+//! Tracing" (SCCG 2011): the children in the ray's order (the near one first along the split
+//! axis) without a stack, from the parent and sibling indices, so a walk's whole state is one
+//! word, `node << 2 | how it was reached` ([`FROM_PARENT`], [`FROM_SIBLING`], [`FROM_CHILD`]):
+//! a walk stopped by a step budget resumes from that word alone. Each node is entered at most
+//! twice and left once, so a walk takes at most `3 x` the node count in steps.
 //!
 //! # The ray test
 //!
@@ -42,8 +50,18 @@ pub const NODE_VEC4S: usize = 2;
 pub const TRIANGLE_VEC4S: usize = 3;
 /// Most triangles in a leaf.
 pub const MAX_LEAF: usize = 4;
-/// Bits of a leaf word that hold the count (the rest hold the first record).
+/// Bits of a leaf word that hold the count (above them, the first record).
 pub const LEAF_COUNT_BITS: u32 = 3;
+/// The bit of a node's word that marks a leaf.
+pub const LEAF_BIT: u32 = 1 << 31;
+/// The root's parent index.
+pub const NO_PARENT: u32 = u32::MAX;
+/// Walk state: the node was reached from its parent (it is the near child).
+pub const FROM_PARENT: u32 = 0;
+/// Walk state: the node was reached from its sibling (it is the far child).
+pub const FROM_SIBLING: u32 = 1;
+/// Walk state: the walk returns to the node from one of its children.
+pub const FROM_CHILD: u32 = 2;
 /// Bins per axis of the SAH build.
 pub const BINS: usize = 16;
 
@@ -62,9 +80,11 @@ pub struct RayBvh {
     pub depth: usize,
 }
 
-/// One step of [`RayBvh::occluded`]'s walk, for counting work.
+/// The work of [`RayBvh::walk`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Walk {
+    /// Steps taken.
+    pub steps: usize,
     /// Nodes whose box was tested.
     pub nodes: usize,
     /// Triangles tested.
@@ -87,7 +107,7 @@ impl RayBvh {
         16 * (self.nodes.len() + self.triangles.len())
     }
 
-    /// Node `i`'s `(lo, hi, skip, leaf)`.
+    /// Node `i`'s `(lo, hi, parent, word)`.
     pub fn node(&self, i: usize) -> ([f32; 3], [f32; 3], u32, u32) {
         let a = self.nodes[NODE_VEC4S * i];
         let b = self.nodes[NODE_VEC4S * i + 1];
@@ -105,10 +125,20 @@ impl RayBvh {
         ([v(0), v(1), v(2)], id, edges)
     }
 
+    /// The child of inner node `i` (word `word`) the ray `dir` meets first along its split axis.
+    fn near_child(word: u32, dir: [f32; 3]) -> u32 {
+        let left = word >> 2;
+        if dir[(word & 3) as usize] >= 0.0 {
+            left
+        } else {
+            left + 1
+        }
+    }
+
     /// Whether the ray `origin + t dir` hits a triangle other than `skip_id` with its hit
-    /// distance `t |dir|` in `(near, far)`, by the traversal and test the shaders run (f32,
-    /// module documentation), and the work it took. `t_end`: the ray's parameter range for the
-    /// boxes (1 for a segment to a point light at `origin + dir`).
+    /// distance `t |dir|` in `(near, far)`, by the walk and test the shaders run (f32, module
+    /// documentation), and the work it took. `t_end`: the ray's parameter range for the boxes
+    /// (1 for a segment to a point light at `origin + dir`).
     pub fn occluded(
         &self,
         origin: [f32; 3],
@@ -118,40 +148,111 @@ impl RayBvh {
         far: f32,
         skip_id: u32,
     ) -> (bool, Walk) {
-        let ray = Ray::new(origin, dir);
-        let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
         let mut walk = Walk::default();
-        let n = self.node_count() as u32;
-        let mut i = 0u32;
-        while i < n {
-            walk.nodes += 1;
-            let (lo, hi, skip, leaf) = self.node(i as usize);
-            if !ray.hits_box(lo, hi, t_end) {
-                i = skip;
-                continue;
-            }
-            if leaf == 0 {
-                i += 1;
-                continue;
-            }
-            let first = (leaf >> LEAF_COUNT_BITS) as usize;
-            for r in first..first + (leaf & ((1 << LEAF_COUNT_BITS) - 1)) as usize {
-                walk.triangles += 1;
-                let (v, id, edges) = self.record(r);
-                if id == skip_id {
-                    continue;
+        let out = self.walk(&Query { origin, dir, t_end, near, far, skip_id }, START, usize::MAX, &mut walk);
+        (out == Outcome::Hit, walk)
+    }
+
+    /// The walk of `q` from `state` ([`START`], or an [`Outcome::Unfinished`] state) for at
+    /// most `budget` steps, adding its work to `walk`.
+    pub fn walk(&self, q: &Query, mut state: u32, budget: usize, walk: &mut Walk) -> Outcome {
+        let ray = Ray::new(q.origin, q.dir);
+        let len = (q.dir[0] * q.dir[0] + q.dir[1] * q.dir[1] + q.dir[2] * q.dir[2]).sqrt();
+        if self.node_count() == 0 {
+            return Outcome::Miss;
+        }
+        for _ in 0..budget {
+            walk.steps += 1;
+            let (cur, how) = (state >> 2, state & 3);
+            let (lo, hi, parent, word) = self.node(cur as usize);
+            let mut leave = false;
+            if how == FROM_CHILD {
+                if cur == 0 {
+                    return Outcome::Miss;
                 }
-                if let Some(t) = ray.hit(v, edges) {
-                    let d = t * len;
-                    if d > near && d < far {
-                        return (true, walk);
+                let (_, _, _, parent_word) = self.node(parent as usize);
+                state = if cur == Self::near_child(parent_word, q.dir) {
+                    (sibling(cur) << 2) | FROM_SIBLING
+                } else {
+                    (parent << 2) | FROM_CHILD
+                };
+                continue;
+            }
+            walk.nodes += 1;
+            if !ray.hits_box(lo, hi, q.t_end) {
+                leave = true;
+            } else if word & LEAF_BIT != 0 {
+                let first = ((word & !LEAF_BIT) >> LEAF_COUNT_BITS) as usize;
+                for r in first..first + (word & ((1 << LEAF_COUNT_BITS) - 1)) as usize {
+                    walk.triangles += 1;
+                    let (v, id, edges) = self.record(r);
+                    if id == q.skip_id {
+                        continue;
+                    }
+                    if let Some(t) = ray.hit(v, edges) {
+                        let d = t * len;
+                        if d > q.near && d < q.far {
+                            return Outcome::Hit;
+                        }
                     }
                 }
+                leave = true;
+            } else {
+                state = (Self::near_child(word, q.dir) << 2) | FROM_PARENT;
             }
-            i = skip;
+            if leave {
+                state = if cur == 0 {
+                    return Outcome::Miss;
+                } else if how == FROM_PARENT {
+                    (sibling(cur) << 2) | FROM_SIBLING
+                } else {
+                    (parent << 2) | FROM_CHILD
+                };
+            }
         }
-        (false, walk)
+        Outcome::Unfinished(state)
     }
+}
+
+/// The other child of `node`'s parent (children are adjacent, the left one odd).
+fn sibling(node: u32) -> u32 {
+    if node & 1 == 1 {
+        node + 1
+    } else {
+        node - 1
+    }
+}
+
+/// The walk's first state: the root, reached from its (absent) parent.
+pub const START: u32 = FROM_PARENT;
+
+/// One shadow ray for [`RayBvh::walk`]: hits count with their distance `t |dir|` in
+/// `(near, far)`, except on triangle `skip_id`; boxes are tested for `t` in `[0, t_end]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Query {
+    /// Where the ray starts.
+    pub origin: [f32; 3],
+    /// Its direction (towards a point light: the light minus the origin).
+    pub dir: [f32; 3],
+    /// The boxes' parameter range.
+    pub t_end: f32,
+    /// Hits at this distance or nearer do not count.
+    pub near: f32,
+    /// Hits at this distance or farther do not count.
+    pub far: f32,
+    /// The triangle id skipped (the sample's own).
+    pub skip_id: u32,
+}
+
+/// How a walk ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// A triangle counts: the ray is occluded.
+    Hit,
+    /// None does.
+    Miss,
+    /// The budget ran out: continue from this state.
+    Unfinished(u32),
 }
 
 /// A ray prepared for the box and triangle tests (f32, as in the shaders).

@@ -32,39 +32,34 @@ fn soup(rng: &mut Rng, n: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     (positions, triangles)
 }
 
-/// Every node's structure: preorder (an inner node's first child next, its second at the
-/// first's skip, the second's skip its own), each id once among the records, each record in
-/// exactly one leaf, and every box holding its children's boxes and its triangles.
+/// Every node's structure: the root at 0 without a parent, every inner node's children
+/// adjacent (the left one odd) with their parent's index, each id once among the records, each
+/// record in exactly one leaf, and every box holding its children's boxes and its triangles.
 fn check_structure(bvh: &RayBvh, expected_ids: &[u32]) {
     let n = bvh.node_count();
     let mut seen_records = vec![0u32; bvh.triangle_count()];
     let mut reached = vec![false; n];
-    // Walk every node through the skip structure, as a traversal that hits every box would.
-    let mut stack = if n > 0 { vec![(0usize, n)] } else { Vec::new() };
-    while let Some((i, parent_skip)) = stack.pop() {
+    let mut stack = if n > 0 { vec![(0usize, NO_PARENT)] } else { Vec::new() };
+    while let Some((i, parent)) = stack.pop() {
         assert!(!reached[i], "node {i} reached twice");
         reached[i] = true;
-        let (lo, hi, skip, leaf) = bvh.node(i);
-        assert_eq!(skip as usize, parent_skip, "node {i}'s skip");
-        assert!(skip as usize > i);
-        if leaf == 0 {
-            let first = i + 1;
-            let (_, _, second, _) = bvh.node(first);
-            let second = second as usize;
-            assert!(second < skip as usize, "node {i} has one child");
-            for c in [first, second] {
+        let (lo, hi, p, word) = bvh.node(i);
+        assert_eq!(p, parent, "node {i}'s parent");
+        if word & LEAF_BIT == 0 {
+            let left = (word >> 2) as usize;
+            assert!(left % 2 == 1 && left + 1 < n && left > i, "node {i}'s children at {left}");
+            assert!(word & 3 < 3, "node {i}'s axis");
+            for c in [left, left + 1] {
                 let (clo, chi, _, _) = bvh.node(c);
                 for k in 0..3 {
                     assert!(lo[k] <= clo[k] && chi[k] <= hi[k], "node {c} pokes out of its parent {i}");
                 }
+                stack.push((c, i as u32));
             }
-            stack.push((second, skip as usize));
-            stack.push((first, second));
         } else {
-            let first = (leaf >> LEAF_COUNT_BITS) as usize;
-            let count = (leaf & ((1 << LEAF_COUNT_BITS) - 1)) as usize;
+            let first = ((word & !LEAF_BIT) >> LEAF_COUNT_BITS) as usize;
+            let count = (word & ((1 << LEAF_COUNT_BITS) - 1)) as usize;
             assert!((1..=MAX_LEAF).contains(&count), "leaf {i} holds {count}");
-            assert_eq!(skip as usize, i + 1, "a leaf's subtree is itself");
             for r in first..first + count {
                 seen_records[r] += 1;
                 let (v, _, _) = bvh.record(r);
@@ -236,4 +231,36 @@ fn builds_are_deterministic() {
     assert_eq!(bits(&a.nodes), bits(&b.nodes));
     assert_eq!(bits(&a.triangles), bits(&b.triangles));
     assert_eq!(a.bytes(), 16 * (a.nodes.len() + a.triangles.len()));
+}
+
+#[test]
+fn walks_stopped_by_a_small_budget_resume_to_the_same_answer_within_three_steps_per_node() {
+    let spheres = weld(&load_scene("spheres:6").unwrap());
+    let bvh = build(&spheres.positions, &spheres.triangles);
+    let n = bvh.node_count();
+    let mut rng = Rng(99);
+    let mut resumed = 0;
+    for i in 0..500 {
+        let origin = rng.point(30.0);
+        let dir = rng.point(60.0);
+        let q = Query { origin, dir, t_end: 1.0, near: 1e-4, far: f32::INFINITY, skip_id: u32::MAX };
+        let mut whole = Walk::default();
+        let expected = bvh.walk(&q, START, usize::MAX, &mut whole);
+        assert!(whole.steps <= 3 * n, "ray {i}: {} steps for {n} nodes", whole.steps);
+        // The same walk in pieces of 1 + i % 7 steps, resumed from the parked state.
+        let mut state = START;
+        let mut pieces = Walk::default();
+        let got = loop {
+            match bvh.walk(&q, state, 1 + i % 7, &mut pieces) {
+                Outcome::Unfinished(s) => {
+                    state = s;
+                    resumed += 1;
+                }
+                done => break done,
+            }
+        };
+        assert_eq!(got, expected, "ray {i}");
+        assert_eq!((pieces.nodes, pieces.triangles), (whole.nodes, whole.triangles), "ray {i}");
+    }
+    assert!(resumed > 1000);
 }

@@ -2,8 +2,8 @@
 //! scene — the exact peer the shadow-volume methods are measured against. No volume is
 //! rasterized or depth-tested.
 //!
-//! The BVH ([`umbra_geom::ray_bvh`]: binned SAH, nodes in depth-first preorder with skip
-//! indices, leaves of up to 4 triangles) is built on the CPU once per scene in
+//! The BVH ([`umbra_geom::ray_bvh`]: binned SAH, siblings adjacent with parent indices for an
+//! ordered stackless walk, leaves of up to 4 triangles) is built on the CPU once per scene in
 //! [`ShadowMethod::prepare`] and uploaded once. Per frame (once for all lights,
 //! [`VolumeFrame::view_serial`]):
 //! 1. "samples": `clear.comp.glsl` marks every pixel "no sample", then the scene is drawn with
@@ -14,11 +14,11 @@
 //! Per light:
 //! 2. "rays": `trace.comp.glsl`, one invocation per pixel: the sample moved onto its own
 //!    triangle's plane (f64), the segment to the light (the ray towards a directional light),
-//!    the stackless walk of the BVH with Woop et al.'s watertight test, the sample's own
+//!    the ordered stackless walk of the BVH with Woop et al.'s watertight test, the sample's own
 //!    triangle skipped, the first hit ending it — the reference's rule, see `trace.comp.glsl`
 //!    and docs/exactness.md;
 //! 3. "resume": a walk stopped by its step budget (llvmpipe's loop limit, see
-//!    `trace.comp.glsl`) continues in the next pass from its parked node index; the passes are
+//!    `trace.comp.glsl`) continues in the next pass from its parked state; the passes are
 //!    bounded by the node count over the budget, each sized from the previous one's list
 //!    (`args.comp.glsl`, indirect; normally no workgroup at all);
 //! 4. "stencil": `resolve.frag.glsl` on a full-screen triangle writes stencil 1 where the ray
@@ -99,10 +99,15 @@ impl Programs {
     fn link(gl: &glow::Context) -> Result<Programs, GlError> {
         let trace = format!(
             "#version 450 core\n#define NODE_VEC4S {}u\n#define TRIANGLE_VEC4S {}u\n#define LEAF_COUNT_BITS {}u\n\
+             #define LEAF_BIT {}u\n#define FROM_PARENT {}u\n#define FROM_SIBLING {}u\n#define FROM_CHILD {}u\n\
              #define TINY {:e}\n{TRACE_COMP}",
             ray_bvh::NODE_VEC4S,
             ray_bvh::TRIANGLE_VEC4S,
             ray_bvh::LEAF_COUNT_BITS,
+            ray_bvh::LEAF_BIT,
+            ray_bvh::FROM_PARENT,
+            ray_bvh::FROM_SIBLING,
+            ray_bvh::FROM_CHILD,
             ray_bvh::Ray::TINY,
         );
         let specs: [(&str, Vec<ShaderSource<'_>>); 5] = [
@@ -271,10 +276,10 @@ impl RayBvhMethod {
         self.scene.as_ref().map_or(0.0, |s| s.build_ms)
     }
 
-    /// Resume passes a frame runs after the first: enough for the longest walk, which visits
-    /// every node at most once (each step moves the node index forward).
+    /// Resume passes a frame runs after the first: enough for the longest walk, at most 3
+    /// steps per node ([`umbra_geom::ray_bvh`]).
     fn resume_passes(&self) -> u32 {
-        self.scene.as_ref().map_or(0, |s| s.node_count.div_ceil(self.budget))
+        self.scene.as_ref().map_or(0, |s| (3 * s.node_count).div_ceil(self.budget))
     }
 
     fn destroy_frame(&mut self, gl: &glow::Context) {
@@ -370,7 +375,6 @@ impl RayBvhMethod {
             gl.uniform_4_f32(u("u_light").as_ref(), l[0], l[1], l[2], l[3]);
             gl.uniform_1_f32(u("u_eps").as_ref(), s.eps);
             gl.uniform_1_f32(u("u_eps_near").as_ref(), 0.5 * s.eps);
-            gl.uniform_1_u32(u("u_node_count").as_ref(), s.node_count);
             gl.uniform_1_u32(u("u_budget").as_ref(), self.budget);
         }
     }

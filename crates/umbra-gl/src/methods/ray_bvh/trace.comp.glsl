@@ -1,6 +1,7 @@
 // ray-bvh, per light: one shadow ray per view sample through the scene's BVH (built on the CPU,
 // umbra_geom::ray_bvh, whose RayBvh::occluded is this traversal and test in Rust). Prepended:
-// "#version 450 core" and the defines NODE_VEC4S, TRIANGLE_VEC4S, LEAF_COUNT_BITS, TINY.
+// "#version 450 core" and the defines NODE_VEC4S, TRIANGLE_VEC4S, LEAF_COUNT_BITS, LEAF_BIT,
+// FROM_PARENT, FROM_SIBLING, FROM_CHILD, TINY.
 //
 // The reference's rule (crates/umbra-oracle, docs/exactness.md): a sample S on triangle T is
 // shadowed when the segment from S to the light (a directional light: the ray towards it) meets
@@ -11,17 +12,18 @@
 // reference's eps then lies in its REFERENCE_EPS band part, never outside the band. The first
 // hit ends the walk (any hit shadows).
 //
-// The walk is stackless: the nodes are in depth-first preorder, each with the index of the node
-// after its subtree (skip), so a ray's whole state is one node index and every step moves it
-// forward. llvmpipe gives a shader invocation 65,535 loop iterations in all (gallivm's loop
-// limiter; hier-triangle's measurement in docs/exactness.md): a walk stops after u_budget steps
-// (each at most 1 + 4 loop iterations), parks its node index in its result word (2 + node) and
-// joins list u_list_out; a resume pass (u_resume = 1, one invocation per entry of list
-// u_list_in) continues it from there. Each step moves the index forward, so a walk ends within
-// node count / u_budget passes (ray_bvh/mod.rs dispatches that many).
+// The walk is stackless and ordered (Hapala et al., "Efficient Stack-less BVH Traversal for
+// Ray Tracing", SCCG 2011): the near child first along the split axis, from the parent and
+// sibling indices, so a ray's whole state is one word, node << 2 | how it was reached. llvmpipe
+// gives a shader invocation 65,535 loop iterations in all (gallivm's loop limiter;
+// hier-triangle's measurement in docs/exactness.md): a walk stops after u_budget steps (each at
+// most 1 + 4 loop iterations), parks its state in its result word (2 + state) and joins list
+// u_list_out; a resume pass (u_resume = 1, one invocation per entry of list u_list_in)
+// continues it from there. A walk takes at most 3 x node count steps, so it ends within that
+// over u_budget passes (ray_bvh/mod.rs dispatches that many).
 //
 // Mode u_resume = 0: one invocation per pixel (8 x 8 workgroups), its result written whatever
-// it is (0 lit or background, 1 shadowed, 2 + node unfinished).
+// it is (0 lit or background, 1 shadowed, 2 + state unfinished).
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -31,12 +33,13 @@ layout(std430, binding = 2) readonly buffer Indices { uint indices[]; };
 // Per pixel (row-major from the bottom-left): world position as f32 bits, triangle id
 // (0xFFFFFFFF = no sample); samples.frag.glsl.
 layout(std430, binding = 3) readonly buffer Samples { uvec4 samples[]; };
-// NODE_VEC4S per node: (lo.xyz, skip bits), (hi.xyz, leaf bits): leaf 0 = inner node (its
-// first child next), else first record << LEAF_COUNT_BITS | count.
+// NODE_VEC4S per node, the root first: (lo.xyz, parent bits), (hi.xyz, word bits): an inner
+// node's word is left << 2 | split axis (its children adjacent, left odd), a leaf's LEAF_BIT |
+// first record << LEAF_COUNT_BITS | count.
 layout(std430, binding = 4) readonly buffer Nodes { vec4 nodes[]; };
 // TRIANGLE_VEC4S per record: (a.xyz, id bits), (b.xyz, edge-order bits), (c.xyz, 0).
 layout(std430, binding = 5) readonly buffer Triangles { vec4 tris[]; };
-// Per pixel: 0 lit or no sample, 1 shadowed, 2 + node: the walk continues at node.
+// Per pixel: 0 lit or no sample, 1 shadowed, 2 + state: the walk continues from state.
 layout(std430, binding = 6) buffer Results { uint results[]; };
 // [0, 8): per list its count and a DispatchIndirectCommand (args.comp.glsl); then list 0 and
 // list 1, u_pixels entries each: pixel indices.
@@ -49,7 +52,6 @@ uniform vec4 u_light;
 // The reference's eps (segment_epsilon), and its half at the sample end.
 uniform float u_eps;
 uniform float u_eps_near;
-uniform uint u_node_count;
 uniform uint u_budget;
 uniform uint u_resume;
 uniform uint u_list_in;
@@ -78,32 +80,57 @@ vec3 on_own_plane(uvec4 s) {
 struct Ray {
     vec3 o;
     vec3 inv;
-    // The shear's axes (Woop, Benthin, Wald, JCGT 2013): kz the largest |d| component.
-    uint kx;
-    uint ky;
-    uint kz;
-    vec3 shear;
+    // The shear (Woop, Benthin, Wald, JCGT 2013) as three rows: with kz the axis of the largest
+    // |d| component and kx, ky the next ones cyclically (swapped when d[kz] < 0), the sheared
+    // vertex is (a[kx] - Sx a[kz], a[ky] - Sy a[kz], Sz a[kz]) = (dot(a, mx), dot(a, my),
+    // dot(a, mz)): the other coefficients are exact zeros and ones, so the sums round as the
+    // expression does, without indexing a vector by a variable (which llvmpipe compiles into
+    // per-lane memory accesses, several times slower).
+    vec3 mx;
+    vec3 my;
+    vec3 mz;
 };
 
 Ray make_ray(vec3 o, vec3 d) {
     Ray r;
     r.o = o;
     // Tiny components as +-TINY: 1 / d stays finite, the ray moves by < TINY t.
-    vec3 safe;
-    for (int k = 0; k < 3; ++k) {
-        safe[k] = abs(d[k]) < TINY ? (d[k] < 0.0 ? -TINY : TINY) : d[k];
-    }
+    vec3 safe = vec3(abs(d.x) < TINY ? (d.x < 0.0 ? -TINY : TINY) : d.x,
+                     abs(d.y) < TINY ? (d.y < 0.0 ? -TINY : TINY) : d.y,
+                     abs(d.z) < TINY ? (d.z < 0.0 ? -TINY : TINY) : d.z);
     r.inv = 1.0 / safe;
     vec3 a = abs(d);
-    r.kz = a.x > a.y ? (a.x > a.z ? 0u : 2u) : (a.y > a.z ? 1u : 2u);
-    r.kx = (r.kz + 1u) % 3u;
-    r.ky = (r.kz + 2u) % 3u;
-    if (d[r.kz] < 0.0) {
-        uint k = r.kx;
-        r.kx = r.ky;
-        r.ky = k;
+    // Unit vectors of kz and of kx, ky in the cyclic order after it.
+    vec3 ez;
+    vec3 ex;
+    vec3 ey;
+    float dz;
+    if (a.x > a.y && a.x > a.z) {
+        ez = vec3(1.0, 0.0, 0.0);
+        ex = vec3(0.0, 1.0, 0.0);
+        ey = vec3(0.0, 0.0, 1.0);
+        dz = d.x;
+    } else if (a.y > a.z) {
+        ez = vec3(0.0, 1.0, 0.0);
+        ex = vec3(0.0, 0.0, 1.0);
+        ey = vec3(1.0, 0.0, 0.0);
+        dz = d.y;
+    } else {
+        ez = vec3(0.0, 0.0, 1.0);
+        ex = vec3(1.0, 0.0, 0.0);
+        ey = vec3(0.0, 1.0, 0.0);
+        dz = d.z;
     }
-    r.shear = vec3(d[r.kx] / d[r.kz], d[r.ky] / d[r.kz], 1.0 / d[r.kz]);
+    if (dz < 0.0) {
+        vec3 e = ex;
+        ex = ey;
+        ey = e;
+    }
+    float sx = dot(d, ex) / dz;
+    float sy = dot(d, ey) / dz;
+    r.mx = ex - sx * ez;
+    r.my = ey - sy * ez;
+    r.mz = ez / dz;
     return r;
 }
 
@@ -122,9 +149,9 @@ bool hits_box(Ray r, vec3 lo, vec3 hi, float t_end) {
 // same vertex of two triangles must give the same bits (no contraction that could differ).
 vec3 sheared(Ray r, vec3 v) {
     precise vec3 a = v - r.o;
-    precise float x = a[r.kx] - r.shear.x * a[r.kz];
-    precise float y = a[r.ky] - r.shear.y * a[r.kz];
-    precise float z = r.shear.z * a[r.kz];
+    precise float x = a.x * r.mx.x + a.y * r.mx.y + a.z * r.mx.z;
+    precise float y = a.x * r.my.x + a.y * r.my.y + a.z * r.my.z;
+    precise float z = a.x * r.mz.x + a.y * r.mz.y + a.z * r.mz.z;
     return vec3(x, y, z);
 }
 
@@ -162,43 +189,70 @@ bool hit_triangle(Ray r, uint rec, out float t) {
     return true;
 }
 
-// Walks from `node` for at most u_budget steps: 1 hit (within the eps limits, not triangle
-// `own`), 0 no hit anywhere, 2 unfinished (`node` then holds where to continue).
-uint walk(Ray r, float t_end, float len, bool point, uint own, inout uint node) {
+// The child of inner node word `word` the ray meets first along the split axis.
+uint near_child(uint word, vec3 d) {
+    uint axis = word & 3u;
+    float da = axis == 0u ? d.x : (axis == 1u ? d.y : d.z);
+    return (word >> 2) + (da >= 0.0 ? 0u : 1u);
+}
+
+// The other child of a node's parent (children adjacent, the left one odd).
+uint sibling(uint node) {
+    return (node & 1u) == 1u ? node + 1u : node - 1u;
+}
+
+// Walks from `state` for at most u_budget steps (umbra_geom::ray_bvh::RayBvh::walk): 1 hit
+// (within the eps limits, not triangle `own`), 0 no hit anywhere, 2 unfinished (`state` then
+// holds where to continue).
+uint walk(Ray r, vec3 d, float t_end, float len, bool point, uint own, inout uint state) {
     for (uint step = 0u; step < u_budget; ++step) {
-        if (node >= u_node_count) {
-            return 0u;
-        }
-        vec4 lo = nodes[NODE_VEC4S * node];
-        vec4 hi = nodes[NODE_VEC4S * node + 1u];
-        uint skip = floatBitsToUint(lo.w);
-        uint leaf = floatBitsToUint(hi.w);
-        if (!hits_box(r, lo.xyz, hi.xyz, t_end)) {
-            node = skip;
+        uint cur = state >> 2;
+        uint how = state & 3u;
+        vec4 lo = nodes[NODE_VEC4S * cur];
+        uint parent = floatBitsToUint(lo.w);
+        if (how == FROM_CHILD) {
+            if (cur == 0u) {
+                return 0u;
+            }
+            uint parent_word = floatBitsToUint(nodes[NODE_VEC4S * parent + 1u].w);
+            state = cur == near_child(parent_word, d) ? (sibling(cur) << 2) | FROM_SIBLING : (parent << 2) | FROM_CHILD;
             continue;
         }
-        if (leaf == 0u) {
-            node += 1u;
-            continue;
-        }
-        uint first = leaf >> LEAF_COUNT_BITS;
-        uint count = leaf & ((1u << LEAF_COUNT_BITS) - 1u);
-        // A constant bound (MAX_LEAF): unrolled, no loop of its own under the budget.
-        for (uint k = 0u; k < 4u; ++k) {
-            uint rec = first + k;
-            float t;
-            if (k < count && floatBitsToUint(tris[TRIANGLE_VEC4S * rec].w) != own && hit_triangle(r, rec, t)) {
-                float d = t * len;
-                bool beyond_sample = d > u_eps_near;
-                bool before_light = point ? (1.0 - t) * len > u_eps : true;
-                if (beyond_sample && before_light) {
-                    return 1u;
+        vec4 hi = nodes[NODE_VEC4S * cur + 1u];
+        uint word = floatBitsToUint(hi.w);
+        bool leave = true;
+        if (hits_box(r, lo.xyz, hi.xyz, t_end)) {
+            if ((word & LEAF_BIT) != 0u) {
+                uint first = (word & ~LEAF_BIT) >> LEAF_COUNT_BITS;
+                uint count = word & ((1u << LEAF_COUNT_BITS) - 1u);
+                // A constant bound (MAX_LEAF): unrolled, no loop of its own under the budget.
+                for (uint k = 0u; k < 4u; ++k) {
+                    if (k >= count) {
+                        break;
+                    }
+                    uint rec = first + k;
+                    float t;
+                    if (floatBitsToUint(tris[TRIANGLE_VEC4S * rec].w) != own && hit_triangle(r, rec, t)) {
+                        bool beyond_sample = t * len > u_eps_near;
+                        bool before_light = point ? (1.0 - t) * len > u_eps : true;
+                        if (beyond_sample && before_light) {
+                            return 1u;
+                        }
+                    }
                 }
+            } else {
+                state = (near_child(word, d) << 2) | FROM_PARENT;
+                leave = false;
             }
         }
-        node = skip;
+        if (leave) {
+            if (cur == 0u) {
+                return 0u;
+            }
+            state = how == FROM_PARENT ? (sibling(cur) << 2) | FROM_SIBLING : (parent << 2) | FROM_CHILD;
+        }
     }
-    return node >= u_node_count ? 0u : 2u;
+    return 2u;
 }
 
 void main() {
@@ -217,7 +271,7 @@ void main() {
         pixel = lists[8u + u_list_in * u_pixels + i];
     }
     uvec4 s = samples[pixel];
-    uint node = u_resume == 0u ? 0u : results[pixel] - 2u;
+    uint state = u_resume == 0u ? FROM_PARENT : results[pixel] - 2u;
     uint result = 0u;
     if (s.w != 0xFFFFFFFFu) {
         vec3 o = on_own_plane(s);
@@ -229,11 +283,11 @@ void main() {
             Ray r = make_ray(o, d);
             // The boxes along the segment to a point light (t <= 1), or the whole ray.
             float t_end = point ? 1.0 : 3.4e38;
-            result = walk(r, t_end, len, point, s.w, node);
+            result = walk(r, d, t_end, len, point, s.w, state);
         }
     }
     if (result == 2u) {
-        results[pixel] = 2u + node;
+        results[pixel] = 2u + state;
         uint slot = atomicAdd(lists[4u * u_list_out], 1u);
         lists[8u + u_list_out * u_pixels + slot] = pixel;
     } else {
