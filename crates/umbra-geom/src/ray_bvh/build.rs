@@ -16,10 +16,8 @@ impl Bounds {
     const EMPTY: Bounds = Bounds { lo: [f32::INFINITY; 3], hi: [f32::NEG_INFINITY; 3] };
 
     fn grow(&mut self, p: [f32; 3]) {
-        for k in 0..3 {
-            self.lo[k] = self.lo[k].min(p[k]);
-            self.hi[k] = self.hi[k].max(p[k]);
-        }
+        self.lo = [0, 1, 2].map(|k| self.lo[k].min(p[k]));
+        self.hi = [0, 1, 2].map(|k| self.hi[k].max(p[k]));
     }
 
     fn join(&mut self, o: &Bounds) {
@@ -149,7 +147,8 @@ fn choose_split(range: &mut [(u32, Bounds, [f32; 3])], centres: &Bounds, area: f
     let mut best: Option<(f64, usize, usize)> = None;
     for axis in 0..3 {
         let (lo, hi) = (centres.lo[axis], centres.hi[axis]);
-        if !(hi > lo) {
+        // Also skips NaN extents (none reach here: non-finite triangles are left out).
+        if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
         let bin_of = |c: f32| (((c - lo) / (hi - lo) * BINS as f32) as usize).min(BINS - 1);

@@ -60,8 +60,8 @@ fn check_structure(bvh: &RayBvh, expected_ids: &[u32]) {
             let first = ((word & !LEAF_BIT) >> LEAF_COUNT_BITS) as usize;
             let count = (word & ((1 << LEAF_COUNT_BITS) - 1)) as usize;
             assert!((1..=MAX_LEAF).contains(&count), "leaf {i} holds {count}");
-            for r in first..first + count {
-                seen_records[r] += 1;
+            for (r, seen) in seen_records.iter_mut().enumerate().skip(first).take(count) {
+                *seen += 1;
                 let (v, _, _) = bvh.record(r);
                 for p in v {
                     for k in 0..3 {
