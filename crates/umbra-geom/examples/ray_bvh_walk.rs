@@ -37,8 +37,10 @@ fn main() {
         bvh.depth,
         bvh.bytes() as f64 / (1024.0 * 1024.0)
     );
-    // The light at 70 % of the height above the centre, as the scenes' derived default.
-    let light = [0.5 * (b.min[0] + b.max[0]), b.min[1] + 0.7 * (b.max[1] - b.min[1]), 0.5 * (b.min[2] + b.max[2])];
+    // The CLI's default light of an interior (crates/umbra-cli/src/config.rs): 70 % of the
+    // height, a little off the centre.
+    let (c, e) = (b.center(), b.extent());
+    let light = [c[0] + 0.11 * e[0], b.min[1] + 0.7 * e[1], c[2] + 0.07 * e[2]];
     let eps = segment_epsilon(&mesh.positions) as f32;
     let mut state = 0x2545_f491_4f6c_dd1du64;
     let mut next = || {
