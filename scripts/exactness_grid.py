@@ -53,7 +53,7 @@ def exact_methods(umbra):
     for tok in text.replace(",", " ").split():
         tok = tok.strip("`'\".:;()")
         if tok and tok[0].isalpha() and "-" in tok and tok not in names and not MEASURED_ONLY(tok):
-            if tok.endswith(("silhouette", "triangle", "3edge", "1pass")):
+            if tok.endswith(("silhouette", "triangle", "3edge", "1pass", "bvh")):
                 names.append(tok)
     if not names:
         sys.exit(f"could not read the method names from `umbra verify --method help`:\n{text}")

@@ -270,3 +270,26 @@ fn a_reduced_suite_run_prints_its_table() {
     let s = stdout(&o);
     assert!(s.contains("## 001-spheres") && s.contains("| 32400 |") && s.contains("cpu-silhouette"), "{s}");
 }
+
+/// ray-bvh's rows carry its BVH's figures (its own keys, within `gpu_bytes`) and its stages;
+/// other methods' rows carry none of them.
+#[test]
+fn ray_bvh_rows_report_the_bvh() {
+    let mut args = vec!["bench", "--json", "--methods", "cpu-silhouette,ray-bvh", "--frames", "1"];
+    args.extend(SMALL);
+    let o = umbra(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&o);
+    let rows = v.as_array().expect("array");
+    let (cpu, ray) = (&rows[0], &rows[1]);
+    assert_eq!(ray["method"], "ray-bvh");
+    for key in ["bvh_build_ms", "bvh_bytes", "bvh_nodes", "bvh_depth"] {
+        assert!(ray[key].as_f64().is_some_and(|x| x >= 0.0), "{key} in {ray}");
+        assert!(cpu.get(key).is_none(), "{key} in cpu-silhouette's row");
+    }
+    let bvh = ray["bvh_bytes"].as_f64().unwrap_or(0.0);
+    assert!(bvh > 0.0 && bvh <= ray["gpu_bytes"].as_f64().unwrap_or(0.0), "{ray}");
+    for s in ["samples", "rays", "resume", "stencil"] {
+        assert!(ray["stages"].get(s).is_some(), "{s} missing: {}", ray["stages"]);
+    }
+}

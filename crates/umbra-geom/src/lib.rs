@@ -8,6 +8,7 @@
 //! * [`edge_triangles`]: the triangle behind every opposite slot of the sides-data.
 //! * [`export_buffers`]: the buffers paper 003's browser client draws from.
 //! * [`order`]: the strict vertex order of paper 001, Eq. 1 / Alg. 2.
+//! * [`ray_bvh`]: the binned-SAH hierarchy the `ray-bvh` method traces its shadow rays through.
 //! * [`multiplicity`]: deterministic multiplicity with a reference edge, 001 Alg. 3-4.
 //! * [`silhouette`]: CPU shadow-volume sides and caps from the multiplicities, 001 Eq. 2.
 //! * [`camera`]: the infinite-far camera and its depth conventions, shared by every backend.
@@ -104,6 +105,7 @@ pub mod load;
 pub mod mesh;
 pub mod multiplicity;
 pub mod order;
+pub mod ray_bvh;
 pub mod scene;
 pub mod shadow_map;
 pub mod sides_data;

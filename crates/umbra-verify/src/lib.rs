@@ -239,11 +239,28 @@ pub fn raster_view(gl: &glow::Context, params: &FrameParams) -> RasterView {
     view
 }
 
+/// The band parts of `ray-bvh`, which decides the reference's own samples by an f32 ray test
+/// (docs/exactness.md): `FACING` (the lighting pass), `SIDE_FACE` and `CANCELLING` (the segment
+/// passes within the envelope of an occluder's edge, where its f32 edge functions may take the
+/// other sign), `ORIENTATION` (an occluder nearly edge-on to the light: all three edge
+/// functions small), `REFERENCE_EPS` (a hit between its eps / 2 and the reference's eps). Not
+/// `SURFACE` or `NEAR_CUT`: no volume face is rasterized, depth-tested or clipped.
+pub const RAY_BVH_BAND: BandParts = BandParts(
+    BandParts::FACING.0
+        | BandParts::SIDE_FACE.0
+        | BandParts::CANCELLING.0
+        | BandParts::ORIENTATION.0
+        | BandParts::REFERENCE_EPS.0,
+);
+
 /// The band parts `method` is judged by ([`umbra_oracle::envelope`]): a silhouette method
 /// ([`ShadowMethod::silhouette_sides`]) draws no faces on edges that cast nothing, so the
-/// cancelling faces of per-triangle volumes are not its band.
+/// cancelling faces of per-triangle volumes are not its band; `ray-bvh` ([`RAY_BVH_BAND`])
+/// depth-tests nothing.
 pub fn band_mask(method: &dyn ShadowMethod) -> BandParts {
-    if method.silhouette_sides() {
+    if method.name() == umbra_gl::methods::ray_bvh::NAME {
+        RAY_BVH_BAND
+    } else if method.silhouette_sides() {
         BandParts::SILHOUETTE
     } else {
         BandParts::SAME_SAMPLES

@@ -91,13 +91,12 @@ pub fn verify_method(
         },
     )
     .map_err(VerifyError::Wgpu)?;
-    // Every wgpu volume method is a silhouette method (no faces on edges that cast nothing).
-    compare_decisions(
-        volumes.method_name().to_string(),
-        BandParts::SILHOUETTE,
-        view,
-        &decisions,
-        images.rgba,
-        render_ms,
-    )
+    // Every wgpu volume method is a silhouette method (no faces on edges that cast nothing);
+    // ray-bvh depth-tests nothing (crate::RAY_BVH_BAND, as on GL).
+    let band = if volumes.method_name() == umbra_wgpu::methods::ray_bvh::NAME {
+        crate::RAY_BVH_BAND
+    } else {
+        BandParts::SILHOUETTE
+    };
+    compare_decisions(volumes.method_name().to_string(), band, view, &decisions, images.rgba, render_ms)
 }

@@ -264,6 +264,12 @@ impl App {
                     self.set_method(i);
                 }
             }
+            KeyCode::KeyB => {
+                // ray-bvh (one shadow ray per sample), beyond the number keys' first ten methods.
+                if let Some(i) = method_names().iter().position(|&n| n == umbra_gl::methods::ray_bvh::NAME) {
+                    self.set_method(i);
+                }
+            }
             KeyCode::KeyV => self.show_mask = !self.show_mask,
             KeyCode::KeyF => {
                 self.wireframe = !self.wireframe;

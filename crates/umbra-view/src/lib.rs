@@ -10,10 +10,10 @@
 //! (Q/E down/up); shift + left drag moves the selected light in the image plane, the arrow
 //! keys move it horizontally and PageUp/PageDown vertically, Tab selects the next light;
 //! number keys 1-9 and 0 pick methods 1-10 of [`umbra_gl::method_names`], H picks
-//! hier-triangle, R hier-silhouette, M cycles through all of them; V toggles the shadow-mask view (white = lit by every light, black = by none);
+//! hier-triangle, R hier-silhouette, B ray-bvh, M cycles through all of them; V toggles the shadow-mask view (white = lit by every light, black = by none);
 //! F toggles the selected light's shadow-volume wireframe over the shaded view
-//! ([`umbra_gl::Renderer::draw_volume_wireframe`]; shadow maps, hier-triangle and
-//! hier-silhouette have no volumes); Escape quits.
+//! ([`umbra_gl::Renderer::draw_volume_wireframe`]; shadow maps, hier-triangle,
+//! hier-silhouette and ray-bvh have no volumes); Escape quits.
 //!
 //! The overlay (frame time, method, triangles, silhouette edges, selected light) is the
 //! window title: egui_glow, the maintained GL back end of egui, is built on glow 0.17 in its

@@ -124,6 +124,12 @@ impl ShadowVolumes {
         self.method.gpu_bytes()
     }
 
+    /// Figures of the method's per-scene preprocessing, `(key, value)` (ray-bvh: its BVH's
+    /// `bvh_build_ms`, `bvh_bytes`, `bvh_nodes`, `bvh_depth`); empty for most methods.
+    pub fn scene_figures(&self) -> Vec<(&'static str, f64)> {
+        self.method.scene_figures()
+    }
+
     /// Per frame, before the caller's passes: the per-light work of every light of `frame`
     /// (uniforms through `queue`, compute passes and the shadow maps' depth passes into
     /// `encoder`), and for each light how it counts ([`LightPlan`], also

@@ -31,4 +31,9 @@ pub trait Driver {
     fn zpass_lights(&self, method: usize) -> usize;
     /// Bytes of GPU memory method `method` holds.
     fn gpu_bytes(&self, method: usize) -> usize;
+    /// Method `method`'s figures of its per-scene preprocessing (ray-bvh's `bvh_build_ms`,
+    /// `bvh_bytes`, ...), keys of its `--json` rows; none by default.
+    fn scene_figures(&self, _method: usize) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
 }

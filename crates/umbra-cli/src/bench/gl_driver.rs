@@ -208,6 +208,10 @@ impl Driver for GlDriver {
     fn gpu_bytes(&self, method: usize) -> usize {
         self.instances[method].gpu_bytes()
     }
+
+    fn scene_figures(&self, method: usize) -> Vec<(&'static str, f64)> {
+        self.instances[method].scene_figures()
+    }
 }
 
 #[cfg(test)]

@@ -139,6 +139,7 @@ fn run_schedule(
     progress.done();
     for (st, e) in stats.iter_mut().zip(entries) {
         st.gpu_bytes = drivers[e.driver].gpu_bytes(e.method);
+        st.figures = drivers[e.driver].scene_figures(e.method);
     }
     stats
 }

@@ -41,6 +41,10 @@ pub struct JsonRow {
     pub x: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// The method's per-scene preprocessing figures as keys of their own (ray-bvh:
+    /// `bvh_build_ms`, `bvh_bytes`, `bvh_nodes`, `bvh_depth`); none for most methods.
+    #[serde(flatten)]
+    pub figures: BTreeMap<String, f64>,
 }
 
 pub fn json_rows(
@@ -73,6 +77,7 @@ pub fn json_rows(
             run: run.map(str::to_string),
             x,
             error: s.error.clone(),
+            figures: s.figures.iter().map(|&(k, v)| (k.to_string(), v)).collect(),
         })
         .collect()
 }

@@ -10,6 +10,8 @@ pub struct MethodStats {
     /// Per stage (first-seen order): the stage's time in each stage-timed round (ms).
     pub stage_ms: Vec<(String, Vec<f64>)>,
     pub gpu_bytes: usize,
+    /// The method's per-scene preprocessing figures (`Driver::scene_figures`).
+    pub figures: Vec<(&'static str, f64)>,
     pub error: Option<String>,
     /// The counter the method's volume pass used ("stencil8", "float32", or "none" for a
     /// method that does not count in the stencil).

@@ -89,4 +89,8 @@ impl Driver for WgpuDriver {
     fn gpu_bytes(&self, method: usize) -> usize {
         self.instances[method].gpu_bytes() as usize
     }
+
+    fn scene_figures(&self, method: usize) -> Vec<(&'static str, f64)> {
+        self.instances[method].scene_figures()
+    }
 }

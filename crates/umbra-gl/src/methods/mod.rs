@@ -42,6 +42,7 @@ pub mod hier;
 pub mod hier_silhouette;
 pub mod hier_triangle;
 pub mod none;
+pub mod ray_bvh;
 pub mod shadow_map;
 pub mod silhouette_caps;
 pub mod ts_silhouette;
@@ -277,6 +278,12 @@ pub trait ShadowMethod {
         None
     }
 
+    /// Figures of the method's per-scene preprocessing, `(key, value)`, that `umbra bench
+    /// --json` adds to its rows (ray-bvh: `bvh_build_ms`, `bvh_bytes`, ...); none by default.
+    fn scene_figures(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+
     /// Frees the GL objects (context current); the method can be prepared again afterwards.
     fn destroy(&mut self, gl: &glow::Context);
 }
@@ -309,6 +316,7 @@ pub fn method_names() -> &'static [&'static str] {
         all_edges_invert::NAME,
         hier_triangle::NAME,
         hier_silhouette::NAME,
+        ray_bvh::NAME,
     ]
 }
 
@@ -330,6 +338,7 @@ pub fn create_method(name: &str) -> Result<Box<dyn ShadowMethod>, UnknownMethod>
         all_edges_invert::NAME => Ok(Box::new(all_edges_invert::AllEdgesInvert::new())),
         hier_triangle::NAME => Ok(Box::new(hier_triangle::HierTriangle::new())),
         hier_silhouette::NAME => Ok(Box::new(hier_silhouette::HierSilhouette::new())),
+        ray_bvh::NAME => Ok(Box::new(ray_bvh::RayBvhMethod::new())),
         n if n.starts_with(shadow_map::PREFIX) => shadow_map::ShadowMapCube::from_name(n)
             .map(|m| Box::new(m) as Box<dyn ShadowMethod>)
             .ok_or_else(|| UnknownMethod { name: n.to_string() }),

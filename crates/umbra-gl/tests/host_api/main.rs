@@ -195,6 +195,13 @@ fn hier_silhouette_decides_into_the_hosts_stencil_like_its_own_frame() {
     run_methods(&["hier-silhouette"], &[DepthConvention::Standard, DepthConvention::ReversedZ]);
 }
 
+/// ray-bvh, the same way (its samples from the host's depth, one shadow ray each, its decision
+/// into the host's stencil).
+#[test]
+fn ray_bvh_decides_into_the_hosts_stencil_like_its_own_frame() {
+    run_methods(&["ray-bvh"], &[DepthConvention::Standard, DepthConvention::ReversedZ]);
+}
+
 #[test]
 fn stencil_test_method_returns_its_own_classification() {
     run_methods(&["all-edges-invert"], &[DepthConvention::Standard]);

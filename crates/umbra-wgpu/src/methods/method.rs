@@ -66,4 +66,9 @@ pub(crate) trait Method {
     fn copy_counts(&self, _encoder: &mut wgpu::CommandEncoder, _slot: usize, _readback: &wgpu::Buffer) -> bool {
         false
     }
+    /// Figures of the per-scene preprocessing, `(key, value)`, for `bench --json` (ray-bvh's
+    /// BVH); none by default.
+    fn scene_figures(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
 }

@@ -1,5 +1,5 @@
 //! Shadow methods on wgpu and their registry: the same `--method` names as umbra-gl
-//! (`cs-silhouette`, `cpu-silhouette`, `vs-silhouette`, `shadow-map-cube:RES`, `none`), each
+//! (`cs-silhouette`, `cpu-silhouette`, `vs-silhouette`, `shadow-map-cube:RES`, `ray-bvh`, `none`), each
 //! behind the one trait of `method.rs`. Geometry- and tessellation-shader methods have no wgpu
 //! counterpart (wgpu has neither stage).
 
@@ -10,6 +10,7 @@ pub mod cpu_silhouette;
 pub mod cs_silhouette;
 mod method;
 pub mod none;
+pub mod ray_bvh;
 pub mod shadow_map;
 mod transform;
 pub mod vs_silhouette;
@@ -26,6 +27,7 @@ pub fn method_names() -> &'static [&'static str] {
         cs_silhouette::NAME,
         shadow_map::NAME_1024,
         shadow_map::NAME_2048,
+        ray_bvh::NAME,
     ]
 }
 
@@ -38,6 +40,7 @@ pub(crate) fn create_method(device: &wgpu::Device, common: &Common, name: &str) 
         cpu_silhouette::NAME => Ok(Box::new(cpu_silhouette::CpuSilhouette::new(device, common))),
         vs_silhouette::NAME => Ok(Box::new(vs_silhouette::VsSilhouette::new(device, common))),
         cs_silhouette::NAME => Ok(Box::new(cs_silhouette::CsSilhouette::new(device, common))),
+        ray_bvh::NAME => Ok(Box::new(ray_bvh::RayBvhMethod::new(device, common)?)),
         n => match shadow_map::ShadowMapConfig::from_name(n) {
             Some(config) => Ok(Box::new(shadow_map::ShadowMapCube::new(device, common, config)?)),
             None => Err(WgpuError::UnknownMethod { name: name.to_string(), known: method_names().join(", ") }),

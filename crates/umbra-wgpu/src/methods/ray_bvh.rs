@@ -1,0 +1,275 @@
+//! `ray-bvh` on wgpu: one shadow ray per view sample through a BVH of the scene, the twin of
+//! umbra-gl's `ray-bvh` (the same BVH, [`umbra_geom::ray_bvh`], built on the CPU once per scene
+//! and uploaded once; the same walk and watertight test, shaders/ray_bvh.wgsl).
+//!
+//! The rays are traced where the decision is resolved into the caller's stencil (cleared to
+//! 1, 0 where the ray meets nothing), like the shadow maps' resolve: the scene drawn with depth
+//! EQUAL against the caller's depth gives each pixel's visible sample, its world position and
+//! triangle id (`primitive_index`: the device needs [`wgpu::Features::PRIMITIVE_INDEX`]). The
+//! host API's protocol hands a method no frame size before the caller's passes, so there is no
+//! compute pass over the samples here; and no pass to resume a walk in: one fragment walks at
+//! most [`BUDGET`] steps (lavapipe's loop limit, see the shader).
+//!
+//! Per scene: the BVH's two storage buffers and a uniform of the eps; per light: the light slot;
+//! in the caller's pass, the resolve draw.
+
+use umbra_geom::ray_bvh::{self, RayBvh};
+
+use crate::builders::{storage_entry, uniform_entry};
+use crate::common::{Common, LightPlan};
+use crate::error::WgpuError;
+use crate::methods::method::{LightFrame, Method, MethodKind};
+use crate::scene::{buffer_init, SceneGpu, SceneId};
+
+/// Registry name.
+pub const NAME: &str = "ray-bvh";
+
+/// Walk steps per fragment: each at most 1 + 4 loop iterations, below lavapipe's 65,535 loop
+/// iterations per shader invocation.
+pub const BUDGET: u32 = 12_000;
+
+const VOLUME: &str = include_str!("../shaders/volume.wgsl");
+const SHADER: &str = include_str!("../shaders/ray_bvh.wgsl");
+
+/// The shader's `Params`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    eps: f32,
+    eps_near: f32,
+    nodes: u32,
+    pad: u32,
+}
+
+struct SceneObjects {
+    group: wgpu::BindGroup,
+    bvh_bytes: u64,
+    build_ms: f64,
+    nodes: u32,
+    depth: usize,
+    positions: wgpu::Buffer,
+    indices: (wgpu::Buffer, u32),
+}
+
+/// See the module documentation.
+pub struct RayBvhMethod {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    prepared: Option<SceneId>,
+    scene: Option<SceneObjects>,
+}
+
+impl RayBvhMethod {
+    /// The resolve pipeline for the pass formats of `common`; the device must offer
+    /// `PRIMITIVE_INDEX`.
+    pub(crate) fn new(device: &wgpu::Device, common: &Common) -> Result<Self, WgpuError> {
+        crate::device::check_features(
+            "the caller's device",
+            device.features(),
+            wgpu::Features::PRIMITIVE_INDEX,
+            "ray-bvh (the triangle id of each sample, to skip its own triangle)",
+        )?;
+        let constants = format!(
+            "const NODE_VEC4S: u32 = {}u;\nconst TRIANGLE_VEC4S: u32 = {}u;\nconst LEAF_COUNT_BITS: u32 = {}u;\n\
+             const LEAF_BIT: u32 = {}u;\nconst FROM_PARENT: u32 = {}u;\nconst FROM_SIBLING: u32 = {}u;\n\
+             const FROM_CHILD: u32 = {}u;\nconst TINY: f32 = {:e};\nconst BUDGET: u32 = {BUDGET}u;\n",
+            ray_bvh::NODE_VEC4S,
+            ray_bvh::TRIANGLE_VEC4S,
+            ray_bvh::LEAF_COUNT_BITS,
+            ray_bvh::LEAF_BIT,
+            ray_bvh::FROM_PARENT,
+            ray_bvh::FROM_SIBLING,
+            ray_bvh::FROM_CHILD,
+            ray_bvh::Ray::TINY,
+        );
+        let module = Common::module(
+            device,
+            "ray_bvh.wgsl",
+            &["enable clip_distances;\nenable primitive_index;", VOLUME, &constants, SHADER],
+        );
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ray-bvh"),
+            entries: &[
+                storage_entry(0, fragment, true),
+                storage_entry(1, fragment, true),
+                storage_entry(2, fragment, true),
+                storage_entry(3, fragment, true),
+                uniform_entry(4, fragment, false),
+            ],
+        });
+        let pl = common.pipeline_layout(device, "ray-bvh resolve", &[&layout]);
+        let positions =
+            [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &positions,
+        })];
+        let to_zero = wgpu::StencilFaceState {
+            // Reason: every fragment whose ray meets nothing marks its pixel lit (0).
+            compare: wgpu::CompareFunction::Always,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Zero,
+        };
+        let targets: Vec<Option<wgpu::ColorTargetState>> = common
+            .formats
+            .color
+            .iter()
+            .map(|f| {
+                f.map(|format| wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::empty() })
+            })
+            .collect();
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("ray-bvh resolve"),
+            layout: Some(&pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_resolve"),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                strip_index_format: None,
+                // Reason: irrelevant without culling.
+                front_face: wgpu::FrontFace::Ccw,
+                // Reason: two-sided surfaces, as in the caller's depth pass.
+                cull_mode: None,
+                // Reason: the same clipping as the caller's scene pass (depths must be equal).
+                unclipped_depth: false,
+                polygon_mode: wgpu::PolygonMode::Fill,
+                conservative: false,
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: common.formats.depth_stencil,
+                // Reason: the caller's depth is final.
+                depth_write_enabled: Some(false),
+                // Reason: only the surface the caller's depth holds (bit-identical depths).
+                depth_compare: Some(wgpu::CompareFunction::Equal),
+                stencil: wgpu::StencilState { front: to_zero, back: to_zero, read_mask: 0xFF, write_mask: 0xFF },
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: common.sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_resolve"),
+                compilation_options: Default::default(),
+                // Reason: no colour is written (the caller's colour stays untouched).
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Ok(Self { layout, pipeline, prepared: None, scene: None })
+    }
+
+    /// The prepared scene's BVH figures for `bench --json` (build ms, bytes, nodes, depth).
+    pub(crate) fn figures(&self) -> Vec<(&'static str, f64)> {
+        self.scene.as_ref().map_or(Vec::new(), |s| {
+            vec![
+                ("bvh_build_ms", s.build_ms),
+                ("bvh_bytes", s.bvh_bytes as f64),
+                ("bvh_nodes", f64::from(s.nodes)),
+                ("bvh_depth", s.depth as f64),
+            ]
+        })
+    }
+}
+
+fn vec4_bytes(v: &[[f32; 4]]) -> Vec<u8> {
+    // At least one vec4: a binding of 0 bytes is invalid.
+    let mut out: Vec<u8> = bytemuck::cast_slice(v).to_vec();
+    if out.is_empty() {
+        out.resize(16, 0);
+    }
+    out
+}
+
+impl Method for RayBvhMethod {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn kind(&self) -> MethodKind {
+        MethodKind::Resolve
+    }
+
+    fn prepared_scene(&self) -> Option<SceneId> {
+        self.prepared
+    }
+
+    fn prepare_scene(&mut self, device: &wgpu::Device, scene: &SceneGpu, _common: &Common) -> Result<(), WgpuError> {
+        let mesh = scene.mesh();
+        let started = std::time::Instant::now();
+        let bvh: RayBvh = ray_bvh::build(&mesh.positions, &mesh.triangles);
+        let build_ms = started.elapsed().as_secs_f64() * 1e3;
+        let node_bytes = vec4_bytes(&bvh.nodes);
+        let triangle_bytes = vec4_bytes(&bvh.triangles);
+        let storage = wgpu::BufferUsages::STORAGE;
+        let nodes = buffer_init(device, "ray-bvh nodes", &node_bytes, storage)?;
+        let triangles = buffer_init(device, "ray-bvh triangles", &triangle_bytes, storage)?;
+        let eps = ray_bvh::segment_epsilon(&mesh.positions) as f32;
+        let params = Params { eps, eps_near: 0.5 * eps, nodes: bvh.node_count() as u32, pad: 0 };
+        let params = buffer_init(device, "ray-bvh params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM)?;
+        let group = crate::builders::buffers_group(
+            device,
+            "ray-bvh",
+            &self.layout,
+            &[&nodes, &triangles, scene.position_buffer(), scene.index_buffer(), &params],
+        );
+        self.scene = Some(SceneObjects {
+            group,
+            bvh_bytes: nodes.size() + triangles.size(),
+            build_ms,
+            nodes: bvh.node_count() as u32,
+            depth: bvh.depth,
+            positions: scene.position_buffer().clone(),
+            indices: (scene.index_buffer().clone(), scene.index_count()),
+        });
+        self.prepared = Some(scene.id());
+        Ok(())
+    }
+
+    fn prepare_light(
+        &mut self,
+        _device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        _encoder: &mut wgpu::CommandEncoder,
+        _scene: &SceneGpu,
+        common: &Common,
+        frame: &LightFrame,
+    ) -> Result<(), WgpuError> {
+        if self.scene.is_none() {
+            return Err(WgpuError::InvalidParams(format!("{NAME}: prepare_light before prepare_scene")));
+        }
+        common.write_slot(queue, frame.slot, &frame.data);
+        Ok(())
+    }
+
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, common: &Common, slot: usize, _plan: LightPlan) {
+        let Some(s) = &self.scene else { return };
+        if s.indices.1 == 0 {
+            return;
+        }
+        common.bind_slot_render(pass, slot);
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(1, &s.group, &[]);
+        pass.set_vertex_buffer(0, s.positions.slice(..));
+        pass.set_index_buffer(s.indices.0.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..s.indices.1, 0, 0..1);
+    }
+
+    fn gpu_bytes(&self) -> u64 {
+        self.scene.as_ref().map_or(0, |s| s.bvh_bytes)
+    }
+
+    fn scene_figures(&self) -> Vec<(&'static str, f64)> {
+        self.figures()
+    }
+}
