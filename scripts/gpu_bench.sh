@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ray-bvh against its peers on a GPU machine: the three fly-throughs at 1920x1080 with none,
-# cpu-silhouette, hier-triangle, shadow-map-cube:2048, shadow-map-cube:8192 and ray-bvh in one
+# cpu-silhouette, vs-silhouette, hier-triangle, shadow-map-cube:2048, shadow-map-cube:8192 and ray-bvh in one
 # interleaved `umbra bench` run per scene (GL through EGL), the Sponza fly-through on wgpu
 # (Vulkan) too, and `umbra verify` of ray-bvh on Sponza at 1920x1080, point and directional
 # light. JSON and logs go to $OUT (default target/gpu-bench).
@@ -55,7 +55,7 @@ mkdir -p "$out"
 umbra=.gpu/umbra
 export UMBRA_SCENES=$PWD/.gpu/scenes
 { nvidia-smi -L || true; "$umbra" info --backend gl || true; "$umbra" info --backend wgpu || true; } > "$out/devices.log" 2>&1
-methods=none,cpu-silhouette,hier-triangle,shadow-map-cube:2048,shadow-map-cube:8192,ray-bvh
+methods=none,cpu-silhouette,vs-silhouette,hier-triangle,shadow-map-cube:2048,shadow-map-cube:8192,ray-bvh
 for s in crytek-sponza:sponza conference:conference sibenik:sibenik; do
   scene=${s%%:*}; fly=${s##*:}
   "$umbra" bench --scene ".gpu/scenes/$scene.obj.gz" --flythrough ".gpu/$fly.flythrough" --methods "$methods" \
