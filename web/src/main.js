@@ -24,6 +24,7 @@ import { OBJLoader } from 'three/examples/jsm/loaders/OBJLoader.js';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { UmbraShadows } from '../umbra-three/src/index.js';
 import { loadScene, SceneError, sceneName } from './scene.js';
+import { defaultView } from '../examples/gltf/view.js';
 
 const params = new URLSearchParams(location.search);
 const $ = (id) => document.getElementById(id);
@@ -87,20 +88,6 @@ async function loadModel(url) {
   return geometries;
 }
 
-/** umbra's default interior framing (crates/umbra-cli/src/scenes.rs) from f32 bounds. */
-function interiorView(box) {
-  const f = Math.fround;
-  const c = [0, 1, 2].map((k) => f(f(box.min.getComponent(k) + box.max.getComponent(k)) * 0.5));
-  const e = [0, 1, 2].map((k) => f(box.max.getComponent(k) - box.min.getComponent(k)));
-  const minY = box.min.y;
-  const along = e[0] >= e[2];
-  const eye = along ? [c[0] - 0.2 * e[0], minY + 0.45 * e[1], c[2]] : [c[0], minY + 0.45 * e[1], c[2] - 0.2 * e[2]];
-  const target = along ? [c[0] + 0.2 * e[0], minY + 0.3 * e[1], c[2]] : [c[0], minY + 0.3 * e[1], c[2] + 0.2 * e[2]];
-  const light = [f(c[0] + f(0.11 * e[0])), f(minY + f(0.7 * e[1])), f(c[2] + f(0.07 * e[2])), 1];
-  const diagonal = Math.hypot(...e);
-  return { eye, target, up: [0, 1, 0], fov_y_degrees: 60, near: Math.max(diagonal, 1e-6) * 1e-3, light };
-}
-
 async function start() {
   const canvas = $('canvas');
   const size = params.get('size');
@@ -158,7 +145,10 @@ async function start() {
       g.computeBoundingBox();
       box.union(g.boundingBox);
     }
-    view = interiorView(box);
+    // umbra render's default view for the file, in its own arithmetic (the glTF example's
+    // view.js, tested against `umbra export` bit for bit).
+    const { fov, ...framing } = defaultView(box.isEmpty() ? null : { min: box.min.toArray(), max: box.max.toArray() });
+    view = { ...framing, fov_y_degrees: fov };
     counts = `${geometries.reduce((n, g) => n + (g.index ? g.index.count : g.attributes.position.count) / 3, 0)} triangles, ${geometries.length} meshes`;
   } else {
     const base = new URL(params.get('scene') || 'scene/', location.href);

@@ -326,6 +326,36 @@ pub fn depth_func_complement(nearer: u32) -> u32 {
 }
 
 impl GlState {
+    /// The state of a pass that re-draws the scene to record each pixel's visible sample into
+    /// a buffer (the hier methods' samples pass, ray-bvh's): only the fragments whose depth
+    /// equals the depth pass's run, and nothing of the frame is written.
+    pub fn visible_samples() -> GlState {
+        GlState {
+            // Reason: exactly the visible surface of each pixel: the renderer's invariant
+            // vertex shader gives the depth pass's depths bit for bit, EQUAL selects them
+            // (either depth convention), and early_fragment_tests applies the test before
+            // the shader's buffer write.
+            depth_test: true,
+            depth_func: glow::EQUAL,
+            // Reason: the frame's depth is final; nothing but the samples buffer is written.
+            depth_write: false,
+            // Reason: the same clipping as the depth pass, or depths could differ.
+            depth_clamp: false,
+            stencil_test: false,
+            stencil_front: StencilFace::KEEP,
+            stencil_back: StencilFace::KEEP,
+            // Reason: no colour output (the frame's colour stays untouched).
+            color_write: [false; 4],
+            // Reason: two-sided surfaces, as in the depth pass.
+            cull_face: None,
+            front_face: glow::CCW,
+            blend: None,
+            polygon_offset: None,
+        }
+    }
+}
+
+impl GlState {
     /// The state of a full-screen resolve into the stencil ([`crate::counter`]'s resolve and the
     /// hier methods'): every fragment that survives the resolve shader's discard (a shadowed
     /// sample) writes 1, nothing else is written.

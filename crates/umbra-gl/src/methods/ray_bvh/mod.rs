@@ -46,7 +46,7 @@ use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
-use crate::state::{GlState, StencilFace};
+use crate::state::GlState;
 
 /// Registry name.
 pub const NAME: &str = "ray-bvh";
@@ -323,29 +323,7 @@ impl RayBvhMethod {
             // Reason: the clear's writes must land before the fragment shader's.
             gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
         }
-        GlState {
-            // Reason: exactly the visible surface of each pixel: the renderer's invariant
-            // vertex shader gives the depth pass's depths bit for bit, EQUAL selects them
-            // (either depth convention), and early_fragment_tests applies the test before
-            // the shader's buffer write.
-            depth_test: true,
-            depth_func: glow::EQUAL,
-            // Reason: the frame's depth is final; nothing but the samples buffer is written.
-            depth_write: false,
-            // Reason: the same clipping as the depth pass, or depths could differ.
-            depth_clamp: false,
-            stencil_test: false,
-            stencil_front: StencilFace::KEEP,
-            stencil_back: StencilFace::KEEP,
-            // Reason: no colour output (the frame's colour stays untouched).
-            color_write: [false; 4],
-            // Reason: two-sided surfaces, as in the depth pass.
-            cull_face: None,
-            front_face: glow::CCW,
-            blend: None,
-            polygon_offset: None,
-        }
-        .apply(gl);
+        GlState::visible_samples().apply(gl);
         // SAFETY: as above.
         unsafe {
             gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, frame.target_framebuffer);
