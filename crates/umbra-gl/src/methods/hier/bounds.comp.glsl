@@ -116,6 +116,52 @@ void main() {
     if (level == 0u) {
         state[u_valid_offset + node] = valid;
     }
+#if OCCUPANCY
+    // The depth occupancy (region.glsl) over the range just found: a second pass over the
+    // samples' w intervals (leaves) or the children's occupied bins (above).
+    uint occupied = 0u;
+    float scale = w.y > w.x ? float(OCCUPANCY_BINS) / (w.y - w.x) : 0.0;
+    if (level == 0u) {
+        for (uint k = 0u; k < LEAF_SAMPLES; ++k) {
+            uint pixel;
+            if ((valid & (1u << k)) != 0u && leaf_pixel(node, k, pixel)) {
+                // The sample as stored above (moved onto its plane), its w as bounded there.
+                vec3 p = uintBitsToFloat(samples[pixel].xyz);
+                float pw = dot(u_view_w.xyz, p) + u_view_w.w;
+                float tol = (dot(abs(u_view_w.xyz), abs(p)) + abs(u_view_w.w)) * (1.0 / 1048576.0);
+                occupied |= occupancy_span(pw - tol, pw + tol, w.x, scale);
+            }
+        }
+    } else {
+        for (uint k = 0u; k < CHILDREN; ++k) {
+            uint child;
+            if (child_of(level, node, k, child)) {
+                uint g = node_index(level - 1u, child);
+                float c_lo = nodes[NODE_VEC4S * g].w;
+                float c_hi = nodes[NODE_VEC4S * g + 1u].w;
+                if (c_lo <= c_hi) {
+                    vec4 c_occ = nodes[NODE_VEC4S * g + 3u];
+                    // Each run of occupied bins of the child, as a w interval holding every w
+                    // the child's map puts there (its bin edges, widened by far more than the
+                    // map's rounding), mapped onto this node's bins.
+                    float c_step = (c_hi - c_lo) * (1.0 / float(OCCUPANCY_BINS));
+                    float slack = (abs(c_lo) + abs(c_hi)) * (1.0 / 262144.0);
+                    uint m = floatBitsToUint(c_occ.x);
+                    while (m != 0u) {
+                        uint i = uint(findLSB(m));
+                        uint rest = ~(m >> i);
+                        uint j = rest == 0u ? 31u : i + uint(findLSB(rest)) - 1u;
+                        float a = max(c_lo, c_lo + float(i) * c_step - slack);
+                        float b = j == 31u ? c_hi : min(c_hi, c_lo + float(j + 1u) * c_step + slack);
+                        occupied |= occupancy_span(a, b, w.x, scale);
+                        m &= j == 31u ? 0u : ~((2u << j) - 1u);
+                    }
+                }
+            }
+        }
+    }
+    nodes[NODE_VEC4S * node_index(level, node) + 3u] = vec4(uintBitsToFloat(occupied), scale, 0.0, 0.0);
+#endif
     uint g = node_index(level, node);
     nodes[NODE_VEC4S * g] = vec4(lo, w.x);
     nodes[NODE_VEC4S * g + 1u] = vec4(hi, w.y);

@@ -88,9 +88,9 @@ pub const QUEUE_PAIRS_PER_NODE: usize = 16;
 pub const QUEUE_PAIRS_PER_BATCH_TRIANGLE: usize = 64;
 /// Bytes of one sample (world position xyz as f32 bits, triangle id).
 pub const SAMPLE_BYTES: usize = 16;
-/// Bytes of one node's bounds (world box with the clip-w range, the light-direction bound):
-/// hier-triangle's nodes.
-pub const NODE_BYTES: usize = 48;
+/// Bytes of one node's bounds (world box with the clip-w range, the light-direction bound, the
+/// depth occupancy): hier-triangle's nodes.
+pub const NODE_BYTES: usize = 64;
 /// Bytes of one node with its own point too (hier-silhouette's nodes, `LIFT`).
 pub const NODE_BYTES_WITH_POINT: usize = 64;
 /// Bytes of one queue entry (triangle, node).

@@ -28,14 +28,16 @@ pub fn fallback_source(hooks: &str) -> String {
 /// The GLSL text before every stage's own source: version, the layout constants (the fallback
 /// walk's place bits among them), hierarchy.glsl
 /// and region.glsl. `lift`: the nodes bound their samples' lifted points and carry a point of
-/// their own (hier-silhouette); the node stride follows `layout`.
+/// their own (hier-silhouette) in their fourth vec4; otherwise that vec4 holds the node's depth
+/// occupancy (region.glsl, hier-triangle). The node stride follows `layout`.
 pub fn header(node_vec4s: usize, lift: bool) -> String {
     format!(
         "#version 450 core\n#define LEAF_SIDE {LEAF_SIDE}u\n#define LEAF_SAMPLES {LEAF_SAMPLES}u\n\
          #define BRANCH_SIDE {BRANCH_SIDE}u\n#define CHILDREN {CHILDREN}u\n#define MAX_LEVELS {MAX_LEVELS}\n\
-         #define NO_TRIANGLE 0xFFFFFFFFu\n#define NODE_VEC4S {node_vec4s}u\n#define LIFT {}\n\
+         #define NO_TRIANGLE 0xFFFFFFFFu\n#define NODE_VEC4S {node_vec4s}u\n#define LIFT {}\n#define OCCUPANCY {}\n\
          #define PLACE_NODE_BITS {PLACE_NODE_BITS}u\n{HIERARCHY}\n{REGION}\n",
-        u32::from(lift)
+        u32::from(lift),
+        u32::from(!lift)
     )
 }
 

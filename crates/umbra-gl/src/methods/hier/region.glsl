@@ -89,3 +89,28 @@ bool directions_meet(vec4 tb, vec4 lb) {
     float tol = (max(abs(lb.x), abs(lb.y)) + max(abs(lb.z), abs(lb.w))) * 4.0e-6;
     return tb.x <= lb.y + tol && lb.x <= tb.y + tol && tb.z <= lb.w + tol && lb.z <= tb.w + tol;
 }
+
+// The depth occupancy of a node (hier-triangle's nodes, OCCUPANCY): its clip-w range [w_lo, w_hi]
+// cut into OCCUPANCY_BINS equal bins, a bit set for every bin that may hold one of its samples'
+// w, so that the empty depth between two surfaces of one tile (a depth discontinuity: an arch in
+// front of a wall) bounds no sample. Stored in the node's fourth vec4: (mask bits, scale), the
+// scale computed once (bounds.comp.glsl) and read by every test, so that build and test map a
+// w to a bin with the same f32 operations. The map (w - w_lo) * scale, floored and clamped, is
+// a composition of correctly rounded subtractions and multiplications by a scale >= 0, so it is
+// monotone in w: an interval [a, b] of w meets only bins between occupancy_bin(a) and
+// occupancy_bin(b), whatever the rounding.
+const uint OCCUPANCY_BINS = 32u;
+
+// The bin of w in a node whose range starts at w_lo, with the node's scale.
+uint occupancy_bin(float w, float w_lo, float scale) {
+    precise float x = (w - w_lo) * scale;
+    return uint(clamp(floor(x), 0.0, float(OCCUPANCY_BINS - 1u)));
+}
+
+// The bins an interval [a, b] (a <= b) of w may meet, as a mask.
+uint occupancy_span(float a, float b, float w_lo, float scale) {
+    uint i = occupancy_bin(a, w_lo, scale);
+    uint j = occupancy_bin(b, w_lo, scale);
+    uint upto_j = j == 31u ? 0xFFFFFFFFu : (2u << j) - 1u;
+    return upto_j & ~((1u << i) - 1u);
+}

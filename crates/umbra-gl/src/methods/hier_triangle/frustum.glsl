@@ -39,6 +39,34 @@ Frustum load_frustum(uint tri) {
 }
 
 
+// The clip depths w within `span` at which plane k of the frustum can hold a point of the
+// tile's pyramid (NDC tile x [w.x, w.y] of clip w, as plane_range's slab): for an edge plane
+// (k >= 1) where its value can be >= 0, for the triangle's plane (k = 0) where it can be < 0
+// (behind the triangle, seen from the light). Over the tile the value at depth w lies within
+// E + w [g_min, g_max], up to the slab's tolerance at w.y; each condition is one linear
+// inequality A + w G >= 0, whose root is widened by 2^-20 of itself (the division's rounding is
+// a few units in the last place). Returns an empty span (x > y) when no depth qualifies.
+vec2 frustum_depths(Frustum f, uint k, vec4 tile, vec2 w, vec2 span) {
+    vec4 q = f.p[4u + k];
+    float g_min = min(q.y * tile.x, q.y * tile.y) + min(q.z * tile.z, q.z * tile.w) + q.w;
+    float g_max = max(q.y * tile.x, q.y * tile.y) + max(q.z * tile.z, q.z * tile.w) + q.w;
+    float q_tol = (abs(q.x) + w.y * (abs(q.y) + abs(q.z) + abs(q.w))) * (1.0 / 1048576.0);
+    // Edge plane: its largest value, q.x + w g_max (+ tolerance), >= 0. The triangle's plane:
+    // its least value, q.x + w g_min (- tolerance), < 0, as -(least) >= 0.
+    float a = k == 0u ? q_tol - q.x : q.x + q_tol;
+    float g = k == 0u ? -g_min : g_max;
+    if (g > 0.0) {
+        float root = -a / g;
+        span.x = max(span.x, root - abs(root) * (1.0 / 1048576.0));
+    } else if (g < 0.0) {
+        float root = a / -g;
+        span.y = min(span.y, root + abs(root) * (1.0 / 1048576.0));
+    } else if (a < 0.0) {
+        span = vec2(1.0, 0.0);
+    }
+    return span;
+}
+
 // Triangle `tri`'s shadow frustum against node `node` at `level` (bounds lo, hi with the w
 // range in their w components): OUTSIDE (no sample of the node can be shadowed by it), INSIDE
 // (every sample is, with both eps margins), or PARTIAL. Cheapest and most selective first:
@@ -94,7 +122,21 @@ int classify_node(Frustum f, uint level, uint node, vec4 lo, vec4 hi) {
     // end, |S - L| >= d + w): beyond both eps for every sample once d_min and w are.
     bool inside = d_min > u_eps && (!point || p0.w > u_eps) && max(e1.x, b1.x) > 0.0 && max(e2.x, b2.x) > 0.0
         && max(e3.x, b3.x) > 0.0;
-    return inside ? INSIDE : PARTIAL;
+    if (inside) {
+        return INSIDE;
+    }
+    // The depths at which the frustum meets the node's pyramid (its tile between w_min and
+    // w_max), against the depths its samples occupy: a node across a depth discontinuity is
+    // outside when the frustum passes only through the empty depth between its surfaces.
+    vec2 span = w;
+    for (uint k = 0u; k < 4u; ++k) {
+        span = frustum_depths(f, k, tile, w, span);
+    }
+    if (!(span.x <= span.y)) {
+        return OUTSIDE;
+    }
+    vec4 occ = nodes[NODE_VEC4S * node_index(level, node) + 3u];
+    return (floatBitsToUint(occ.x) & occupancy_span(span.x, span.y, w.x, occ.y)) == 0u ? OUTSIDE : PARTIAL;
 }
 
 // Whether triangle `tri` shadows the sample at `rel` (= S - u_origin; |S - L| = r for a point

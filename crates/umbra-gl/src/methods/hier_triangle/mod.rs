@@ -151,8 +151,8 @@ pub fn largest_first(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<u32>
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
-/// The GLSL text before every stage's own source: the hierarchy's header (3 vec4 per node, no
-/// lifted points), the traversal's constants, frustum.glsl and live.glsl.
+/// The GLSL text before every stage's own source: the hierarchy's header (4 vec4 per node, the
+/// fourth the depth occupancy), the traversal's constants, frustum.glsl and live.glsl.
 fn header(lanes: u32) -> String {
     // The extensions right after #version: GLSL allows #extension only before any code.
     let version = "#version 450 core\n";
@@ -160,7 +160,7 @@ fn header(lanes: u32) -> String {
         "#version 450 core\n#extension GL_ARB_shader_ballot : require\n#extension GL_ARB_gpu_shader_int64 : require\n";
     format!(
         "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n{FRUSTUM}\n{LIVE}\n",
-        hier::header(3, false).replacen(version, extensions, 1),
+        hier::header(4, false).replacen(version, extensions, 1),
         layout::SLOT_WORDS
     )
 }
@@ -190,7 +190,7 @@ impl Programs {
             gl,
             NAME,
             &header(lanes),
-            &hier::header(3, false),
+            &hier::header(4, false),
             &computes,
             ("hier_triangle/resolve.frag.glsl", RESOLVE_FRAG),
         )?;
