@@ -72,7 +72,9 @@ vec2 frustum_depths(Frustum f, uint k, vec4 tile, vec2 w, vec2 span) {
 // (every sample is, with both eps margins), or PARTIAL. Cheapest and most selective first:
 // the direction bounds (the triangle's against the node's), then the edge planes over the
 // node's directions (an edge plane holds the light or its direction, so the direction bound is
-// the tight one for it), then the triangle's plane over the world box and the frustum slab.
+// the tight one for it), then the triangle's plane over the world box and the frustum slab;
+// last, for a node not inside, the depths at which the frustum meets the node's pyramid against
+// the node's depth occupancy (region.glsl).
 int classify_node(Frustum f, uint level, uint node, vec4 lo, vec4 hi) {
     vec4 lb = nodes[NODE_VEC4S * node_index(level, node) + 2u];
     if (!directions_meet(f.p[8], lb)) {
@@ -128,10 +130,12 @@ int classify_node(Frustum f, uint level, uint node, vec4 lo, vec4 hi) {
     // The depths at which the frustum meets the node's pyramid (its tile between w_min and
     // w_max), against the depths its samples occupy: a node across a depth discontinuity is
     // outside when the frustum passes only through the empty depth between its surfaces.
-    vec2 span = w;
-    for (uint k = 0u; k < 4u; ++k) {
-        span = frustum_depths(f, k, tile, w, span);
-    }
+    // (Four calls, not a loop: llvmpipe counts every loop iteration against its limit, and the
+    // traversal's budget counts none here.)
+    vec2 span = frustum_depths(f, 0u, tile, w, w);
+    span = frustum_depths(f, 1u, tile, w, span);
+    span = frustum_depths(f, 2u, tile, w, span);
+    span = frustum_depths(f, 3u, tile, w, span);
     if (!(span.x <= span.y)) {
         return OUTSIDE;
     }
