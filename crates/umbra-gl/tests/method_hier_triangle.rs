@@ -8,6 +8,8 @@
 //! * a small loop budget stops every workgroup's walk again and again and the traversal resumes
 //!   it in further dispatches: the stencil does not change;
 //! * work counts: counted only when asked, summed over the lights, consistent with each other;
+//! * a caster whose shadow falls on no visible sample (under the ground the eye sees) is dropped
+//!   before any node is tested (the receiver map), and the same caster above the ground is not;
 //! * no volumes to show: the wireframe is a clear Unsupported error;
 //! * a buffer the driver refuses is the typed OutOfMemory error, nothing is left behind, and
 //!   the method works again at a size that fits (child process with a limited address space,
@@ -20,6 +22,7 @@ use std::sync::Arc;
 
 use common::child::{is_child, run_in_child, with_address_space_headroom, CHILD_DONE};
 use common::*;
+use umbra_geom::scene::{ground_plane, uv_sphere};
 use umbra_geom::{weld::weld, Mesh, WeldedMesh};
 use umbra_gl::methods::hier_triangle::{layout, HierTriangle};
 use umbra_gl::{
@@ -177,6 +180,46 @@ fn work_is_counted_only_when_asked_and_summed_over_lights() {
     m.destroy(gl);
     r.destroy(gl);
     scene.destroy(gl);
+}
+
+/// The nodes hier-triangle tests, and the pixels it shadows, for a ground seen from above with
+/// a sphere at height `y` (below the ground: hidden, its shadow on nothing the eye sees).
+fn work_and_shadow_with_sphere_at(y: f32, light: [f32; 4]) -> (u64, usize) {
+    let ctx = context();
+    let gl = ctx.gl();
+    let mut mesh: Mesh = uv_sphere([0.0, y, 0.0], 1.0, 24, 12);
+    mesh.append(&ground_plane([0.0, 0.0, 0.0], 10.0));
+    let scene = SceneGpu::upload(gl, Arc::new(weld(&mesh))).expect("upload");
+    let mut r = Renderer::new(gl).expect("renderer");
+    let mut m = HierTriangle::new();
+    let mut p = frame(vec![light]);
+    p.capture.stencil = LightCapture::AllLights;
+    m.set_count_work(true);
+    let out = r.render(gl, &scene, &mut m, &p, None).expect("render");
+    let work = m.work_counts(gl).expect("counted");
+    m.destroy(gl);
+    r.destroy(gl);
+    scene.destroy(gl);
+    assert!(ctx.take_gl_errors().is_empty(), "GL errors");
+    (work.nodes_tested, out.stencil[0].image.pixels.iter().filter(|&&v| v != 0).count())
+}
+
+#[test]
+fn casters_whose_shadow_no_visible_sample_receives_are_never_tested() {
+    for light in [POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]] {
+        // Below the ground: the sphere's 576 frusta point away from everything the eye sees and
+        // are dropped by the receiver map before any node test. The ground's two triangles cover
+        // too many cells of a point light's map to be looked up and are kept: one top node
+        // each at most.
+        let (hidden_work, hidden_shadow) = work_and_shadow_with_sphere_at(-3.0, light);
+        assert!(
+            hidden_work <= 2 && hidden_shadow == 0,
+            "light {light:?}: {hidden_work} nodes tested, {hidden_shadow} shadowed"
+        );
+        // Above it the sphere's shadow falls on the visible ground: tested, and shadowed.
+        let (work, shadow) = work_and_shadow_with_sphere_at(2.0, light);
+        assert!(work > 0 && shadow > 0, "light {light:?}: {work} nodes tested, {shadow} pixels shadowed");
+    }
 }
 
 #[test]

@@ -65,6 +65,12 @@ impl Jobs {
     }
 }
 
+/// Cells of the receiver map (receivers.glsl): six faces of 256 x 256 for a point light; a
+/// directional light uses 512 x 512 of them.
+pub const RECEIVER_CELLS: usize = 6 * 512 * 512;
+/// Bytes of the receiver map: one word per cell.
+pub const RECEIVER_BYTES: usize = 4 * RECEIVER_CELLS;
+
 /// Bytes of the per-triangle planes of a scene of `triangles` triangles.
 pub fn plane_bytes(triangles: usize) -> usize {
     PLANE_BYTES * triangles
@@ -77,9 +83,9 @@ pub fn frame_layout(width: u32, height: u32) -> Layout {
     Layout::new(width, height, 0, 0.0)
 }
 
-/// Bytes per scene (planes and job buffer) of `triangles` triangles.
+/// Bytes per scene (planes, job buffer and receiver map) of `triangles` triangles.
 pub fn scene_bytes(triangles: usize) -> usize {
-    plane_bytes(triangles.max(1)) + Jobs::new(triangles).bytes()
+    plane_bytes(triangles.max(1)) + Jobs::new(triangles).bytes() + RECEIVER_BYTES
 }
 
 #[cfg(test)]
@@ -90,7 +96,7 @@ mod tests {
     fn bytes_per_resolution() {
         // The numbers docs/benchmarks.md states (a 262,267-triangle Crytek Sponza).
         let t = 262_267;
-        for (w, h, mib) in [(640, 360, 43.8), (1920, 1080, 81.7), (2560, 1440, 114.8), (3840, 2160, 209.4)] {
+        for (w, h, mib) in [(640, 360, 49.8), (1920, 1080, 87.7), (2560, 1440, 120.8), (3840, 2160, 215.4)] {
             let got = (frame_layout(w, h).frame_bytes() + scene_bytes(t)) as f64 / (1 << 20) as f64;
             assert!((got - mib).abs() < 0.1, "{w}x{h}: {got:.1} MiB");
         }

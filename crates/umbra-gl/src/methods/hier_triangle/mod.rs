@@ -36,7 +36,10 @@
 //!    direction bound; `init.comp.glsl`, per level from the leaves up: the live bitmask
 //!    (`live.glsl`): the samples present, less those whose seen side certainly faces away from
 //!    the light (the lighting pass never lights them: they are dropped before any triangle is
-//!    tested), and per node its children with live samples;
+//!    tested), and per node its children with live samples; `receivers.comp.glsl`: the
+//!    receiver map (`receivers.glsl`), per light-space cell the farthest live sample from the
+//!    light, with which setup drops every triangle whose cone holds no live sample beyond it
+//!    (its shadow falls on nothing the eye sees) before it tests a single node;
 //! 5. "traverse": `traverse.comp.glsl`, one persistent dispatch: each workgroup takes triangles,
 //!    largest first ([`largest_first`]), from an atomic job counter and walks the hierarchy
 //!    depth-first with each, a node's 16 children tested in parallel ([`lanes`] invocations
@@ -97,6 +100,8 @@ const LIVE: &str = include_str!("live.glsl");
 const SETUP_COMP: &str = include_str!("setup.comp.glsl");
 const INIT_COMP: &str = include_str!("init.comp.glsl");
 const TRAVERSE_COMP: &str = include_str!("traverse.comp.glsl");
+const RECEIVERS: &str = include_str!("receivers.glsl");
+const RECEIVERS_COMP: &str = include_str!("receivers.comp.glsl");
 const RESOLVE_FRAG: &str = include_str!("resolve.frag.glsl");
 
 /// Shader-storage binding of the per-triangle planes (frustum.glsl); the hierarchy's are
@@ -104,6 +109,8 @@ const RESOLVE_FRAG: &str = include_str!("resolve.frag.glsl");
 const PLANES: u32 = 6;
 /// Shader-storage binding of the job buffer (traverse.comp.glsl, init.comp.glsl).
 const JOBS: u32 = 8;
+/// Shader-storage binding of the receiver map (receivers.glsl).
+const RECEIVERS_MAP: u32 = 10;
 
 /// The traversal's loop budget per workgroup and dispatch where the driver ends loops after
 /// 65,535 iterations (llvmpipe): below it by more than one step's iterations and the final
@@ -164,7 +171,7 @@ fn header(lanes: u32) -> String {
     let extensions =
         "#version 450 core\n#extension GL_ARB_shader_ballot : require\n#extension GL_ARB_gpu_shader_int64 : require\n";
     format!(
-        "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n{FRUSTUM}\n{LIVE}\n",
+        "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n{FRUSTUM}\n{LIVE}\n{RECEIVERS}\n",
         hier::header(4, false).replacen(version, extensions, 1),
         layout::SLOT_WORDS
     )
@@ -174,6 +181,7 @@ struct Programs {
     shared: SharedPrograms,
     setup: glow::Program,
     init: glow::Program,
+    receivers: glow::Program,
     traverse: glow::Program,
     resolve: glow::Program,
 }
@@ -181,7 +189,7 @@ struct Programs {
 impl Programs {
     fn all(&self) -> Vec<glow::Program> {
         let mut v = self.shared.all().to_vec();
-        v.extend([self.setup, self.init, self.traverse, self.resolve]);
+        v.extend([self.setup, self.init, self.receivers, self.traverse, self.resolve]);
         v
     }
 
@@ -189,6 +197,7 @@ impl Programs {
         let computes = [
             ("setup", "hier_triangle/setup.comp.glsl", SETUP_COMP),
             ("init", "hier_triangle/init.comp.glsl", INIT_COMP),
+            ("receivers", "hier_triangle/receivers.comp.glsl", RECEIVERS_COMP),
             ("traverse", "hier_triangle/traverse.comp.glsl", TRAVERSE_COMP),
         ];
         let p = hier::link_method(
@@ -200,7 +209,14 @@ impl Programs {
             ("hier_triangle/resolve.frag.glsl", RESOLVE_FRAG),
         )?;
         let own = p.own;
-        Ok(Programs { shared: p.shared, setup: own[0], init: own[1], traverse: own[2], resolve: own[3] })
+        Ok(Programs {
+            shared: p.shared,
+            setup: own[0],
+            init: own[1],
+            receivers: own[2],
+            traverse: own[3],
+            resolve: own[4],
+        })
     }
 }
 
@@ -209,6 +225,8 @@ struct SceneObjects {
     programs: Programs,
     planes: glow::Buffer,
     jobs_buffer: glow::Buffer,
+    /// The receiver map (receivers.glsl), per light.
+    receivers: glow::Buffer,
     jobs: Jobs,
     empty_vao: glow::VertexArray,
     triangles: usize,
@@ -396,8 +414,8 @@ impl ShadowMethod for HierTriangle {
         let programs = Programs::link(gl, lanes(&renderer))?;
         let buffers = match hier::allocate_buffers(
             gl,
-            &[plane_bytes, jobs.bytes()],
-            &["hier-triangle planes", "hier-triangle jobs"],
+            &[plane_bytes, jobs.bytes(), layout::RECEIVER_BYTES],
+            &["hier-triangle planes", "hier-triangle jobs", "hier-triangle receiver map"],
         ) {
             Ok(b) => b,
             Err(e) => {
@@ -428,6 +446,7 @@ impl ShadowMethod for HierTriangle {
             programs,
             planes: buffers[0],
             jobs_buffer: buffers[1],
+            receivers: buffers[2],
             jobs,
             empty_vao,
             triangles,
@@ -475,6 +494,7 @@ impl ShadowMethod for HierTriangle {
         unsafe {
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, PLANES, Some(s.planes));
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, JOBS, Some(s.jobs_buffer));
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, RECEIVERS_MAP, Some(s.receivers));
         }
         passes.samples_and_hierarchy(scene, frame, f, &light);
         passes.light_bounds(frame, &light);
@@ -497,8 +517,21 @@ impl ShadowMethod for HierTriangle {
             }
             passes.dispatch(p.init, count);
         }
-        // The frusta, and the job list of those that cut a top node.
-        // SAFETY: barrier only. Reason: setup reads the live words and the reset job list.
+        // The receiver map: cleared, then every live sample raises its cell.
+        for mode in 0..2u32 {
+            // SAFETY: barrier only. Reason: the fill reads the live words init wrote (and writes
+            // the cells the clear zeroed).
+            unsafe { gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT) };
+            passes.use_with_common(p.receivers, &light);
+            // SAFETY: our program; uniform type matches receivers.comp.glsl.
+            unsafe { gl.uniform_1_u32(uniform(gl, p.receivers, "u_receiver_mode").as_ref(), mode) };
+            let count = if mode == 0 { layout::RECEIVER_CELLS } else { (layout.width * layout.height) as usize };
+            passes.dispatch(p.receivers, count);
+        }
+        // The frusta, and the job list of those that cut a top node and whose cone holds a live
+        // sample beyond them.
+        // SAFETY: barrier only. Reason: setup reads the live words, the receiver map and the
+        // reset job list.
         unsafe { gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT) };
         passes.use_with_common(p.setup, &light);
         // SAFETY: our program; uniform types match setup.comp.glsl.
@@ -539,6 +572,7 @@ impl ShadowMethod for HierTriangle {
             hier::QUEUES,
             JOBS,
             hier::WORK,
+            RECEIVERS_MAP,
         ]);
         self.work.end(&passes);
         self.rounds = rounds;
@@ -566,6 +600,7 @@ impl ShadowMethod for HierTriangle {
             unsafe {
                 gl.delete_buffer(s.planes);
                 gl.delete_buffer(s.jobs_buffer);
+                gl.delete_buffer(s.receivers);
                 gl.delete_vertex_array(s.empty_vao);
             }
         }

@@ -44,6 +44,130 @@ bool lex_less(dvec3 a, dvec3 b) {
     return a.z < b.z;
 }
 
+// The least distance from p to the triangle (a, b, c): Ericson, "Real-Time Collision
+// Detection", 5.1.5 (the closest point by the Voronoi region it lies in).
+double distance_to_triangle(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
+    dvec3 ab = b - a;
+    dvec3 ac = c - a;
+    dvec3 ap = p - a;
+    double d1 = dot(ab, ap);
+    double d2 = dot(ac, ap);
+    if (d1 <= 0.0lf && d2 <= 0.0lf) {
+        return length(ap);
+    }
+    dvec3 bp = p - b;
+    double d3 = dot(ab, bp);
+    double d4 = dot(ac, bp);
+    if (d3 >= 0.0lf && d4 <= d3) {
+        return length(bp);
+    }
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0lf && d1 >= 0.0lf && d3 <= 0.0lf) {
+        return length(p - (a + ab * (d1 / (d1 - d3))));
+    }
+    dvec3 cp = p - c;
+    double d5 = dot(ab, cp);
+    double d6 = dot(ac, cp);
+    if (d6 >= 0.0lf && d5 <= d6) {
+        return length(cp);
+    }
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0lf && d2 >= 0.0lf && d6 <= 0.0lf) {
+        return length(p - (a + ac * (d2 / (d2 - d6))));
+    }
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0lf && d4 - d3 >= 0.0lf && d5 - d6 >= 0.0lf) {
+        return length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    }
+    double denom = 1.0lf / (va + vb + vc);
+    return length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
+}
+
+// Whether a live sample may lie in the triangle's shadow frustum, by the receiver map
+// (receivers.glsl): some cell of its cone holds a sample farther from the light than the
+// triangle. Kept (true) whenever the test does not apply: a point light's cone not within one
+// cube face by 4 cells, or more than RECEIVER_MAX_CELLS cells to read.
+const uint RECEIVER_MAX_CELLS = 256u;
+
+bool receivers_behind(dvec3 q[3], dvec3 light, bool point) {
+    uvec4 cells;
+    uint row;
+    uint offset;
+    double least;
+    if (point) {
+        dvec3 d[3] = dvec3[3](q[0] - light, q[1] - light, q[2] - light);
+        dvec3 c = abs(d[0] + d[1] + d[2]);
+        uint m = c.x >= c.y && c.x >= c.z ? 0u : (c.y >= c.z ? 1u : 2u);
+        double s = (d[0] + d[1] + d[2])[m] < 0.0lf ? -1.0lf : 1.0lf;
+        dvec2 lo = dvec2(1.0e300LF);
+        dvec2 hi = dvec2(-1.0e300LF);
+        for (int i = 0; i < 3; ++i) {
+            double den = s * d[i][m];
+            if (!(den > 0.0lf)) {
+                return true;
+            }
+            dvec2 uv = dvec2(d[i][(m + 1u) % 3u], d[i][(m + 2u) % 3u]) / den;
+            lo = min(lo, uv);
+            hi = max(hi, uv);
+        }
+        // Strictly inside the face by 4 cells: every direction of the cone has coordinate m as
+        // its largest by far more than a sample's rounding, so the samples in it lie on this face.
+        double limit = 1.0lf - 4.0lf / double(RECEIVER_SIDE);
+        if (lo.x < -limit || lo.y < -limit || hi.x > limit || hi.y > limit) {
+            return true;
+        }
+        float scale = 0.5 * float(RECEIVER_SIDE);
+        float margin = 2.0 * RECEIVER_MARGIN;
+        cells = uvec4(receiver_cell(float(lo.x) - margin, -1.0, scale, RECEIVER_SIDE),
+                      receiver_cell(float(hi.x) + margin, -1.0, scale, RECEIVER_SIDE),
+                      receiver_cell(float(lo.y) - margin, -1.0, scale, RECEIVER_SIDE),
+                      receiver_cell(float(hi.y) + margin, -1.0, scale, RECEIVER_SIDE));
+        row = RECEIVER_SIDE;
+        offset = (2u * m + (s < 0.0lf ? 1u : 0u)) * RECEIVER_SIDE * RECEIVER_SIDE;
+        least = distance_to_triangle(light, q[0], q[1], q[2]);
+    } else {
+        vec4 box;
+        if (!receiver_box(box)) {
+            // No sample at all.
+            return false;
+        }
+        dvec3 u = dvec3(u_light_u);
+        dvec3 v = dvec3(u_light_v);
+        dvec3 dir = dvec3(u_dir);
+        dvec3 origin = dvec3(u_origin);
+        dvec2 lo = dvec2(1.0e300LF);
+        dvec2 hi = dvec2(-1.0e300LF);
+        least = 1.0e300LF;
+        for (int i = 0; i < 3; ++i) {
+            dvec2 uv = dvec2(dot(u, q[i] - origin), dot(v, q[i] - origin));
+            lo = min(lo, uv);
+            hi = max(hi, uv);
+            least = min(least, -dot(q[i] - origin, dir));
+        }
+        vec2 extent = vec2(box.y - box.x, box.w - box.z);
+        vec2 scale = float(RECEIVER_FLAT) / max(extent, vec2(1.0e-30));
+        vec2 margin = (extent + vec2(abs(box.x) + abs(box.y), abs(box.z) + abs(box.w))) * RECEIVER_MARGIN;
+        cells = uvec4(receiver_cell(float(lo.x) - margin.x, box.x, scale.x, RECEIVER_FLAT),
+                      receiver_cell(float(hi.x) + margin.x, box.x, scale.x, RECEIVER_FLAT),
+                      receiver_cell(float(lo.y) - margin.y, box.z, scale.y, RECEIVER_FLAT),
+                      receiver_cell(float(hi.y) + margin.y, box.z, scale.y, RECEIVER_FLAT));
+        row = RECEIVER_FLAT;
+        offset = 0u;
+    }
+    uint w = cells.y - cells.x + 1u;
+    uint count = w * (cells.w - cells.z + 1u);
+    if (count > RECEIVER_MAX_CELLS) {
+        return true;
+    }
+    for (uint k = 0u; k < count; ++k) {
+        uint e = receivers[offset + (cells.z + k / w) * row + cells.x + k % w];
+        if (e != 0u && double(receiver_decode(e)) > least) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void main() {
     uint rank = u_first + gl_GlobalInvocationID.x;
     if (rank >= u_jobs_triangles) {
@@ -126,6 +250,11 @@ void main() {
         bound = vec4(float(lo.x), float(hi.x), float(lo.y), float(hi.y));
     }
     planes[9u * tri + 8u] = bound;
+
+    // No live sample can lie in its frustum: no job (receivers.glsl).
+    if (!receivers_behind(q, light, point)) {
+        return;
+    }
 
     // The top nodes (the virtual root's children; at most 16, hier_triangle/mod.rs).
     Frustum f = load_frustum(tri);
