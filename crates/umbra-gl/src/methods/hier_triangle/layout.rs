@@ -65,9 +65,15 @@ impl Jobs {
     }
 }
 
-/// Cells of the receiver map (receivers.glsl): six faces of 256 x 256 for a point light; a
-/// directional light uses 512 x 512 of them.
-pub const RECEIVER_CELLS: usize = 6 * 512 * 512;
+/// Cells along a side of each of the receiver map's six cube faces (a point light;
+/// receivers.glsl `RECEIVER_SIDE`).
+pub const RECEIVER_SIDE: usize = 512;
+/// Cells along a side of a directional light's receiver map (receivers.glsl `RECEIVER_FLAT`).
+pub const RECEIVER_FLAT: usize = 512;
+/// Cells of the receiver map (receivers.glsl): six faces of [`RECEIVER_SIDE`]²; a directional
+/// light uses [`RECEIVER_FLAT`]² of them.
+pub const RECEIVER_CELLS: usize = 6 * RECEIVER_SIDE * RECEIVER_SIDE;
+const _: () = assert!(RECEIVER_FLAT * RECEIVER_FLAT <= RECEIVER_CELLS);
 /// Bytes of the receiver map: one word per cell.
 pub const RECEIVER_BYTES: usize = 4 * RECEIVER_CELLS;
 

@@ -171,9 +171,12 @@ fn header(lanes: u32) -> String {
     let extensions =
         "#version 450 core\n#extension GL_ARB_shader_ballot : require\n#extension GL_ARB_gpu_shader_int64 : require\n";
     format!(
-        "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n{FRUSTUM}\n{LIVE}\n{RECEIVERS}\n",
+        "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n#define RECEIVER_SIDE {}u\n#define RECEIVER_FLAT {}u\n\
+         {FRUSTUM}\n{LIVE}\n{RECEIVERS}\n",
         hier::header(4, false).replacen(version, extensions, 1),
-        layout::SLOT_WORDS
+        layout::SLOT_WORDS,
+        layout::RECEIVER_SIDE,
+        layout::RECEIVER_FLAT
     )
 }
 

@@ -20,8 +20,8 @@
 // rounding of a sample's cell coordinates, so a live sample inside the cone is always in one of
 // the cells tested. Prepended after live.glsl.
 
-const uint RECEIVER_SIDE = 512u;
-const uint RECEIVER_FLAT = 512u;
+// RECEIVER_SIDE and RECEIVER_FLAT are defined by hier_triangle/mod.rs from layout.rs, whose
+// RECEIVER_CELLS sizes the buffer.
 const uint RECEIVER_CELLS = 6u * RECEIVER_SIDE * RECEIVER_SIDE;
 // The widening of a triangle's cell rectangle, as a fraction of the grid's extent.
 const float RECEIVER_MARGIN = 1.0 / 16384.0;
