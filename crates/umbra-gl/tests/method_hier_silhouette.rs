@@ -4,7 +4,7 @@
 //! job; here:
 //! * the decision equals cpu-silhouette's on the sphere over the ground (counting methods agree
 //!   with the reference there) for point and directional lights and several lights in one
-//!   frame, and the count W under the sphere is 2 (two of its triangles' volumes overlap
+//!   frame, and the count METHOD_W under the sphere is 2 (two of its triangles' volumes overlap
 //!   there); the counts against cpu-silhouette's stencil, sample by sample outside the band,
 //!   are crates/umbra-verify/tests/hier_silhouette.rs's;
 //! * an empty scene and an all-background frame: nothing shadowed, no GL error;
@@ -28,17 +28,6 @@ use umbra_gl::{
     ShadowMethod, StencilImage,
 };
 
-const W: u32 = 160;
-const H: u32 = 120;
-
-fn camera() -> Camera {
-    Camera { eye: [5.0, 6.0, 7.0], target: [0.0, 0.5, 0.0], near: 0.05, ..Camera::default() }
-}
-
-fn frame(lights: Vec<[f32; 4]>) -> FrameParams {
-    FrameParams { camera: camera(), width: W, height: H, lights, ..FrameParams::default() }
-}
-
 /// Per light, the stencil of `method` (0 = lit) after its volume pass, z-fail.
 fn stencils(
     ctx: &HeadlessContext,
@@ -46,23 +35,7 @@ fn stencils(
     method: &mut dyn ShadowMethod,
     p: &FrameParams,
 ) -> Vec<StencilImage> {
-    let gl = ctx.gl();
-    let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
-    let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
-    let mut p = p.clone();
-    p.capture.stencil = LightCapture::AllLights;
-    p.auto_zpass = false;
-    p.zpass = false;
-    let out = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
-    method.destroy(gl);
-    r.destroy(gl);
-    scene.destroy(gl);
-    assert!(ctx.take_gl_errors().is_empty(), "{}: GL errors", method.name());
-    out.stencil.into_iter().map(|s| s.image).collect()
-}
-
-fn shadowed(s: &StencilImage) -> Vec<bool> {
-    s.pixels.iter().map(|&v| v != 0).collect()
+    volume_stencils(ctx, mesh, method, &FrameParams { auto_zpass: false, zpass: false, ..p.clone() })
 }
 
 #[test]
@@ -70,7 +43,7 @@ fn empty_scene_shadows_nothing() {
     let ctx = context();
     let empty = Arc::new(weld(&Mesh::default()));
     let mut m = HierSilhouette::new();
-    let s = stencils(&ctx, &empty, &mut m, &frame(vec![POINT_LIGHT, [1.0, 2.0, 0.5, 0.0]]));
+    let s = stencils(&ctx, &empty, &mut m, &method_frame(vec![POINT_LIGHT, [1.0, 2.0, 0.5, 0.0]]));
     assert_eq!(s.len(), 2);
     assert!(s.iter().all(|img| img.pixels.iter().all(|&v| v == 0)), "an empty scene cast a shadow");
 }
@@ -80,9 +53,9 @@ fn all_background_frame_shadows_nothing() {
     let ctx = context();
     let mesh = sphere_over_ground();
     // Looking straight up from above the sphere: nothing but background in view.
-    let mut p = frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
+    let mut p = method_frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
     p.camera = Camera { eye: [0.0, 20.0, 0.0], target: [0.0, 40.0, 0.0], up: [1.0, 0.0, 0.0], ..Camera::default() };
-    let images = render_once(&ctx, &mesh, "hier-silhouette", &params(p.camera, p.lights.clone(), W, H));
+    let images = render_once(&ctx, &mesh, "hier-silhouette", &params(p.camera, p.lights.clone(), METHOD_W, METHOD_H));
     let ids = images.triangle_id.expect("ids");
     assert!(ids.pixels.iter().all(|&t| t == umbra_gl::NO_TRIANGLE), "the frame is meant to show no surface");
     for (s, lit) in images.stencil.iter().zip(&images.lit_masks) {
@@ -101,14 +74,14 @@ fn same_decision_as_cpu_silhouette_for_point_directional_and_several_lights() {
     let ctx = context();
     let mesh = sphere_over_ground();
     let lights = vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0], [3.0, 4.0, -2.0, 1.0]];
-    let p = frame(lights);
+    let p = method_frame(lights);
     let mut hier = HierSilhouette::new();
     let ours = stencils(&ctx, &mesh, &mut hier, &p);
     let mut cpu = create_method("cpu-silhouette").expect("registered");
     let theirs = stencils(&ctx, &mesh, cpu.as_mut(), &p);
-    let lit = render_once(&ctx, &mesh, "none", &params(p.camera, p.lights.clone(), W, H)).lit_masks;
+    let lit = render_once(&ctx, &mesh, "none", &params(p.camera, p.lights.clone(), METHOD_W, METHOD_H)).lit_masks;
     for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
-        let (a, b) = (shadowed(a), shadowed(b));
+        let (a, b) = (stencil_shadowed(a), stencil_shadowed(b));
         let facing = &lit[i].image.pixels;
         let differ = (0..a.len()).filter(|&k| facing[k] != 0 && a[k] != b[k]).count();
         let shadows = (0..a.len()).filter(|&k| facing[k] != 0 && a[k]).count();
@@ -116,16 +89,16 @@ fn same_decision_as_cpu_silhouette_for_point_directional_and_several_lights() {
         assert!(differ <= 4, "light {i}: {differ} pixels differ from cpu-silhouette");
     }
     // The count right under the sphere, point light straight above it: the ground's sample
-    // lies in the volumes of the sphere's upper and lower halves' silhouettes, W = 2 (its
+    // lies in the volumes of the sphere's upper and lower halves' silhouettes, METHOD_W = 2 (its
     // caps: the light side's triangle and the far side's).
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierSilhouette::new();
-    r.render(gl, &scene, &mut m, &frame(vec![POINT_LIGHT]), None).expect("render");
+    r.render(gl, &scene, &mut m, &method_frame(vec![POINT_LIGHT]), None).expect("render");
     let counts = m.sample_counts(gl).expect("a frame was drawn");
-    let (x, y) = pixel_of(&camera(), [0.1, 0.0, 0.13], W, H);
-    assert_eq!(counts[(y * W + x) as usize], 2, "W right under the sphere");
+    let (x, y) = pixel_of(&method_camera(), [0.1, 0.0, 0.13], METHOD_W, METHOD_H);
+    assert_eq!(counts[(y * METHOD_W + x) as usize], 2, "METHOD_W right under the sphere");
     assert_eq!(m.unsure_counts(gl)[0], 0, "an unsure bridge between node points");
     m.destroy(gl);
     r.destroy(gl);
@@ -143,7 +116,7 @@ fn redo_and_fallback_keep_the_counts(ctx: &HeadlessContext, mesh: &Arc<WeldedMes
     // Every queue holds one pair: nearly every face is turned away and redone.
     let mut tiny = HierSilhouette::with_queue_scale(1e-9).with_fallback_steps(steps);
     for light in [POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]] {
-        let p = frame(vec![light]);
+        let p = method_frame(vec![light]);
         r.render(gl, &scene, &mut normal, &p, None).expect("render");
         let expected = normal.sample_counts(gl).expect("counts");
         r.render(gl, &scene, &mut tiny, &p, None).expect("render");
@@ -191,7 +164,7 @@ fn wireframe_is_unsupported() {
     let scene = SceneGpu::upload(gl, sphere_over_ground()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierSilhouette::new();
-    let p = frame(vec![POINT_LIGHT]);
+    let p = method_frame(vec![POINT_LIGHT]);
     r.render(gl, &scene, &mut m, &p, None).expect("render");
     let target = FrameTarget { framebuffer: r.target().map(|t| t.framebuffer()) };
     match r.draw_volume_wireframe(gl, &scene, &mut m, &p, POINT_LIGHT, target, [1.0, 0.0, 0.0]) {
@@ -211,7 +184,7 @@ fn gpu_bytes_is_the_layout_formula() {
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierSilhouette::new();
-    r.render(gl, &scene, &mut m, &frame(vec![POINT_LIGHT]), None).expect("render");
+    r.render(gl, &scene, &mut m, &method_frame(vec![POINT_LIGHT]), None).expect("render");
     let faces = m.faces().expect("prepared");
     assert_eq!(faces.triangles, mesh.triangles.len());
     let l = m.layout().expect("a frame was drawn").clone();
@@ -242,7 +215,7 @@ fn child_out_of_memory() {
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     // A 2048 x 2048 frame: the renderer's own target first (with `none`, no limit), then
     // hier-silhouette's 16 MiB of counts and 64 MiB of samples within 16 MiB of headroom.
-    let big = FrameParams { width: 2048, height: 2048, ..frame(vec![POINT_LIGHT]) };
+    let big = FrameParams { width: 2048, height: 2048, ..method_frame(vec![POINT_LIGHT]) };
     let mut none = create_method("none").expect("none");
     r.render(gl, &scene, none.as_mut(), &big, None).expect("the big target itself");
     none.destroy(gl);
@@ -260,7 +233,7 @@ fn child_out_of_memory() {
     let faces = m.faces().expect("still prepared");
     assert_eq!(m.gpu_bytes(), faces.edge_bytes(), "frame buffers left behind");
     // Usable again at a size that fits, with the same decision as a fresh method.
-    let small = frame(vec![POINT_LIGHT]);
+    let small = method_frame(vec![POINT_LIGHT]);
     let mut p = small.clone();
     p.capture.stencil = LightCapture::AllLights;
     let again = r.render(gl, &scene, &mut m, &p, None).expect("usable after the refusal");
@@ -269,6 +242,6 @@ fn child_out_of_memory() {
     scene.destroy(gl);
     let mut fresh = HierSilhouette::new();
     let expected = stencils(&ctx, &mesh, &mut fresh, &small);
-    assert_eq!(shadowed(&again.stencil[0].image), shadowed(&expected[0]));
+    assert_eq!(stencil_shadowed(&again.stencil[0].image), stencil_shadowed(&expected[0]));
     println!("{CHILD_DONE}");
 }

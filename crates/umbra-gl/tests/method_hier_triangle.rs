@@ -23,54 +23,18 @@ use std::sync::Arc;
 use common::child::{is_child, run_in_child, with_address_space_headroom, CHILD_DONE};
 use common::*;
 use umbra_geom::scene::{ground_plane, uv_sphere};
-use umbra_geom::{weld::weld, Mesh, WeldedMesh};
+use umbra_geom::{weld::weld, Mesh};
 use umbra_gl::methods::hier_triangle::{layout, HierTriangle};
 use umbra_gl::{
-    create_method, Camera, FrameParams, FrameTarget, GlError, HeadlessContext, LightCapture, Renderer, SceneGpu,
-    ShadowMethod, StencilImage,
+    create_method, Camera, FrameParams, FrameTarget, GlError, LightCapture, Renderer, SceneGpu, ShadowMethod,
 };
-
-const W: u32 = 160;
-const H: u32 = 120;
-
-fn camera() -> Camera {
-    Camera { eye: [5.0, 6.0, 7.0], target: [0.0, 0.5, 0.0], near: 0.05, ..Camera::default() }
-}
-
-/// Per light, the stencil of `method` (0 = lit) after its volume pass.
-fn stencils(
-    ctx: &HeadlessContext,
-    mesh: &Arc<WeldedMesh>,
-    method: &mut dyn ShadowMethod,
-    p: &FrameParams,
-) -> Vec<StencilImage> {
-    let gl = ctx.gl();
-    let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
-    let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
-    let mut p = p.clone();
-    p.capture.stencil = LightCapture::AllLights;
-    let out = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
-    method.destroy(gl);
-    r.destroy(gl);
-    scene.destroy(gl);
-    assert!(ctx.take_gl_errors().is_empty(), "{}: GL errors", method.name());
-    out.stencil.into_iter().map(|s| s.image).collect()
-}
-
-fn shadowed(s: &StencilImage) -> Vec<bool> {
-    s.pixels.iter().map(|&v| v != 0).collect()
-}
-
-fn frame(lights: Vec<[f32; 4]>) -> FrameParams {
-    FrameParams { camera: camera(), width: W, height: H, lights, ..FrameParams::default() }
-}
 
 #[test]
 fn empty_scene_shadows_nothing() {
     let ctx = context();
     let empty = Arc::new(weld(&Mesh::default()));
     let mut m = HierTriangle::new();
-    let s = stencils(&ctx, &empty, &mut m, &frame(vec![POINT_LIGHT, [1.0, 2.0, 0.5, 0.0]]));
+    let s = volume_stencils(&ctx, &empty, &mut m, &method_frame(vec![POINT_LIGHT, [1.0, 2.0, 0.5, 0.0]]));
     assert_eq!(s.len(), 2);
     assert!(s.iter().all(|img| img.pixels.iter().all(|&v| v == 0)), "an empty scene cast a shadow");
 }
@@ -80,9 +44,9 @@ fn all_background_frame_shadows_nothing() {
     let ctx = context();
     let mesh = sphere_over_ground();
     // Looking straight up from above the sphere: nothing but background in view.
-    let mut p = frame(vec![POINT_LIGHT]);
+    let mut p = method_frame(vec![POINT_LIGHT]);
     p.camera = Camera { eye: [0.0, 20.0, 0.0], target: [0.0, 40.0, 0.0], up: [1.0, 0.0, 0.0], ..Camera::default() };
-    let images = render_once(&ctx, &mesh, "hier-triangle", &params(p.camera, p.lights.clone(), W, H));
+    let images = render_once(&ctx, &mesh, "hier-triangle", &params(p.camera, p.lights.clone(), METHOD_W, METHOD_H));
     let ids = images.triangle_id.expect("ids");
     assert!(ids.pixels.iter().all(|&t| t == umbra_gl::NO_TRIANGLE), "the frame is meant to show no surface");
     assert!(images.stencil[0].image.pixels.iter().all(|&v| v == 0));
@@ -98,14 +62,14 @@ fn same_decision_as_cpu_silhouette_for_point_directional_and_several_lights() {
     let ctx = context();
     let mesh = sphere_over_ground();
     let lights = vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0], [3.0, 4.0, -2.0, 1.0]];
-    let p = frame(lights);
+    let p = method_frame(lights);
     let mut hier = HierTriangle::new();
-    let ours = stencils(&ctx, &mesh, &mut hier, &p);
+    let ours = volume_stencils(&ctx, &mesh, &mut hier, &p);
     let mut cpu = create_method("cpu-silhouette").expect("registered");
-    let theirs = stencils(&ctx, &mesh, cpu.as_mut(), &p);
-    let lit = render_once(&ctx, &mesh, "none", &params(p.camera, p.lights.clone(), W, H)).lit_masks;
+    let theirs = volume_stencils(&ctx, &mesh, cpu.as_mut(), &p);
+    let lit = render_once(&ctx, &mesh, "none", &params(p.camera, p.lights.clone(), METHOD_W, METHOD_H)).lit_masks;
     for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
-        let (a, b) = (shadowed(a), shadowed(b));
+        let (a, b) = (stencil_shadowed(a), stencil_shadowed(b));
         let facing = &lit[i].image.pixels;
         let differ = (0..a.len()).filter(|&k| facing[k] != 0 && a[k] != b[k]).count();
         let shadows = (0..a.len()).filter(|&k| facing[k] != 0 && a[k]).count();
@@ -123,9 +87,9 @@ fn same_decision_as_cpu_silhouette_for_point_directional_and_several_lights() {
 fn walks_stopped_by_the_loop_budget_resume_without_changing_the_stencil() {
     let ctx = context();
     let mesh = sphere_over_ground();
-    let p = frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
+    let p = method_frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
     let mut normal = HierTriangle::new();
-    let expected = stencils(&ctx, &mesh, &mut normal, &p);
+    let expected = volume_stencils(&ctx, &mesh, &mut normal, &p);
     let gl = ctx.gl();
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
@@ -140,8 +104,8 @@ fn walks_stopped_by_the_loop_budget_resume_without_changing_the_stencil() {
     scene.destroy(gl);
     assert!(ctx.take_gl_errors().is_empty());
     for (i, (a, b)) in got.stencil.iter().zip(&expected).enumerate() {
-        assert!(shadowed(b).iter().filter(|&&s| s).count() > 100, "light {i}: too few shadowed samples");
-        let differ = shadowed(&a.image).iter().zip(shadowed(b)).filter(|(x, y)| **x != *y).count();
+        assert!(stencil_shadowed(b).iter().filter(|&&s| s).count() > 100, "light {i}: too few shadowed samples");
+        let differ = stencil_shadowed(&a.image).iter().zip(stencil_shadowed(b)).filter(|(x, y)| **x != *y).count();
         assert_eq!(differ, 0, "light {i}: resuming changed {differ} decisions");
     }
 }
@@ -156,8 +120,8 @@ fn work_is_counted_only_when_asked_and_summed_over_lights() {
     let scene = SceneGpu::upload(gl, sphere_over_ground()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierTriangle::new();
-    let one = frame(vec![POINT_LIGHT]);
-    let two = frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
+    let one = method_frame(vec![POINT_LIGHT]);
+    let two = method_frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0]]);
     r.render(gl, &scene, &mut m, &one, None).expect("render");
     assert_eq!(m.work_counts(gl), None, "not asked");
     m.set_count_work(true);
@@ -192,7 +156,7 @@ fn work_and_shadow_with_sphere_at(y: f32, light: [f32; 4]) -> (u64, usize) {
     let scene = SceneGpu::upload(gl, Arc::new(weld(&mesh))).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierTriangle::new();
-    let mut p = frame(vec![light]);
+    let mut p = method_frame(vec![light]);
     p.capture.stencil = LightCapture::AllLights;
     m.set_count_work(true);
     let out = r.render(gl, &scene, &mut m, &p, None).expect("render");
@@ -229,7 +193,7 @@ fn wireframe_is_unsupported() {
     let scene = SceneGpu::upload(gl, sphere_over_ground()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierTriangle::new();
-    let p = frame(vec![POINT_LIGHT]);
+    let p = method_frame(vec![POINT_LIGHT]);
     r.render(gl, &scene, &mut m, &p, None).expect("render");
     let target = FrameTarget { framebuffer: r.target().map(|t| t.framebuffer()) };
     match r.draw_volume_wireframe(gl, &scene, &mut m, &p, POINT_LIGHT, target, [1.0, 0.0, 0.0]) {
@@ -249,9 +213,9 @@ fn gpu_bytes_is_the_layout_formula() {
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = HierTriangle::new();
-    r.render(gl, &scene, &mut m, &frame(vec![POINT_LIGHT]), None).expect("render");
+    r.render(gl, &scene, &mut m, &method_frame(vec![POINT_LIGHT]), None).expect("render");
     let t = mesh.triangles.len();
-    let expected = layout::frame_layout(W, H).frame_bytes() + layout::scene_bytes(t);
+    let expected = layout::frame_layout(METHOD_W, METHOD_H).frame_bytes() + layout::scene_bytes(t);
     assert_eq!(m.gpu_bytes(), expected);
     m.destroy(gl);
     assert_eq!(m.gpu_bytes(), 0);
@@ -279,7 +243,7 @@ fn child_out_of_memory() {
     let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
     // A 2048 x 2048 frame: the renderer's own target first (with `none`, no limit), then
     // hier-triangle's 64 MiB of samples within 16 MiB of headroom.
-    let big = FrameParams { width: 2048, height: 2048, ..frame(vec![POINT_LIGHT]) };
+    let big = FrameParams { width: 2048, height: 2048, ..method_frame(vec![POINT_LIGHT]) };
     let mut none = create_method("none").expect("none");
     r.render(gl, &scene, none.as_mut(), &big, None).expect("the big target itself");
     none.destroy(gl);
@@ -296,7 +260,7 @@ fn child_out_of_memory() {
     assert!(ctx.take_gl_errors().is_empty(), "the refusal left GL errors behind");
     assert_eq!(m.gpu_bytes(), layout::scene_bytes(mesh.triangles.len()), "frame buffers left behind");
     // Usable again at a size that fits, with the same decision as a fresh method.
-    let small = frame(vec![POINT_LIGHT]);
+    let small = method_frame(vec![POINT_LIGHT]);
     let mut p = small.clone();
     p.capture.stencil = LightCapture::AllLights;
     let again = r.render(gl, &scene, &mut m, &p, None).expect("usable after the refusal");
@@ -304,7 +268,7 @@ fn child_out_of_memory() {
     r.destroy(gl);
     scene.destroy(gl);
     let mut fresh = HierTriangle::new();
-    let expected = stencils(&ctx, &mesh, &mut fresh, &small);
-    assert_eq!(shadowed(&again.stencil[0].image), shadowed(&expected[0]));
+    let expected = volume_stencils(&ctx, &mesh, &mut fresh, &small);
+    assert_eq!(stencil_shadowed(&again.stencil[0].image), stencil_shadowed(&expected[0]));
     println!("{CHILD_DONE}");
 }

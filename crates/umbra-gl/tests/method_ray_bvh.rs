@@ -12,58 +12,22 @@ mod common;
 use std::sync::Arc;
 
 use common::*;
-use umbra_geom::{weld::weld, Mesh, WeldedMesh};
+use umbra_geom::{weld::weld, Mesh};
 use umbra_gl::methods::ray_bvh::{frame_bytes, RayBvhMethod};
-use umbra_gl::{
-    create_method, Camera, FrameParams, HeadlessContext, LightCapture, Renderer, SceneGpu, ShadowMethod, StencilImage,
-};
-
-const W: u32 = 160;
-const H: u32 = 120;
-
-fn camera() -> Camera {
-    Camera { eye: [5.0, 6.0, 7.0], target: [0.0, 0.5, 0.0], near: 0.05, ..Camera::default() }
-}
-
-fn frame(lights: Vec<[f32; 4]>) -> FrameParams {
-    FrameParams { camera: camera(), width: W, height: H, lights, ..FrameParams::default() }
-}
-
-/// Per light, the stencil of `method` (0 = lit) after its volume pass.
-fn stencils(
-    ctx: &HeadlessContext,
-    mesh: &Arc<WeldedMesh>,
-    method: &mut dyn ShadowMethod,
-    p: &FrameParams,
-) -> Vec<StencilImage> {
-    let gl = ctx.gl();
-    let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
-    let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
-    let mut p = p.clone();
-    p.capture.stencil = LightCapture::AllLights;
-    let out = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
-    method.destroy(gl);
-    r.destroy(gl);
-    scene.destroy(gl);
-    assert!(ctx.take_gl_errors().is_empty(), "{}: GL errors", method.name());
-    out.stencil.into_iter().map(|s| s.image).collect()
-}
-
-fn shadowed(s: &StencilImage) -> Vec<bool> {
-    s.pixels.iter().map(|&v| v != 0).collect()
-}
+use umbra_gl::{create_method, Camera, Renderer, SceneGpu, ShadowMethod};
 
 #[test]
 fn empty_scene_and_all_background_frame_shadow_nothing() {
     let ctx = context();
     let empty = Arc::new(weld(&Mesh::default()));
-    let s = stencils(&ctx, &empty, &mut RayBvhMethod::new(), &frame(vec![POINT_LIGHT, [1.0, 2.0, 0.5, 0.0]]));
+    let s =
+        volume_stencils(&ctx, &empty, &mut RayBvhMethod::new(), &method_frame(vec![POINT_LIGHT, [1.0, 2.0, 0.5, 0.0]]));
     assert_eq!(s.len(), 2);
     assert!(s.iter().all(|img| img.pixels.iter().all(|&v| v == 0)), "an empty scene cast a shadow");
     let mesh = sphere_over_ground();
-    let mut p = frame(vec![POINT_LIGHT]);
+    let mut p = method_frame(vec![POINT_LIGHT]);
     p.camera = Camera { eye: [0.0, 20.0, 0.0], target: [0.0, 40.0, 0.0], up: [1.0, 0.0, 0.0], ..Camera::default() };
-    let images = render_once(&ctx, &mesh, "ray-bvh", &params(p.camera, p.lights.clone(), W, H));
+    let images = render_once(&ctx, &mesh, "ray-bvh", &params(p.camera, p.lights.clone(), METHOD_W, METHOD_H));
     let ids = images.triangle_id.expect("ids");
     assert!(ids.pixels.iter().all(|&t| t == umbra_gl::NO_TRIANGLE), "the frame is meant to show no surface");
     assert!(images.stencil[0].image.pixels.iter().all(|&v| v == 0));
@@ -78,14 +42,14 @@ fn empty_scene_and_all_background_frame_shadow_nothing() {
 fn same_decision_as_cpu_silhouette_for_several_lights_and_resumed_walks() {
     let ctx = context();
     let mesh = sphere_over_ground();
-    let p = frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0], [3.0, 4.0, -2.0, 1.0]]);
+    let p = method_frame(vec![POINT_LIGHT, [0.4, 1.0, 0.3, 0.0], [3.0, 4.0, -2.0, 1.0]]);
     let mut cpu = create_method("cpu-silhouette").expect("registered");
-    let theirs = stencils(&ctx, &mesh, cpu.as_mut(), &p);
-    let lit = render_once(&ctx, &mesh, "none", &params(p.camera, p.lights.clone(), W, H)).lit_masks;
+    let theirs = volume_stencils(&ctx, &mesh, cpu.as_mut(), &p);
+    let lit = render_once(&ctx, &mesh, "none", &params(p.camera, p.lights.clone(), METHOD_W, METHOD_H)).lit_masks;
     for budget in [umbra_gl::methods::ray_bvh::DEFAULT_BUDGET, 1] {
-        let ours = stencils(&ctx, &mesh, &mut RayBvhMethod::with_budget(budget), &p);
+        let ours = volume_stencils(&ctx, &mesh, &mut RayBvhMethod::with_budget(budget), &p);
         for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
-            let (a, b) = (shadowed(a), shadowed(b));
+            let (a, b) = (stencil_shadowed(a), stencil_shadowed(b));
             let facing = &lit[i].image.pixels;
             let differ = (0..a.len()).filter(|&k| facing[k] != 0 && a[k] != b[k]).count();
             let shadows = (0..a.len()).filter(|&k| facing[k] != 0 && a[k]).count();
@@ -105,10 +69,10 @@ fn gpu_bytes_are_the_bvh_and_the_frame_and_the_figures_say_so() {
     let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
     let mut r = Renderer::new(gl).expect("renderer");
     let mut m = RayBvhMethod::new();
-    r.render(gl, &scene, &mut m, &frame(vec![POINT_LIGHT]), None).expect("render");
+    r.render(gl, &scene, &mut m, &method_frame(vec![POINT_LIGHT]), None).expect("render");
     let bvh = umbra_geom::ray_bvh::build(&mesh.positions, &mesh.triangles);
     assert_eq!(m.scene_bytes(), bvh.bytes());
-    assert_eq!(m.gpu_bytes(), bvh.bytes() + frame_bytes(W, H));
+    assert_eq!(m.gpu_bytes(), bvh.bytes() + frame_bytes(METHOD_W, METHOD_H));
     let figures = m.scene_figures();
     let get = |k: &str| figures.iter().find(|(n, _)| *n == k).map(|&(_, v)| v);
     assert_eq!(get("bvh_bytes"), Some(bvh.bytes() as f64));

@@ -12,24 +12,18 @@
 //! * the three shared scenes' default views (the CLI's default camera and light), small;
 //!   skipped with a message when the scenes are absent. The big grid is scripts/verify_grid.sh.
 
-use std::path::PathBuf;
+mod common;
+
 use std::sync::Arc;
 
+use common::{both_classes, context, for_each_shared_scene_default_view, print_metrics, rotate};
 use umbra_geom::scene::{cuboid, ground_plane, tetrahedron, uv_sphere};
 use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh};
 use umbra_gl::methods::hier_silhouette::HierSilhouette;
-use umbra_gl::{
-    create_method, Camera, ContextOptions, FrameParams, GlApi, HeadlessContext, LightCapture, Renderer, SceneGpu,
-    ShadowMethod,
-};
+use umbra_gl::{create_method, Camera, FrameParams, LightCapture, Renderer, SceneGpu, ShadowMethod};
 use umbra_oracle::SampleClass;
 use umbra_verify::{verify_method, view_reference};
-
-fn context() -> HeadlessContext {
-    HeadlessContext::with_options(ContextOptions { api: GlApi::Gl45Core, debug: true })
-        .unwrap_or_else(|e| panic!("no headless GL 4.5 context: {e}"))
-}
 
 /// Verifies hier-silhouette on `mesh` seen by `camera` with `lights` at `w x h`: 0 samples
 /// outside the band, both classes present, and its counts equal cpu-silhouette's z-fail
@@ -45,21 +39,8 @@ fn verify(name: &str, mesh: &Mesh, camera: Camera, lights: Vec<Light>, w: u32, h
     let report =
         verify_method(gl, &mut renderer, &scene, &mut method, &params, &view).unwrap_or_else(|e| panic!("{name}: {e}"));
     let m = report.metrics;
-    println!(
-        "{name}: samples {} shadowed {} band {} band mismatches {} outside the band {}",
-        m.samples, m.shadowed_reference, m.band_samples, m.band_mismatches, m.mismatches_outside_band
-    );
-    let (samples, shadowed) = view.lights.iter().fold((0, 0), |(n, s), l| {
-        let c = &l.reference.class;
-        (
-            n + c.iter().filter(|&&k| k != SampleClass::Background).count(),
-            s + c.iter().filter(|&&k| k == SampleClass::Shadowed).count(),
-        )
-    });
-    assert!(
-        shadowed * 100 >= samples && (samples - shadowed) * 100 >= samples,
-        "{name}: {shadowed} of {samples} samples shadowed: the case tests nothing"
-    );
+    print_metrics(name, &m);
+    let (samples, shadowed) = both_classes(name, &view);
 
     // The counts, light by light, against cpu-silhouette's z-fail stencil.
     let mut cpu = create_method("cpu-silhouette").expect("registered");
@@ -366,14 +347,6 @@ fn light_inside_geometry() {
     verify("light inside a closed room", &m, camera, vec![[-1.0, 3.0, 0.7, 1.0]], 200, 150);
 }
 
-/// Rotation by `angle` radians about the unit axis `k` (Rodrigues), in f64.
-fn rotate(p: [f64; 3], k: [f64; 3], angle: f64) -> [f64; 3] {
-    let (s, c) = angle.sin_cos();
-    let kxp = [k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]];
-    let kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-    [0, 1, 2].map(|i| p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c))
-}
-
 /// Samples exactly on face planes: the box's bottom lies in the floor's plane, its side faces'
 /// planes cut the floor along its foot, a triangle and a second floor patch lie in the floor's
 /// plane over parts of it, and the floor itself is split into coplanar triangles; first
@@ -405,40 +378,9 @@ fn samples_exactly_on_a_face_plane() {
     verify("on face planes, turned, directional light", &m, camera, vec![dir], 200, 150);
 }
 
-fn scenes_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("UMBRA_SCENES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"));
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("SKIPPED: shared scenes not found at {} (set UMBRA_SCENES)", dir.display());
-        None
-    }
-}
-
-/// The shared scenes' default views at 320 x 180: the CLI's default interior camera and light
-/// (crates/umbra-cli/src/config.rs, `default_camera` / `default_light`, Framing::Interior).
 #[test]
 fn shared_scenes_default_views() {
-    let Some(dir) = scenes_dir() else { return };
-    for file in ["crytek-sponza.obj.gz", "conference.obj.gz", "sibenik.obj.gz"] {
-        let path = dir.join(file);
-        if !path.is_file() {
-            eprintln!("SKIPPED: {} not found", path.display());
-            continue;
-        }
-        let mesh = umbra_geom::load::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
-        let b = mesh.bounds().expect("non-empty scene");
-        let (c, e) = (b.center().map(f64::from), b.extent().map(f64::from));
-        let min_y = f64::from(b.min[1]);
-        let (eye, target) = if e[0] >= e[2] {
-            ([c[0] - 0.2 * e[0], min_y + 0.45 * e[1], c[2]], [c[0] + 0.2 * e[0], min_y + 0.3 * e[1], c[2]])
-        } else {
-            ([c[0], min_y + 0.45 * e[1], c[2] - 0.2 * e[2]], [c[0], min_y + 0.3 * e[1], c[2] + 0.2 * e[2]])
-        };
-        let light = [(c[0] + 0.11 * e[0]) as f32, (min_y + 0.7 * e[1]) as f32, (c[2] + 0.07 * e[2]) as f32, 1.0];
-        let camera = Camera { eye, target, near: 1e-3 * f64::from(b.diagonal()), ..Camera::default() };
-        verify(file, &mesh, camera, vec![light], 320, 180);
-    }
+    for_each_shared_scene_default_view(|file, mesh, camera, light| {
+        verify(file, mesh, camera, vec![light], 320, 180);
+    });
 }

@@ -10,56 +10,18 @@
 //!
 //! Every case demands both classes in the reference (1 % at least) so that it tests something.
 
-use std::path::PathBuf;
-use std::sync::Arc;
+mod common;
 
+use common::{for_each_shared_scene_default_view, rotate, verify_exact};
 use umbra_geom::scene::{cuboid, ground_plane};
-use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh};
 use umbra_gl::methods::hier_triangle::HierTriangle;
-use umbra_gl::{Camera, ContextOptions, FrameParams, GlApi, HeadlessContext, Renderer, SceneGpu, ShadowMethod};
-use umbra_oracle::SampleClass;
-use umbra_verify::{verify_method, view_reference};
-
-fn context() -> HeadlessContext {
-    HeadlessContext::with_options(ContextOptions { api: GlApi::Gl45Core, debug: true })
-        .unwrap_or_else(|e| panic!("no headless GL 4.5 context: {e}"))
-}
+use umbra_gl::Camera;
 
 /// Verifies hier-triangle on `mesh` seen by `camera` with `lights` at `w x h`: 0 samples
 /// outside the band, both classes present. Returns (samples, shadowed).
 fn verify(name: &str, mesh: &Mesh, camera: Camera, lights: Vec<Light>, w: u32, h: u32) -> (usize, usize) {
-    let ctx = context();
-    let gl = ctx.gl();
-    let scene = SceneGpu::upload(gl, Arc::new(weld(mesh))).expect("upload");
-    let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
-    let params = FrameParams { camera, width: w, height: h, lights, ..FrameParams::default() };
-    let view = view_reference(gl, &mut renderer, &scene, &params).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let mut method = HierTriangle::new();
-    let report =
-        verify_method(gl, &mut renderer, &scene, &mut method, &params, &view).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let m = report.metrics;
-    println!(
-        "{name}: samples {} shadowed {} band {} band mismatches {} outside the band {}",
-        m.samples, m.shadowed_reference, m.band_samples, m.band_mismatches, m.mismatches_outside_band
-    );
-    let (samples, shadowed) = view.lights.iter().fold((0, 0), |(n, s), l| {
-        let c = &l.reference.class;
-        (
-            n + c.iter().filter(|&&k| k != SampleClass::Background).count(),
-            s + c.iter().filter(|&&k| k == SampleClass::Shadowed).count(),
-        )
-    });
-    assert!(
-        shadowed * 100 >= samples && (samples - shadowed) * 100 >= samples,
-        "{name}: {shadowed} of {samples} samples shadowed: the case tests nothing"
-    );
-    assert_eq!(m.mismatches_outside_band, 0, "{name}: samples outside the band");
-    method.destroy(gl);
-    renderer.destroy(gl);
-    scene.destroy(gl);
-    assert!(ctx.take_gl_errors().is_empty(), "{name}: GL errors");
-    (samples, shadowed)
+    verify_exact(name, mesh, camera, lights, (w, h), &mut HierTriangle::new())
 }
 
 #[test]
@@ -87,14 +49,6 @@ fn light_inside_geometry() {
     m.append(&cuboid([0.0, 0.75, 0.0], [0.5, 0.75, 0.5]));
     let camera = Camera { eye: [3.2, 4.2, 3.5], target: [0.0, 0.5, 0.0], near: 0.01, ..Camera::default() };
     verify("light inside a closed room", &m, camera, vec![[-1.0, 3.0, 0.7, 1.0]], 200, 150);
-}
-
-/// Rotation by `angle` radians about the unit axis `k` (Rodrigues), in f64.
-fn rotate(p: [f64; 3], k: [f64; 3], angle: f64) -> [f64; 3] {
-    let (s, c) = angle.sin_cos();
-    let kxp = [k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]];
-    let kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-    [0, 1, 2].map(|i| p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c))
 }
 
 /// Samples exactly on face planes: the box's bottom lies in the floor's plane, its side faces'
@@ -127,40 +81,10 @@ fn samples_exactly_on_a_face_plane() {
     verify("on face planes, both lights", &m, camera, vec![point, dir], 200, 150);
 }
 
-fn scenes_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("UMBRA_SCENES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"));
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("SKIPPED: shared scenes not found at {} (set UMBRA_SCENES)", dir.display());
-        None
-    }
-}
-
-/// The shared scenes' default views at 320 x 180: the CLI's default interior camera and light
-/// (crates/umbra-cli/src/config.rs, `default_camera` / `default_light`, Framing::Interior).
+/// The shared scenes' default views at 320 x 180 (common/mod.rs, `for_each_shared_scene_default_view`).
 #[test]
 fn shared_scenes_default_views() {
-    let Some(dir) = scenes_dir() else { return };
-    for file in ["crytek-sponza.obj.gz", "conference.obj.gz", "sibenik.obj.gz"] {
-        let path = dir.join(file);
-        if !path.is_file() {
-            eprintln!("SKIPPED: {} not found", path.display());
-            continue;
-        }
-        let mesh = umbra_geom::load::load_path(&path).unwrap_or_else(|e| panic!("{e}"));
-        let b = mesh.bounds().expect("non-empty scene");
-        let (c, e) = (b.center().map(f64::from), b.extent().map(f64::from));
-        let min_y = f64::from(b.min[1]);
-        let (eye, target) = if e[0] >= e[2] {
-            ([c[0] - 0.2 * e[0], min_y + 0.45 * e[1], c[2]], [c[0] + 0.2 * e[0], min_y + 0.3 * e[1], c[2]])
-        } else {
-            ([c[0], min_y + 0.45 * e[1], c[2] - 0.2 * e[2]], [c[0], min_y + 0.3 * e[1], c[2] + 0.2 * e[2]])
-        };
-        let light = [(c[0] + 0.11 * e[0]) as f32, (min_y + 0.7 * e[1]) as f32, (c[2] + 0.07 * e[2]) as f32, 1.0];
-        let camera = Camera { eye, target, near: 1e-3 * f64::from(b.diagonal()), ..Camera::default() };
-        verify(file, &mesh, camera, vec![light], 320, 180);
-    }
+    for_each_shared_scene_default_view(|file, mesh, camera, light| {
+        verify(file, mesh, camera, vec![light], 320, 180);
+    });
 }

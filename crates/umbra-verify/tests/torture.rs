@@ -15,9 +15,12 @@
 //! `results/<case>.wgpu.tsv`. Without a Vulkan/Metal/DX12 adapter that half is skipped with a
 //! message (CI installs Mesa's lavapipe, so it runs there).
 
+mod common;
+
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use common::scenes_dir;
 use umbra_geom::scene::{cuboid, ground_plane, load_scene, tetrahedron, uv_sphere};
 use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh};
@@ -487,18 +490,6 @@ fn torture_tiny_coordinates() {
 fn torture_spheres_10_100k() {
     let m = load_scene("spheres:10:100000").expect("procedural scene");
     run(case("spheres-10-100k", m, [-20.0, 14.0, 22.0], [0.0, 1.0, 0.0], vec![[3.0, 12.0, 2.0, 1.0]]));
-}
-
-fn scenes_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("UMBRA_SCENES")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"));
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("SKIPPED: shared scenes not found at {} (set UMBRA_SCENES)", dir.display());
-        None
-    }
 }
 
 /// Three camera and light poses inside the scene's bounds, as fractions of the box.

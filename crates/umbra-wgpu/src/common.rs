@@ -133,6 +133,88 @@ impl Common {
         })
     }
 
+    /// A resolve pipeline that writes a light's decision into the stencil on the caller's
+    /// visible surface: the scene's positions drawn with `module`'s `vs_resolve` and the
+    /// fragment entry `fs_entry` (which discards the shadowed fragments) over the caller's final
+    /// depth (EQUAL), every surviving fragment setting its pixel's stencil to 0 (lit); no colour.
+    /// The stencil holds 1 before (shadowed). Shared by the shadow map's and ray-bvh's resolves.
+    pub fn surface_resolve_pipeline(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        fs_entry: &str,
+    ) -> wgpu::RenderPipeline {
+        let positions =
+            [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &positions,
+        })];
+        let to_zero = wgpu::StencilFaceState {
+            // Reason: every fragment that survives the decision marks its pixel lit (0).
+            compare: wgpu::CompareFunction::Always,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op: wgpu::StencilOperation::Zero,
+        };
+        let targets: Vec<Option<wgpu::ColorTargetState>> = self
+            .formats
+            .color
+            .iter()
+            .map(|f| {
+                f.map(|format| wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::empty() })
+            })
+            .collect();
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs_resolve"),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                strip_index_format: None,
+                // Reason: irrelevant without culling.
+                front_face: wgpu::FrontFace::Ccw,
+                // Reason: two-sided surfaces, as in the caller's depth pass.
+                cull_mode: None,
+                // Reason: the same clipping as the caller's scene pass (depths must be equal).
+                unclipped_depth: false,
+                polygon_mode: wgpu::PolygonMode::Fill,
+                conservative: false,
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: self.formats.depth_stencil,
+                // Reason: the caller's depth is final.
+                depth_write_enabled: Some(false),
+                // Reason: only the surface the caller's depth holds (bit-identical depths).
+                depth_compare: Some(wgpu::CompareFunction::Equal),
+                stencil: wgpu::StencilState { front: to_zero, back: to_zero, read_mask: 0xFF, write_mask: 0xFF },
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: self.sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fs_entry),
+                compilation_options: Default::default(),
+                // Reason: no colour is written (the caller's colour stays untouched).
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
     /// The counting pipeline of a volume draw: z-fail or z-pass two-sided stencil. Per-field
     /// reasons next to each choice (the twin of umbra-gl's `GlState::shadow_volume_for`).
     #[allow(clippy::too_many_arguments)]

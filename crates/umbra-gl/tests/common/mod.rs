@@ -299,3 +299,46 @@ pub fn volume_params(eye: [f64; 3], target: [f64; 3], light: Light, zpass: bool)
         ..FrameParams::default()
     }
 }
+
+// The compute methods' tests (hier-triangle, hier-silhouette, ray-bvh): one small frame of the
+// sphere over the ground, and each light's stencil after the method's volume pass.
+
+/// Width and height of the compute methods' test frame.
+pub const METHOD_W: u32 = 160;
+pub const METHOD_H: u32 = 120;
+
+/// The compute methods' test camera: the sphere over the ground from above and aside.
+pub fn method_camera() -> Camera {
+    Camera { eye: [5.0, 6.0, 7.0], target: [0.0, 0.5, 0.0], near: 0.05, ..Camera::default() }
+}
+
+/// The compute methods' test frame with `lights`.
+pub fn method_frame(lights: Vec<[f32; 4]>) -> FrameParams {
+    FrameParams { camera: method_camera(), width: METHOD_W, height: METHOD_H, lights, ..FrameParams::default() }
+}
+
+/// Per light, the stencil of `method` (0 = lit) after its volume pass; the method is destroyed
+/// and no GL error may be left.
+pub fn volume_stencils(
+    ctx: &HeadlessContext,
+    mesh: &Arc<WeldedMesh>,
+    method: &mut dyn ShadowMethod,
+    p: &FrameParams,
+) -> Vec<StencilImage> {
+    let gl = ctx.gl();
+    let scene = SceneGpu::upload(gl, mesh.clone()).expect("upload");
+    let mut r = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
+    let mut p = p.clone();
+    p.capture.stencil = LightCapture::AllLights;
+    let out = r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("{}: {e}", method.name()));
+    method.destroy(gl);
+    r.destroy(gl);
+    scene.destroy(gl);
+    assert!(ctx.take_gl_errors().is_empty(), "{}: GL errors", method.name());
+    out.stencil.into_iter().map(|s| s.image).collect()
+}
+
+/// A stencil image as "shadowed" per pixel (nonzero).
+pub fn stencil_shadowed(s: &StencilImage) -> Vec<bool> {
+    s.pixels.iter().map(|&v| v != 0).collect()
+}

@@ -99,73 +99,7 @@ impl RayBvhMethod {
             ],
         });
         let pl = common.pipeline_layout(device, "ray-bvh resolve", &[&layout]);
-        let positions =
-            [wgpu::VertexAttribute { format: wgpu::VertexFormat::Float32x3, offset: 0, shader_location: 0 }];
-        let buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &positions,
-        })];
-        let to_zero = wgpu::StencilFaceState {
-            // Reason: every fragment whose ray meets nothing marks its pixel lit (0).
-            compare: wgpu::CompareFunction::Always,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: wgpu::StencilOperation::Keep,
-            pass_op: wgpu::StencilOperation::Zero,
-        };
-        let targets: Vec<Option<wgpu::ColorTargetState>> = common
-            .formats
-            .color
-            .iter()
-            .map(|f| {
-                f.map(|format| wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::empty() })
-            })
-            .collect();
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ray-bvh resolve"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_resolve"),
-                compilation_options: Default::default(),
-                buffers: &buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                strip_index_format: None,
-                // Reason: irrelevant without culling.
-                front_face: wgpu::FrontFace::Ccw,
-                // Reason: two-sided surfaces, as in the caller's depth pass.
-                cull_mode: None,
-                // Reason: the same clipping as the caller's scene pass (depths must be equal).
-                unclipped_depth: false,
-                polygon_mode: wgpu::PolygonMode::Fill,
-                conservative: false,
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: common.formats.depth_stencil,
-                // Reason: the caller's depth is final.
-                depth_write_enabled: Some(false),
-                // Reason: only the surface the caller's depth holds (bit-identical depths).
-                depth_compare: Some(wgpu::CompareFunction::Equal),
-                stencil: wgpu::StencilState { front: to_zero, back: to_zero, read_mask: 0xFF, write_mask: 0xFF },
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: common.sample_count,
-                mask: !0,
-                alpha_to_coverage_enabled: false,
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_resolve"),
-                compilation_options: Default::default(),
-                // Reason: no colour is written (the caller's colour stays untouched).
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = common.surface_resolve_pipeline(device, "ray-bvh resolve", &pl, &module, "fs_resolve");
         Ok(Self { layout, pipeline, prepared: None, scene: None })
     }
 

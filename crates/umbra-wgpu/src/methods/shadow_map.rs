@@ -212,56 +212,13 @@ impl ShadowMapCube {
             cache: None,
         });
         let resolve_pl = common.pipeline_layout(device, "shadow map resolve", &[&resolve_layout]);
-        let to_zero = wgpu::StencilFaceState {
-            // Reason: every fragment that survives the map test marks its pixel lit (0).
-            compare: wgpu::CompareFunction::Always,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op: wgpu::StencilOperation::Keep,
-            pass_op: wgpu::StencilOperation::Zero,
-        };
-        let targets: Vec<Option<wgpu::ColorTargetState>> = common
-            .formats
-            .color
-            .iter()
-            .map(|f| {
-                f.map(|format| wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::empty() })
-            })
-            .collect();
-        let resolve_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow map resolve"),
-            layout: Some(&resolve_pl),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_resolve"),
-                compilation_options: Default::default(),
-                buffers: &buffers,
-            },
-            // Reason: the same clipping as the caller's scene pass (depths must be equal).
-            primitive: primitive(false),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: common.formats.depth_stencil,
-                // Reason: the caller's depth is final.
-                depth_write_enabled: Some(false),
-                // Reason: only the surface the caller's depth holds (bit-identical depths).
-                depth_compare: Some(wgpu::CompareFunction::Equal),
-                stencil: wgpu::StencilState { front: to_zero, back: to_zero, read_mask: 0xFF, write_mask: 0xFF },
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: common.sample_count,
-                mask: !0,
-                alpha_to_coverage_enabled: false,
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some(if config.pcf { "fs_resolve_pcf" } else { "fs_resolve" }),
-                compilation_options: Default::default(),
-                // Reason: no colour is written (the caller's colour stays untouched).
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let resolve_pipeline = common.surface_resolve_pipeline(
+            device,
+            "shadow map resolve",
+            &resolve_pl,
+            &module,
+            if config.pcf { "fs_resolve_pcf" } else { "fs_resolve" },
+        );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("shadow map comparison"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,

@@ -34,6 +34,14 @@ vec4 node_tile(uint level, uint node) {
     return vec4(vec2(t0.x, t1.x) * ndc_scale.x - 1.0, vec2(t0.y, t1.y) * ndc_scale.y - 1.0);
 }
 
+// The range over a screen tile (NDC x0, x1, y0, y1) of a plane's factor of w in its form over
+// the view's rays, a x + b y + c for q = (E, a, b, c): bilinear, so its extremes lie at the
+// tile's corners.
+vec2 ray_factor_range(vec4 q, vec4 tile) {
+    return vec2(min(q.y * tile.x, q.y * tile.y) + min(q.z * tile.z, q.z * tile.w) + q.w,
+                max(q.y * tile.x, q.y * tile.y) + max(q.z * tile.z, q.z * tile.w) + q.w);
+}
+
 // The range of plane k of triangle `tri` over the samples of a node, as (min, max): the intersection of two enclosures of them, each widened by a bound on its
 // rounding (2^-20 of the magnitudes involved):
 // * the node's world box [lo, hi]: centre value +- the plane's extent over the half-sizes;
@@ -48,8 +56,9 @@ vec2 plane_range(Frustum f, uint k, vec3 c, vec3 h, vec4 tile, vec2 w) {
     float tol = (abs(v) + r + dot(abs(p.xyz), abs(c))) * (1.0 / 1048576.0);
     vec2 box = vec2(v - r - tol, v + r + tol);
     vec4 q = f.p[4u + k];
-    float g_min = min(q.y * tile.x, q.y * tile.y) + min(q.z * tile.z, q.z * tile.w) + q.w;
-    float g_max = max(q.y * tile.x, q.y * tile.y) + max(q.z * tile.z, q.z * tile.w) + q.w;
+    vec2 g = ray_factor_range(q, tile);
+    float g_min = g.x;
+    float g_max = g.y;
     float q_tol = (abs(q.x) + w.y * (abs(q.y) + abs(q.z) + abs(q.w))) * (1.0 / 1048576.0);
     vec2 slab = vec2(q.x + min(w.x * g_min, w.y * g_min) - q_tol, q.x + max(w.x * g_max, w.y * g_max) + q_tol);
     return vec2(max(box.x, slab.x), min(box.y, slab.y));

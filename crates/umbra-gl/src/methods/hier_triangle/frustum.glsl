@@ -48,8 +48,9 @@ Frustum load_frustum(uint tri) {
 // a few units in the last place). Returns an empty span (x > y) when no depth qualifies.
 vec2 frustum_depths(Frustum f, uint k, vec4 tile, vec2 w, vec2 span) {
     vec4 q = f.p[4u + k];
-    float g_min = min(q.y * tile.x, q.y * tile.y) + min(q.z * tile.z, q.z * tile.w) + q.w;
-    float g_max = max(q.y * tile.x, q.y * tile.y) + max(q.z * tile.z, q.z * tile.w) + q.w;
+    vec2 g_range = ray_factor_range(q, tile);
+    float g_min = g_range.x;
+    float g_max = g_range.y;
     float q_tol = (abs(q.x) + w.y * (abs(q.y) + abs(q.z) + abs(q.w))) * (1.0 / 1048576.0);
     // Edge plane: its largest value, q.x + w g_max (+ tolerance), >= 0. The triangle's plane:
     // its least value, q.x + w g_min (- tolerance), < 0, as -(least) >= 0.
@@ -88,11 +89,7 @@ int classify_node(Frustum f, uint level, uint node, vec4 lo, vec4 hi) {
     }
     vec3 c = 0.5 * (lo.xyz + hi.xyz) - u_origin;
     vec3 h = 0.5 * (hi.xyz - lo.xyz);
-    uint side = LEAF_SIDE << (2u * level);
-    uvec2 t0 = uvec2(node % u_level[level].x, node / u_level[level].x) * side;
-    uvec2 t1 = min(t0 + side, u_frame);
-    vec2 ndc_scale = 2.0 / vec2(u_frame);
-    vec4 tile = vec4(vec2(t0.x, t1.x) * ndc_scale.x - 1.0, vec2(t0.y, t1.y) * ndc_scale.y - 1.0);
+    vec4 tile = node_tile(level, node);
     // The edge planes over the world box and the slab too: the direction bound of a node
     // across a depth discontinuity is wide where these are not.
     vec2 w = vec2(lo.w, hi.w);
