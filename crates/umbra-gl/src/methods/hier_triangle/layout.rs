@@ -74,8 +74,8 @@ pub const RECEIVER_FLAT: usize = 512;
 /// light uses [`RECEIVER_FLAT`]² of them.
 pub const RECEIVER_CELLS: usize = 6 * RECEIVER_SIDE * RECEIVER_SIDE;
 const _: () = assert!(RECEIVER_FLAT * RECEIVER_FLAT <= RECEIVER_CELLS);
-/// Bytes of the receiver map: one word per cell.
-pub const RECEIVER_BYTES: usize = 4 * RECEIVER_CELLS;
+/// Bytes of the receiver map: one word per cell, then the directional grid's box (4 words).
+pub const RECEIVER_BYTES: usize = 4 * (RECEIVER_CELLS + 4);
 
 /// Bytes of the per-triangle planes of a scene of `triangles` triangles.
 pub fn plane_bytes(triangles: usize) -> usize {

@@ -528,7 +528,8 @@ impl ShadowMethod for HierTriangle {
             passes.use_with_common(p.receivers, &light);
             // SAFETY: our program; uniform type matches receivers.comp.glsl.
             unsafe { gl.uniform_1_u32(uniform(gl, p.receivers, "u_receiver_mode").as_ref(), mode) };
-            let count = if mode == 0 { layout::RECEIVER_CELLS } else { (layout.width * layout.height) as usize };
+            // The clear: every cell, and one invocation more for the directional grid's box.
+            let count = if mode == 0 { layout::RECEIVER_CELLS + 1 } else { (layout.width * layout.height) as usize };
             passes.dispatch(p.receivers, count);
         }
         // The frusta, and the job list of those that cut a top node and whose cone holds a live

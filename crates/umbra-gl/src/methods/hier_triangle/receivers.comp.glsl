@@ -1,5 +1,5 @@
 // hier-triangle, per light: the receiver map (receivers.glsl). u_receiver_mode 0: one invocation
-// per cell, cleared; 1: one invocation per pixel, its live sample (present, not facing away:
+// per cell, cleared, and one more that stores the directional grid's box; 1: one invocation per pixel, its live sample (present, not facing away:
 // init.comp.glsl's bit) raises its cell to its distance from the light (point) or its depth
 // along the light (directional), rounded up. Prepended: hier/hierarchy.glsl, hier/region.glsl,
 // frustum.glsl, live.glsl, receivers.glsl.
@@ -14,6 +14,12 @@ void main() {
     if (u_receiver_mode == 0u) {
         if (i < RECEIVER_CELLS) {
             receivers[i] = 0u;
+        } else if (i == RECEIVER_BOX) {
+            uvec4 box = floatBitsToUint(receiver_box_of_top_nodes());
+            receivers[RECEIVER_BOX] = box.x;
+            receivers[RECEIVER_BOX + 1u] = box.y;
+            receivers[RECEIVER_BOX + 2u] = box.z;
+            receivers[RECEIVER_BOX + 3u] = box.w;
         }
         return;
     }

@@ -23,6 +23,8 @@
 // RECEIVER_SIDE and RECEIVER_FLAT are defined by hier_triangle/mod.rs from layout.rs, whose
 // RECEIVER_CELLS sizes the buffer.
 const uint RECEIVER_CELLS = 6u * RECEIVER_SIDE * RECEIVER_SIDE;
+// Where the directional grid's box is stored: four words after the cells.
+const uint RECEIVER_BOX = RECEIVER_CELLS;
 // The widening of a triangle's cell rectangle, as a fraction of the grid's extent.
 const float RECEIVER_MARGIN = 1.0 / 16384.0;
 
@@ -46,10 +48,11 @@ uint receiver_cell(float x, float lo, float scale, uint n) {
     return uint(clamp(floor((x - lo) * scale), 0.0, float(n - 1u)));
 }
 
-// A directional light's grid: the union of the top nodes' boxes (u0, u1, v0, v1); false when
-// no top node holds a sample.
-bool receiver_box(out vec4 box) {
-    box = vec4(3.0e38, -3.0e38, 3.0e38, -3.0e38);
+// A directional light's grid: the union of the top nodes' boxes (u0, u1, v0, v1), empty
+// (u0 > u1) when no top node holds a sample. Computed once per light by the map's clearing
+// pass and stored after the cells (receiver_box).
+vec4 receiver_box_of_top_nodes() {
+    vec4 box = vec4(3.0e38, -3.0e38, 3.0e38, -3.0e38);
     uint top = u_levels - 1u;
     uint count = u_level[top].x * u_level[top].y;
     for (uint k = 0u; k < count; ++k) {
@@ -59,5 +62,14 @@ bool receiver_box(out vec4 box) {
             box = vec4(min(box.x, b.x), max(box.y, b.y), min(box.z, b.z), max(box.w, b.w));
         }
     }
+    return box;
+}
+
+#ifndef WORK_STUB
+// The stored directional grid's box; false when it is empty (no sample at all).
+bool receiver_box(out vec4 box) {
+    box = uintBitsToFloat(uvec4(receivers[RECEIVER_BOX], receivers[RECEIVER_BOX + 1u], receivers[RECEIVER_BOX + 2u],
+                                receivers[RECEIVER_BOX + 3u]));
     return box.x <= box.y && box.z <= box.w;
 }
+#endif
