@@ -58,6 +58,10 @@ pub(crate) struct Common {
     slots: usize,
 }
 
+/// The vertex stage of [`Common::surface_resolve_pipeline`] (`vs_resolve`), a WGSL part to put
+/// after volume.wgsl in the method's module.
+pub const RESOLVE_VERTEX: &str = include_str!("shaders/resolve.wgsl");
+
 impl Common {
     pub(crate) fn new(device: &wgpu::Device, formats: PassFormats, sample_count: u32) -> Self {
         let light_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

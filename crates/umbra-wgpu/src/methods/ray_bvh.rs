@@ -16,7 +16,7 @@
 use umbra_geom::ray_bvh::{self, RayBvh};
 
 use crate::builders::{storage_entry, uniform_entry};
-use crate::common::{Common, LightPlan};
+use crate::common::{Common, LightPlan, RESOLVE_VERTEX};
 use crate::error::WgpuError;
 use crate::methods::method::{LightFrame, Method, MethodKind};
 use crate::scene::{buffer_init, SceneGpu, SceneId};
@@ -85,7 +85,7 @@ impl RayBvhMethod {
         let module = Common::module(
             device,
             "ray_bvh.wgsl",
-            &["enable clip_distances;\nenable primitive_index;", VOLUME, &constants, SHADER],
+            &["enable clip_distances;\nenable primitive_index;", VOLUME, RESOLVE_VERTEX, &constants, SHADER],
         );
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -22,7 +22,7 @@ use umbra_geom::shadow_map::{face_clip_from_world, map_clip_from_world, map_from
 use umbra_geom::Aabb;
 
 use crate::builders::{uniform_entry, uniform_slots, LIGHT_SLOT_BYTES};
-use crate::common::{Common, LightPlan};
+use crate::common::{Common, LightPlan, RESOLVE_VERTEX};
 use crate::error::WgpuError;
 use crate::methods::method::{LightFrame, Method, MethodKind};
 use crate::scene::{SceneGpu, SceneId};
@@ -128,7 +128,8 @@ impl ShadowMapCube {
         if !config.bias_slope.is_finite() {
             return Err(WgpuError::InvalidParams(format!("{}: slope bias {}", config.name(), config.bias_slope)));
         }
-        let module = Common::module(device, "shadow_map.wgsl", &["enable clip_distances;", VOLUME, SHADER]);
+        let module =
+            Common::module(device, "shadow_map.wgsl", &["enable clip_distances;", VOLUME, RESOLVE_VERTEX, SHADER]);
         let faces_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadow map faces"),
             entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX, true)],

@@ -212,19 +212,6 @@ fn occluded(r: Ray, d: vec3<f32>, t_end: f32, len: f32, point: bool, own: u32) -
     return false;
 }
 
-struct ResolveVertex {
-    @builtin(position) @invariant position: vec4<f32>,
-    @location(0) world_pos: vec3<f32>,
-}
-
-@vertex
-fn vs_resolve(@location(0) p: vec3<f32>) -> ResolveVertex {
-    var o: ResolveVertex;
-    o.world_pos = p;
-    o.position = u.clip_from_world * vec4<f32>(p, 1.0);
-    return o;
-}
-
 @fragment
 fn fs_resolve(v: ResolveVertex, @builtin(primitive_index) triangle: u32) {
     if params.nodes == 0u {

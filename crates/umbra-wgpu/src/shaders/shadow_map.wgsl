@@ -7,7 +7,7 @@
 // depth = n / d for a face (d its view depth, infinite far plane), (h - h_min) / (h_max - h_min)
 // along the light for the directional map: REVERSED, larger = closer to the light.
 //
-// vs_resolve / fs_resolve: the method's decision resolved into the caller's stencil (cleared
+// vs_resolve (resolve.wgsl) / fs_resolve: the method's decision resolved into the caller's stencil (cleared
 // to 1): the scene drawn with depth EQUAL against the caller's depth (the same invariant
 // expression as every other scene pass), a fragment whose sample the map sees lit survives and
 // sets the stencil to 0 (StencilOperation::Zero), the others are discarded. Lit iff the
@@ -92,19 +92,6 @@ fn umbra_lit_pcf(world_pos: vec3<f32>) -> bool {
         }
     }
     return lit >= 4.5;
-}
-
-struct ResolveVertex {
-    @builtin(position) @invariant position: vec4<f32>,
-    @location(0) world_pos: vec3<f32>,
-}
-
-@vertex
-fn vs_resolve(@location(0) p: vec3<f32>) -> ResolveVertex {
-    var o: ResolveVertex;
-    o.world_pos = p;
-    o.position = u.clip_from_world * vec4<f32>(p, 1.0);
-    return o;
 }
 
 @fragment
