@@ -16,7 +16,7 @@
 
 mod common;
 
-use common::{for_each_shared_scene_default_view, rotate, verify_exact};
+use common::{closed_room, for_each_shared_scene_default_view, turned_face_planes, verify_exact};
 use umbra_geom::scene::{cuboid, ground_plane};
 use umbra_geom::{Light, Mesh};
 use umbra_gl::methods::ray_bvh::RayBvhMethod;
@@ -58,41 +58,17 @@ fn its_eps_is_the_references() {
     }
 }
 
-/// A closed room (a cuboid seen from inside, the camera inside too) with the light and a box
-/// inside: the box shadows the floor and walls, the walls shadow nothing they enclose.
+/// A light inside a closed room (common/mod.rs, `closed_room`).
 #[test]
 fn light_inside_geometry() {
-    let mut m = cuboid([0.0, 2.5, 0.0], [4.0, 2.5, 4.0]);
-    m.append(&cuboid([0.0, 0.75, 0.0], [0.5, 0.75, 0.5]));
-    let camera = Camera { eye: [3.2, 4.2, 3.5], target: [0.0, 0.5, 0.0], near: 0.01, ..Camera::default() };
-    verify("light inside a closed room", &m, camera, vec![[-1.0, 3.0, 0.7, 1.0]], 200, 150);
+    let (m, camera, light) = closed_room();
+    verify("light inside a closed room", &m, camera, vec![light], 200, 150);
 }
 
-/// Samples exactly on face planes: the box's bottom lies in the floor's plane, its side faces'
-/// planes cut the floor along its foot, a triangle and a second floor patch lie in the floor's
-/// plane over parts of it, and the floor itself is split into coplanar triangles. The whole
-/// scene is turned about an oblique axis, so that the rasterized positions scatter by rounding
-/// on both sides of the planes. Coplanar surfaces meet a sample's segment only at t ~ 0: they
-/// must not shadow it (the reference's eps; without it this test fails).
+/// Samples exactly on face planes, the scene turned (common/mod.rs, `turned_face_planes`).
 #[test]
 fn samples_exactly_on_a_face_plane() {
-    let mut m = ground_plane([0.0, 0.0, 0.0], 6.0);
-    m.append(&ground_plane([1.5, 0.0, 1.0], 2.0));
-    m.append(&cuboid([-0.5, 0.5, -0.5], [0.5, 0.5, 0.5]));
-    let base = m.positions.len() as u32;
-    m.positions.extend_from_slice(&[[-3.0, 0.0, 2.0], [-1.0, 0.0, 3.5], [-2.0, 0.0, 0.5]]);
-    m.triangles.push([base, base + 1, base + 2]);
-    let axis = [1.0 / 14f64.sqrt(), 2.0 / 14f64.sqrt(), 3.0 / 14f64.sqrt()];
-    let turn = |p: [f64; 3]| rotate(p, axis, 0.7);
-    for q in &mut m.positions {
-        *q = turn(q.map(f64::from)).map(|c| c as f32);
-    }
-    let up = turn([0.0, 1.0, 0.0]);
-    let camera =
-        Camera { eye: turn([4.0, 5.0, 6.0]), target: turn([-0.5, 0.0, 0.0]), up, near: 0.01, ..Camera::default() };
-    let point = turn([-3.0, 2.0, -2.0]).map(|c| c as f32);
-    let dir = turn([-0.6, 0.8, -0.4]).map(|c| c as f32);
-    let (point, dir) = ([point[0], point[1], point[2], 1.0], [dir[0], dir[1], dir[2], 0.0]);
+    let (m, camera, point, dir) = turned_face_planes();
     verify("on face planes, point light", &m, camera, vec![point], 200, 150);
     verify("on face planes, directional light", &m, camera, vec![dir], 200, 150);
     verify("on face planes, both lights", &m, camera, vec![point, dir], 200, 150);

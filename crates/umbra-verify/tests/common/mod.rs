@@ -1,7 +1,7 @@
 //! Shared helpers of umbra-verify's integration tests: the GL context, one exactness case
 //! (a method against the ray-traced reference: 0 samples outside the band, both classes
-//! present), the rotation that scatters samples about face planes, and the shared scenes with
-//! the CLI's default interior view.
+//! present), the cases every compute method must get right (a light inside a closed room,
+//! samples exactly on face planes), and the shared scenes with the CLI's default interior view.
 
 // Reason: each test crate uses a part of these helpers.
 #![allow(dead_code)]
@@ -9,6 +9,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use umbra_geom::scene::{cuboid, ground_plane};
 use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh};
 use umbra_gl::{Camera, ContextOptions, FrameParams, GlApi, HeadlessContext, Renderer, SceneGpu, ShadowMethod};
@@ -121,4 +122,46 @@ pub fn for_each_shared_scene_default_view(mut case: impl FnMut(&str, &Mesh, Came
         let camera = Camera { eye, target, near: 1e-3 * f64::from(b.diagonal()), ..Camera::default() };
         case(file, &mesh, camera, light);
     }
+}
+
+/// A closed room (a cuboid seen from inside, the camera inside too) with the light and a box
+/// inside: the box shadows the floor and walls, the walls shadow nothing they enclose.
+pub fn closed_room() -> (Mesh, Camera, Light) {
+    let mut m = cuboid([0.0, 2.5, 0.0], [4.0, 2.5, 4.0]);
+    m.append(&cuboid([0.0, 0.75, 0.0], [0.5, 0.75, 0.5]));
+    let camera = Camera { eye: [3.2, 4.2, 3.5], target: [0.0, 0.5, 0.0], near: 0.01, ..Camera::default() };
+    (m, camera, [-1.0, 3.0, 0.7, 1.0])
+}
+
+/// Samples exactly on face planes, axis-aligned: the box's bottom lies in the floor's plane,
+/// its side faces' planes cut the floor along its foot, a triangle and a second floor patch lie
+/// in the floor's plane over parts of it, and the floor itself is split into coplanar triangles.
+/// Its camera and lights are those of [`turned_face_planes`] before the turn.
+pub fn face_planes() -> Mesh {
+    let mut m = ground_plane([0.0, 0.0, 0.0], 6.0);
+    m.append(&ground_plane([1.5, 0.0, 1.0], 2.0));
+    m.append(&cuboid([-0.5, 0.5, -0.5], [0.5, 0.5, 0.5]));
+    let base = m.positions.len() as u32;
+    m.positions.extend_from_slice(&[[-3.0, 0.0, 2.0], [-1.0, 0.0, 3.5], [-2.0, 0.0, 0.5]]);
+    m.triangles.push([base, base + 1, base + 2]);
+    m
+}
+
+/// [`face_planes`] turned about an oblique axis, so that the rasterized positions scatter by
+/// rounding on both sides of the planes, with its camera, a point light and a directional light
+/// turned alike. Coplanar surfaces meet a sample's segment only at t ~ 0: they must not shadow
+/// it (the reference's eps).
+pub fn turned_face_planes() -> (Mesh, Camera, Light, Light) {
+    let mut m = face_planes();
+    let axis = [1.0 / 14f64.sqrt(), 2.0 / 14f64.sqrt(), 3.0 / 14f64.sqrt()];
+    let turn = |p: [f64; 3]| rotate(p, axis, 0.7);
+    for q in &mut m.positions {
+        *q = turn(q.map(f64::from)).map(|c| c as f32);
+    }
+    let up = turn([0.0, 1.0, 0.0]);
+    let camera =
+        Camera { eye: turn([4.0, 5.0, 6.0]), target: turn([-0.5, 0.0, 0.0]), up, near: 0.01, ..Camera::default() };
+    let point = turn([-3.0, 2.0, -2.0]).map(|c| c as f32);
+    let dir = turn([-0.6, 0.8, -0.4]).map(|c| c as f32);
+    (m, camera, [point[0], point[1], point[2], 1.0], [dir[0], dir[1], dir[2], 0.0])
 }
