@@ -106,6 +106,7 @@ pub mod mesh;
 pub mod multiplicity;
 pub mod order;
 pub mod ray_bvh;
+pub mod receivers;
 pub mod scene;
 pub mod shadow_map;
 pub mod sides_data;

@@ -10,7 +10,7 @@
 use rayon::prelude::*;
 
 use super::kernels::orientations_batched;
-use super::volume::{extrude, oriented, point};
+use super::volume::{oriented, point};
 use crate::adjacency::EdgeAdjacency;
 use crate::weld::WeldedMesh;
 use crate::Light;
@@ -41,9 +41,11 @@ thread_local! {
 
 /// Writes the side quads of edge `[a, b]` (`a < b`) with multiplicity `m != 0` at the start
 /// of `out` (which holds at least `6 |m|` vertices); returns the number of vertices written.
+/// `a_far`, `b_far` are the far ends of the side: the vertices extruded to infinity (001 Eq. 2)
+/// or, for a volume clamped to its receivers, to their clamp distance ([`super::clamp`]).
 #[inline(always)]
-fn write_sides(out: &mut [[f32; 4]], a: [f32; 3], b: [f32; 3], m: i32, light: Light) -> usize {
-    let (a_inf, b_inf) = (extrude(a, light), extrude(b, light));
+fn write_sides(out: &mut [[f32; 4]], a: [f32; 3], b: [f32; 3], a_far: [f32; 4], b_far: [f32; 4], m: i32) -> usize {
+    let (a_inf, b_inf) = (a_far, b_far);
     let (a, b) = (point(a), point(b));
     // m > 0: quad B A A∞ B∞; m < 0: the reverse, A B B∞ A∞.
     let quad = if m > 0 { [b, a, a_inf, b, a_inf, b_inf] } else { [a, b, b_inf, a, b_inf, a_inf] };
@@ -132,11 +134,11 @@ pub(super) fn write_chunks<O: SplitOutput>(
 pub(super) fn emit_sides(
     positions: &[[f32; 3]],
     adj: &EdgeAdjacency,
-    light: Light,
     multiplicity: &mut Vec<i32>,
     side_offsets: &mut Vec<usize>,
     sides: &mut Vec<[f32; 4]>,
     multiplicities: &(impl Fn(usize, &mut [i32]) + Sync),
+    far: &(impl Fn(u32) -> [f32; 4] + Sync),
 ) {
     // Pass 1: multiplicities (`multiplicities(first_edge, ms)`), and |m| summed per chunk
     // into `side_offsets[chunk + 1]`.
@@ -169,7 +171,8 @@ pub(super) fn emit_sides(
             for (i, &m) in run.iter().enumerate() {
                 if m != 0 {
                     let [a, b] = adj.edges[first + block * RUN + i];
-                    at += write_sides(&mut piece[at..], positions[a as usize], positions[b as usize], m, light);
+                    let (pa, pb) = (positions[a as usize], positions[b as usize]);
+                    at += write_sides(&mut piece[at..], pa, pb, far(a), far(b), m);
                 }
             }
         }

@@ -5,7 +5,7 @@ use super::emit::{
     cap_orientations, emit_sides, for_each_cap, set_len, with_scratch, write_chunks, CapsOut, Scratch, ITEMS_PER_CHUNK,
 };
 use super::kernels::multiplicities_batched;
-use super::volume::{cap_vertices, has_dark_caps, VolumeGeometry};
+use super::volume::{cap_vertices, extrude, has_dark_caps, VolumeGeometry};
 use crate::adjacency::EdgeAdjacency;
 use crate::weld::WeldedMesh;
 use crate::Light;
@@ -27,7 +27,8 @@ pub fn extract(mesh: &WeldedMesh, adj: &EdgeAdjacency, light: Light, caps: bool,
         let positions = &mesh.positions;
         let Scratch { multiplicity, orientation, side_offsets, cap_offsets } = scratch;
         let from_positions = |first: usize, ms: &mut [i32]| multiplicities_batched(positions, adj, first, ms, light);
-        emit_sides(positions, adj, light, multiplicity, side_offsets, &mut out.sides, &from_positions);
+        let far = |i: u32| extrude(positions[i as usize], light);
+        emit_sides(positions, adj, multiplicity, side_offsets, &mut out.sides, &from_positions, &far);
         if !caps {
             out.light_caps.clear();
             out.dark_caps.clear();

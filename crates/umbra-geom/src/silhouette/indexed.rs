@@ -5,10 +5,11 @@
 
 use rayon::prelude::*;
 
+use super::clamp::VolumeClamp;
 use super::emit::{emit_sides, set_len, with_scratch, Scratch, ITEMS_PER_CHUNK};
 use super::kernels::orientation_batches;
 use super::slots::TriangleSlots;
-use super::volume::{cap_vertices, has_dark_caps, oriented, VolumeGeometry};
+use super::volume::{cap_vertices, extrude, has_dark_caps, oriented, VolumeGeometry};
 use crate::adjacency::EdgeAdjacency;
 use crate::weld::WeldedMesh;
 use crate::Light;
@@ -35,6 +36,13 @@ pub struct IndexedVolume {
     ///
     /// [`triangle_orientation`]: crate::multiplicity::triangle_orientation
     pub caps: Vec<[u32; 3]>,
+    /// Far caps of a volume clamped to its receivers ([`extract_clamped`]): per kept,
+    /// light-facing-oriented triangle `P0 P1 P2`, the triangle of its far vertices
+    /// `P0' P2' P1'` (facing out of the volume, as a dark cap), three homogeneous vertices
+    /// each (a far vertex at infinity has `w = 0`). Drawn in z-pass and z-fail alike: unlike a
+    /// dark cap at infinity, a far cap may lie in front of a visible sample. Empty for an
+    /// unclamped volume.
+    pub far_caps: Vec<[f32; 4]>,
 }
 
 /// Whether an [`IndexedVolume`] cap is the degenerate stand-in of an edge-on triangle.
@@ -48,6 +56,7 @@ impl IndexedVolume {
     pub fn clear(&mut self) {
         self.sides.clear();
         self.caps.clear();
+        self.far_caps.clear();
     }
 
     /// The vertices the renderer draws for this volume, into `out` (its contents replaced):
@@ -103,16 +112,39 @@ pub fn extract_indexed(
     // One job for the whole frame: the passes below fork and join on the pool's workers
     // instead of each queueing from outside.
     rayon::scope(|_| {
-        with_scratch(|scratch| extract_indexed_with(mesh, adj, slots, light, caps, out, scratch));
+        with_scratch(|scratch| extract_indexed_with(mesh, adj, slots, light, caps, None, out, scratch));
     });
 }
 
+/// [`extract_indexed`] of the triangles `clamp` keeps, with every side ending at its
+/// vertices' far ends instead of infinity and the volume closed there by
+/// [`IndexedVolume::far_caps`] ([`VolumeClamp`], the proof in docs/exactness.md). The
+/// multiplicities are the sums over the kept triangles' orientations only (a dropped
+/// triangle counts as edge-on: no cap, no contribution to its edges), so the sides are the
+/// silhouette of the kept triangles. `caps` asks for the light caps (z-fail); the far caps
+/// are written either way. `clamp` must have been made for this mesh and `light`.
+pub fn extract_clamped(
+    mesh: &WeldedMesh,
+    adj: &EdgeAdjacency,
+    slots: &TriangleSlots,
+    light: Light,
+    caps: bool,
+    clamp: &VolumeClamp,
+    out: &mut IndexedVolume,
+) {
+    rayon::scope(|_| {
+        with_scratch(|scratch| extract_indexed_with(mesh, adj, slots, light, caps, Some(clamp), out, scratch));
+    });
+}
+
+#[allow(clippy::too_many_arguments)]
 fn extract_indexed_with(
     mesh: &WeldedMesh,
     adj: &EdgeAdjacency,
     slots: &TriangleSlots,
     light: Light,
     caps: bool,
+    clamp: Option<&VolumeClamp>,
     out: &mut IndexedVolume,
     scratch: &mut Scratch,
 ) {
@@ -125,25 +157,37 @@ fn extract_indexed_with(
     } else {
         out.caps.clear();
     }
-    let orient = |ss: &mut [i8], tris: &[[u32; 3]], mut caps_out: Option<&mut [[u32; 3]]>| {
+    let keep = clamp.map(|c| &c.keep[..]);
+    let orient = |first: usize, ss: &mut [i8], tris: &[[u32; 3]], mut caps_out: Option<&mut [[u32; 3]]>| {
         let mut at = 0;
         orientation_batches(&mesh.positions, tris, light, |tris, orientations| {
             for (s, &o) in ss[at..at + tris.len()].iter_mut().zip(orientations) {
                 *s = o as i8;
             }
+            if let Some(keep) = keep {
+                // A dropped triangle is treated as edge-on: no cap, no part in any edge.
+                for (s, &k) in ss[at..at + tris.len()].iter_mut().zip(&keep[first + at..first + at + tris.len()]) {
+                    if !k {
+                        *s = 0;
+                    }
+                }
+            }
+            let orientations = &ss[at..at + tris.len()];
             if let Some(out) = caps_out.as_deref_mut() {
                 for ((cap, &tri), &s) in out[at..at + tris.len()].iter_mut().zip(tris).zip(orientations) {
-                    *cap = if s != 0 { oriented(tri, s as i8) } else { [tri[0]; 3] };
+                    *cap = if s != 0 { oriented(tri, s) } else { [tri[0]; 3] };
                 }
             }
             at += tris.len();
         });
     };
-    let chunks = orientation.par_chunks_mut(ITEMS_PER_CHUNK).zip(triangles.par_chunks(ITEMS_PER_CHUNK));
+    let chunks = orientation.par_chunks_mut(ITEMS_PER_CHUNK).zip(triangles.par_chunks(ITEMS_PER_CHUNK)).enumerate();
     if caps {
-        chunks.zip(out.caps.par_chunks_mut(ITEMS_PER_CHUNK)).for_each(|((ss, tris), c)| orient(ss, tris, Some(c)));
+        chunks
+            .zip(out.caps.par_chunks_mut(ITEMS_PER_CHUNK))
+            .for_each(|((k, (ss, tris)), c)| orient(k * ITEMS_PER_CHUNK, ss, tris, Some(c)));
     } else {
-        chunks.for_each(|(ss, tris)| orient(ss, tris, None));
+        chunks.for_each(|(k, (ss, tris))| orient(k * ITEMS_PER_CHUNK, ss, tris, None));
     }
 
     // Pass 2 and 3: multiplicities as sums of ± orientations, then the sides.
@@ -156,5 +200,24 @@ fn extract_indexed_with(
                 .sum();
         }
     };
-    emit_sides(&mesh.positions, adj, light, multiplicity, side_offsets, &mut out.sides, &from_orientations);
+    let positions = &mesh.positions;
+    match clamp {
+        None => {
+            let far = |i: u32| extrude(positions[i as usize], light);
+            emit_sides(positions, adj, multiplicity, side_offsets, &mut out.sides, &from_orientations, &far);
+            out.far_caps.clear();
+        }
+        Some(clamp) => {
+            let far = |i: u32| clamp.far_vertex(positions, i);
+            emit_sides(positions, adj, multiplicity, side_offsets, &mut out.sides, &from_orientations, &far);
+            // The far caps: one per kept triangle that is not edge-on, in triangle order.
+            out.far_caps.clear();
+            for (&tri, &s) in triangles.iter().zip(ss.iter()) {
+                if s != 0 {
+                    let [i0, i1, i2] = oriented(tri, s);
+                    out.far_caps.extend_from_slice(&[far(i0), far(i2), far(i1)]);
+                }
+            }
+        }
+    }
 }

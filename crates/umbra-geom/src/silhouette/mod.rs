@@ -37,7 +37,8 @@
 //! Both in parallel and, once warmed up, without allocating. Figures in
 //! `docs/benchmarks.md`.
 //!
-//! One part per file: `volume.rs` (the vertices, Eq. 2's extrusion, the caps' geometry),
+//! One part per file: `clamp.rs` ([`VolumeClamp`]: the triangles kept and the far ends of a
+//! volume clamped to its receivers, [`extract_clamped`]), `volume.rs` (the vertices, Eq. 2's extrusion, the caps' geometry),
 //! `kernels.rs` (the vectorised Alg. 3-4 kernels), `emit.rs` (the parallel two-pass emission
 //! and its per-thread scratch), `extract.rs` ([`extract`]), `indexed.rs` ([`extract_indexed`],
 //! [`IndexedVolume`]), `slots.rs` ([`TriangleSlots`]), `tests.rs` (both outputs against the
@@ -52,6 +53,7 @@ use crate::multiplicity::edge_multiplicity;
 use crate::weld::WeldedMesh;
 use crate::Light;
 
+mod clamp;
 mod emit;
 mod extract;
 mod indexed;
@@ -59,8 +61,9 @@ mod kernels;
 mod slots;
 mod volume;
 
+pub use clamp::{travel, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
 pub use extract::extract;
-pub use indexed::{extract_indexed, is_degenerate_cap, IndexedVolume};
+pub use indexed::{extract_clamped, extract_indexed, is_degenerate_cap, IndexedVolume};
 pub use slots::{TriangleSlots, TriangleSlotsError};
 pub use volume::{extrude, has_dark_caps, VolumeGeometry};
 

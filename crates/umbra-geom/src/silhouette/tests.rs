@@ -77,6 +77,7 @@ fn extract_matches_serial_reference_with_reused_output() {
                 let drawn = IndexedVolume {
                     sides: indexed.sides.clone(),
                     caps: indexed.caps.iter().copied().filter(|&c| !is_degenerate_cap(c)).collect(),
+                    far_caps: Vec::new(),
                 };
                 assert!(bits(&drawn.expand(&w.positions, light)) == bits(&expected), "indexed, light {light:?}");
                 with_caps += drawn.caps.len();
@@ -153,4 +154,73 @@ fn extract_reentrant_on_one_thread() {
         extract(&w, &adj, light, true, &mut out);
         assert!(bits(&out) == bits(&expected));
     });
+}
+
+/// Every directed edge of the clamped volume's triangles (sides, light caps, far caps), by the
+/// bits of its endpoints, appears as often as its reverse: the surface is closed, so every
+/// sample's count is its winding number (docs/exactness.md).
+fn assert_closed(v: &IndexedVolume, positions: &[[f32; 3]], caps: bool) {
+    use std::collections::HashMap;
+    let key = |p: [f32; 4]| p.map(f32::to_bits);
+    let mut count: HashMap<([u32; 4], [u32; 4]), i64> = HashMap::new();
+    let mut add = |t: [[f32; 4]; 3]| {
+        for i in 0..3 {
+            let (a, b) = (key(t[i]), key(t[(i + 1) % 3]));
+            *count.entry((a, b)).or_default() += 1;
+            *count.entry((b, a)).or_default() -= 1;
+        }
+    };
+    for t in v.sides.chunks_exact(3).chain(v.far_caps.chunks_exact(3)) {
+        add([t[0], t[1], t[2]]);
+    }
+    if caps {
+        for &c in v.caps.iter().filter(|&&c| !is_degenerate_cap(c)) {
+            add(c.map(|i| point(positions[i as usize])));
+        }
+    }
+    assert!(count.values().all(|&n| n == 0), "the clamped volume is not closed");
+}
+
+/// [`extract_clamped`] with every triangle kept and every far end at infinity is
+/// [`extract_indexed`]; with triangles dropped and finite far ends it is a closed surface
+/// whose sides are the silhouette of the kept triangles.
+#[test]
+fn extract_clamped_is_extract_indexed_unclamped_and_closed_when_clamped() {
+    for mesh in reference_inputs() {
+        let w = weld(&mesh);
+        let adj = EdgeAdjacency::build(&w);
+        let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
+        for light in reference_lights(&w) {
+            let mut plain = IndexedVolume::default();
+            extract_indexed(&w, &adj, &slots, light, true, &mut plain);
+            let open = VolumeClamp::unclamped(light, w.triangles.len(), w.positions.len());
+            let mut clamped = IndexedVolume::default();
+            extract_clamped(&w, &adj, &slots, light, true, &open, &mut clamped);
+            assert_eq!(clamped.sides, plain.sides);
+            assert_eq!(clamped.caps, plain.caps);
+            // Drop every third triangle and give the vertices finite far ends of their own.
+            let mut clamp = open.clone();
+            for (t, k) in clamp.keep.iter_mut().enumerate() {
+                *k = t % 3 != 1;
+            }
+            for (i, f) in clamp.far.iter_mut().enumerate() {
+                *f = if light[3] != 0.0 { 2.0 + (i % 5) as f32 } else { 3.0 + (i % 7) as f32 };
+            }
+            for caps in [true, false] {
+                extract_clamped(&w, &adj, &slots, light, caps, &clamp, &mut clamped);
+                assert!(clamped.sides.iter().all(|v| v[3] == 1.0), "finite far ends");
+                // The far caps close the volume whatever the counting (z-pass needs them too).
+                let kept_caps = w
+                    .triangles
+                    .iter()
+                    .zip(&clamp.keep)
+                    .filter(|&(&t, &k)| k && triangle_orientation(&w.positions, t, light) != 0)
+                    .count();
+                assert_eq!(clamped.far_caps.len(), 3 * kept_caps);
+                if caps {
+                    assert_closed(&clamped, &w.positions, true);
+                }
+            }
+        }
+    }
 }

@@ -1,0 +1,486 @@
+//! The receiver map of one light: per light-space cell, the farthest visible sample from the
+//! light. It turns the view's samples into what culls and clamps the shadow volumes exactly
+//! ([`ReceiverMap::cull_and_clamp`] into a [`VolumeClamp`]).
+//!
+//! CC shadow volumes (Lloyd, Wendt, Govindaraju, Manocha, EGSR 2004, Section 4) cull and
+//! clamp volumes against the regions of the light's view that hold receivers; there the
+//! receivers were estimated, here they are the frame's visible samples themselves, bounded per
+//! cell from above, so both operations are exact (the proof: [`crate::silhouette`]'s
+//! `clamp.rs` and docs/exactness.md). A triangle shadows a sample S only when the segment from
+//! S to the light meets it: S lies in the triangle's cone of directions and farther from the
+//! light than the triangle.
+//!
+//! Cells ([`ReceiverGrid`]): a point light's directions on a cube of six `side x side` faces
+//! (the face of the direction's largest coordinate; the other two divided by it, in
+//! `[-1, 1]`); a directional light's plane `(u, v)` across its direction, over the scene's
+//! box, `side x side` cells. A cell holds the largest [`ReceiverGrid::sample_cell`] value of
+//! its samples: the distance from the light (point) or the depth along the light (directional),
+//! rounded up by 2^-20 of the magnitudes involved. The renderer scatters the samples on the GPU
+//! with the very f32 expressions of [`ReceiverGrid::sample_cell`] (umbra-gl's
+//! `receivers/scatter.frag.glsl`); the triangles' cones are computed here in f64 and widened by
+//! [`RECEIVER_MARGIN`] of the grid, far more than the rounding of a sample's cell coordinates,
+//! so a sample inside the cone is always in one of the cells read.
+
+use rayon::prelude::*;
+
+use crate::silhouette::{travel, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
+use crate::weld::WeldedMesh;
+use crate::{Aabb, Light};
+
+/// Cells along a side of the map's faces (a power of two).
+pub const RECEIVER_SIDE: u32 = 128;
+
+/// The widening of a triangle's cell rectangle, as a fraction of the grid's extent.
+pub const RECEIVER_MARGIN: f64 = 1.0 / 16384.0;
+
+/// The rounding up of a sample's value, relative to the magnitudes involved.
+pub const RECEIVER_ROUND_UP: f32 = 1.0 / 1048576.0;
+
+/// How a light's directions map to cells: the f32 parameters the GPU scatter uses as they are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReceiverGrid {
+    /// A point light at `light`: six faces of `side x side` cells, face `2m + (negative)` for
+    /// the major axis `m` of a direction.
+    Cube {
+        /// The light's position.
+        light: [f32; 3],
+        /// Cells along a face's side.
+        side: u32,
+    },
+    /// A directional light: `side x side` cells over `(u, v)` coordinates relative to `origin`,
+    /// cell `floor((uv - lo) * scale)`, clamped to the grid.
+    Flat {
+        /// Where the coordinates are measured from (the scene box's centre).
+        origin: [f32; 3],
+        /// First axis across the light.
+        u: [f32; 3],
+        /// Second axis across the light.
+        v: [f32; 3],
+        /// Unit direction of travel of the light's rays: a sample's value is its depth along it.
+        travel: [f32; 3],
+        /// Lower corner of the grid in `(u, v)`.
+        lo: [f32; 2],
+        /// Cells per unit of `u` and `v`.
+        scale: [f32; 2],
+        /// Cells along each axis.
+        side: u32,
+    },
+}
+
+/// The cell of `x` along one axis: `floor((x - lo) * scale)` clamped to `0..n`.
+#[inline]
+fn cell_f32(x: f32, lo: f32, scale: f32, n: u32) -> u32 {
+    ((x - lo) * scale).floor().clamp(0.0, (n - 1) as f32) as u32
+}
+
+#[inline]
+fn cell_f64(x: f64, lo: f64, scale: f64, n: u32) -> u32 {
+    ((x - lo) * scale).floor().clamp(0.0, (n - 1) as f64) as u32
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn f64x3(p: [f32; 3]) -> [f64; 3] {
+    p.map(|x| x as f64)
+}
+
+impl ReceiverGrid {
+    /// The grid of `light` over a scene with bounds `bounds` (used for directional lights: every
+    /// sample lies in the box).
+    pub fn new(light: Light, bounds: Aabb, side: u32) -> Self {
+        assert!(side.is_power_of_two(), "the receiver map's side must be a power of two");
+        if light[3] != 0.0 {
+            return ReceiverGrid::Cube { light: [light[0], light[1], light[2]], side };
+        }
+        let t = travel(light);
+        // An axis across the light: the coordinate axis least aligned with it, made orthogonal.
+        let a = if t[0].abs() <= t[1].abs() && t[0].abs() <= t[2].abs() {
+            [1.0, 0.0, 0.0]
+        } else if t[1].abs() <= t[2].abs() {
+            [0.0, 1.0, 0.0]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let k = dot(a, t);
+        let u = sub(a, t.map(|x| x * k));
+        let n = dot(u, u).sqrt();
+        let u = u.map(|x| x / n);
+        let v = [t[1] * u[2] - t[2] * u[1], t[2] * u[0] - t[0] * u[2], t[0] * u[1] - t[1] * u[0]];
+        let (u, v, t) = (u.map(|x| x as f32), v.map(|x| x as f32), t.map(|x| x as f32));
+        let origin = bounds.center();
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for corner in 0..8 {
+            let p = [0, 1, 2].map(|j| if corner & (1 << j) != 0 { bounds.max[j] } else { bounds.min[j] } as f64);
+            let rel = sub(p, f64x3(origin));
+            let uv = [dot(rel, f64x3(u)), dot(rel, f64x3(v))];
+            for j in 0..2 {
+                lo[j] = lo[j].min(uv[j]);
+                hi[j] = hi[j].max(uv[j]);
+            }
+        }
+        let extent = [0, 1].map(|j| (hi[j] - lo[j]).max(1e-30));
+        let scale = [0, 1].map(|j| (side as f64 / extent[j]) as f32);
+        ReceiverGrid::Flat { origin, u, v, travel: t, lo: [lo[0] as f32, lo[1] as f32], scale, side }
+    }
+
+    /// Cells along a side.
+    pub fn side(&self) -> u32 {
+        match *self {
+            ReceiverGrid::Cube { side, .. } | ReceiverGrid::Flat { side, .. } => side,
+        }
+    }
+
+    /// Faces: 6 for a point light, 1 for a directional one.
+    pub fn faces(&self) -> u32 {
+        match self {
+            ReceiverGrid::Cube { .. } => 6,
+            ReceiverGrid::Flat { .. } => 1,
+        }
+    }
+
+    /// Cells in all.
+    pub fn cells(&self) -> usize {
+        (self.faces() * self.side() * self.side()) as usize
+    }
+
+    /// The cell and the value of a visible sample at `p`, in f32, the very expressions of the
+    /// GPU scatter: `None` for a sample at a point light (lit by it).
+    pub fn sample_cell(&self, p: [f32; 3]) -> Option<(usize, f32)> {
+        match *self {
+            ReceiverGrid::Cube { light, side } => {
+                let rel = [p[0] - light[0], p[1] - light[1], p[2] - light[2]];
+                let a = rel.map(f32::abs);
+                if !(a[0] + a[1] + a[2] > 0.0) {
+                    return None;
+                }
+                let m = if a[0] >= a[1] && a[0] >= a[2] {
+                    0
+                } else if a[1] >= a[2] {
+                    1
+                } else {
+                    2
+                };
+                let face = 2 * m as u32 + u32::from(rel[m] < 0.0);
+                let uv = [rel[(m + 1) % 3] / a[m], rel[(m + 2) % 3] / a[m]];
+                let scale = 0.5 * side as f32;
+                let ci = cell_f32(uv[0], -1.0, scale, side);
+                let cj = cell_f32(uv[1], -1.0, scale, side);
+                let length = (rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2]).sqrt();
+                Some((((face * side + cj) * side + ci) as usize, length * (1.0 + RECEIVER_ROUND_UP)))
+            }
+            ReceiverGrid::Flat { origin, u, v, travel, lo, scale, side } => {
+                let rel = [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]];
+                let d = |a: [f32; 3]| rel[0] * a[0] + rel[1] * a[1] + rel[2] * a[2];
+                let ci = cell_f32(d(u), lo[0], scale[0], side);
+                let cj = cell_f32(d(v), lo[1], scale[1], side);
+                let magnitude = rel[0].abs() + rel[1].abs() + rel[2].abs();
+                Some(((cj * side + ci) as usize, d(travel) + magnitude * RECEIVER_ROUND_UP))
+            }
+        }
+    }
+}
+
+/// Order-preserving f32 -> u32 (a larger float gives a larger word; 0 is below every float):
+/// the GPU scatter's atomicMax works on these words.
+pub fn encode(x: f32) -> u32 {
+    let u = x.to_bits();
+    if u & 0x8000_0000 != 0 {
+        !u
+    } else {
+        u | 0x8000_0000
+    }
+}
+
+/// The inverse of [`encode`]; the empty word 0 decodes to `None`.
+pub fn decode(e: u32) -> Option<f32> {
+    if e == 0 {
+        None
+    } else if e & 0x8000_0000 != 0 {
+        Some(f32::from_bits(e & 0x7FFF_FFFF))
+    } else {
+        Some(f32::from_bits(!e))
+    }
+}
+
+/// A filled receiver map: per cell the largest sample value (`-inf` where no sample lies),
+/// with a max pyramid per face so that a large cone reads a few coarse cells.
+#[derive(Clone, Debug)]
+pub struct ReceiverMap {
+    grid: ReceiverGrid,
+    /// Level 0 (the cells), then each coarser level (side halved), all faces of a level
+    /// together, face-major.
+    levels: Vec<Vec<f32>>,
+}
+
+/// What [`ReceiverMap::cull_and_clamp`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CullStats {
+    /// Triangles whose volume is drawn.
+    pub kept: usize,
+    /// Kept triangles whose far ends are at infinity (no finite clamp was possible).
+    pub unclamped: usize,
+}
+
+impl ReceiverMap {
+    /// The map of `grid` from the GPU scatter's encoded words ([`encode`], 0 empty), one per
+    /// cell. `None` when `words` has not [`ReceiverGrid::cells`] entries.
+    pub fn from_encoded(grid: ReceiverGrid, words: &[u32]) -> Option<Self> {
+        if words.len() != grid.cells() {
+            return None;
+        }
+        let cells = words.iter().map(|&w| decode(w).unwrap_or(f32::NEG_INFINITY)).collect();
+        Some(Self::from_cells(grid, cells))
+    }
+
+    /// The map of `grid` from samples at `points`, scattered on the CPU with the GPU's
+    /// expressions (tests, and hosts without a GPU scatter).
+    pub fn from_samples(grid: ReceiverGrid, points: impl IntoIterator<Item = [f32; 3]>) -> Self {
+        let mut cells = vec![f32::NEG_INFINITY; grid.cells()];
+        for p in points {
+            if let Some((c, value)) = grid.sample_cell(p) {
+                cells[c] = cells[c].max(value);
+            }
+        }
+        Self::from_cells(grid, cells)
+    }
+
+    fn from_cells(grid: ReceiverGrid, cells: Vec<f32>) -> Self {
+        let faces = grid.faces() as usize;
+        let mut levels = vec![cells];
+        let mut side = grid.side() as usize;
+        while side > 1 {
+            let half = side / 2;
+            let prev = levels.last().expect("level 0 exists");
+            let mut next = vec![f32::NEG_INFINITY; faces * half * half];
+            for f in 0..faces {
+                for j in 0..half {
+                    for i in 0..half {
+                        let at = |ii: usize, jj: usize| prev[(f * side + jj) * side + ii];
+                        next[(f * half + j) * half + i] = at(2 * i, 2 * j)
+                            .max(at(2 * i + 1, 2 * j))
+                            .max(at(2 * i, 2 * j + 1))
+                            .max(at(2 * i + 1, 2 * j + 1));
+                    }
+                }
+            }
+            levels.push(next);
+            side = half;
+        }
+        Self { grid, levels }
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &ReceiverGrid {
+        &self.grid
+    }
+
+    /// The largest value in the cells `i0..=i1` x `j0..=j1` of `face`, read from the finest
+    /// level at which the rectangle spans at most 4 x 4 cells (a coarser cell's value bounds
+    /// its finer cells'); `-inf` when no sample lies there.
+    fn max_over(&self, face: u32, [i0, i1, j0, j1]: [u32; 4]) -> f32 {
+        let mut level = 0;
+        while (i1 >> level) - (i0 >> level) >= 4 || (j1 >> level) - (j0 >> level) >= 4 {
+            level += 1;
+        }
+        let side = (self.grid.side() >> level) as usize;
+        let cells = &self.levels[level];
+        let base = face as usize * side * side;
+        let mut r = f32::NEG_INFINITY;
+        for j in (j0 >> level)..=(j1 >> level) {
+            for i in (i0 >> level)..=(i1 >> level) {
+                r = r.max(cells[base + j as usize * side + i as usize]);
+            }
+        }
+        r
+    }
+
+    /// Whether triangle `q` may shadow a visible sample, and if so the bound `R` on the value
+    /// (distance or depth) of every visible sample in its frustum and the triangle's least
+    /// value `least`: `Some((R, least))`; `Some((inf, ..))` when the map cannot bound it (a
+    /// point light's cone across cube faces, or a triangle through the light).
+    fn bound(&self, q: [[f64; 3]; 3]) -> Option<(f64, f64)> {
+        match self.grid {
+            ReceiverGrid::Cube { light, side } => {
+                let l = f64x3(light);
+                let d = q.map(|p| sub(p, l));
+                let c = [0, 1, 2].map(|j| d[0][j] + d[1][j] + d[2][j]);
+                let ca = c.map(f64::abs);
+                let m = if ca[0] >= ca[1] && ca[0] >= ca[2] {
+                    0
+                } else if ca[1] >= ca[2] {
+                    1
+                } else {
+                    2
+                };
+                let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
+                let least = distance_to_triangle(l, q);
+                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                for di in d {
+                    let den = s * di[m];
+                    if !(den > 0.0) {
+                        return Some((f64::INFINITY, least));
+                    }
+                    let uv = [di[(m + 1) % 3] / den, di[(m + 2) % 3] / den];
+                    for j in 0..2 {
+                        lo[j] = lo[j].min(uv[j]);
+                        hi[j] = hi[j].max(uv[j]);
+                    }
+                }
+                // Strictly inside the face by 4 cells: every direction of the cone has
+                // coordinate m as its largest by far more than a sample's rounding, so the
+                // samples in the cone lie on this face.
+                let limit = 1.0 - 4.0 / side as f64;
+                if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
+                    return Some((f64::INFINITY, least));
+                }
+                let scale = 0.5 * side as f64;
+                let margin = 2.0 * RECEIVER_MARGIN;
+                let rect = [
+                    cell_f64(lo[0] - margin, -1.0, scale, side),
+                    cell_f64(hi[0] + margin, -1.0, scale, side),
+                    cell_f64(lo[1] - margin, -1.0, scale, side),
+                    cell_f64(hi[1] + margin, -1.0, scale, side),
+                ];
+                let face = 2 * m as u32 + u32::from(s < 0.0);
+                let r = self.max_over(face, rect) as f64;
+                (r > least).then_some((r, least))
+            }
+            ReceiverGrid::Flat { origin, u, v, travel, lo: glo, scale, side } => {
+                let o = f64x3(origin);
+                let (u, v, t) = (f64x3(u), f64x3(v), f64x3(travel));
+                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                let mut least = f64::MAX;
+                for p in q {
+                    let rel = sub(p, o);
+                    let uv = [dot(rel, u), dot(rel, v)];
+                    for j in 0..2 {
+                        lo[j] = lo[j].min(uv[j]);
+                        hi[j] = hi[j].max(uv[j]);
+                    }
+                    least = least.min(dot(rel, t));
+                }
+                let glo = [glo[0] as f64, glo[1] as f64];
+                let scale = [scale[0] as f64, scale[1] as f64];
+                let extent = [0, 1].map(|j| side as f64 / scale[j]);
+                let margin = [0, 1].map(|j| (2.0 * extent[j] + 2.0 * glo[j].abs()) * RECEIVER_MARGIN);
+                let rect = [
+                    cell_f64(lo[0] - margin[0], glo[0], scale[0], side),
+                    cell_f64(hi[0] + margin[0], glo[0], scale[0], side),
+                    cell_f64(lo[1] - margin[1], glo[1], scale[1], side),
+                    cell_f64(hi[1] + margin[1], glo[1], scale[1], side),
+                ];
+                let r = self.max_over(0, rect) as f64;
+                (r > least).then_some((r, least))
+            }
+        }
+    }
+
+    /// Which triangles of `mesh` may shadow a visible sample, and every vertex's far end
+    /// ([`VolumeClamp`]), into `out` (its allocations reused). `mesh` must be the scene the
+    /// samples were taken from, lit by the light of this map's grid (`light`).
+    pub fn cull_and_clamp(&self, mesh: &WeldedMesh, light: Light, out: &mut VolumeClamp) -> CullStats {
+        let point = light[3] != 0.0;
+        out.light = light;
+        out.travel = travel(light);
+        let n = mesh.triangles.len();
+        // Per triangle: its far end (0 dropped, inf unclamped), in parallel.
+        let mut ends = std::mem::take(&mut out.far);
+        ends.clear();
+        ends.resize(n, 0.0);
+        ends.par_iter_mut().zip(mesh.triangles.par_iter()).for_each(|(end, tri)| {
+            let q = tri.map(|i| f64x3(mesh.positions[i as usize]));
+            *end = match self.bound(q) {
+                None => 0.0,
+                Some((r, least)) => {
+                    let k = if point {
+                        if least > 0.0 {
+                            r / least * (1.0 + CLAMP_MARGIN)
+                        } else {
+                            f64::INFINITY
+                        }
+                    } else {
+                        (r - least) + CLAMP_MARGIN * ((r - least).abs() + r.abs() + least.abs())
+                    };
+                    if k.is_finite() && k < CLAMP_LIMIT {
+                        // Rounded up to f32: never below the bound.
+                        let f = k as f32;
+                        if (f as f64) < k {
+                            f32::from_bits(f.to_bits() + 1)
+                        } else {
+                            f
+                        }
+                    } else {
+                        f32::INFINITY
+                    }
+                }
+            };
+        });
+        out.keep.clear();
+        out.keep.extend(ends.iter().map(|&e| e > 0.0));
+        let mut stats = CullStats::default();
+        let mut far = vec![0.0f32; mesh.positions.len()];
+        for (tri, &e) in mesh.triangles.iter().zip(&ends) {
+            if e > 0.0 {
+                stats.kept += 1;
+                stats.unclamped += usize::from(e == f32::INFINITY);
+                for &i in tri {
+                    let f = &mut far[i as usize];
+                    *f = f.max(e);
+                }
+            }
+        }
+        out.far = far;
+        stats
+    }
+}
+
+/// The distance from `p` to the triangle `q` (Ericson, Real-Time Collision Detection, 5.1.5:
+/// the closest point by Voronoi regions), in f64.
+pub fn distance_to_triangle(p: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> f64 {
+    let len = |x: [f64; 3]| dot(x, x).sqrt();
+    let at = |base: [f64; 3], dir: [f64; 3], t: f64| [base[0] + dir[0] * t, base[1] + dir[1] * t, base[2] + dir[2] * t];
+    let ab = sub(b, a);
+    let ac = sub(c, a);
+    let ap = sub(p, a);
+    let d1 = dot(ab, ap);
+    let d2 = dot(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return len(ap);
+    }
+    let bp = sub(p, b);
+    let d3 = dot(ab, bp);
+    let d4 = dot(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return len(bp);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return len(sub(p, at(a, ab, d1 / (d1 - d3))));
+    }
+    let cp = sub(p, c);
+    let d5 = dot(ab, cp);
+    let d6 = dot(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return len(cp);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return len(sub(p, at(a, ac, d2 / (d2 - d6))));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return len(sub(p, at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    len(sub(p, [a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w]))
+}
+
+#[cfg(test)]
+mod tests;
