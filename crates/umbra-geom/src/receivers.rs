@@ -86,6 +86,17 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The axis of the largest of `a` (ties: x, then y), as the GPU scatter picks a cube face.
+fn major(a: [f64; 3]) -> usize {
+    if a[0] >= a[1] && a[0] >= a[2] {
+        0
+    } else if a[1] >= a[2] {
+        1
+    } else {
+        2
+    }
+}
+
 fn f64x3(p: [f32; 3]) -> [f64; 3] {
     p.map(|x| x as f64)
 }
@@ -300,6 +311,99 @@ impl ReceiverMap {
         r
     }
 
+    /// Raises every cell that the convex hull of `points` may cover to at least the farthest
+    /// of them, so that every point of the hull keeps the count it has in the unclamped
+    /// volumes (z-pass starts counting at the eye's near rectangle, [`ReceiverMap::cull_and_clamp`]
+    /// must not change the count there). `false` when the map cannot bound the hull (a point
+    /// light's cone of it across cube faces, or the light inside it): then nothing may be
+    /// clamped for this light.
+    pub fn raise_hull(&mut self, points: &[[f64; 3]]) -> bool {
+        let (face, rect, value) = match self.grid {
+            ReceiverGrid::Cube { light, side } => {
+                let l = f64x3(light);
+                let d: Vec<[f64; 3]> = points.iter().map(|&p| sub(p, l)).collect();
+                let c = d.iter().fold([0.0; 3], |acc, x| [acc[0] + x[0], acc[1] + x[1], acc[2] + x[2]]);
+                let m = major(c.map(f64::abs));
+                let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
+                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                let mut far = 0.0f64;
+                for di in &d {
+                    let den = s * di[m];
+                    if !(den > 0.0) {
+                        return false;
+                    }
+                    let uv = [di[(m + 1) % 3] / den, di[(m + 2) % 3] / den];
+                    for j in 0..2 {
+                        lo[j] = lo[j].min(uv[j]);
+                        hi[j] = hi[j].max(uv[j]);
+                    }
+                    far = far.max(dot(*di, *di).sqrt());
+                }
+                let limit = 1.0 - 4.0 / side as f64;
+                if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
+                    return false;
+                }
+                let scale = 0.5 * side as f64;
+                let margin = 2.0 * RECEIVER_MARGIN;
+                let rect = [
+                    cell_f64(lo[0] - margin, -1.0, scale, side),
+                    cell_f64(hi[0] + margin, -1.0, scale, side),
+                    cell_f64(lo[1] - margin, -1.0, scale, side),
+                    cell_f64(hi[1] + margin, -1.0, scale, side),
+                ];
+                (2 * m as u32 + u32::from(s < 0.0), rect, far * (1.0 + 2.0 * RECEIVER_ROUND_UP as f64))
+            }
+            ReceiverGrid::Flat { origin, u, v, travel, lo: glo, scale, side } => {
+                let o = f64x3(origin);
+                let (u, v, t) = (f64x3(u), f64x3(v), f64x3(travel));
+                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                let mut far = f64::MIN;
+                let mut magnitude = 0.0f64;
+                for &p in points {
+                    let rel = sub(p, o);
+                    let uv = [dot(rel, u), dot(rel, v)];
+                    for j in 0..2 {
+                        lo[j] = lo[j].min(uv[j]);
+                        hi[j] = hi[j].max(uv[j]);
+                    }
+                    far = far.max(dot(rel, t));
+                    magnitude = magnitude.max(rel[0].abs() + rel[1].abs() + rel[2].abs());
+                }
+                let glo = [glo[0] as f64, glo[1] as f64];
+                let scale = [scale[0] as f64, scale[1] as f64];
+                let extent = [0, 1].map(|j| side as f64 / scale[j]);
+                let margin = [0, 1].map(|j| (2.0 * extent[j] + 2.0 * glo[j].abs()) * RECEIVER_MARGIN);
+                let rect = [
+                    cell_f64(lo[0] - margin[0], glo[0], scale[0], side),
+                    cell_f64(hi[0] + margin[0], glo[0], scale[0], side),
+                    cell_f64(lo[1] - margin[1], glo[1], scale[1], side),
+                    cell_f64(hi[1] + margin[1], glo[1], scale[1], side),
+                ];
+                (0, rect, far + 2.0 * magnitude * RECEIVER_ROUND_UP as f64)
+            }
+        };
+        if !value.is_finite() {
+            return false;
+        }
+        // Rounded up to f32, then raised through every level of the pyramid.
+        let mut value32 = value as f32;
+        if (value32 as f64) < value {
+            value32 = value32.next_up();
+        }
+        let [i0, i1, j0, j1] = rect;
+        for (level, cells) in self.levels.iter_mut().enumerate() {
+            let side = (self.grid.side() >> level) as usize;
+            let base = face as usize * side * side;
+            for j in (j0 >> level)..=(j1 >> level) {
+                for i in (i0 >> level)..=(i1 >> level) {
+                    let c = &mut cells[base + j as usize * side + i as usize];
+                    *c = c.max(value32);
+                }
+            }
+        }
+        true
+    }
+
     /// Whether triangle `q` may shadow a visible sample, and if so the bound `R` on the value
     /// (distance or depth) of every visible sample in its frustum and the triangle's least
     /// value `least`: `Some((R, least))`; `Some((inf, ..))` when the map cannot bound it (a
@@ -310,14 +414,7 @@ impl ReceiverMap {
                 let l = f64x3(light);
                 let d = q.map(|p| sub(p, l));
                 let c = [0, 1, 2].map(|j| d[0][j] + d[1][j] + d[2][j]);
-                let ca = c.map(f64::abs);
-                let m = if ca[0] >= ca[1] && ca[0] >= ca[2] {
-                    0
-                } else if ca[1] >= ca[2] {
-                    1
-                } else {
-                    2
-                };
+                let m = major(c.map(f64::abs));
                 let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
                 let least = distance_to_triangle(l, q);
                 let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);

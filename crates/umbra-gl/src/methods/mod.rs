@@ -43,6 +43,7 @@ pub mod hier_silhouette;
 pub mod hier_triangle;
 pub mod none;
 pub mod ray_bvh;
+pub(crate) mod receivers;
 pub mod shadow_map;
 pub mod silhouette_caps;
 pub mod ts_silhouette;

@@ -26,11 +26,16 @@
 //! Stages reported: "silhouette" (CPU extraction), "upload", "sides", "caps".
 
 use glow::HasContext;
-use umbra_geom::silhouette::{extract_indexed, has_dark_caps, IndexedVolume, TriangleSlots};
+use umbra_geom::receivers::CullStats;
+use umbra_geom::silhouette::{
+    extract_clamped, extract_indexed, has_dark_caps, IndexedVolume, TriangleSlots, VolumeClamp,
+};
+use umbra_geom::Aabb;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
+use crate::methods::receivers::ReceiverPass;
 use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
@@ -65,9 +70,10 @@ impl StreamBuffer {
     /// reading last frame's data) and uploads `data` at offset 0. A store the driver refuses
     /// is [`GlError::OutOfMemory`] ([`buffer_store`]); the capacity is then 0 (GL leaves a
     /// refused store empty), so the next frame specifies a new one again.
-    fn upload(&mut self, gl: &glow::Context, data: &[u8], what: &'static str) -> Result<(), GlError> {
-        if data.len() > self.capacity {
-            self.capacity = data.len().max(self.capacity + self.capacity / 2);
+    fn upload(&mut self, gl: &glow::Context, parts: &[&[u8]], what: &'static str) -> Result<(), GlError> {
+        let len: usize = parts.iter().map(|p| p.len()).sum();
+        if len > self.capacity {
+            self.capacity = len.max(self.capacity + self.capacity / 2);
         }
         if let Err(e) =
             buffer_store(gl, self.buffer, BufferApi::Dsa, BufferData::Size(self.capacity), glow::STREAM_DRAW, what)
@@ -75,10 +81,12 @@ impl StreamBuffer {
             self.capacity = 0;
             return Err(e);
         }
-        if !data.is_empty() {
+        let mut at = 0;
+        for data in parts.iter().filter(|p| !p.is_empty()) {
             // SAFETY: our own buffer, whose store has just been specified with
-            // capacity >= data.len() bytes.
-            unsafe { gl.named_buffer_sub_data_u8_slice(self.buffer, 0, data) };
+            // capacity >= the parts' total bytes.
+            unsafe { gl.named_buffer_sub_data_u8_slice(self.buffer, at as i32, data) };
+            at += data.len();
         }
         Ok(())
     }
@@ -110,6 +118,40 @@ pub struct CpuSilhouette {
     slots: Option<(SceneId, TriangleSlots)>,
     /// Whether the last volume has dark caps (a point light with caps).
     last_dark_caps: bool,
+    /// Cull and clamp the volumes against the light's receivers (on unless switched off).
+    no_cull: bool,
+    /// The receiver map pass (made in prepare when culling).
+    receivers: Option<ReceiverPass>,
+    /// The last light's kept triangles and far ends.
+    clamp: VolumeClamp,
+    /// What the last cull did (`None`: not culled).
+    last_cull: Option<CullStats>,
+    /// Bounds of the welded positions of the prepared scene (a directional light's receiver grid).
+    bounds: Option<Aabb>,
+}
+
+/// The eye and its near rectangle in world space, enlarged (as the renderer's auto z-pass
+/// test takes them, [`umbra_geom::camera::near_pyramid_points`], then 2 % farther from the eye):
+/// their hull holds every point where a z-pass count starts.
+fn near_pyramid(frame: &VolumeFrame<'_>) -> Vec<[f64; 3]> {
+    let world_from_clip = frame.clip_from_world.inverse();
+    let mut points = umbra_geom::camera::near_pyramid_points(&world_from_clip, frame.eye, frame.depth_convention());
+    let eye = frame.eye;
+    for p in points.iter_mut().skip(1) {
+        *p = std::array::from_fn(|a| eye[a] + 1.02 * (p[a] - eye[a]));
+    }
+    points
+}
+
+/// The box of `positions`; `None` when there are none.
+fn bounds_of(positions: &[[f32; 3]]) -> Option<Aabb> {
+    let first = *positions.first()?;
+    let mut b = Aabb { min: first, max: first };
+    for p in positions {
+        b.min = [0, 1, 2].map(|k| b.min[k].min(p[k]));
+        b.max = [0, 1, 2].map(|k| b.max[k].max(p[k]));
+    }
+    Some(b)
 }
 
 /// The bytes of plain-old-data arrays of `u32` or `f32` (no padding, every byte initialised).
@@ -131,10 +173,24 @@ impl CpuSilhouette {
     }
 
     /// Vertex counts (sides, dark caps, light caps) of the last extracted volume, as drawn
-    /// (degenerate caps of edge-on triangles included).
+    /// (degenerate caps of edge-on and dropped triangles included; a clamped volume's far caps
+    /// count as its dark caps).
     pub fn last_counts(&self) -> (usize, usize, usize) {
         let caps = 3 * self.volume.caps.len();
-        (self.volume.sides.len(), if self.last_dark_caps { caps } else { 0 }, caps)
+        let dark = if self.last_cull.is_some() {
+            self.volume.far_caps.len()
+        } else if self.last_dark_caps {
+            caps
+        } else {
+            0
+        };
+        (self.volume.sides.len(), dark, caps)
+    }
+
+    /// What the receiver cull of the last light did: triangles kept and kept unclamped;
+    /// `None` when the last volume was not culled.
+    pub fn last_cull(&self) -> Option<CullStats> {
+        self.last_cull
     }
 
     /// Builds the [`TriangleSlots`] of `scene` unless they are already there.
@@ -163,7 +219,7 @@ impl ShadowMethod for CpuSilhouette {
     }
 
     fn stages(&self) -> &'static [&'static str] {
-        &["silhouette", "upload", "sides", "caps"]
+        &["receivers", "silhouette", "upload", "sides", "caps"]
     }
 
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
@@ -236,6 +292,10 @@ impl ShadowMethod for CpuSilhouette {
                 });
             }
         }
+        if self.receivers.is_none() && !self.no_cull {
+            self.receivers = Some(ReceiverPass::new(gl)?);
+        }
+        self.bounds = bounds_of(&scene.mesh().positions);
         self.prepared = Some(scene.id());
         Ok(())
     }
@@ -250,27 +310,56 @@ impl ShadowMethod for CpuSilhouette {
         scene: &SceneGpu,
         frame: &mut VolumeFrame<'_>,
     ) -> Result<(), GlError> {
+        // The receiver map, and from it the triangles kept and their far ends (docs/exactness.md,
+        // "Volumes clamped to their receivers").
+        frame.mark(gl, "receivers");
+        self.last_cull = None;
+        if !self.no_cull {
+            if self.receivers.is_none() {
+                self.receivers = Some(ReceiverPass::new(gl)?);
+            }
+            if let (Some(pass), Some(bounds)) = (self.receivers.as_ref(), self.bounds) {
+                let mut map = pass.build(gl, scene, frame, bounds)?;
+                // z-pass starts every count at the eye's near rectangle with the eye's winding
+                // (the renderer's W0, from the unclamped volumes): the near pyramid's cells are
+                // raised to its farthest point, so no count inside it changes (clamp.rs). Where
+                // the map cannot bound it, this light is drawn unclamped.
+                let near_ok = !frame.zpass || map.raise_hull(&near_pyramid(frame));
+                if near_ok {
+                    self.last_cull = Some(map.cull_and_clamp(scene.mesh(), frame.light, &mut self.clamp));
+                }
+            }
+        }
         frame.mark(gl, "silhouette");
         // Built in prepare; rebuilt only if drawn with another scene.
         self.slots_for(scene)?;
         let (Some(gpu), Some((_, slots))) = (self.gpu.as_mut(), self.slots.as_ref()) else {
             return Err(GlError::InvalidParams("cpu-silhouette: draw_volumes before prepare".into()));
         };
-        // z-pass needs no caps (it counts only faces in front of the sample).
+        // z-pass needs no light caps (they are never in front of a visible sample) and no dark
+        // caps at infinity; a clamped volume's far caps it does need (clamp.rs).
         let caps = !frame.zpass;
-        extract_indexed(scene.mesh(), scene.adjacency(), slots, frame.light, caps, &mut self.volume);
-        self.last_dark_caps = caps && has_dark_caps(frame.light);
+        let (mesh, adjacency) = (scene.mesh(), scene.adjacency());
+        if self.last_cull.is_some() {
+            extract_clamped(mesh, adjacency, slots, frame.light, caps, &self.clamp, &mut self.volume);
+            self.last_dark_caps = false;
+        } else {
+            extract_indexed(mesh, adjacency, slots, frame.light, caps, &mut self.volume);
+            self.last_dark_caps = caps && has_dark_caps(frame.light);
+        }
         let v = &self.volume;
 
         frame.mark(gl, "upload");
-        let (sides, cap_indices) = (v.sides.len(), 3 * v.caps.len());
+        // The far caps follow the sides in the same buffer and draw: both are plain triangles
+        // of homogeneous vertices, each with the face depth of its own plane.
+        let (sides, cap_indices) = (v.sides.len() + v.far_caps.len(), 3 * v.caps.len());
         if i32::try_from(sides).is_err() || i32::try_from(cap_indices).is_err() {
             return Err(GlError::InvalidParams(format!(
                 "{sides} shadow-volume side vertices or {cap_indices} cap indices exceed one draw call"
             )));
         }
-        gpu.sides.upload(gl, as_bytes(&v.sides), "cpu-silhouette side buffer")?;
-        gpu.caps.upload(gl, as_bytes(&v.caps), "cpu-silhouette cap index buffer")?;
+        gpu.sides.upload(gl, &[as_bytes(&v.sides), as_bytes(&v.far_caps)], "cpu-silhouette side buffer")?;
+        gpu.caps.upload(gl, &[as_bytes(&v.caps)], "cpu-silhouette cap index buffer")?;
 
         // Counting state: z-fail or z-pass two-sided stencil, depth clamp, no colour/depth
         // writes, depth func of the frame's convention; the reason for every field is in
@@ -328,6 +417,7 @@ impl ShadowMethod for CpuSilhouette {
 
     fn gpu_bytes(&self) -> usize {
         self.gpu.as_ref().map_or(0, |g| g.sides.capacity + g.caps.capacity)
+            + self.receivers.as_ref().map_or(0, ReceiverPass::gpu_bytes)
     }
 
     fn destroy(&mut self, gl: &glow::Context) {
@@ -340,6 +430,9 @@ impl ShadowMethod for CpuSilhouette {
                 gl.delete_buffer(g.sides.buffer);
                 gl.delete_buffer(g.caps.buffer);
             }
+        }
+        if let Some(r) = self.receivers.take() {
+            r.destroy(gl);
         }
         self.prepared = None;
     }

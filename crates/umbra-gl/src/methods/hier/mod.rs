@@ -31,7 +31,7 @@
 //! [`layout::Layout::frame_bytes`]; every allocation is checked, one the GL refuses is
 //! [`GlError::OutOfMemory`] and nothing is left behind.
 
-mod buffers;
+pub(crate) mod buffers;
 pub mod layout;
 mod programs;
 mod work;
