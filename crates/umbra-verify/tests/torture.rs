@@ -360,6 +360,118 @@ fn torture_two_lights_point_and_directional() {
 }
 
 // ---------------------------------------------------------------------------------------
+// Volumes clamped to their receivers (cpu-silhouette's receiver map; docs/exactness.md,
+// "Volumes clamped to their receivers")
+
+#[test]
+fn torture_clamp_receiver_at_the_clamp_distance_and_one_an_ulp_beyond() {
+    // Two floor tiles under one caster: the left one at y = 1, the right one an ulp lower,
+    // so the farthest receiver of the caster's cone (the one its clamp is made from) and a
+    // receiver an ulp beyond it both lie in its shadow, side by side.
+    let below = f32::from_bits(1.0f32.to_bits() - 1);
+    let tile = |x0: f32, x1: f32, y: f32| {
+        [[[x0, y, -3.0], [x1, y, -3.0], [x1, y, 3.0]], [[x0, y, -3.0], [x1, y, 3.0], [x0, y, 3.0]]]
+    };
+    let mut tris: Vec<[[f32; 3]; 3]> = tile(-3.0, 0.0, 1.0).into_iter().chain(tile(0.0, 3.0, below)).collect();
+    tris.push([[-1.0, 2.5, -1.0], [1.0, 2.5, -0.8], [0.0, 2.5, 1.2]]);
+    run(case(
+        "clamp-receiver-an-ulp-beyond",
+        soup(&tris),
+        [2.0, 5.0, 4.0],
+        [0.0, 1.0, 0.0],
+        vec![[0.1, 6.0, 0.2, 1.0]],
+    ));
+}
+
+#[test]
+fn torture_clamp_light_inside_with_receivers_on_every_side() {
+    // A closed room lit from its middle, with casters on all six sides of the light: every
+    // cube face of the receiver map holds receivers, and cones cross faces.
+    let mut m = cuboid([0.0, 0.0, 0.0], [4.0, 4.0, 4.0]);
+    for c in [[1.5, 0.0, 0.0], [-1.5, 0.2, 0.0], [0.0, 1.5, 0.3], [0.2, -1.5, 0.0], [0.0, 0.0, 1.5], [0.3, 0.0, -1.5]] {
+        m.append(&tetrahedron(c, 0.5));
+    }
+    m.append(&cuboid([0.6, 0.6, 0.6], [0.3, 0.1, 0.3]));
+    run(case("clamp-light-inside", m, [-3.5, 3.0, 3.4], [0.5, -1.0, -1.0], vec![[0.05, 0.1, -0.05, 1.0]]));
+}
+
+#[test]
+fn torture_clamp_receiver_seen_through_a_narrow_gap() {
+    // A wall with a slit 0.05 wide between the eye and the floor behind it: the only visible
+    // receivers of the caster's shadow are the few seen through the slit.
+    // The wall is lower than the light, so the floor behind it is lit but for the caster's
+    // shadow, and the floor in front of it gives the case lit samples.
+    let mut m = with_ground(cuboid([0.0, 0.8, 3.0], [0.3, 0.1, 0.3]));
+    m.append(&cuboid([-2.525, 0.75, 0.0], [2.5, 0.75, 0.05]));
+    m.append(&cuboid([2.525, 0.75, 0.0], [2.5, 0.75, 0.05]));
+    run(case("clamp-narrow-gap", m, [0.0, 1.0, -4.0], [0.0, 0.3, 3.0], vec![[0.2, 6.0, 3.1, 1.0]]));
+}
+
+#[test]
+fn torture_clamp_eye_inside_a_clamped_volume() {
+    // The eye under a plate, between it and the floor its shadow is clamped to, looking out
+    // of the shadow along the floor.
+    let mut m = with_ground(cuboid([0.0, 1.2, 0.0], [1.5, 0.05, 1.5]));
+    m.append(&tetrahedron([3.0, 0.5, 1.0], 0.5));
+    run(case("clamp-eye-inside-volume", m, [0.1, 0.4, -0.2], [4.0, 0.0, 2.0], vec![[0.2, 6.0, 0.1, 1.0]]));
+}
+
+#[test]
+fn torture_clamp_directional_light_over_a_very_deep_scene() {
+    // A corridor 2,000 units deep, posts along it, a low directional light along its length:
+    // the depths along the light span the whole corridor.
+    let mut m = Mesh::default();
+    m.append(&soup(&[
+        [[-5.0, 0.0, 0.0], [5.0, 0.0, 0.0], [5.0, 0.0, -2000.0]],
+        [[-5.0, 0.0, 0.0], [5.0, 0.0, -2000.0], [-5.0, 0.0, -2000.0]],
+    ]));
+    for k in 0..20 {
+        let z = -5.0 - 15.0 * k as f32 * (1.0 + k as f32);
+        m.append(&cuboid([if k % 2 == 0 { -2.0 } else { 2.0 }, 1.5, z], [0.8, 1.5, 0.8]));
+    }
+    run(case("clamp-deep-directional", m, [0.0, 6.0, 6.0], [0.0, 0.0, -30.0], vec![[0.4, 0.3, 1.0, 0.0]]));
+}
+
+/// Every method (each object reused across frames, as an application does) stays exact when
+/// the caster moves between frames and then the light does: nothing of the previous frame's
+/// receiver map or clamp survives into the next.
+#[test]
+fn torture_clamp_caster_moves_between_frames() {
+    let ctx = HeadlessContext::with_options(ContextOptions { api: GlApi::Gl45Core, debug: true })
+        .unwrap_or_else(|e| panic!("no headless GL 4.5 context: {e}"));
+    let gl = ctx.gl();
+    let mut renderer = Renderer::new(gl).expect("renderer").with_error_log(ctx.error_log().cloned());
+    let frames: Vec<(Mesh, Light)> = vec![
+        (with_ground(cuboid([0.0, 1.5, 0.0], [0.5, 0.5, 0.5])), ABOVE),
+        (with_ground(cuboid([1.5, 1.0, 0.5], [0.5, 0.5, 0.5])), ABOVE),
+        (with_ground(cuboid([1.5, 1.0, 0.5], [0.5, 0.5, 0.5])), [-2.0, 5.0, 1.0, 1.0]),
+    ];
+    let scenes: Vec<SceneGpu> =
+        frames.iter().map(|(m, _)| SceneGpu::upload(gl, Arc::new(weld(m))).expect("upload")).collect();
+    let mut failures = Vec::new();
+    let only = std::env::var("UMBRA_TORTURE_METHODS").ok();
+    let selected = |name: &str| only.as_deref().is_none_or(|list| list.split(',').any(|m| m.trim() == name));
+    for &name in method_names().iter().filter(|n| selected(n)) {
+        let mut method = create_method(name).expect("registered");
+        for (k, ((_, light), scene)) in frames.iter().zip(&scenes).enumerate() {
+            let camera = Camera { eye: EYE, target: ORIGIN, near: 0.01, ..Camera::default() };
+            let params = FrameParams { camera, width: W, height: H, lights: vec![*light], ..FrameParams::default() };
+            let view = view_reference(gl, &mut renderer, scene, &params).expect("reference");
+            let report = verify_method(gl, &mut renderer, scene, method.as_mut(), &params, &view)
+                .unwrap_or_else(|e| panic!("{name}, frame {k}: {e}"));
+            if !report.passed() {
+                failures
+                    .push(format!("{name}, frame {k}: {} outside the band", report.metrics.mismatches_outside_band));
+            }
+        }
+        method.destroy(gl);
+    }
+    let errors = ctx.take_gl_errors();
+    assert!(errors.is_empty(), "GL errors: {errors:?}");
+    assert!(failures.is_empty(), "{}", failures.join("; "));
+}
+
+// ---------------------------------------------------------------------------------------
 // Open geometry
 
 #[test]
