@@ -28,7 +28,7 @@ use crate::weld::WeldedMesh;
 use crate::{Aabb, Light};
 
 /// Cells along a side of the map's faces (a power of two).
-pub const RECEIVER_SIDE: u32 = 128;
+pub const RECEIVER_SIDE: u32 = 256;
 
 /// The widening of a triangle's cell rectangle, as a fraction of the grid's extent.
 pub const RECEIVER_MARGIN: f64 = 1.0 / 16384.0;
@@ -167,7 +167,7 @@ impl ReceiverGrid {
             ReceiverGrid::Cube { light, side } => {
                 let rel = [p[0] - light[0], p[1] - light[1], p[2] - light[2]];
                 let a = rel.map(f32::abs);
-                if !(a[0] + a[1] + a[2] > 0.0) {
+                if (a[0] + a[1] + a[2]).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                     return None;
                 }
                 let m = if a[0] >= a[1] && a[0] >= a[2] {
@@ -329,7 +329,7 @@ impl ReceiverMap {
                 let mut far = 0.0f64;
                 for di in &d {
                     let den = s * di[m];
-                    if !(den > 0.0) {
+                    if den.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                         return false;
                     }
                     let uv = [di[(m + 1) % 3] / den, di[(m + 2) % 3] / den];
@@ -418,10 +418,20 @@ impl ReceiverMap {
                 let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
                 let least = distance_to_triangle(l, q);
                 let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                // A cone the faces cannot bound one by one is bounded by the largest value of
+                // the whole map (the top of the pyramid).
+                let everywhere = || {
+                    let r = self
+                        .levels
+                        .last()
+                        .map_or(f32::NEG_INFINITY, |top| top.iter().copied().fold(f32::NEG_INFINITY, f32::max));
+                    let r = r as f64;
+                    (r > least).then_some((r, least))
+                };
                 for di in d {
                     let den = s * di[m];
-                    if !(den > 0.0) {
-                        return Some((f64::INFINITY, least));
+                    if den.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                        return everywhere();
                     }
                     let uv = [di[(m + 1) % 3] / den, di[(m + 2) % 3] / den];
                     for j in 0..2 {
@@ -434,7 +444,7 @@ impl ReceiverMap {
                 // samples in the cone lie on this face.
                 let limit = 1.0 - 4.0 / side as f64;
                 if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
-                    return Some((f64::INFINITY, least));
+                    return everywhere();
                 }
                 let scale = 0.5 * side as f64;
                 let margin = 2.0 * RECEIVER_MARGIN;

@@ -174,8 +174,10 @@ fn a_receiver_exactly_at_the_clamp_distance_and_one_an_ulp_beyond_are_both_enclo
 }
 
 #[test]
-fn a_cone_across_cube_faces_is_kept_unclamped() {
-    // A triangle around the light's +x/+y diagonal: its cone spans two faces.
+fn a_cone_across_cube_faces_is_bounded_by_the_whole_map() {
+    // A triangle around the light's +x/+y diagonal: its cone spans two faces, so its bound is
+    // the largest value anywhere in the map: kept and clamped beyond it while a sample lies
+    // beyond the triangle anywhere, dropped when every sample is nearer than the triangle.
     let light = [0.0, 0.0, 0.0, 1.0];
     let mesh = WeldedMesh {
         positions: vec![[5.0, 4.0, -1.0], [4.0, 5.0, -1.0], [4.5, 4.5, 1.0]],
@@ -184,11 +186,16 @@ fn a_cone_across_cube_faces_is_kept_unclamped() {
         degenerate_triangles: 0,
     };
     let bounds = Aabb { min: [-20.0; 3], max: [20.0; 3] };
-    let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[9.0, 9.0, 0.0]]);
     let mut clamp = VolumeClamp::default();
+    // Far from the cone (-z face), but farther than the triangle.
+    let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[0.0, 0.0, -15.0], [9.0, 9.0, 0.0]]);
     let stats = map.cull_and_clamp(&mesh, light, &mut clamp);
-    assert_eq!((stats.kept, stats.unclamped), (1, 1));
-    assert!(clamp.far.iter().all(|k| k.is_infinite()));
+    assert_eq!((stats.kept, stats.unclamped), (1, 0));
+    let least = distance_to_triangle([0.0; 3], mesh.triangles[0].map(|i| f64x3(mesh.positions[i as usize])));
+    assert!(clamp.far.iter().all(|&k| k as f64 > 15.0 / least), "{:?}", clamp.far);
+    // Every sample nearer the light than the triangle: dropped.
+    let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[0.0, 0.0, -2.0], [1.0, 1.0, 0.0]]);
+    assert_eq!(map.cull_and_clamp(&mesh, light, &mut clamp).kept, 0);
 }
 
 #[test]
