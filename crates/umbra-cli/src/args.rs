@@ -64,6 +64,12 @@ pub struct ViewArgs {
     /// faster: no caps, volumes clipped to the scene). `--zpass` is `--zmode zpass`.
     #[arg(long, default_value = "auto")]
     pub zmode: String,
+    /// Cull and clamp the shadow volumes against each light's visible receivers: `on` (the
+    /// default; cpu-silhouette on the GL backend: the same decision at every sample, less fill)
+    /// or `off` (the unclamped volumes, to measure the difference). Other methods and the wgpu
+    /// backend draw their volumes as they are either way.
+    #[arg(long, default_value = "on")]
+    pub volume_cull: String,
     /// Largest accepted input file in bytes, after decompression.
     #[arg(long)]
     pub max_input_bytes: Option<u64>,
@@ -259,6 +265,12 @@ pub struct BenchArgs {
     /// faster: no caps, volumes clipped to the scene). `--zpass` is `--zmode zpass`.
     #[arg(long, default_value = "auto")]
     pub zmode: String,
+    /// Cull and clamp the shadow volumes against each light's visible receivers: `on` (the
+    /// default; cpu-silhouette on the GL backend: the same decision at every sample, less fill)
+    /// or `off` (the unclamped volumes, to measure the difference). Other methods and the wgpu
+    /// backend draw their volumes as they are either way.
+    #[arg(long, default_value = "on")]
+    pub volume_cull: String,
     /// Shadow-volume counter: `stencil8` (the 8-bit stencil; wraps when 256 or more
     /// triangles lie between a sample and the light), `float32` (an exact f32 count resolved
     /// into the stencil) or `auto` (float32 only when a sound bound of that count reaches 256).

@@ -521,6 +521,7 @@ mod tests {
             ground: true,
             zpass: false,
             zmode: "auto".into(),
+            volume_cull: "on".into(),
             max_input_bytes: None,
         }
     }

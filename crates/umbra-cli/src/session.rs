@@ -72,6 +72,7 @@ pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> 
         lights: view.lights.clone(),
         zpass: view.zpass,
         auto_zpass: view.auto_zpass,
+        volume_cull: view.volume_cull,
         ..FrameParams::default()
     }
 }

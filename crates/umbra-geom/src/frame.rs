@@ -80,12 +80,18 @@ pub struct FrameParams {
     /// resolved into the stencil, for methods that count in the stencil. umbra-wgpu counts in
     /// the 8-bit stencil only.
     pub counter: Counter,
+    /// Cull and clamp the shadow volumes against each light's visible receivers (default on):
+    /// the methods that can (cpu-silhouette on umbra-gl) drop the triangles whose shadow
+    /// frustum holds no visible sample and end the others just beyond their farthest receiver
+    /// (docs/exactness.md, "Volumes clamped to their receivers"); the same decision at every
+    /// sample. Off: the unclamped volumes, to measure the difference.
+    pub volume_cull: bool,
 }
 
 impl Default for FrameParams {
     /// 1280x720, default camera, no lights, auto z-pass (z-fail where it cannot be proved
     /// exact), light grey surfaces, ambient 0.15, white light, dark blue-grey background,
-    /// reversed-Z, the 8-bit stencil counter.
+    /// reversed-Z, the 8-bit stencil counter, volumes culled against their receivers.
     fn default() -> Self {
         Self {
             camera: Camera::default(),
@@ -103,6 +109,7 @@ impl Default for FrameParams {
             capture: CaptureFlags::default(),
             depth_convention: DepthConvention::default(),
             counter: Counter::default(),
+            volume_cull: true,
         }
     }
 }

@@ -48,7 +48,8 @@ pub use extra::GlExtra;
 pub use image::{Image, LitMaskImage, RgbaImage, StencilImage, TriangleIdImage, WorldPosImage};
 pub use methods::work_counts::WorkCounts;
 pub use methods::{
-    create_method, method_names, Classification, ShadowMethod, StageHook, StageMark, UnknownMethod, VolumeFrame,
+    create_method, method_names, Classification, DrawnVolume, ShadowMethod, StageHook, StageMark, UnknownMethod,
+    VolumeFrame,
 };
 pub use renderer::{
     CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Renderer,

@@ -69,6 +69,7 @@ use crate::counter::FloatCounter;
 use crate::error::{drain_get_error, GlError, GlErrorLog};
 use crate::extra::GlExtra;
 use crate::image::StencilImage;
+use crate::methods::DrawnVolume;
 use crate::methods::{ShadowMethod, StageHook};
 use crate::saved::{MethodBindings, SavedState};
 use crate::scene::SceneGpu;
@@ -121,6 +122,14 @@ pub struct Renderer {
     last_zpass: Vec<bool>,
     /// The last [`VolumeFrame::view_serial`] handed out.
     view_serial: u64,
+    /// Per light of the last volume passes: what the method drew ([`Renderer::last_drawn`]).
+    last_drawn: Vec<Option<DrawnVolume>>,
+    /// Count the fragments of every volume pass ([`Renderer::set_count_volume_fragments`]).
+    count_volume_fragments: bool,
+    /// The pipeline-statistics query those counts use (made on first use).
+    fragment_query: Option<glow::Query>,
+    /// Per light of the last volume passes: their fragment counts.
+    last_volume_fragments: Vec<Option<u64>>,
 }
 
 impl Renderer {
@@ -145,6 +154,10 @@ impl Renderer {
             scene_clip: None,
             last_zpass: Vec::new(),
             view_serial: 0,
+            last_drawn: Vec::new(),
+            count_volume_fragments: false,
+            fragment_query: None,
+            last_volume_fragments: Vec::new(),
         })
     }
 
@@ -364,6 +377,10 @@ impl Renderer {
             // SAFETY: our own buffer.
             unsafe { gl.delete_buffer(b) };
         }
+        if let Some(q) = self.fragment_query.take() {
+            // SAFETY: our own query, not active.
+            unsafe { gl.delete_query(q) };
+        }
     }
 
     /// Per light of the last frame (or [`Renderer::count_shadows`] call: one entry), whether
@@ -371,5 +388,26 @@ impl Renderer {
     /// [`FrameParams::auto_zpass`]) rather than z-fail.
     pub fn last_zpass(&self) -> &[bool] {
         &self.last_zpass
+    }
+
+    /// Per light of the last frame (or [`Renderer::count_shadows`] call), what the method
+    /// drew ([`ShadowMethod::drawn_volume`]; `None` for methods that do not report it).
+    pub fn last_drawn(&self) -> &[Option<DrawnVolume>] {
+        &self.last_drawn
+    }
+
+    /// Counts the fragments every light's volume pass rasterizes from now on (or stops):
+    /// `GL_FRAGMENT_SHADER_INVOCATIONS` (ARB_pipeline_statistics_query) around the method's
+    /// [`ShadowMethod::draw_volumes`]: every volume fragment runs the fragment shader (the
+    /// volume shaders write gl_FragDepth). Reading the count waits for the pass: a stall, for
+    /// benchmarks and tests. Without the extension the counts stay `None`.
+    pub fn set_count_volume_fragments(&mut self, on: bool) {
+        self.count_volume_fragments = on;
+    }
+
+    /// Per light of the last frame, the fragments its volume pass rasterized, when counted
+    /// ([`Renderer::set_count_volume_fragments`], methods that fill volumes only).
+    pub fn last_volume_fragments(&self) -> &[Option<u64>] {
+        &self.last_volume_fragments
     }
 }

@@ -271,6 +271,8 @@ impl App {
                 }
             }
             KeyCode::KeyV => self.show_mask = !self.show_mask,
+            // The receiver cull of the volumes (docs/exactness.md): the same image, less fill.
+            KeyCode::KeyC => self.config.params.volume_cull = !self.config.params.volume_cull,
             KeyCode::KeyF => {
                 self.wireframe = !self.wireframe;
                 self.status = None;
@@ -462,6 +464,7 @@ impl App {
             selected_light: self.selected_light,
             mask_view: self.show_mask,
             wireframe: self.wireframe,
+            volume_cull: self.config.params.volume_cull,
             status: self.status.as_deref(),
         });
         r.win.window.set_title(&title);

@@ -36,6 +36,8 @@ pub struct OverlayInfo<'a> {
     pub mask_view: bool,
     /// Whether the selected light's shadow-volume wireframe is drawn (F).
     pub wireframe: bool,
+    /// Whether the volumes are culled against the receivers (C; `--volume-cull`).
+    pub volume_cull: bool,
     /// Last problem worth showing (e.g. a method that failed and was switched back).
     pub status: Option<&'a str>,
 }
@@ -58,6 +60,9 @@ pub fn title(i: &OverlayInfo<'_>) -> String {
     if i.wireframe {
         // The wireframe is drawn over the shaded view only (see app.rs).
         s.push_str(if i.mask_view { " | wireframe (shaded view only)" } else { " | volume wireframe" });
+    }
+    if !i.volume_cull {
+        s.push_str(" | volume cull off");
     }
     if let Some(status) = i.status {
         s.push_str(" | ");
@@ -86,6 +91,7 @@ mod tests {
             selected_light: 1,
             mask_view: false,
             wireframe: false,
+            volume_cull: true,
             status: None,
         }
     }
@@ -117,6 +123,13 @@ mod tests {
         assert!(title(&OverlayInfo { wireframe: true, ..info() }).ends_with("| volume wireframe"));
         let both = title(&OverlayInfo { wireframe: true, mask_view: true, ..info() });
         assert!(both.ends_with("| shadow mask | wireframe (shaded view only)"), "{both}");
+    }
+
+    #[test]
+    fn title_says_when_the_volume_cull_is_off() {
+        assert!(!title(&info()).contains("volume cull"));
+        let off = title(&OverlayInfo { volume_cull: false, status: Some("x"), ..info() });
+        assert!(off.ends_with("| volume cull off | x"), "{off}");
     }
 
     #[test]

@@ -27,6 +27,15 @@ pub trait Driver {
     fn work(&mut self, _method: usize, _cam: Keyframe) -> Result<Option<umbra_gl::WorkCounts>, String> {
         Ok(None)
     }
+    /// The same frame once more with the volume passes' fragments counted: what they drew,
+    /// summed over lights, or `None` when the method reports nothing (then nothing is drawn).
+    fn volume_counts(&mut self, _method: usize, _cam: Keyframe) -> Result<Option<super::stats::VolumeCounts>, String> {
+        Ok(None)
+    }
+    /// Whether method `method` culls its volumes against the receivers in these frames.
+    fn volume_cull(&self, _method: usize) -> bool {
+        false
+    }
     /// Lights of the last frame counted z-pass.
     fn zpass_lights(&self, method: usize) -> usize;
     /// Bytes of GPU memory method `method` holds.

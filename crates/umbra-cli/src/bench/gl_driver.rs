@@ -6,6 +6,7 @@ use umbra_gl::{Attachments, FrameTarget, RenderTarget, StageHook, StageMark, Sta
 use super::driver::Driver;
 use super::flythrough::Keyframe;
 use super::options::MeasureOptions;
+use super::stats::VolumeCounts;
 use crate::config::ViewConfig;
 use crate::error::CliError;
 use crate::methods::{choose_counter, counter_label, make_method, report_counter};
@@ -199,6 +200,35 @@ impl Driver for GlDriver {
         m.set_count_work(false);
         drawn.map_err(|e| e.to_string())?;
         Ok(counts)
+    }
+
+    fn volume_counts(&mut self, method: usize, cam: Keyframe) -> Result<Option<VolumeCounts>, String> {
+        if !self.instances[method].fills_volumes() {
+            // No volume pass to count (hier-triangle, ray-bvh): no frame drawn.
+            return Ok(None);
+        }
+        self.set_camera(cam);
+        let fb = self.target();
+        let gl = self.s.context.gl();
+        let m = self.instances[method].as_mut();
+        self.s.renderer.set_count_volume_fragments(true);
+        let drawn = self.s.renderer.draw_frame(gl, &self.s.scene, m, &self.params, fb, None);
+        self.s.renderer.set_count_volume_fragments(false);
+        drawn.map_err(|e| e.to_string())?;
+        let lights = self.params.lights.len();
+        let fragments = self.s.renderer.last_volume_fragments().iter().take(lights).copied().sum::<Option<u64>>();
+        let drawn = self
+            .s
+            .renderer
+            .last_drawn()
+            .iter()
+            .take(lights)
+            .try_fold((0, 0), |(t, e), d| d.map(|d| (t + d.triangles, e + d.edges)));
+        Ok(Some(VolumeCounts { fragments, drawn }))
+    }
+
+    fn volume_cull(&self, method: usize) -> bool {
+        self.params.volume_cull && self.instances[method].culls_volumes()
     }
 
     fn zpass_lights(&self, _method: usize) -> usize {

@@ -43,6 +43,7 @@ pub fn bench_view(scene: &BenchScene, cameras: &[Keyframe], o: &MeasureOptions) 
         height: o.height,
         zpass: o.zpass,
         auto_zpass: o.auto_zpass,
+        volume_cull: o.volume_cull,
     })
 }
 
@@ -119,6 +120,16 @@ fn run_schedule(
             // Work counts in a frame of their own: the counters' atomics stay out of the
             // timed frames and the stage times.
             if !slot.warmup {
+                // The volume passes' fragments too: reading the query waits for the pass.
+                match driver.volume_counts(entry.method, cam) {
+                    Ok(Some(v)) => st.volume.push(v),
+                    Ok(None) => {}
+                    Err(e) => {
+                        eprintln!("umbra bench: {} failed, skipped from now on: {e}", st.method);
+                        st.error = Some(e);
+                        continue;
+                    }
+                }
                 match driver.work(entry.method, cam) {
                     Ok(Some(w)) => st.work.push(w),
                     Ok(None) => {}
@@ -140,6 +151,7 @@ fn run_schedule(
     for (st, e) in stats.iter_mut().zip(entries) {
         st.gpu_bytes = drivers[e.driver].gpu_bytes(e.method);
         st.figures = drivers[e.driver].scene_figures(e.method);
+        st.volume_cull = drivers[e.driver].volume_cull(e.method);
     }
     stats
 }

@@ -15,6 +15,8 @@ pub struct MeasureOptions {
     pub zpass: bool,
     /// `--zmode auto`: z-pass where provably exact.
     pub auto_zpass: bool,
+    /// `--volume-cull`: volumes culled and clamped against the receivers.
+    pub volume_cull: bool,
     /// `--counter` (resolved per scene and lights by each backend's driver).
     pub counter: CounterChoice,
     pub sm: SmOptions,
@@ -43,6 +45,7 @@ impl MeasureOptions {
             fov: c.fov,
             zpass: c.zpass,
             auto_zpass: c.auto_zpass,
+            volume_cull: c.volume_cull,
             counter: c.counter,
             sm: c.sm,
             trace_order: c.trace_order,

@@ -31,6 +31,19 @@ pub struct JsonRow {
     pub counter: String,
     /// Share of the measured frames' lights counted z-pass (`--zmode`), 0 to 1.
     pub zpass_share: f64,
+    /// Whether the method's volumes were culled and clamped against the receivers
+    /// (`--volume-cull`, methods that can).
+    pub volume_cull: bool,
+    /// Fragments the volume passes rasterized per frame (GL_FRAGMENT_SHADER_INVOCATIONS,
+    /// summed over lights; mean of the counted frames, the stage-timed rounds).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_fragments: Option<f64>,
+    /// Caster triangles not dropped by the receiver cull, per frame (summed over lights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_triangles: Option<f64>,
+    /// Silhouette edges drawn, with multiplicity (side quads), per frame (summed over lights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_edges: Option<f64>,
     pub width: u32,
     pub height: u32,
     /// "gl" or "wgpu" (`--backend`).
@@ -71,6 +84,10 @@ pub fn json_rows(
             triangles: m.triangles,
             counter: s.counter.clone(),
             zpass_share: if s.lights == 0 { 0.0 } else { s.zpass_lights as f64 / s.lights as f64 },
+            volume_cull: s.volume_cull,
+            volume_fragments: s.volume_means().0,
+            volume_triangles: s.volume_means().1.map(|v| v.0),
+            volume_edges: s.volume_means().1.map(|v| v.1),
             width,
             height,
             backend: backend.to_string(),

@@ -22,6 +22,21 @@ pub struct MethodStats {
     /// Measured frames' lights counted z-pass, and all measured frames' lights.
     pub zpass_lights: usize,
     pub lights: usize,
+    /// Whether the method culled its volumes against the receivers (`--volume-cull`).
+    pub volume_cull: bool,
+    /// Per volume-counted round (the stage-timed ones): what the volume passes drew.
+    pub volume: Vec<VolumeCounts>,
+}
+
+/// What one frame's volume passes drew, summed over its lights
+/// ([`umbra_gl::Renderer::last_drawn`], [`umbra_gl::Renderer::last_volume_fragments`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VolumeCounts {
+    /// Fragments rasterized (`None` where the GL cannot count them).
+    pub fragments: Option<u64>,
+    /// Caster triangles not dropped by the receiver cull and silhouette edges drawn, with
+    /// their multiplicities (side quads); `None` for methods that do not report them.
+    pub drawn: Option<(u64, u64)>,
 }
 
 impl MethodStats {
@@ -33,6 +48,21 @@ impl MethodStats {
     }
     pub fn p95(&self) -> Option<f64> {
         percentile_sorted(&sorted(&self.frame_ms), 0.95)
+    }
+    /// Means per counted frame of the volume counts: fragments, and (triangles, edges); each
+    /// `None` unless every counted frame has it.
+    pub fn volume_means(&self) -> (Option<f64>, Option<(f64, f64)>) {
+        if self.volume.is_empty() {
+            return (None, None);
+        }
+        let n = self.volume.len() as f64;
+        let fragments = self.volume.iter().map(|v| v.fragments.map(|f| f as f64)).sum::<Option<f64>>().map(|s| s / n);
+        let drawn = self
+            .volume
+            .iter()
+            .try_fold((0.0, 0.0), |(t, e), v| v.drawn.map(|(vt, ve)| (t + vt as f64, e + ve as f64)))
+            .map(|(t, e)| (t / n, e / n));
+        (fragments, drawn)
     }
     /// Mean per counted frame of each work count (key, mean), in [`umbra_gl::WorkCounts::entries`]
     /// order; empty without counts.

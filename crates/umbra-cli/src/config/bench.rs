@@ -4,8 +4,8 @@ use umbra_geom::Light;
 
 use super::checked::{Checked, Listing};
 use super::parse::{
-    asks_for_list, check_fov, gl_methods, parse_backend, parse_counter, parse_light, parse_size, parse_sm, parse_zmode,
-    wgpu_methods,
+    asks_for_list, check_fov, gl_methods, parse_backend, parse_counter, parse_light, parse_size, parse_sm,
+    parse_volume_cull, parse_zmode, wgpu_methods,
 };
 use crate::args::BenchArgs;
 use crate::backend::Backend;
@@ -32,6 +32,8 @@ pub struct BenchConfig {
     pub fov: f64,
     pub zpass: bool,
     pub auto_zpass: bool,
+    /// `--volume-cull`.
+    pub volume_cull: bool,
     pub counter: CounterChoice,
     pub sm: SmOptions,
     pub json: bool,
@@ -108,6 +110,7 @@ impl BenchConfig {
         };
         let fov = check_fov(a.fov)?;
         let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
+        let volume_cull = parse_volume_cull(&a.volume_cull)?;
         let counter = parse_counter(&a.counter, "--counter")?;
         let sm = parse_sm(&a.sm)?;
         let lights = a.light.iter().map(|l| parse_light(l)).collect::<Result<Vec<_>, _>>()?;
@@ -124,6 +127,7 @@ impl BenchConfig {
             fov,
             zpass,
             auto_zpass,
+            volume_cull,
             counter,
             sm,
             json: a.json,

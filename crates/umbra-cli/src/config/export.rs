@@ -59,6 +59,7 @@ fn export_view_args(scene: &str, a: &ExportArgs) -> ViewArgs {
         ground: a.ground,
         zpass: false,
         zmode: "auto".into(),
+        volume_cull: "on".into(),
         max_input_bytes: a.max_input_bytes,
     }
 }

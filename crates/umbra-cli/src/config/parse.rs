@@ -82,6 +82,15 @@ pub fn parse_zmode(zmode: &str, zpass: bool) -> Result<(bool, bool), CliError> {
     }
 }
 
+/// `--volume-cull`: `on` or `off`.
+pub fn parse_volume_cull(text: &str) -> Result<bool, CliError> {
+    match text.trim() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => Err(bad("--volume-cull", format!("expected on or off, got {other:?}"))),
+    }
+}
+
 /// `--backend`: `gl` or `wgpu`.
 pub fn parse_backend(text: &str) -> Result<Backend, CliError> {
     match text.trim() {

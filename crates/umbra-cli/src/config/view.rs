@@ -4,7 +4,7 @@
 use umbra_geom::scene;
 use umbra_geom::{Aabb, Light, Mesh};
 
-use super::parse::{check_fov, parse_light, parse_size, parse_vec3, parse_zmode};
+use super::parse::{check_fov, parse_light, parse_size, parse_vec3, parse_volume_cull, parse_zmode};
 use crate::args::ViewArgs;
 use crate::error::{bad, CliError};
 use crate::scenes::{default_camera, default_light, load_scene, CameraConfig, Framing};
@@ -22,6 +22,8 @@ pub struct ViewConfig {
     pub zpass: bool,
     /// z-pass where provably exact (`--zmode auto`, the default).
     pub auto_zpass: bool,
+    /// Volumes culled and clamped against the receivers (`--volume-cull on`, the default).
+    pub volume_cull: bool,
 }
 
 impl ViewConfig {
@@ -68,6 +70,17 @@ impl ViewConfig {
             explicit_lights.into_iter().map(|l| l.unwrap_or(derived)).collect()
         };
         let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
-        Ok(ViewConfig { scene_spec: a.scene.clone(), mesh, camera, lights, width, height, zpass, auto_zpass })
+        let volume_cull = parse_volume_cull(&a.volume_cull)?;
+        Ok(ViewConfig {
+            scene_spec: a.scene.clone(),
+            mesh,
+            camera,
+            lights,
+            width,
+            height,
+            zpass,
+            auto_zpass,
+            volume_cull,
+        })
     }
 }

@@ -115,6 +115,9 @@ pub struct VolumeFrame<'a> {
     pub light_index: usize,
     /// z-pass counting instead of z-fail (no caps needed).
     pub zpass: bool,
+    /// Cull and clamp the volumes against the light's receivers, for the methods that can
+    /// ([`ShadowMethod::culls_volumes`]); from [`umbra_geom::FrameParams::volume_cull`].
+    pub volume_cull: bool,
     /// Size of the render target in pixels.
     pub width: u32,
     /// Height of the render target in pixels.
@@ -266,6 +269,17 @@ pub trait ShadowMethod {
         Ok(())
     }
 
+    /// Whether the method culls and clamps its volumes against the light's receivers when
+    /// [`VolumeFrame::volume_cull`] asks (docs/exactness.md, "Volumes clamped to their
+    /// receivers"); false by default.
+    fn culls_volumes(&self) -> bool {
+        false
+    }
+    /// What the last [`ShadowMethod::draw_volumes`] drew (one light); `None` for methods that
+    /// do not report it.
+    fn drawn_volume(&self) -> Option<DrawnVolume> {
+        None
+    }
     /// Bytes of GPU memory the method holds (buffers, textures).
     fn gpu_bytes(&self) -> usize;
 
@@ -287,6 +301,17 @@ pub trait ShadowMethod {
 
     /// Frees the GL objects (context current); the method can be prepared again afterwards.
     fn destroy(&mut self, gl: &glow::Context);
+}
+
+/// What one light's volume pass drew ([`ShadowMethod::drawn_volume`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DrawnVolume {
+    /// Caster triangles not dropped by the receiver cull (all of them when not culled).
+    pub triangles: u64,
+    /// Silhouette edges drawn, each counted with its multiplicity `|m|` (the side quads).
+    pub edges: u64,
+    /// Whether the volume was culled and clamped against the light's receivers.
+    pub culled: bool,
 }
 
 /// A method name the registry does not know.

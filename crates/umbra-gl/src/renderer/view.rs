@@ -47,6 +47,7 @@ impl PassView {
             light,
             light_index,
             zpass: params.zpass,
+            volume_cull: params.volume_cull,
             width: params.width,
             height: params.height,
             target_framebuffer: self.fb,

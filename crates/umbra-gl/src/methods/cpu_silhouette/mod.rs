@@ -36,7 +36,7 @@ use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
 use crate::methods::receivers::ReceiverPass;
-use crate::methods::{ShadowMethod, VolumeFrame};
+use crate::methods::{DrawnVolume, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 
@@ -118,14 +118,14 @@ pub struct CpuSilhouette {
     slots: Option<(SceneId, TriangleSlots)>,
     /// Whether the last volume has dark caps (a point light with caps).
     last_dark_caps: bool,
-    /// Cull and clamp the volumes against the light's receivers (on unless switched off).
-    no_cull: bool,
-    /// The receiver map pass (made in prepare when culling).
+    /// The receiver map pass (made on the first culled frame).
     receivers: Option<ReceiverPass>,
     /// The last light's kept triangles and far ends.
     clamp: VolumeClamp,
     /// What the last cull did (`None`: not culled).
     last_cull: Option<CullStats>,
+    /// Triangles of the prepared scene.
+    triangles: usize,
     /// Bounds of the welded positions of the prepared scene (a directional light's receiver grid).
     bounds: Option<Aabb>,
 }
@@ -292,10 +292,8 @@ impl ShadowMethod for CpuSilhouette {
                 });
             }
         }
-        if self.receivers.is_none() && !self.no_cull {
-            self.receivers = Some(ReceiverPass::new(gl)?);
-        }
         self.bounds = bounds_of(&scene.mesh().positions);
+        self.triangles = scene.mesh().triangles.len();
         self.prepared = Some(scene.id());
         Ok(())
     }
@@ -314,7 +312,7 @@ impl ShadowMethod for CpuSilhouette {
         // "Volumes clamped to their receivers").
         frame.mark(gl, "receivers");
         self.last_cull = None;
-        if !self.no_cull {
+        if frame.volume_cull {
             if self.receivers.is_none() {
                 self.receivers = Some(ReceiverPass::new(gl)?);
             }
@@ -413,6 +411,16 @@ impl ShadowMethod for CpuSilhouette {
             }
         }
         Ok(())
+    }
+
+    fn culls_volumes(&self) -> bool {
+        true
+    }
+
+    fn drawn_volume(&self) -> Option<DrawnVolume> {
+        let triangles = self.last_cull.map_or(self.triangles, |c| c.kept);
+        let edges = self.volume.sides.len() / 6;
+        Some(DrawnVolume { triangles: triangles as u64, edges: edges as u64, culled: self.last_cull.is_some() })
     }
 
     fn gpu_bytes(&self) -> usize {
