@@ -40,8 +40,9 @@ pub struct IndexedVolume {
     /// light-facing-oriented triangle `P0 P1 P2`, the triangle of its far vertices
     /// `P0' P2' P1'` (facing out of the volume, as a dark cap), three homogeneous vertices
     /// each (a far vertex at infinity has `w = 0`). Drawn in z-pass and z-fail alike: unlike a
-    /// dark cap at infinity, a far cap may lie in front of a visible sample. Empty for an
-    /// unclamped volume.
+    /// dark cap at infinity, a far cap may lie in front of a visible sample. A far cap with
+    /// all three far ends at infinity is left out where the unclamped volume has no dark cap
+    /// (z-pass, directional lights). Empty for an unclamped volume.
     pub far_caps: Vec<[f32; 4]>,
 }
 
@@ -210,12 +211,19 @@ fn extract_indexed_with(
         Some(clamp) => {
             let far = |i: u32| clamp.far_vertex(positions, i);
             emit_sides(positions, adj, multiplicity, side_offsets, &mut out.sides, &from_orientations, &far);
-            // The far caps: one per kept triangle that is not edge-on, in triangle order.
+            // The far caps: one per kept triangle that is not edge-on, in triangle order. A far
+            // cap whose three far ends are at infinity is the dark cap at infinity: drawn only
+            // where the unclamped volume draws it (z-fail, point lights); z-pass never counts
+            // it and a directional light's has no area.
             out.far_caps.clear();
+            let infinite_caps = caps && has_dark_caps(light);
             for (&tri, &s) in triangles.iter().zip(ss.iter()) {
                 if s != 0 {
                     let [i0, i1, i2] = oriented(tri, s);
-                    out.far_caps.extend_from_slice(&[far(i0), far(i2), far(i1)]);
+                    let cap = [far(i0), far(i2), far(i1)];
+                    if infinite_caps || cap.iter().any(|v| v[3] != 0.0) {
+                        out.far_caps.extend_from_slice(&cap);
+                    }
                 }
             }
         }

@@ -198,6 +198,22 @@ fn extract_clamped_is_extract_indexed_unclamped_and_closed_when_clamped() {
             extract_clamped(&w, &adj, &slots, light, true, &open, &mut clamped);
             assert_eq!(clamped.sides, plain.sides);
             assert_eq!(clamped.caps, plain.caps);
+            // Far caps all at infinity: the dark caps, bit for bit, where the unclamped volume
+            // draws them (z-fail, point light), none elsewhere.
+            let dark = plain.expand(&w.positions, light).dark_caps;
+            let drawn_dark: Vec<[f32; 4]> = plain
+                .caps
+                .iter()
+                .zip(dark.chunks_exact(3))
+                .filter(|(&c, _)| !is_degenerate_cap(c))
+                .flat_map(|(_, d)| d.iter().copied())
+                .collect();
+            assert!(
+                bits(&VolumeGeometry { dark_caps: clamped.far_caps.clone(), ..Default::default() })
+                    == bits(&VolumeGeometry { dark_caps: drawn_dark, ..Default::default() })
+            );
+            extract_clamped(&w, &adj, &slots, light, false, &open, &mut clamped);
+            assert!(clamped.far_caps.is_empty(), "z-pass draws no cap at infinity");
             // Drop every third triangle and give the vertices finite far ends of their own.
             let mut clamp = open.clone();
             for (t, k) in clamp.keep.iter_mut().enumerate() {
