@@ -50,6 +50,51 @@ fn json_has_one_object_per_method_with_the_contract_keys() {
     assert!(rows[0]["stages"].get("silhouette").is_none(), "none has no silhouette stage");
 }
 
+/// The volume passes' work: `volume_cull`, `volume_fragments` (fragment-shader invocations,
+/// counted in the stage-timed rounds), `volume_triangles` and `volume_edges`, for
+/// cpu-silhouette both ways; on the shared Sponza fly-through the cull draws fewer triangles,
+/// edges and fragments (a count of the algorithm's work, not a timing). `none` draws no
+/// volume fragments and reports no triangles.
+#[test]
+fn volume_counts_are_reported_both_ways() {
+    let rows = |scene: &[&str], cull: &str| {
+        let mut args = vec!["bench", "--json", "--methods", "cpu-silhouette,none", "--frames", "1", "--warmup", "0"];
+        args.extend(["--stage-every", "1", "--size", "160x90", "--volume-cull", cull]);
+        args.extend(scene);
+        let o = umbra(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        json(&o).as_array().expect("array").clone()
+    };
+    let on = rows(&["--scene", "default"], "on");
+    let off = rows(&["--scene", "default"], "off");
+    assert_eq!(on[0]["volume_cull"], true, "{}", on[0]);
+    assert_eq!(off[0]["volume_cull"], false, "{}", off[0]);
+    for row in [&on[0], &off[0]] {
+        for key in ["volume_fragments", "volume_triangles", "volume_edges"] {
+            let x = row[key].as_f64().unwrap_or_else(|| panic!("{key} in {row}"));
+            assert!(x > 0.0, "{key} = {x}");
+        }
+    }
+    assert_eq!(on[1]["volume_fragments"].as_f64(), Some(0.0), "none: {}", on[1]);
+    assert!(on[1].get("volume_triangles").is_none(), "none: {}", on[1]);
+    assert_eq!(on[1]["volume_cull"], false);
+    let dir = std::env::var("UMBRA_SCENES")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"));
+    let sponza = dir.join("crytek-sponza.obj.gz");
+    if !sponza.is_file() {
+        eprintln!("SKIPPED: {} not found", sponza.display());
+        return;
+    }
+    let sponza = sponza.to_string_lossy().to_string();
+    let scene = ["--scene", sponza.as_str()];
+    let (on, off) = (rows(&scene, "on"), rows(&scene, "off"));
+    let f = |rows: &[serde_json::Value], key: &str| rows[0][key].as_f64().unwrap_or(f64::NAN);
+    for key in ["volume_fragments", "volume_triangles", "volume_edges"] {
+        assert!(f(&on, key) < f(&off, key), "{key}: culled {} against {}", f(&on, key), f(&off, key));
+    }
+}
+
 /// The hier methods' work counts: a "work" object with the four counts (mean per counted
 /// frame) in their JSON rows and columns of the table; no "work" for a method without counts.
 #[test]

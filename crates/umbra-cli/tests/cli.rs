@@ -390,6 +390,32 @@ fn verify_zmode_contract() {
     }
 }
 
+/// `--volume-cull on|off` (on by default): cpu-silhouette exact both ways, in the default view
+/// (z-pass) and with the eye under the sphere (z-pass from its winding W0, then forced z-fail);
+/// a bad value is a usage error naming the flag, on every subcommand that takes it.
+#[test]
+fn volume_cull_contract() {
+    let shadowed = ["--eye", "-2.2,0.2,0.3", "--target", "3,0,3", "--light", "-2.2,8,0.3"];
+    for extra in [&[][..], &shadowed[..], &[&shadowed[..], &["--zmode", "zfail"][..]].concat()[..]] {
+        for cull in ["on", "off"] {
+            let o = umbra(
+                &[
+                    &["verify", "--size", "160x120", "--method", "cpu-silhouette", "--json", "--volume-cull", cull][..],
+                    extra,
+                ]
+                .concat(),
+            );
+            assert_eq!(o.status.code(), Some(0), "{extra:?} {cull}: {}", stdout(&o));
+            assert_eq!(json(&o)[0]["mismatches_outside_band"], 0, "{extra:?} {cull}");
+        }
+    }
+    for command in ["render", "verify", "bench", "view"] {
+        let o = umbra(&[command, "--volume-cull", "sometimes"]);
+        assert_eq!(o.status.code(), Some(2), "{command}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--volume-cull") && stderr(&o).contains("expected on or off"), "{}", stderr(&o));
+    }
+}
+
 #[test]
 fn verify_writes_diff_image() {
     let d = tmp("diff.png");

@@ -23,7 +23,8 @@
 
 use rayon::prelude::*;
 
-use crate::silhouette::{travel, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
+use crate::adjacency::EdgeAdjacency;
+use crate::silhouette::{keep_whole_regions, travel, TriangleSlots, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
 use crate::weld::WeldedMesh;
 use crate::{Aabb, Light};
 
@@ -138,6 +139,17 @@ impl ReceiverGrid {
         let extent = [0, 1].map(|j| (hi[j] - lo[j]).max(1e-30));
         let scale = [0, 1].map(|j| (side as f64 / extent[j]) as f32);
         ReceiverGrid::Flat { origin, u, v, travel: t, lo: [lo[0] as f32, lo[1] as f32], scale, side }
+    }
+
+    /// The larger extent of a directional light's grid across the light (0 for a point
+    /// light's cube): the scale of its depths, below which no far end may come.
+    pub fn extent(&self) -> f64 {
+        match *self {
+            ReceiverGrid::Cube { .. } => 0.0,
+            ReceiverGrid::Flat { scale, side, .. } => {
+                (side as f64 / scale[0] as f64).max(side as f64 / scale[1] as f64)
+            }
+        }
     }
 
     /// Cells along a side.
@@ -488,10 +500,38 @@ impl ReceiverMap {
         }
     }
 
+    /// The far end of triangle `q` as if a sample lay at its own farthest point: a short
+    /// volume for a triangle kept although no sample needs it.
+    fn own_end(&self, q: [[f64; 3]; 3], point: bool) -> f32 {
+        match self.grid {
+            ReceiverGrid::Cube { light, .. } => {
+                let l = f64x3(light);
+                let far = q.iter().map(|&p| dot(sub(p, l), sub(p, l)).sqrt()).fold(0.0, f64::max);
+                far_end(far, distance_to_triangle(l, q), point, 0.0)
+            }
+            ReceiverGrid::Flat { origin, travel, .. } => {
+                let (o, t) = (f64x3(origin), f64x3(travel));
+                let depths = q.map(|p| dot(sub(p, o), t));
+                let lo = depths.iter().copied().fold(f64::MAX, f64::min);
+                let hi = depths.iter().copied().fold(f64::MIN, f64::max);
+                far_end(hi, lo, point, self.grid.extent())
+            }
+        }
+    }
+
     /// Which triangles of `mesh` may shadow a visible sample, and every vertex's far end
     /// ([`VolumeClamp`]), into `out` (its allocations reused). `mesh` must be the scene the
-    /// samples were taken from, lit by the light of this map's grid (`light`).
-    pub fn cull_and_clamp(&self, mesh: &WeldedMesh, light: Light, out: &mut VolumeClamp) -> CullStats {
+    /// samples were taken from, lit by the light of this map's grid (`light`). With
+    /// `regions` (the mesh's adjacency and slots), the kept set is widened to whole regions
+    /// of one orientation ([`keep_whole_regions`]), and a triangle kept only for that gets the
+    /// far ends of a sample at its own farthest point.
+    pub fn cull_and_clamp(
+        &self,
+        mesh: &WeldedMesh,
+        light: Light,
+        regions: Option<(&EdgeAdjacency, &TriangleSlots)>,
+        out: &mut VolumeClamp,
+    ) -> CullStats {
         let point = light[3] != 0.0;
         out.light = light;
         out.travel = travel(light);
@@ -504,32 +544,23 @@ impl ReceiverMap {
             let q = tri.map(|i| f64x3(mesh.positions[i as usize]));
             *end = match self.bound(q) {
                 None => 0.0,
-                Some((r, least)) => {
-                    let k = if point {
-                        if least > 0.0 {
-                            r / least * (1.0 + CLAMP_MARGIN)
-                        } else {
-                            f64::INFINITY
-                        }
-                    } else {
-                        (r - least) + CLAMP_MARGIN * ((r - least).abs() + r.abs() + least.abs())
-                    };
-                    if k.is_finite() && k < CLAMP_LIMIT {
-                        // Rounded up to f32: never below the bound.
-                        let f = k as f32;
-                        if (f as f64) < k {
-                            f32::from_bits(f.to_bits() + 1)
-                        } else {
-                            f
-                        }
-                    } else {
-                        f32::INFINITY
-                    }
-                }
+                Some((r, least)) => far_end(r, least, point, self.grid.extent()),
             };
         });
         out.keep.clear();
         out.keep.extend(ends.iter().map(|&e| e > 0.0));
+        if let Some((adj, slots)) = regions {
+            if keep_whole_regions(mesh, adj, slots, light, &mut out.keep) > 0 {
+                for ((end, &k), tri) in ends.iter_mut().zip(&out.keep).zip(&mesh.triangles) {
+                    if k && *end == 0.0 {
+                        // No visible sample lies in its frustum: any far end beyond the
+                        // triangle encloses them all; the one of a sample at its farthest point.
+                        let q = tri.map(|i| f64x3(mesh.positions[i as usize]));
+                        *end = self.own_end(q, point);
+                    }
+                }
+            }
+        }
         let mut stats = CullStats::default();
         let mut far = vec![0.0f32; mesh.positions.len()];
         for (tri, &e) in mesh.triangles.iter().zip(&ends) {
@@ -544,6 +575,34 @@ impl ReceiverMap {
         }
         out.far = far;
         stats
+    }
+}
+
+/// The far end (scale or distance, [`VolumeClamp::far`]) that encloses every sample of a
+/// triangle's frustum nearer than `r` (distance or depth) when the triangle's least value is
+/// `least`: `(r / least)(1 + CLAMP_MARGIN)` (point) or `(r - least)` plus the margin of the
+/// magnitudes and of the grid's `extent` (directional: never a far end at the triangle),
+/// rounded up to f32, infinity beyond [`CLAMP_LIMIT`].
+fn far_end(r: f64, least: f64, point: bool, extent: f64) -> f32 {
+    let k = if point {
+        if least > 0.0 {
+            r / least * (1.0 + CLAMP_MARGIN)
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        (r - least) + CLAMP_MARGIN * ((r - least).abs() + r.abs() + least.abs() + extent)
+    };
+    if k.is_finite() && k < CLAMP_LIMIT {
+        // Rounded up to f32: never below the bound.
+        let f = k as f32;
+        if (f as f64) < k {
+            f.next_up()
+        } else {
+            f
+        }
+    } else {
+        f32::INFINITY
     }
 }
 

@@ -123,11 +123,23 @@ fn run(case: Case) {
     );
     let only = std::env::var("UMBRA_TORTURE_METHODS").ok();
     let selected = |name: &str| only.as_deref().is_none_or(|list| list.split(',').any(|m| m.trim() == name));
+    // A method that culls its volumes against the receivers runs both ways (docs/exactness.md,
+    // "Volumes clamped to their receivers"): culled (the default), then unculled.
+    let mut runs: Vec<(&str, bool)> = Vec::new();
     for &name in method_names().iter().filter(|n| selected(n)) {
+        runs.push((name, true));
+        if create_method(name).expect("registered").culls_volumes() {
+            runs.push((name, false));
+        }
+    }
+    for (name, cull) in runs {
         let mut method = create_method(name).expect("registered");
+        let params = FrameParams { volume_cull: cull, ..params.clone() };
         let report = verify_method(gl, &mut renderer, &scene, method.as_mut(), &params, &view);
         method.destroy(gl);
-        let report = report.unwrap_or_else(|e| panic!("{} / {name}: {e}", case.name));
+        let report = report.unwrap_or_else(|e| panic!("{} / {name} (volume cull {cull}): {e}", case.name));
+        let label = if cull { name.to_string() } else { format!("{name}:volume-cull-off") };
+        let name = label.as_str();
         let m = report.metrics;
         println!(
             "{:<28} {:<24} samples {:>6} shadowed {:>6} band {:>5} band-mis {:>4} outside-band {:>4}",

@@ -90,7 +90,7 @@ fn check_random_scene(light: Light, seed: u64) -> (usize, usize) {
     let grid = ReceiverGrid::new(light, bounds, 32);
     let map = ReceiverMap::from_samples(grid, samples.iter().copied());
     let mut clamp = VolumeClamp::default();
-    let stats = map.cull_and_clamp(&mesh, light, &mut clamp);
+    let stats = map.cull_and_clamp(&mesh, light, None, &mut clamp);
     assert_eq!(stats.kept, clamp.kept());
     let mut pairs = 0;
     for p in &samples {
@@ -142,10 +142,10 @@ fn a_triangle_with_no_sample_behind_it_is_dropped() {
     // Samples beside the triangle's cone, and one in the cone but between light and triangle.
     let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[8.0, 0.0, 8.0], [0.0, 7.0, 0.0]]);
     let mut clamp = VolumeClamp::default();
-    assert_eq!(map.cull_and_clamp(&mesh, light, &mut clamp).kept, 0);
+    assert_eq!(map.cull_and_clamp(&mesh, light, None, &mut clamp).kept, 0);
     // A sample straight below it keeps it, with far ends beyond the sample.
     let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[0.0, 0.0, 0.0]]);
-    assert_eq!(map.cull_and_clamp(&mesh, light, &mut clamp).kept, 1);
+    assert_eq!(map.cull_and_clamp(&mesh, light, None, &mut clamp).kept, 1);
     // The sample is at distance 10, the triangle's nearest point at 5: k > 2 on every vertex.
     assert!(clamp.far.iter().all(|&k| k > 2.0 && k < 2.1), "{:?}", clamp.far);
 }
@@ -164,7 +164,7 @@ fn a_receiver_exactly_at_the_clamp_distance_and_one_an_ulp_beyond_are_both_enclo
     for samples in [vec![at], vec![at, beyond]] {
         let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), samples.clone());
         let mut clamp = VolumeClamp::default();
-        map.cull_and_clamp(&mesh, light, &mut clamp);
+        map.cull_and_clamp(&mesh, light, None, &mut clamp);
         for p in samples {
             let q = mesh.triangles[0].map(|i| f64x3(mesh.positions[i as usize]));
             let (b, a) = shadowed_by(f64x3(p), q, light).expect("below the triangle");
@@ -189,13 +189,59 @@ fn a_cone_across_cube_faces_is_bounded_by_the_whole_map() {
     let mut clamp = VolumeClamp::default();
     // Far from the cone (-z face), but farther than the triangle.
     let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[0.0, 0.0, -15.0], [9.0, 9.0, 0.0]]);
-    let stats = map.cull_and_clamp(&mesh, light, &mut clamp);
+    let stats = map.cull_and_clamp(&mesh, light, None, &mut clamp);
     assert_eq!((stats.kept, stats.unclamped), (1, 0));
     let least = distance_to_triangle([0.0; 3], mesh.triangles[0].map(|i| f64x3(mesh.positions[i as usize])));
     assert!(clamp.far.iter().all(|&k| k as f64 > 15.0 / least), "{:?}", clamp.far);
     // Every sample nearer the light than the triangle: dropped.
     let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [[0.0, 0.0, -2.0], [1.0, 1.0, 0.0]]);
-    assert_eq!(map.cull_and_clamp(&mesh, light, &mut clamp).kept, 0);
+    assert_eq!(map.cull_and_clamp(&mesh, light, None, &mut clamp).kept, 0);
+}
+
+#[test]
+fn a_region_of_one_orientation_is_kept_whole_and_its_extra_triangles_enclose_nothing() {
+    // A closed box over a sample, and a floor tile aside: only the box's triangles over the
+    // sample need to cast, but the box's top is one region towards the light: it is kept
+    // whole; the floor tile (no sample beyond it) is dropped.
+    let light = [0.3, 10.0, 0.2, 1.0];
+    let mut m = crate::scene::cuboid([0.0, 3.0, 0.0], [1.0, 0.5, 1.0]);
+    m.append(&crate::scene::ground_plane([-3.5, 0.0, 0.0], 1.0));
+    let mesh = crate::weld::weld(&m);
+    let adj = crate::adjacency::EdgeAdjacency::build(&mesh);
+    let slots = TriangleSlots::build(&mesh, &adj).expect("slots");
+    let bounds = Aabb { min: [-5.0, -1.0, -5.0], max: [5.0, 5.0, 5.0] };
+    // Under the box, on no geometry of the mesh (a receiver of another).
+    let sample = [0.6f32, 0.0, 0.7];
+    let map = ReceiverMap::from_samples(ReceiverGrid::new(light, bounds, 64), [sample]);
+    let mut alone = VolumeClamp::default();
+    let needed = map.cull_and_clamp(&mesh, light, None, &mut alone).kept;
+    let mut whole = VolumeClamp::default();
+    let kept = map.cull_and_clamp(&mesh, light, Some((&adj, &slots)), &mut whole).kept;
+    assert!(needed > 0 && kept > needed, "needed {needed}, kept whole {kept}");
+    let top: Vec<usize> = (0..mesh.triangles.len())
+        .filter(|&t| mesh.triangles[t].iter().all(|&v| mesh.positions[v as usize][1] > 3.4))
+        .collect();
+    assert_eq!(top.len(), 2);
+    assert!(top.iter().all(|&t| whole.keep[t]), "the top is one region, kept whole");
+    let floor: Vec<usize> = (0..mesh.triangles.len())
+        .filter(|&t| mesh.triangles[t].iter().all(|&v| mesh.positions[v as usize][1] == 0.0))
+        .collect();
+    assert!(floor.iter().all(|&t| !whole.keep[t]), "nothing lies beyond the floor");
+    // Every triangle that shadows the sample keeps it inside its clamped volume.
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let q = tri.map(|i| f64x3(mesh.positions[i as usize]));
+        if let Some((b, a)) = shadowed_by(f64x3(sample), q, light) {
+            assert!(whole.keep[t]);
+            let k = tri.map(|i| whole.far[i as usize]);
+            assert!(a < far_parameter(b, k, true), "triangle {t}");
+        }
+    }
+    // Every vertex of a kept triangle has a far end beyond it.
+    for (tri, &k) in mesh.triangles.iter().zip(&whole.keep) {
+        if k {
+            assert!(tri.iter().all(|&v| whole.far[v as usize] > 1.0), "{tri:?}");
+        }
+    }
 }
 
 #[test]

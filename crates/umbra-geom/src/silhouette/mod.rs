@@ -41,7 +41,9 @@
 //! volume clamped to its receivers, [`extract_clamped`]), `volume.rs` (the vertices, Eq. 2's extrusion, the caps' geometry),
 //! `kernels.rs` (the vectorised Alg. 3-4 kernels), `emit.rs` (the parallel two-pass emission
 //! and its per-thread scratch), `extract.rs` ([`extract`]), `indexed.rs` ([`extract_indexed`],
-//! [`IndexedVolume`]), `slots.rs` ([`TriangleSlots`]), `tests.rs` (both outputs against the
+//! [`IndexedVolume`]), `slots.rs` ([`TriangleSlots`]), `fill.rs` ([`estimate_fill`]: a clamped volume's screen area against the unclamped one's),
+//! `regions.rs` ([`keep_whole_regions`]: the cull widened to whole
+//! regions of one orientation), `tests.rs` (both outputs against the
 //! serial emission).
 //!
 //! [`comp_multiplicity`]: crate::multiplicity::comp_multiplicity
@@ -56,14 +58,18 @@ use crate::Light;
 mod clamp;
 mod emit;
 mod extract;
+mod fill;
 mod indexed;
 mod kernels;
+mod regions;
 mod slots;
 mod volume;
 
 pub use clamp::{travel, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
 pub use extract::extract;
+pub use fill::{estimate_fill, FillEstimate, ScreenClip};
 pub use indexed::{extract_clamped, extract_indexed, is_degenerate_cap, IndexedVolume};
+pub use regions::keep_whole_regions;
 pub use slots::{TriangleSlots, TriangleSlotsError};
 pub use volume::{extrude, has_dark_caps, VolumeGeometry};
 

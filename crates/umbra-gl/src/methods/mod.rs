@@ -310,8 +310,11 @@ pub struct DrawnVolume {
     pub triangles: u64,
     /// Silhouette edges drawn, each counted with its multiplicity `|m|` (the side quads).
     pub edges: u64,
-    /// Whether the volume was culled and clamped against the light's receivers.
+    /// Whether the volume was culled against the light's receivers.
     pub culled: bool,
+    /// Whether its sides ended at the receivers (closed by far caps) rather than at infinity:
+    /// the method's choice, where it estimates fewer fragments.
+    pub clamped: bool,
 }
 
 /// A method name the registry does not know.

@@ -26,9 +26,11 @@
 //! Stages reported: "silhouette" (CPU extraction), "upload", "sides", "caps".
 
 use glow::HasContext;
+use umbra_geom::clearance::scene_clip_box;
 use umbra_geom::receivers::CullStats;
 use umbra_geom::silhouette::{
-    extract_clamped, extract_indexed, has_dark_caps, IndexedVolume, TriangleSlots, VolumeClamp,
+    estimate_fill, extract_clamped, extract_indexed, has_dark_caps, IndexedVolume, ScreenClip, TriangleSlots,
+    VolumeClamp,
 };
 use umbra_geom::Aabb;
 
@@ -122,6 +124,8 @@ pub struct CpuSilhouette {
     receivers: Option<ReceiverPass>,
     /// The last light's kept triangles and far ends.
     clamp: VolumeClamp,
+    /// Whether the last light's volume was clamped (else culled only, or neither).
+    last_clamped: bool,
     /// What the last cull did (`None`: not culled).
     last_cull: Option<CullStats>,
     /// Triangles of the prepared scene.
@@ -324,7 +328,11 @@ impl ShadowMethod for CpuSilhouette {
                 // the map cannot bound it, this light is drawn unclamped.
                 let near_ok = !frame.zpass || map.raise_hull(&near_pyramid(frame));
                 if near_ok {
-                    self.last_cull = Some(map.cull_and_clamp(scene.mesh(), frame.light, &mut self.clamp));
+                    // Whole regions of one orientation: a cut through a surface the light sees
+                    // as one piece would hang a new side from it (silhouette/regions.rs).
+                    self.slots_for(scene)?;
+                    let regions = self.slots.as_ref().map(|(_, slots)| (scene.adjacency().as_ref(), slots));
+                    self.last_cull = Some(map.cull_and_clamp(scene.mesh(), frame.light, regions, &mut self.clamp));
                 }
             }
         }
@@ -338,9 +346,30 @@ impl ShadowMethod for CpuSilhouette {
         // caps at infinity; a clamped volume's far caps it does need (clamp.rs).
         let caps = !frame.zpass;
         let (mesh, adjacency) = (scene.mesh(), scene.adjacency());
+        self.last_clamped = false;
         if self.last_cull.is_some() {
             extract_clamped(mesh, adjacency, slots, frame.light, caps, &self.clamp, &mut self.volume);
             self.last_dark_caps = false;
+            // Clamped only where that costs fewer fragments than the same kept triangles'
+            // volumes running to infinity (silhouette/fill.rs); both give every visible sample
+            // the same count.
+            let clip = ScreenClip {
+                clip_from_world: frame.clip_from_world,
+                world_planes: match (frame.zpass, scene.bounds()) {
+                    (true, Some(b)) => scene_clip_box(b, frame.eye).to_vec(),
+                    _ => Vec::new(),
+                },
+                width: frame.width,
+                height: frame.height,
+            };
+            let fill = estimate_fill(&self.volume, &mesh.positions, frame.light, caps, &clip);
+            self.last_clamped = fill.clamped < fill.unclamped;
+            if !self.last_clamped {
+                for f in self.clamp.far.iter_mut().filter(|f| **f > 0.0) {
+                    *f = f32::INFINITY;
+                }
+                extract_clamped(mesh, adjacency, slots, frame.light, caps, &self.clamp, &mut self.volume);
+            }
         } else {
             extract_indexed(mesh, adjacency, slots, frame.light, caps, &mut self.volume);
             self.last_dark_caps = caps && has_dark_caps(frame.light);
@@ -420,7 +449,12 @@ impl ShadowMethod for CpuSilhouette {
     fn drawn_volume(&self) -> Option<DrawnVolume> {
         let triangles = self.last_cull.map_or(self.triangles, |c| c.kept);
         let edges = self.volume.sides.len() / 6;
-        Some(DrawnVolume { triangles: triangles as u64, edges: edges as u64, culled: self.last_cull.is_some() })
+        Some(DrawnVolume {
+            triangles: triangles as u64,
+            edges: edges as u64,
+            culled: self.last_cull.is_some(),
+            clamped: self.last_clamped,
+        })
     }
 
     fn gpu_bytes(&self) -> usize {
