@@ -266,8 +266,9 @@ pub struct BenchArgs {
     #[arg(long, default_value = "auto")]
     pub zmode: String,
     /// Cull and clamp the shadow volumes against each light's visible receivers: `on` (the
-    /// default; cpu-silhouette on the GL backend: the same decision at every sample, less fill)
-    /// or `off` (the unclamped volumes, to measure the difference). Other methods and the wgpu
+    /// default; cpu-silhouette on the GL backend: the same decision at every sample, less fill),
+    /// `off` (the unclamped volumes), or `both` (each method that culls runs both ways in the
+    /// one interleaved schedule, the second as `NAME@cull-off`). Other methods and the wgpu
     /// backend draw their volumes as they are either way.
     #[arg(long, default_value = "on")]
     pub volume_cull: String,

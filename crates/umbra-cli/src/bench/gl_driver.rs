@@ -7,7 +7,7 @@ use super::driver::Driver;
 use super::flythrough::Keyframe;
 use super::options::MeasureOptions;
 use super::stats::VolumeCounts;
-use crate::config::ViewConfig;
+use crate::config::{ViewConfig, CULL_OFF};
 use crate::error::CliError;
 use crate::methods::{choose_counter, counter_label, make_method, report_counter};
 use crate::session::Session;
@@ -88,6 +88,8 @@ pub struct GlDriver {
     params: umbra_gl::FrameParams,
     target: Option<RenderTarget>,
     instances: Vec<Box<dyn umbra_gl::ShadowMethod>>,
+    /// Per instance: its volumes culled (`--volume-cull`; false for `NAME@cull-off`).
+    cull: Vec<bool>,
     clock: FrameClock,
     stage_hook: StageClock,
 }
@@ -101,14 +103,21 @@ impl GlDriver {
         params.counter = decision.counter;
         let target = RenderTarget::new(s.context.gl(), o.width, o.height, Attachments::default()).map_err(gl_err)?;
         let mut instances = Vec::new();
+        let mut cull = Vec::new();
         for m in methods {
-            instances.push(make_method(m, &o.sm, "--methods")?);
+            let (name, off) = match m.strip_suffix(CULL_OFF) {
+                Some(name) => (name, true),
+                None => (m.as_str(), false),
+            };
+            instances.push(make_method(name, &o.sm, "--methods")?);
+            cull.push(o.volume_cull && !off);
         }
         Ok(Self {
             s,
             params,
             target: Some(target),
             instances,
+            cull,
             clock: FrameClock { inner: TimestampHook::synchronous(), seen_first: false },
             stage_hook: StageClock { inner: TimestampHook::synchronous() },
         })
@@ -163,6 +172,7 @@ impl Driver for GlDriver {
 
     fn frame(&mut self, method: usize, cam: Keyframe) -> Result<f64, String> {
         self.set_camera(cam);
+        self.params.volume_cull = self.cull[method];
         let fb = self.target();
         let gl = self.s.context.gl();
         self.clock.seen_first = false;
@@ -175,6 +185,7 @@ impl Driver for GlDriver {
 
     fn stages(&mut self, method: usize, cam: Keyframe) -> Result<Vec<(String, f64)>, String> {
         self.set_camera(cam);
+        self.params.volume_cull = self.cull[method];
         let fb = self.target();
         let gl = self.s.context.gl();
         let m = self.instances[method].as_mut();
@@ -186,6 +197,7 @@ impl Driver for GlDriver {
 
     fn work(&mut self, method: usize, cam: Keyframe) -> Result<Option<umbra_gl::WorkCounts>, String> {
         self.set_camera(cam);
+        self.params.volume_cull = self.cull[method];
         let fb = self.target();
         let gl = self.s.context.gl();
         let m = self.instances[method].as_mut();
@@ -208,6 +220,7 @@ impl Driver for GlDriver {
             return Ok(None);
         }
         self.set_camera(cam);
+        self.params.volume_cull = self.cull[method];
         let fb = self.target();
         let gl = self.s.context.gl();
         let m = self.instances[method].as_mut();
@@ -228,7 +241,7 @@ impl Driver for GlDriver {
     }
 
     fn volume_cull(&self, method: usize) -> bool {
-        self.params.volume_cull && self.instances[method].culls_volumes()
+        self.cull[method] && self.instances[method].culls_volumes()
     }
 
     fn zpass_lights(&self, _method: usize) -> usize {

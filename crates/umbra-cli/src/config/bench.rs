@@ -44,6 +44,9 @@ pub struct BenchConfig {
 }
 
 /// A run along one camera path, or a suite.
+/// The suffix of a method measured with its volumes unculled (`--volume-cull both`).
+pub const CULL_OFF: &str = "@cull-off";
+
 pub enum BenchMode {
     Path {
         /// Methods every backend asked for has.
@@ -76,7 +79,7 @@ impl BenchConfig {
                 return Ok(Checked::List(Listing::Methods(backends[0])));
             }
         }
-        let mode = match &a.suite {
+        let mut mode = match &a.suite {
             Some(name) => {
                 if backends != [Backend::Gl] && name != "list" {
                     return Err(bad("--backend", "the paper suites (--suite) run on the gl backend only"));
@@ -110,7 +113,29 @@ impl BenchConfig {
         };
         let fov = check_fov(a.fov)?;
         let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
-        let volume_cull = parse_volume_cull(&a.volume_cull)?;
+        // `both`: every method that culls its volumes runs twice in the one interleaved
+        // schedule, the second time as `NAME@cull-off` (its JSON rows: the same `method`,
+        // `volume_cull` false), so the reduction is measured in one run.
+        let both = a.volume_cull.trim() == "both";
+        let volume_cull = both || parse_volume_cull(&a.volume_cull).map_err(|_| {
+            bad("--volume-cull", format!("expected on, off or both, got {:?}", a.volume_cull.trim()))
+        })?;
+        if both {
+            if backends.contains(&Backend::Wgpu) {
+                return Err(bad("--volume-cull", "both: the wgpu backend culls no volumes (--backend gl)"));
+            }
+            if let BenchMode::Path { methods, .. } = &mut mode {
+                *methods = methods
+                    .iter()
+                    .flat_map(|m| {
+                        let culls = umbra_gl::create_method(m).is_ok_and(|x| x.culls_volumes());
+                        std::iter::once(m.clone()).chain(culls.then(|| format!("{m}{CULL_OFF}")))
+                    })
+                    .collect();
+            } else {
+                return Err(bad("--volume-cull", "both: with a fly-through or orbit only, not with --suite"));
+            }
+        }
         let counter = parse_counter(&a.counter, "--counter")?;
         let sm = parse_sm(&a.sm)?;
         let lights = a.light.iter().map(|l| parse_light(l)).collect::<Result<Vec<_>, _>>()?;
