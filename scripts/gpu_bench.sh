@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ray-bvh against its peers on a GPU machine: the three fly-throughs at 1920x1080 with none,
-# cpu-silhouette, vs-silhouette, hier-triangle, shadow-map-cube:2048, shadow-map-cube:8192 and ray-bvh in one
+# cpu-silhouette (with and without the receiver cull, --volume-cull both), vs-silhouette,
+# hier-triangle, shadow-map-cube:2048, shadow-map-cube:8192 and ray-bvh in one
 # interleaved `umbra bench` run per scene (GL through EGL), the Sponza fly-through on wgpu
 # (Vulkan) too, and `umbra verify` of ray-bvh on Sponza at 1920x1080, point and directional
 # light. JSON and logs go to $OUT (default target/gpu-bench).
@@ -58,8 +59,10 @@ export UMBRA_SCENES=$PWD/.gpu/scenes
 methods=none,cpu-silhouette,vs-silhouette,hier-triangle,shadow-map-cube:2048,shadow-map-cube:8192,ray-bvh
 for s in crytek-sponza:sponza conference:conference sibenik:sibenik; do
   scene=${s%%:*}; fly=${s##*:}
+  # --volume-cull both: cpu-silhouette culled against the receivers and, as
+  # cpu-silhouette@cull-off, unculled, in the same interleaved run (volume_fragments per row).
   "$umbra" bench --scene ".gpu/scenes/$scene.obj.gz" --flythrough ".gpu/$fly.flythrough" --methods "$methods" \
-    --size 1920x1080 --frames 16 --warmup 2 --json > "$out/bench_$fly.json" 2> "$out/bench_$fly.log" ||
+    --volume-cull both --size 1920x1080 --frames 16 --warmup 2 --json > "$out/bench_$fly.json" 2> "$out/bench_$fly.log" ||
     echo "bench $fly failed (see bench_$fly.log)" >&2
 done
 "$umbra" bench --scene .gpu/scenes/crytek-sponza.obj.gz --flythrough .gpu/sponza.flythrough \
@@ -81,5 +84,7 @@ for f in sorted(os.listdir(out)):
         st = r.get("stages", {})
         rays = st.get("rays", 0) + st.get("resume", 0)
         extra = f"  {r['width'] * r['height'] / rays / 1e6:.2f} G pixel-rays/s" if rays else ""
+        if r.get("volume_fragments") is not None:
+            extra += f"  {r['volume_fragments'] / 1e6:.1f} M volume fragments" + ("" if r.get("volume_cull") else " (unculled)")
         print(f"  {r['method']:<22} {r.get('backend', 'gl'):<5} mean {r['mean_ms'] or 0:9.2f} ms{extra}")
 PY
