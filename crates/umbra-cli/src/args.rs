@@ -145,6 +145,9 @@ pub struct ViewWindowArgs {
 pub struct InfoArgs {
     /// Scene spec or mesh file, as for `render --scene` (optional with `--backend`).
     pub scene: Option<String>,
+    /// The same as the positional SCENE, spelled as every other subcommand spells it.
+    #[arg(long = "scene", value_name = "SCENE")]
+    pub scene_flag: Option<String>,
     /// Print the device the backend draws on: `gl` (the GL renderer) or `wgpu` (the adapter).
     #[arg(long)]
     pub backend: Option<String>,

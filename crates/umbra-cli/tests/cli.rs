@@ -34,6 +34,21 @@ fn info_json_box_counts() {
     assert_eq!(v["patch_bytes"], 12 * (8 + 2) + 4 * (3 + 2) * 18);
 }
 
+/// `info --scene SCENE` is `info SCENE` (every other subcommand spells it `--scene`); two
+/// different scenes are a usage error naming the flag.
+#[test]
+fn info_takes_the_scene_positionally_or_as_a_flag() {
+    let positional = umbra(&["info", "box", "--json"]);
+    let flag = umbra(&["info", "--scene", "box", "--json"]);
+    assert!(flag.status.success(), "{}", stderr(&flag));
+    assert_eq!(json(&flag), json(&positional));
+    let both = umbra(&["info", "box", "--scene", "box", "--json"]);
+    assert_eq!(json(&both)["triangles"], 12);
+    let clash = umbra(&["info", "box", "--scene", "default"]);
+    assert_eq!(clash.status.code(), Some(2), "{}", stderr(&clash));
+    assert!(stderr(&clash).contains("--scene") && stderr(&clash).contains("two scenes"), "{}", stderr(&clash));
+}
+
 #[test]
 fn info_json_sides_data_splits_the_book_spine() {
     // 40 pages on one spine: one edge with 40 opposite vertices; the other 80 edges (2 open

@@ -5,7 +5,7 @@ use umbra_geom::Light;
 use super::parse::{parse_backend, parse_light};
 use crate::args::InfoArgs;
 use crate::backend::Backend;
-use crate::error::CliError;
+use crate::error::{bad, CliError};
 
 /// `umbra info`: a scene's statistics, the backend's device, or both.
 pub struct InfoConfig {
@@ -23,12 +23,18 @@ pub struct InfoConfig {
 impl InfoConfig {
     pub fn from_args(a: &InfoArgs) -> Result<Self, CliError> {
         let backend = a.backend.as_deref().map(parse_backend).transpose()?;
-        if a.scene.is_none() && backend.is_none() {
+        let scene = match (&a.scene, &a.scene_flag) {
+            (Some(p), Some(f)) if p != f => {
+                return Err(bad("--scene", format!("two scenes: {p:?} (positional) and {f:?} (--scene)")));
+            }
+            (p, f) => p.clone().or_else(|| f.clone()),
+        };
+        if scene.is_none() && backend.is_none() {
             return Err(CliError::Other("info needs a SCENE, or --backend gl|wgpu to print the device".into()));
         }
         let light = a.light.as_deref().map(parse_light).transpose()?;
         Ok(Self {
-            scene: a.scene.clone(),
+            scene,
             backend,
             light,
             ground: a.ground,
