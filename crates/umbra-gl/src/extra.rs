@@ -2,7 +2,8 @@
 //!
 //! glClipControl (GL 4.5 / ARB_clip_control), glMultiDrawArraysIndirect and
 //! glMultiDrawElementsIndirect (GL 4.3), and the `*IndirectCount` variants (GL 4.6 or
-//! ARB_indirect_parameters). Each is `None` when the driver does not offer it.
+//! ARB_indirect_parameters), and glGetQueryiv (GL 1.5; glow 0.18 has no binding for it). Each
+//! is `None` when the driver does not offer it.
 
 use std::ffi::c_void;
 
@@ -21,6 +22,7 @@ type MultiDrawElementsIndirectCountFn = unsafe extern "system" fn(
     maxdrawcount: i32,
     stride: i32,
 );
+type GetQueryivFn = unsafe extern "system" fn(target: u32, pname: u32, params: *mut i32);
 
 /// Function pointers for entry points glow lacks; load with [`GlExtra::load`] while the
 /// context is current. Calling them requires that same context to be current.
@@ -31,6 +33,7 @@ pub struct GlExtra {
     multi_draw_elements_indirect: Option<MultiDrawElementsIndirectFn>,
     multi_draw_arrays_indirect_count: Option<MultiDrawArraysIndirectCountFn>,
     multi_draw_elements_indirect_count: Option<MultiDrawElementsIndirectCountFn>,
+    get_query_iv: Option<GetQueryivFn>,
 }
 
 impl GlExtra {
@@ -57,6 +60,7 @@ impl GlExtra {
                     "glMultiDrawElementsIndirectCountARB",
                 ])
                 .map(|p| std::mem::transmute::<*const c_void, MultiDrawElementsIndirectCountFn>(p)),
+                get_query_iv: get(&["glGetQueryiv"]).map(|p| std::mem::transmute::<*const c_void, GetQueryivFn>(p)),
             }
         }
     }
@@ -72,6 +76,20 @@ impl GlExtra {
     /// Whether the `*IndirectCount` variants (GL 4.6 / ARB_indirect_parameters) were loaded.
     pub fn has_multi_draw_indirect_count(&self) -> bool {
         self.multi_draw_arrays_indirect_count.is_some() && self.multi_draw_elements_indirect_count.is_some()
+    }
+
+    /// glGetQueryiv(target, GL_CURRENT_QUERY): the name of the query active on `target` (0:
+    /// none), or `None` when glGetQueryiv was not loaded.
+    ///
+    /// # Safety
+    /// The context this was loaded from must be current; `target` a query target it knows.
+    pub unsafe fn current_query(&self, target: u32) -> Option<u32> {
+        self.get_query_iv.map(|f| {
+            let mut name = 0i32;
+            // SAFETY: caller's contract; one GLint written through a valid pointer.
+            unsafe { f(target, glow::CURRENT_QUERY, &mut name) };
+            name as u32
+        })
     }
 
     /// glClipControl(origin, depth). Returns false (and does nothing) when unavailable.

@@ -53,7 +53,7 @@ pub use methods::{
 };
 pub use renderer::{
     CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Renderer,
-    StencilCapture, StencilMask,
+    StencilCapture, StencilMask, VolumeFragmentQuery,
 };
 pub use scene::{SceneGpu, SceneId};
 pub use state::{BlendState, GlState, StencilFace};

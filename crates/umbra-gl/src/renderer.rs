@@ -51,6 +51,7 @@ use glow::HasContext;
 
 mod convention;
 mod depth;
+mod fragments;
 mod host;
 mod lighting;
 mod validate;
@@ -77,6 +78,7 @@ use crate::state::GlState;
 use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
 
 pub use crate::scene::SCENE_CLIP_BINDING;
+pub use fragments::VolumeFragmentQuery;
 pub use umbra_geom::frame::FrameParams;
 pub use umbra_geom::frame_images::{CaptureFlags, FrameImages, LightCapture, LitMask, StencilMask};
 
@@ -126,8 +128,10 @@ pub struct Renderer {
     last_drawn: Vec<Option<DrawnVolume>>,
     /// Count the fragments of every volume pass ([`Renderer::set_count_volume_fragments`]).
     count_volume_fragments: bool,
-    /// The pipeline-statistics query those counts use (made on first use).
+    /// The query object those counts use (made on first use).
     fragment_query: Option<glow::Query>,
+    /// Its kind, chosen at the first counted pass ([`Renderer::volume_fragment_query`]).
+    fragment_query_kind: Option<VolumeFragmentQuery>,
     /// Per light of the last volume passes: their fragment counts.
     last_volume_fragments: Vec<Option<u64>>,
 }
@@ -157,6 +161,7 @@ impl Renderer {
             last_drawn: Vec::new(),
             count_volume_fragments: false,
             fragment_query: None,
+            fragment_query_kind: None,
             last_volume_fragments: Vec::new(),
         })
     }
@@ -396,11 +401,15 @@ impl Renderer {
         &self.last_drawn
     }
 
-    /// Counts the fragments every light's volume pass rasterizes from now on (or stops):
-    /// `GL_FRAGMENT_SHADER_INVOCATIONS` (ARB_pipeline_statistics_query) around the method's
-    /// [`ShadowMethod::draw_volumes`]: every volume fragment runs the fragment shader (the
-    /// volume shaders write gl_FragDepth). Reading the count waits for the pass: a stall, for
-    /// benchmarks and tests. Without the extension the counts stay `None`.
+    /// Counts the fragments every light's volume pass rasterizes from now on (or stops): one
+    /// query around the method's [`ShadowMethod::draw_volumes`], of the kind
+    /// [`Renderer::volume_fragment_query`] names: `GL_FRAGMENT_SHADER_INVOCATIONS`
+    /// (ARB_pipeline_statistics_query) where offered — every volume fragment runs the fragment
+    /// shader (the volume shaders write gl_FragDepth) — else `GL_SAMPLES_PASSED` (the samples
+    /// that pass the depth and stencil tests: a lower bound). Reading the count waits for the
+    /// pass: a stall, for benchmarks and tests. Not counted (`None`): methods that fill no
+    /// volumes, the volume wireframe, OpenGL ES, and passes begun while a host's own query
+    /// holds the target.
     pub fn set_count_volume_fragments(&mut self, on: bool) {
         self.count_volume_fragments = on;
     }

@@ -11,6 +11,11 @@
 //! the listed records (the silhouette) go through the polygon and fan passes. The records of
 //! multiplicity ±1 come first: the fan pass draws them with one potential copy each, and only
 //! the rest with `maxMult` copies.
+//!
+//! With a receiver cull ([`crate::cull`]) the triangles it drops count as edge-on (orientation
+//! 0: no cap, no part in any edge's multiplicity), so the listed records are the silhouette of
+//! the kept triangles only, as `umbra_geom::silhouette::extract_clamped` has it; the kept
+//! triangles of nonzero orientation are then listed too (the caps the drawer draws).
 
 use umbra_geom::multiplicity::triangle_orientation;
 use umbra_geom::{Light, WeldedMesh};
@@ -30,6 +35,8 @@ pub struct Silhouette {
     /// Records of multiplicity ±2 or more, gathered apart, then appended to `records`.
     multiple: Vec<i32>,
     single: usize,
+    /// The triangles of nonzero orientation of the last culled [`Silhouette::compute`].
+    kept: Vec<i32>,
 }
 
 impl Silhouette {
@@ -48,14 +55,28 @@ impl Silhouette {
             records: Vec::new(),
             multiple: Vec::new(),
             single: 0,
+            kept: Vec::new(),
         }
     }
 
     /// Orients every triangle towards `light` (the geometry's own space, w = 0 directional)
     /// and lists the records of nonzero multiplicity, those of ±1 first; returns how many.
-    pub fn compute(&mut self, light: Light) -> usize {
+    /// With `keep` (one flag per triangle, a receiver cull's), a triangle not kept counts as
+    /// edge-on, and the kept triangles of nonzero orientation are listed
+    /// ([`Silhouette::kept_triangles`]).
+    pub fn compute(&mut self, light: Light, keep: Option<&[bool]>) -> usize {
         for (o, &t) in self.orientation.iter_mut().zip(&self.triangles) {
             *o = triangle_orientation(&self.positions, t, light) as i8;
+        }
+        self.kept.clear();
+        if let Some(keep) = keep {
+            for (t, (o, &k)) in self.orientation.iter_mut().zip(keep).enumerate() {
+                if !k {
+                    *o = 0;
+                } else if *o != 0 {
+                    self.kept.push(t as i32);
+                }
+            }
         }
         self.records.clear();
         self.multiple.clear();
@@ -93,6 +114,17 @@ impl Silhouette {
     pub fn single(&self) -> usize {
         self.single
     }
+
+    /// The kept triangles of nonzero orientation of the last [`Silhouette::compute`] with a
+    /// `keep` (ascending; empty without one).
+    pub fn kept_triangles(&self) -> &[i32] {
+        &self.kept
+    }
+
+    /// Triangles of the geometry.
+    pub fn triangles(&self) -> usize {
+        self.triangles.len()
+    }
 }
 
 #[cfg(test)]
@@ -113,7 +145,7 @@ mod tests {
         let mut s = Silhouette::new(&welded, &b.sides_data, &b.edge_triangles, b.max_mult);
         let adj = EdgeAdjacency::build(&welded);
         for light in [[1.0, 4.0, 2.0, 1.0], [0.3, 1.0, -0.2, 0.0]] {
-            let n = s.compute(light);
+            let n = s.compute(light, None);
             assert!(n > 0 && n < b.records, "{n} of {} records", b.records);
             for (t, &tri) in welded.triangles.iter().enumerate() {
                 assert_eq!(i32::from(s.orientation()[t]), triangle_orientation(&welded.positions, tri, light));

@@ -117,9 +117,10 @@ impl BenchConfig {
         // schedule, the second time as `NAME@cull-off` (its JSON rows: the same `method`,
         // `volume_cull` false), so the reduction is measured in one run.
         let both = a.volume_cull.trim() == "both";
-        let volume_cull = both || parse_volume_cull(&a.volume_cull).map_err(|_| {
-            bad("--volume-cull", format!("expected on, off or both, got {:?}", a.volume_cull.trim()))
-        })?;
+        let volume_cull = both
+            || parse_volume_cull(&a.volume_cull).map_err(|_| {
+                bad("--volume-cull", format!("expected on, off or both, got {:?}", a.volume_cull.trim()))
+            })?;
         if both {
             if backends.contains(&Backend::Wgpu) {
                 return Err(bad("--volume-cull", "both: the wgpu backend culls no volumes (--backend gl)"));

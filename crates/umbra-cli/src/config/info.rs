@@ -33,13 +33,6 @@ impl InfoConfig {
             return Err(CliError::Other("info needs a SCENE, or --backend gl|wgpu to print the device".into()));
         }
         let light = a.light.as_deref().map(parse_light).transpose()?;
-        Ok(Self {
-            scene,
-            backend,
-            light,
-            ground: a.ground,
-            json: a.json,
-            max_input_bytes: a.max_input_bytes,
-        })
+        Ok(Self { scene, backend, light, ground: a.ground, json: a.json, max_input_bytes: a.max_input_bytes })
     }
 }

@@ -16,9 +16,6 @@ use crate::methods::{Classification, ShadowMethod, StageHook, VolumeFrame};
 use crate::scene::{SceneGpu, SCENE_CLIP_BINDING};
 use crate::state::GlState;
 
-/// `GL_FRAGMENT_SHADER_INVOCATIONS_ARB` (ARB_pipeline_statistics_query; core in GL 4.6).
-const FRAGMENT_SHADER_INVOCATIONS: u32 = 0x82F4;
-
 /// `v[i] = value`, growing `v` with `None`s.
 fn set_at<T>(v: &mut Vec<Option<T>>, i: usize, value: Option<T>) {
     if v.len() <= i {
@@ -28,16 +25,6 @@ fn set_at<T>(v: &mut Vec<Option<T>>, i: usize, value: Option<T>) {
 }
 
 impl Renderer {
-    /// The fragment-count query, made on first use; `None` without
-    /// ARB_pipeline_statistics_query.
-    fn fragment_query(&mut self, gl: &glow::Context) -> Option<glow::Query> {
-        if self.fragment_query.is_none() && gl.supported_extensions().contains("GL_ARB_pipeline_statistics_query") {
-            // SAFETY: creating a query name on the current context.
-            self.fragment_query = unsafe { gl.create_query() }.ok();
-        }
-        self.fragment_query
-    }
-
     /// Uploads the scene box planes in `view`'s clip space to the `UmbraSceneClip` block, binds
     /// it at [`SCENE_CLIP_BINDING`] and, with `enable`, turns GL_CLIP_DISTANCE1..6 on.
     pub(super) fn bind_scene_clip(
@@ -184,22 +171,17 @@ impl Renderer {
             if near_clip {
                 self.bind_scene_clip(gl, view, scene.bounds(), scene_clip)?;
             }
-            let query = if self.count_volume_fragments && fills { self.fragment_query(gl) } else { None };
-            if let Some(q) = query {
-                // SAFETY: our own query; no other query of this target is active (the method's
-                // own passes, shadow maps' depth included, are all counted: they are its fill).
-                unsafe { gl.begin_query(FRAGMENT_SHADER_INVOCATIONS, q) };
-            }
+            // The fragment count (renderer/fragments.rs), only when asked (reading it stalls).
+            // Not for the wireframe: its lines are no volume pass, and the frame's counts stay.
+            let wireframe = self.volume_state_override.is_some();
+            let query =
+                if self.count_volume_fragments && fills && !wireframe { self.begin_fragment_count(gl) } else { None };
             let drawn = method.draw_volumes(gl, scene, &mut frame);
-            let fragments = query.map(|q| {
-                // SAFETY: ends the query begun above; reading its result waits for the pass.
-                unsafe {
-                    gl.end_query(FRAGMENT_SHADER_INVOCATIONS);
-                    gl.get_query_parameter_u64(q, glow::QUERY_RESULT)
-                }
-            });
-            set_at(&mut self.last_volume_fragments, light_index, fragments);
-            set_at(&mut self.last_drawn, light_index, method.drawn_volume());
+            let fragments = query.map(|q| self.end_fragment_count(gl, q));
+            if !wireframe {
+                set_at(&mut self.last_volume_fragments, light_index, fragments);
+                set_at(&mut self.last_drawn, light_index, method.drawn_volume());
+            }
             if near_clip {
                 // SAFETY: as above; off again whatever the method returned.
                 unsafe {
