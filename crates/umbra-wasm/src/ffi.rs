@@ -300,7 +300,7 @@ pub unsafe extern "C" fn umbra_caster_silhouette(c: *mut Caster, light: *const f
     // SAFETY: guaranteed by the caller.
     let (c, light) = unsafe { (&mut *c, slice(light, 4)) };
     match <[f32; 4]>::try_from(light) {
-        Ok(light) => c.silhouette.compute(light),
+        Ok(light) => c.silhouette.compute(light, None),
         Err(_) => 0,
     }
 }
