@@ -95,6 +95,33 @@ fn volume_counts_are_reported_both_ways() {
     }
 }
 
+/// `volume_fragments` names the query that counted it (`volume_fragments_query`), and is
+/// counted only in extra frames of the stage-timed rounds: absent with `--stage-every 0` (no
+/// stall in any run without them) and for a method without a volume pass (hier-triangle).
+#[test]
+fn volume_fragments_name_their_query() {
+    let rows = |every: &str| {
+        let mut args = vec!["bench", "--json", "--methods", "cpu-silhouette,hier-triangle", "--frames", "2"];
+        args.extend(["--stage-every", every]);
+        args.extend(SMALL);
+        let o = umbra(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        json(&o).as_array().expect("array").clone()
+    };
+    let counted = rows("1");
+    let cpu = &counted[0];
+    assert_eq!(cpu["volume_cull"], true, "{cpu}");
+    assert!(cpu["volume_fragments"].as_f64().is_some_and(|f| f > 0.0), "{cpu}");
+    let query = cpu["volume_fragments_query"].as_str();
+    assert!(matches!(query, Some("fragment_shader_invocations" | "samples_passed")), "{cpu}");
+    assert_eq!(counted[1]["volume_cull"], false, "{}", counted[1]);
+    let uncounted = rows("0");
+    for key in ["volume_fragments", "volume_fragments_query"] {
+        assert!(counted[1].get(key).is_none(), "hier-triangle has no volume pass: {}", counted[1]);
+        assert!(uncounted[0].get(key).is_none(), "{key} counted without stage-timed rounds: {}", uncounted[0]);
+    }
+}
+
 /// The hier methods' work counts: a "work" object with the four counts (mean per counted
 /// frame) in their JSON rows and columns of the table; no "work" for a method without counts.
 #[test]

@@ -431,6 +431,35 @@ fn volume_cull_contract() {
     }
 }
 
+/// `--volume-cull on` and `off` are accepted by `render` (a PNG either way), `bench` (the row
+/// says which) and `view` (past the flags, it stops only for the missing display); `verify`:
+/// [`volume_cull_contract`].
+#[test]
+fn volume_cull_on_and_off_on_every_subcommand() {
+    for cull in ["on", "off"] {
+        let png = tmp(&format!("cull-{cull}.png"));
+        let _ = std::fs::remove_file(&png);
+        let o = umbra(&["render", "--size", "80x60", "--volume-cull", cull, "--out", png.to_str().unwrap()]);
+        assert!(o.status.success(), "render {cull}: {}", stderr(&o));
+        assert_eq!(&std::fs::read(&png).expect("render wrote its PNG")[..4], b"\x89PNG");
+        let bench = ["bench", "--json", "--methods", "cpu-silhouette", "--frames", "1", "--warmup", "0"];
+        let o = umbra(&[&bench[..], &["--size", "32x24", "--stage-every", "0", "--volume-cull", cull]].concat());
+        assert!(o.status.success(), "bench {cull}: {}", stderr(&o));
+        assert_eq!(json(&o)[0]["volume_cull"], cull == "on", "bench {cull}");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_umbra"))
+            .args(["view", "--volume-cull", cull])
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run umbra");
+        assert!(
+            stderr(&o).contains("no display") && !stderr(&o).contains("--volume-cull"),
+            "view {cull}: {}",
+            stderr(&o)
+        );
+    }
+}
+
 #[test]
 fn verify_writes_diff_image() {
     let d = tmp("diff.png");

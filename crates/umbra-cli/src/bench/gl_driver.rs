@@ -237,7 +237,8 @@ impl Driver for GlDriver {
             .iter()
             .take(lights)
             .try_fold((0, 0), |(t, e), d| d.map(|d| (t + d.triangles, e + d.edges)));
-        Ok(Some(VolumeCounts { fragments, drawn }))
+        let query = fragments.and(self.s.renderer.volume_fragment_query());
+        Ok(Some(VolumeCounts { fragments, query, drawn }))
     }
 
     fn volume_cull(&self, method: usize) -> bool {

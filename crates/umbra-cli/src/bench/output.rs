@@ -34,10 +34,14 @@ pub struct JsonRow {
     /// Whether the method's volumes were culled and clamped against the receivers
     /// (`--volume-cull`, methods that can).
     pub volume_cull: bool,
-    /// Fragments the volume passes rasterized per frame (GL_FRAGMENT_SHADER_INVOCATIONS,
-    /// summed over lights; mean of the counted frames, the stage-timed rounds).
+    /// Fragments the volume passes rasterized per frame (summed over lights; mean of the
+    /// counted frames, the stage-timed rounds), counted by `volume_fragments_query`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub volume_fragments: Option<f64>,
+    /// "fragment_shader_invocations" (GL_FRAGMENT_SHADER_INVOCATIONS) or "samples_passed"
+    /// (GL_SAMPLES_PASSED, without ARB_pipeline_statistics_query); with `volume_fragments`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_fragments_query: Option<&'static str>,
     /// Caster triangles not dropped by the receiver cull, per frame (summed over lights).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub volume_triangles: Option<f64>,
@@ -86,6 +90,7 @@ pub fn json_rows(
             zpass_share: if s.lights == 0 { 0.0 } else { s.zpass_lights as f64 / s.lights as f64 },
             volume_cull: s.volume_cull,
             volume_fragments: s.volume_means().0,
+            volume_fragments_query: s.volume_fragments_query(),
             volume_triangles: s.volume_means().1.map(|v| v.0),
             volume_edges: s.volume_means().1.map(|v| v.1),
             width,

@@ -34,6 +34,8 @@ pub struct MethodStats {
 pub struct VolumeCounts {
     /// Fragments rasterized (`None` where the GL cannot count them).
     pub fragments: Option<u64>,
+    /// The query that counted them ([`umbra_gl::Renderer::volume_fragment_query`]).
+    pub query: Option<umbra_gl::VolumeFragmentQuery>,
     /// Caster triangles not dropped by the receiver cull and silhouette edges drawn, with
     /// their multiplicities (side quads); `None` for methods that do not report them.
     pub drawn: Option<(u64, u64)>,
@@ -63,6 +65,12 @@ impl MethodStats {
             .try_fold((0.0, 0.0), |(t, e), v| v.drawn.map(|(vt, ve)| (t + vt as f64, e + ve as f64)))
             .map(|(t, e)| (t / n, e / n));
         (fragments, drawn)
+    }
+    /// The query behind [`MethodStats::volume_means`]' fragments (`volume_fragments_query`):
+    /// the counted frames' (all on one context, so one kind); `None` when those are absent.
+    pub fn volume_fragments_query(&self) -> Option<&'static str> {
+        self.volume_means().0?;
+        self.volume.iter().find_map(|v| v.query).map(umbra_gl::VolumeFragmentQuery::name)
     }
     /// Mean per counted frame of each work count (key, mean), in [`umbra_gl::WorkCounts::entries`]
     /// order; empty without counts.
@@ -125,5 +133,21 @@ mod tests {
         let twenty = MethodStats { frame_ms: (1..=20).map(f64::from).collect(), ..Default::default() };
         assert_eq!(twenty.p95(), Some(19.0), "nearest rank: ceil(0.95 * 20) = 19th");
         assert_eq!(MethodStats::default().mean(), None);
+    }
+
+    #[test]
+    fn volume_fragments_query_only_with_volume_fragments() {
+        use umbra_gl::VolumeFragmentQuery as Q;
+        let counted = |fragments: Option<u64>| VolumeCounts {
+            fragments,
+            query: fragments.map(|_| Q::FragmentShaderInvocations),
+            drawn: None,
+        };
+        let st = MethodStats { volume: vec![counted(Some(10)), counted(Some(20))], ..Default::default() };
+        assert_eq!(st.volume_means().0, Some(15.0));
+        assert_eq!(st.volume_fragments_query(), Some("fragment_shader_invocations"));
+        let partial = MethodStats { volume: vec![counted(Some(10)), counted(None)], ..Default::default() };
+        assert_eq!((partial.volume_means().0, partial.volume_fragments_query()), (None, None));
+        assert_eq!(MethodStats::default().volume_fragments_query(), None);
     }
 }
