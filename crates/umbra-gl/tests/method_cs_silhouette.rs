@@ -90,7 +90,9 @@ fn render_cs(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> 
 
 fn render_cpu(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> Rendered {
     let mut m = umbra_gl::create_method("cpu-silhouette").expect("registered");
-    let p = &FrameParams { auto_zpass: false, ..p.clone() };
+    // The unculled counts: the receiver cull keeps every visible sample's decision, not every
+    // pixel's count (docs/exactness.md).
+    let p = &FrameParams { auto_zpass: false, volume_cull: false, ..p.clone() };
     let out = render_with(ctx, mesh, m.as_mut(), p);
     m.destroy(ctx.gl());
     out

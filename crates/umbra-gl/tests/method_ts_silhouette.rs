@@ -78,6 +78,9 @@ fn render_stencils(
     p.zpass = zpass;
     // z-fail when asked for, not auto z-pass (auto_zpass.rs tests the choice).
     p.auto_zpass = false;
+    // cpu-silhouette's unculled counts: its receiver cull keeps every decision, not every
+    // pixel's count (docs/exactness.md).
+    p.volume_cull = false;
     p.capture.stencil = StencilCapture::AllLights;
     let images =
         r.render(gl, &scene, method, &p, None).unwrap_or_else(|e| panic!("render with {}: {e}", method.name()));

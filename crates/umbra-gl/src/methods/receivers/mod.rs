@@ -80,6 +80,14 @@ impl ReceiverPass {
         // Reason: the scene's vertex shader writes no gl_ClipDistance, and the renderer may
         // have enabled them for the volume pass this runs in: off for this draw (as the depth
         // pass had them), restored below.
+        // Reason: every sample of the view must reach the scatter, whatever polygon mode the
+        // pass runs under (the volume wireframe draws this pass with LINE); restored below.
+        let mut polygon_mode = [glow::FILL as i32; 2];
+        // SAFETY: a state query and a state call on the current context.
+        unsafe {
+            gl.get_parameter_i32_slice(glow::POLYGON_MODE, &mut polygon_mode);
+            gl.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
+        }
         // SAFETY: capability queries and toggles on the current context.
         let clip: [bool; 8] = std::array::from_fn(|i| unsafe { gl.is_enabled(glow::CLIP_DISTANCE0 + i as u32) });
         for i in 0..8 {
@@ -122,6 +130,8 @@ impl ReceiverPass {
         unsafe {
             // Leave no binding of ours behind for the caller.
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, RECEIVERS_BINDING, None);
+            // Reason: the polygon mode the pass runs under, as it was.
+            gl.polygon_mode(glow::FRONT_AND_BACK, polygon_mode[0] as u32);
             // Reason: the volume pass's clip planes as the renderer set them.
             for (i, &on) in clip.iter().enumerate() {
                 if on {
