@@ -5,6 +5,8 @@
 //   map2048  the same with 2048
 //   bvh      a three-mesh-bvh shadow ray per pixel (bvh-shadow.js)
 //   umbra    the umbra-three package (exact shadow volumes)
+//   umbranocull  the same with volumeCull off (every volume to infinity); umbraclamp and
+//            umbranoclamp: culled volumes always clamped / never clamped (volumeClamp)
 // Every mesh gets a MeshLambertMaterial, both faces drawn (the bvh row: the same shading in
 // its ShaderMaterial).
 // The camera and the light are `umbra render`'s defaults for the file (examples/gltf/view.js);
@@ -14,7 +16,8 @@
 // window.bench: { ready, error, triangles, renderer, first(mode) -> ms (that mode's set-up
 // and first frame: for bvh the BVH build, for umbra the module's loading and the scene's
 // preprocessing), frame(mode) -> ms, passes(n) -> umbra's pass breakdown averaged over n frames
-// (umbra.timing on) }. A frame is made synchronous with a readPixels of 1 pixel.
+// (umbra.timing on), info(mode), view(eye, target) }. A frame is made synchronous with a
+// readPixels of 1 pixel.
 import * as THREE from 'three';
 import { loadModel } from '../examples/gltf/load.js';
 import { viewFor, triangleBounds } from '../examples/gltf/view.js';
@@ -55,6 +58,9 @@ async function start() {
   // umbra's meshes get their own material instance, so that the rows without umbra draw
   // three.js's material untouched by the package's shader patch.
   const patched = plain.clone();
+  // The package's other rows (each UmbraShadows patches its own instance): its options.
+  const VARIANTS = { umbra: {}, umbranocull: { volumeCull: false }, umbraclamp: { volumeClamp: 'always' }, umbranoclamp: { volumeClamp: 'never' } };
+  const variantMaterial = Object.fromEntries(Object.keys(VARIANTS).map((k) => [k, k === 'umbra' ? patched : plain.clone()]));
   const meshes = [];
   let triangles = 0;
   model.traverse((o) => {
@@ -93,7 +99,7 @@ async function start() {
   });
 
   let bvh = null;
-  let umbra = null;
+  const umbras = {};
   const pixel = new Uint8Array(4);
   const setup = {
     none: () => {},
@@ -102,25 +108,26 @@ async function start() {
     bvh: () => {
       bvh = bvhShadowMaterial(model, lights[1], { color: 0xcccccc, ambient: 0.25, offset: diagonal * 1e-5 });
     },
-    umbra: async () => {
+    ...Object.fromEntries(Object.entries(VARIANTS).map(([k, options]) => [k, async () => {
       const { UmbraShadows } = await import('umbra-three');
-      umbra = await UmbraShadows.create(renderer);
-    },
+      umbras[k] = await UmbraShadows.create(renderer, options);
+    }])),
   };
+  const instance = (mode) => umbras[mode] ?? null;
   const draw = (mode) => {
     const map = mode === 'map1024' || mode === 'map2048';
     renderer.shadowMap.enabled = map;
     lights[0].visible = mode === 'map1024';
     lights[1].visible = mode !== 'map1024';
     lights[0].castShadow = mode === 'map1024';
-    lights[1].castShadow = mode === 'map2048' || mode === 'umbra';
-    for (const o of meshes) o.material = mode === 'umbra' ? patched : plain;
+    lights[1].castShadow = mode === 'map2048' || mode in VARIANTS;
+    for (const o of meshes) o.material = variantMaterial[mode] ?? plain;
     scene.overrideMaterial = mode === 'bvh' ? bvh.material : null;
     if (mode === 'bvh') {
       scene.updateMatrixWorld();
       bvh.update();
     }
-    if (mode === 'umbra') umbra.render(scene, camera);
+    if (instance(mode)) instance(mode).render(scene, camera);
     else renderer.render(scene, camera);
   };
   const timed = (mode) => {
@@ -131,7 +138,7 @@ async function start() {
     const ms = performance.now() - t0;
     const err = gl.getError();
     if (err !== gl.NO_ERROR) throw new Error(`${mode}: GL error 0x${err.toString(16)}`);
-    if (mode === 'umbra' && umbra.errors.length) throw new Error(`umbra refused meshes: ${JSON.stringify(umbra.errors.slice(0, 3))}`);
+    if (instance(mode)?.errors.length) throw new Error(`umbra refused meshes: ${JSON.stringify(instance(mode).errors.slice(0, 3))}`);
     return ms;
   };
   bench.first = async (mode) => {
@@ -142,18 +149,27 @@ async function start() {
     return performance.now() - t0;
   };
   bench.frame = (mode) => timed(mode);
-  bench.passes = (n) => {
-    umbra.timing = true;
+  bench.passes = (n, mode = 'umbra') => {
+    const u = instance(mode);
+    u.timing = true;
     const sum = {};
     try {
       for (let i = 0; i < n; i++) {
-        timed('umbra');
-        for (const [k, v] of Object.entries(umbra.info.passes || {})) sum[k] = (sum[k] || 0) + v / n;
+        timed(mode);
+        for (const [k, v] of Object.entries(u.info.passes || {})) sum[k] = (sum[k] || 0) + v / n;
       }
     } finally {
-      umbra.timing = false;
+      u.timing = false;
     }
-    return { passes: sum, info: { ...umbra.info, passes: undefined } };
+    return { passes: sum, info: { ...u.info, passes: undefined } };
+  };
+  // What the package's last frame drew (umbra.info without the pass times).
+  bench.info = (mode = 'umbra') => ({ ...instance(mode).info, passes: undefined });
+  // A view of a fly-through (run.mjs --flythrough): the camera moved, the light left in place.
+  bench.view = (eye, target) => {
+    camera.position.set(...eye);
+    camera.lookAt(...target);
+    camera.updateMatrixWorld();
   };
   // What a row draws, as a PNG data URL (run.mjs --shots): read in the frame's own task,
   // before the drawing buffer is presented and cleared.

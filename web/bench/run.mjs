@@ -16,6 +16,14 @@
 //             ../shared/scenes beside the repository)
 //   --out     the results as JSON (default: print only); the markdown table goes to stdout
 //   --shots   a PNG of every row per scene and size, to check what was drawn
+//   --flythrough N  instead of the default view, N views along the scene's fly-through
+//             (bench/<scene>.flythrough, the keyframes of `umbra bench --flythrough`,
+//             interpolated with its uniform Catmull-Rom spline; the light stays umbra's
+//             default): per view one warm-up frame per row, then one timed frame per row in
+//             turn; the means are over the views; umbra's pass breakdown (--passes 1) is one
+//             frame per view and umbra row
+// Rows: none, map1024, map2048, bvh, umbra, umbranocull (the package with volumeCull off),
+// umbraclamp / umbranoclamp (culled volumes always / never clamped: volumeClamp).
 // Needs /usr/bin/chromium (or UMBRA_CHROMIUM), `npm ci` in web/ and the package built.
 import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
 import { existsSync } from 'node:fs';
@@ -39,10 +47,44 @@ const frames = Number(arg('--frames', '3'));
 const warmup = Number(arg('--warmup', '1'));
 const passFrames = Number(arg('--passes', '1'));
 const modes = arg('--modes', 'none,map1024,map2048,bvh,umbra').split(',');
+const flyViews = Number(arg('--flythrough', '0'));
 const impl = arg('--impl', 'swiftshader');
 const outFile = arg('--out', null);
 const shots = arg('--shots', null);
-const LABELS = { none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three' };
+const LABELS = { none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped' };
+const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp'];
+
+/** The fly-through keyframes of `scene` (bench/<name>.flythrough: eye xyz, target xyz per line). */
+async function flythrough(scene) {
+  const name = path.basename(scene).replace(/\..*$/, '').replace(/^crytek-/, '');
+  const file = path.join(repo, 'bench', `${name}.flythrough`);
+  const { readFile } = await import('node:fs/promises');
+  const keys = (await readFile(file, 'utf8')).split('\n').map((l) => l.split('#')[0].trim()).filter(Boolean).map((l) => {
+    const v = l.split(/[\s,]+/).map(Number);
+    if (v.length !== 6 || !v.every(Number.isFinite)) throw new Error(`${file}: bad keyframe ${l}`);
+    return { eye: v.slice(0, 3), target: v.slice(3) };
+  });
+  return { file, keys };
+}
+
+/** crates/umbra-cli/src/bench/flythrough.rs interpolate(): `frames` views on the uniform Catmull-Rom spline. */
+function interpolate(keys, frames) {
+  const n = keys.length;
+  const cr = (p0, p1, p2, p3, u) => [0, 1, 2].map((k) => 0.5 * (2 * p1[k] + (-p0[k] + p2[k]) * u + (2 * p0[k] - 5 * p1[k] + 4 * p2[k] - p3[k]) * u * u + (-p0[k] + 3 * p1[k] - 3 * p2[k] + p3[k]) * u * u * u));
+  const reflect = (a, b) => ({ eye: [0, 1, 2].map((k) => 2 * a.eye[k] - b.eye[k]), target: [0, 1, 2].map((k) => 2 * a.target[k] - b.target[k]) });
+  return Array.from({ length: frames }, (_, f) => {
+    if (n === 1 || frames === 1) return keys[0];
+    const t = (f * (n - 1)) / (frames - 1);
+    const seg = Math.min(Math.floor(t), n - 2);
+    const u = t - seg;
+    if (u === 0) return keys[seg];
+    if (u === 1) return keys[seg + 1];
+    const k0 = seg === 0 ? reflect(keys[0], keys[1]) : keys[seg - 1];
+    const [k1, k2] = [keys[seg], keys[seg + 1]];
+    const k3 = seg + 2 < n ? keys[seg + 2] : reflect(keys[n - 1], keys[n - 2]);
+    return { eye: cr(k0.eye, k1.eye, k2.eye, k3.eye, u), target: cr(k0.target, k1.target, k2.target, k3.target, u) };
+  });
+}
 for (const m of modes) if (!LABELS[m]) throw new Error(`--modes: unknown row ${m} (${Object.keys(LABELS).join(', ')})`);
 for (const s of scenes) if (!existsSync(s)) throw new Error(`${s}: no such scene file`);
 
@@ -91,7 +133,30 @@ try {
         run.ms[mode] = [];
         console.error(`  first frame ${mode}: ${fmt(run.first[mode])} ms`);
       }
-      for (let r = 0; r < warmup + frames; r++) {
+      if (flyViews > 0) {
+        // Along the fly-through: per view a warm-up frame per row, then a timed one per row.
+        const { file, keys } = await flythrough(scene);
+        run.flythrough = { file: path.relative(repo, file), views: flyViews };
+        run.views = [];
+        for (const [v, view] of interpolate(keys, flyViews).entries()) {
+          await page.evaluate(([e, t]) => window.bench.view(e, t), [view.eye, view.target]);
+          for (const mode of modes) await page.evaluate((m) => window.bench.frame(m), mode);
+          const round = {};
+          for (const mode of modes) {
+            round[mode] = await page.evaluate((m) => window.bench.frame(m), mode);
+            run.ms[mode].push(round[mode]);
+          }
+          const drawn = {};
+          for (const mode of modes.filter((m) => UMBRA_ROWS.includes(m))) {
+            const info = await page.evaluate((m) => window.bench.info(m), mode);
+            drawn[mode] = { zpass: info.zpass, volumes: info.volumes };
+            if (passFrames > 0) drawn[mode].passes = (await page.evaluate(([n, m]) => window.bench.passes(n, m), [passFrames, mode])).passes;
+          }
+          run.views.push({ eye: view.eye, target: view.target, ms: round, drawn });
+          console.error(`  view ${v + 1}/${flyViews}: ${modes.map((m) => `${m} ${fmt(round[m])}`).join(', ')}; ${Object.entries(drawn).map(([m, d]) => `${m} ${JSON.stringify(d.volumes)} zpass ${JSON.stringify(d.zpass)}`).join('; ')}`);
+        }
+      }
+      for (let r = 0; flyViews === 0 && r < warmup + frames; r++) {
         const round = {};
         for (const mode of modes) {
           round[mode] = await page.evaluate((m) => window.bench.frame(m), mode);
@@ -100,7 +165,14 @@ try {
         console.error(`  round ${r + 1}/${warmup + frames}${r < warmup ? ' (warm-up)' : ''}: ${modes.map((m) => `${m} ${fmt(round[m])}`).join(', ')}`);
       }
       for (const mode of modes) run.summary[mode] = summary(run.ms[mode]);
-      if (modes.includes('umbra') && passFrames > 0) {
+      if (flyViews > 0) {
+        // The pass breakdown: the mean over the views.
+        for (const mode of modes.filter((m) => UMBRA_ROWS.includes(m))) {
+          const sum = {};
+          for (const v of run.views) for (const [k, x] of Object.entries(v.drawn[mode].passes || {})) sum[k] = (sum[k] || 0) + x / run.views.length;
+          (run.flyPasses ??= {})[mode] = sum;
+        }
+      } else if (modes.includes('umbra') && passFrames > 0) {
         const p = await page.evaluate((n) => window.bench.passes(n), passFrames);
         run.passes = p.passes;
         run.umbraInfo = p.info;
@@ -127,7 +199,8 @@ console.log(markdown(results));
 
 /** The results as markdown tables: frame times, first frames, ratios, umbra's passes. */
 function markdown(r) {
-  const lines = [`${r.date.slice(0, 10)}, ${r.browser} (${r.implementation}), ${r.machine}; \`${r.command}\`; ${r.frames} frames per row after ${r.warmup} warm-up, interleaved.`, ''];
+  const how = flyViews > 0 ? `${flyViews} fly-through views, one frame per row and view after one warm-up frame per row and view, interleaved` : `${r.frames} frames per row after ${r.warmup} warm-up, interleaved`;
+  const lines = [`${r.date.slice(0, 10)}, ${r.browser} (${r.implementation}), ${r.machine}; \`${r.command}\`; ${how}.`, ''];
   lines.push(`Mean ms per frame (p95 in brackets):`, '');
   lines.push(`| scene | size | ${modes.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${modes.map(() => ' ---: |').join('')}`);
   for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${modes.map((m) => `${fmt(run.summary[m].mean)} (${fmt(run.summary[m].p95)})`).join(' | ')} |`);
@@ -135,11 +208,28 @@ function markdown(r) {
   lines.push(`| scene | size | ${modes.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${modes.map(() => ' ---: |').join('')}`);
   for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${modes.map((m) => fmt(run.first[m])).join(' | ')} |`);
   if (modes.includes('umbra')) {
-    const against = ['map2048', 'bvh'].filter((m) => modes.includes(m));
+    const against = ['map2048', 'bvh', 'umbranocull'].filter((m) => modes.includes(m));
     if (against.length) {
       lines.push('', 'Ratios of mean frame times (below 1: the package is faster):', '');
       lines.push(`| scene | size | ${against.map((m) => `umbra-three / ${LABELS[m]}`).join(' | ')} |`, `| --- | --- |${against.map(() => ' ---: |').join('')}`);
       for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${against.map((m) => (run.summary.umbra.mean / run.summary[m].mean).toFixed(2)).join(' | ')} |`);
+    }
+    const fly = r.runs.filter((run) => run.flyPasses);
+    if (fly.length) {
+      const rows = UMBRA_ROWS.filter((m) => modes.includes(m));
+      const keys = [...new Set(fly.flatMap((run) => rows.flatMap((m) => Object.keys(run.flyPasses[m] || {}))))];
+      lines.push('', 'Pass by pass along the fly-through (mean over the views, umbra.timing = true), ms:', '');
+      lines.push(`| scene | size | row | ${keys.join(' | ')} |`, `| --- | --- | --- |${keys.map(() => ' ---: |').join('')}`);
+      for (const run of fly) for (const m of rows) lines.push(`| ${run.scene} | ${run.size} | ${LABELS[m]} | ${keys.map((k) => (run.flyPasses[m]?.[k] === undefined ? '-' : fmt(run.flyPasses[m][k]))).join(' | ')} |`);
+      lines.push('', 'What the volumes drew along the fly-through (sum over the views: triangles / silhouette edge records; views culled; views counted z-pass):', '');
+      lines.push(`| scene | size | ${rows.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${rows.map(() => ' --- |').join('')}`);
+      for (const run of fly) {
+        lines.push(`| ${run.scene} | ${run.size} | ${rows.map((m) => {
+          const vs = run.views.map((v) => v.drawn[m]);
+          const sum = (f) => vs.reduce((a, d) => a + d.volumes.reduce((b, l) => b + f(l), 0), 0);
+          return `${sum((l) => l.triangles).toLocaleString('en')} / ${sum((l) => l.edges).toLocaleString('en')}; ${vs.filter((d) => d.volumes.every((l) => l.culled)).length} of ${vs.length} culled; ${vs.filter((d) => d.zpass.every((z) => z !== null)).length} z-pass`;
+        }).join(' | ')} |`);
+      }
     }
     const names = [...new Set(r.runs.flatMap((run) => Object.keys(run.passes || {})))];
     if (names.length) {

@@ -158,8 +158,11 @@ async function judged(impl, { scene, width, height, query = '', extra = [] }) {
   return maskAgainstReference(contexts[impl], umbra, { base, query, scene, width, height, maskPng, extra, explain: 1_000_000 });
 }
 
+/** What each light's volumes drew (umbra.info().volumes): culled or not, triangles, edge records. */
+const volumesText = (v) => (v || []).map((l) => `${l.culled ? 'culled' : 'unculled'} ${l.triangles} triangles, ${l.edges} edges`).join('; ');
+
 function report(what, r) {
-  console.log(`${what}: ${r.browser.mismatches_outside_band} samples outside the band (${r.falseShadow} false shadow, ${r.falseLight} false light), ${r.browser.band_mismatches} in it, of ${r.browser.samples}; native vs-silhouette ${r.native.mismatches_outside_band}; ${r.status.depth} depth, SUBPIXEL_BITS ${r.status.subpixelBits}, frame ${r.status.frameMs.toFixed(0)} ms`);
+  console.log(`${what}: ${r.browser.mismatches_outside_band} samples outside the band (${r.falseShadow} false shadow, ${r.falseLight} false light), ${r.browser.band_mismatches} in it, of ${r.browser.samples}; native vs-silhouette ${r.native.mismatches_outside_band}; ${r.status.depth} depth, SUBPIXEL_BITS ${r.status.subpixelBits}, frame ${r.status.frameMs.toFixed(0)} ms; volumes ${volumesText(r.status.volumes)}`);
   for (const l of r.explained.slice(0, 5)) console.log(`    ${l}`);
 }
 
@@ -200,6 +203,33 @@ test('default scene through OBJLoader, GLTFLoader and its export: 0 samples outs
       assert.equal(r.status.depth, depth, 'reversed-Z where EXT_clip_control is offered, standard on request');
       assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
       assert.equal(r.native.mismatches_outside_band, 0, 'native vs-silhouette');
+      assert.equal(r.browser.mismatches_outside_band, 0, `${impl}, ${what}: the page disagrees with the reference outside the band`);
+    }
+  }
+});
+
+test('volumes culled to their receivers and not (cull=0), point and directional light, z-pass and z-fail (zpass=0), both scatters: 0 samples outside the band', { skip }, async () => {
+  // The first test judges the default (culled, z-pass, the wasm's scatter on these software
+  // rasterisers) point and directional views; here the other corners.
+  const point = viewOf(manifest.camera, manifest.light);
+  const directional = viewOf(manifest.camera, [0.3, 1, 0.2, 0]);
+  const cases = [
+    ['point, unculled, z-pass', point, 'cull=0', false, 0],
+    ['point, culled, z-fail', point, 'zpass=0', true, null],
+    ['point, unculled, z-fail', point, 'cull=0&zpass=0', false, null],
+    ['point, culled, GPU scatter', point, 'scatter=gpu', true, 0],
+    ['directional, unculled, z-pass', directional, 'cull=0', false, 0],
+    ['directional, culled, z-fail', directional, 'zpass=0', true, null],
+    ['directional, unculled, z-fail', directional, 'cull=0&zpass=0', false, null],
+  ];
+  for (const impl of implementations()) {
+    for (const [what, view, flags, culled, zpass] of cases) {
+      const r = await judged(impl, { scene: modelFiles.default, width: W, height: H, query: `model=models/default.obj&${view.query}&${flags}`, extra: view.flags });
+      report(`default scene, ${impl}, ${what}`, r);
+      assert.equal(r.status.state, 'ready');
+      assert.deepEqual(r.status.zpass, [zpass], `${what}: counted ${zpass === null ? 'z-fail' : 'z-pass'}`);
+      assert.equal(r.status.volumes[0].culled, culled, `${what}: culled or not as asked`);
+      assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
       assert.equal(r.browser.mismatches_outside_band, 0, `${impl}, ${what}: the page disagrees with the reference outside the band`);
     }
   }
@@ -270,6 +300,10 @@ test('shared scenes: 0 samples outside the band on SwiftShader and ANGLE/llvmpip
       report(`${s}, ${impl}, ${SW}x${SH}`, r);
       assert.equal(r.status.state, 'ready');
       assert.deepEqual(r.status.zpass, [SHARED_ZPASS[s]], `${s}: its default view counts z-pass from ${SHARED_ZPASS[s]}`);
+      // Culled to the receivers (the package's default), and some of each scene's triangles
+      // dropped.
+      assert.equal(r.status.volumes[0].culled, true, `${s}: culled`);
+      assert.ok(r.status.volumes[0].triangles < sharedManifests[i].counts.triangles, `${s}: ${r.status.volumes[0].triangles} triangles kept`);
       assert.match(r.status.info, new RegExp(`^${s.replace(/\./g, '\\.')}: \\d+ triangles`), 'the file name, first');
       assert.ok(!r.status.info.includes(path.dirname(scene)), `the page shows a path: ${r.status.info}`);
       assert.equal(r.native.mismatches_outside_band, 0, `${s}: native vs-silhouette`);

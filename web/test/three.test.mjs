@@ -431,3 +431,101 @@ test('z-pass where the near pyramid is proven inside one count (eye in the open,
     assert.ok(v.lit > 500 && v.dark > 500, `${name}: the view is partly lit, partly dark (${v.lit} / ${v.dark})`);
   }
 });
+
+test('volumeCull: the mask of every volume to infinity, but for pixels on shadow boundaries (point and directional light, z-pass and z-fail, both scatters); the volumes of shadows out of view are not drawn', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    // A floor and a 5 x 5 grid of turned boxes under a point light; the camera looks down at
+    // one corner, so most boxes' shadows fall on floor it does not see.
+    const build = (directional) => {
+      const s = makeScene();
+      s.scene.remove(s.box);
+      const mat = new THREE.MeshStandardMaterial({ color: 0xffffff });
+      for (let i = 0; i < 25; i++) {
+        const b = new THREE.Mesh(new THREE.BoxGeometry(0.5, 0.8, 0.5), mat);
+        b.position.set(-4 + 2 * (i % 5), 0.6, -4 + 2 * Math.floor(i / 5));
+        b.rotation.set(0.2 * i, 0.3 * i, 0);
+        b.castShadow = true;
+        s.scene.add(b);
+      }
+      if (directional) {
+        s.scene.remove(s.light);
+        const d = new THREE.DirectionalLight(0xffffff, 2);
+        d.position.set(-2, 5, 1);
+        d.castShadow = true;
+        s.scene.add(d, d.target);
+        s.light = d;
+      } else {
+        // High above: every box's cone lies inside one face of the light's cube map.
+        s.light.position.set(0.3, 8, 0.2);
+      }
+      s.camera.position.set(4.6, 1.8, 5.2);
+      s.camera.lookAt(3.8, 0, 3.6);
+      s.camera.updateMatrixWorld();
+      return s;
+    };
+    const renderers = {
+      off: (zpass) => UmbraShadows.create(makeRenderer(), { zpass, volumeCull: false }),
+      cpu: (zpass) => UmbraShadows.create(makeRenderer(), { zpass, receiverScatter: 'cpu' }),
+      gpu: (zpass) => UmbraShadows.create(makeRenderer(), { zpass, receiverScatter: 'gpu' }),
+    };
+    const out = {};
+    for (const directional of [false, true]) {
+      for (const zpass of [true, false]) {
+        const row = {};
+        for (const [name, make] of Object.entries(renderers)) {
+          const umbra = await make(zpass);
+          const s = build(directional);
+          umbra.render(s.scene, s.camera);
+          row[name] = { mask: umbra.readMask(s.light), info: JSON.parse(JSON.stringify(umbra.info)), errors: umbra.errors.length };
+        }
+        const ref = row.off.mask;
+        // Pixels that differ from the unculled mask, and of those, the ones not on a shadow
+        // boundary (all 8 neighbours alike in the unculled mask).
+        const w = 160, h = 120;
+        const inside = (m) => {
+          let n = 0;
+          for (let i = 0; i < m.length; i++) {
+            if (m[i] === ref[i]) continue;
+            const [x, y] = [i % w, Math.floor(i / w)];
+            let mixed = false;
+            for (let dy = -1; dy <= 1; dy++) for (let dx = -1; dx <= 1; dx++) {
+              const [u, v] = [x + dx, y + dy];
+              if (u >= 0 && v >= 0 && u < w && v < h && ref[v * w + u] !== ref[i]) mixed = true;
+            }
+            if (!mixed) n++;
+          }
+          return n;
+        };
+        out[`${directional ? 'directional' : 'point'}, ${zpass ? 'z-pass' : 'z-fail'}`] = Object.fromEntries(Object.entries(row).map(([k, v]) => [k, {
+          differing: differing(v.mask, ref), offBoundary: inside(v.mask), dark: zeros(v.mask), errors: v.errors, zpass: v.info.zpass, volumes: v.info.volumes,
+          volumeCull: v.info.volumeCull, receiverScatter: v.info.receiverScatter,
+        }]));
+      }
+    }
+    return out;
+  });
+  console.log(JSON.stringify(r));
+  for (const [what, row] of Object.entries(r)) {
+    const off = row.off.volumes[0];
+    assert.equal(row.off.volumeCull, false);
+    assert.ok(!off.culled, `${what}: volumeCull false draws unculled`);
+    assert.ok(row.off.dark > 500 && row.off.dark < 18000, `${what}: partly shadowed (${row.off.dark} dark pixels)`);
+    assert.deepEqual(row.off.zpass, what.endsWith('z-pass') ? [0] : [null], `${what}: its count`);
+    for (const scatter of ['cpu', 'gpu']) {
+      const v = row[scatter];
+      assert.equal(v.errors, 0, `${what}, ${scatter}: no errors`);
+      assert.equal(v.receiverScatter, scatter);
+      // Both masks are exact (the oracle judges them: browser.test.mjs); their volumes are
+      // different polygons, so a pixel centre within the rasteriser's precision of a shadow
+      // boundary may fall either way, and only there.
+      assert.equal(v.offBoundary, 0, `${what}, ${scatter} scatter: ${v.offBoundary} pixels away from every shadow boundary differ from the unculled mask`);
+      assert.ok(v.differing <= 10, `${what}, ${scatter} scatter: the culled mask differs from the unculled one on ${v.differing} pixels`);
+      const on = v.volumes[0];
+      assert.ok(on.culled, `${what}, ${scatter}: culled`);
+      // Most boxes' shadows are out of view: their triangles and silhouettes are not drawn.
+      assert.ok(on.triangles < 0.6 * off.triangles, `${what}, ${scatter}: ${on.triangles} of ${off.triangles} triangles kept`);
+      assert.ok(on.edges < 0.6 * off.edges, `${what}, ${scatter}: ${on.edges} of ${off.edges} silhouette records drawn`);
+    }
+  }
+});

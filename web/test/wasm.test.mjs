@@ -225,3 +225,88 @@ test('loading by URL: streamed (application/wasm), compiled from bytes (other ty
     server.close();
   }
 });
+
+test('receiver cull through the glue: a map of one cell culls and clamps, z-pass raises, bad grids refused, freed handles throw', { skip }, () => {
+  // A floor (10 x 10 at y = 0) and a unit square at y = 1, one geometry; a point light above.
+  const positions = new Float32Array([-5, 0, -5, 5, 0, -5, 5, 0, 5, -5, 0, 5, 0, 1, 0, 1, 1, 0, 1, 1, 1, 0, 1, 1]);
+  const index = new Uint32Array([0, 2, 1, 0, 3, 2, 4, 6, 5, 4, 7, 6]);
+  const p = geom.prepare({ name: 'floor and square', positions, index, caster: true });
+  const light = [0.5, 4, 0.5, 1];
+  const I = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
+  // The camera: above and in front, looking at the square (a perspective matrix, fov 90°).
+  const view = { worldFromObject: I, objectFromWorld: I, clipFromObject: lookDown(), width: 200, height: 200, zfail: false };
+  const at = (world) => ({ ...view, worldFromObject: world });
+  const r = geom.receivers();
+  assert.equal(r.setGrid(light, [-5, 0, -5, 5, 1, 5], 100), null, 'a side that is not a power of two');
+  assert.equal(r.setGrid([0, 0, 0, 0], [-5, 0, -5, 5, 1, 5], 128), null, 'a directional light without a direction');
+  const grid = r.setGrid(light, [-5, 0, -5, 5, 1, 5], 128);
+  assert.deepEqual(Array.from(grid.subarray(0, 5)), [0, 128, 0.5, 4, 0.5], 'a point light: the cube, its light');
+  const cells = r.cells();
+  assert.equal(cells.length, 6 * 128 * 128);
+  // No sample at all: every triangle dropped, nothing drawn.
+  cells.fill(-Infinity);
+  assert.ok(r.build());
+  let s = p.caster.cull(r, view, light);
+  assert.deepEqual([s.kept, s.records.length, s.triangles.length], [0, 0, 0]);
+  assert.ok(Array.from(s.orientation).every((o) => o === 0));
+  // One sample straight under the light on the floor (face -y, its centre cell), 4 from the
+  // light: the square is kept, its far vertices just past the floor (scale 4.1 / 3) where the
+  // clamp pays: for the square alone (the floor receives only), seen from above and in front,
+  // its unclamped sides would run down to their vanishing point.
+  r.cells().fill(-Infinity);
+  r.cells()[(3 * 128 + 64) * 128 + 64] = 4.1;
+  assert.ok(r.build());
+  const square = geom.prepare({ name: 'square', positions: positions.subarray(12), index: new Uint32Array([0, 2, 1, 0, 3, 2]), caster: true });
+  const q = square.caster.cull(r, view, light);
+  assert.ok(q.clamped, 'clamped: fewer pixels');
+  assert.deepEqual(Array.from(q.triangles), [0, 1], 'the square kept');
+  assert.equal(q.far.length, 4 * 4);
+  for (let v = 0; v < 4; v++) {
+    const [x, y, z, w] = q.far.subarray(4 * v, 4 * v + 4);
+    assert.equal(w, 1, 'clamped: a finite far vertex');
+    assert.ok(y < 0 && y > -0.2, `vertex ${v}: far end at y = ${y}, just below the floor`);
+    assert.ok(Math.abs((x - 0.5) / (positions[12 + 3 * v] - 0.5) - (4 - y) / 3) < 1e-5, 'on the ray from the light');
+    assert.ok(Number.isFinite(z));
+  }
+  assert.equal(q.records.length, 4, "the square's border");
+  square.caster.free();
+  // With the floor in the same caster, the floor is kept too (its cone holds the sample, 4.1 >
+  // its distance 4), and its far cap would cover most of the view: every far end at infinity.
+  s = p.caster.cull(r, view, light);
+  assert.deepEqual(Array.from(s.triangles), [0, 1, 2, 3]);
+  assert.ok(!s.clamped, 'unclamped: the far caps would cost more');
+  for (let v = 4; v < 8; v++) assert.equal(s.far[4 * v + 3], 0, 'at infinity');
+  assert.equal(s.records.length, 8, "the square's and the floor's borders");
+  // Its records' welded vertices: two per record, all below the vertex count.
+  const rv = p.caster.recordVertices();
+  assert.equal(rv.length, 2 * p.counts.sidesDataRecords);
+  assert.ok(rv.every((v) => v < 8));
+  // z-pass: the near pyramid under the square is raised; a NaN one drops the map (no cull).
+  assert.ok(r.raise([0.5, 0.5, 0.5, 0.45, 0.4, 0.45, 0.55, 0.4, 0.45, 0.55, 0.4, 0.55, 0.45, 0.4, 0.55]));
+  assert.ok(!r.raise([NaN, 0, 0]));
+  assert.equal(p.caster.cull(r, view, light), null, 'no map: not culled');
+  // A projective world matrix is not culled either.
+  assert.ok(r.build());
+  assert.equal(p.caster.cull(r, at([1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]), light), null);
+  r.free();
+  r.free();
+  assert.throws(() => r.build(), UmbraGeomError);
+  p.caster.free();
+  assert.throws(() => p.caster.cull(r, view, light), UmbraGeomError);
+});
+
+/** A clip-from-world matrix (column-major): the eye at (0.5, 3, 4) looking at (0.5, 0, 0.5), fov 90°, near 0.1. */
+function lookDown() {
+  const eye = [0.5, 3, 4];
+  const f = [0, -3, -3.5];
+  const n = Math.hypot(...f);
+  const fw = f.map((x) => x / n);
+  const s = [1, 0, 0]; // fw x up(0,1,0), normalised: along +x here
+  const up = [s[1] * fw[2] - s[2] * fw[1], s[2] * fw[0] - s[0] * fw[2], s[0] * fw[1] - s[1] * fw[0]];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const view = [s[0], up[0], -fw[0], 0, s[1], up[1], -fw[1], 0, s[2], up[2], -fw[2], 0, -dot(s, eye), -dot(up, eye), dot(fw, eye), 1];
+  const proj = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, -1, 0, 0, 0.1, 0];
+  const out = new Array(16).fill(0);
+  for (let c = 0; c < 4; c++) for (let row = 0; row < 4; row++) for (let k = 0; k < 4; k++) out[4 * c + row] += proj[4 * k + row] * view[4 * c + k];
+  return out;
+}

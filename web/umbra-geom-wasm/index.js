@@ -8,11 +8,14 @@
 // Then `geom.prepare({ name, positions, index })`; see index.d.ts and README.md. With
 // `caster: true` the result also carries the geometry's per-frame work (`caster`: the z-pass
 // test nearWinding, crates/umbra-wasm/src/clearance.rs, and the silhouette,
-// crates/umbra-wasm/src/silhouette.rs), which lives in the module until `free()`.
+// crates/umbra-wasm/src/silhouette.rs), which lives in the module until `free()`. The
+// receiver cull (crates/umbra-wasm/src/cull.rs): `geom.receivers()` is one light's receiver
+// map (its grid, the cells the page scattered, raise for z-pass), and `caster.cull(map, ...)`
+// the silhouette of the triangles it keeps, with their far vertices.
 // Build the .wasm: node ../build-wasm.mjs.
 
 /** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
-const ABI_VERSION = 2;
+const ABI_VERSION = 3;
 
 /** Buffer numbers of `umbra_result_buffer_ptr` and the typed arrays they are read as. */
 const BUFFERS = [
@@ -74,13 +77,115 @@ export async function loadUmbraGeom(source) {
     return ptr;
   };
 
+  // Scratch blocks for points (f64, grown as needed), a light (4 f32), bounds (6 f32) and two
+  // matrices (32 f64), shared by every handle: each call fills them, then reads its results.
+  const scratch = { points: 0, pointsBytes: 0, light: 0, bounds: 0, matrices: 0 };
+  const scratchPoints = (p) => {
+    if (8 * p.length > scratch.pointsBytes) {
+      if (scratch.points) w.umbra_free(scratch.points, scratch.pointsBytes);
+      scratch.points = 0;
+      scratch.pointsBytes = 8 * p.length;
+      scratch.points = alloc(scratch.pointsBytes);
+    }
+    new Float64Array(w.memory.buffer, scratch.points, p.length).set(p);
+    return scratch.points;
+  };
+  const scratchBlock = (key, Type, values) => {
+    // 'matrices': the cull's 53 f64 (crates/umbra-wasm/src/ffi.rs CULL_PARAMS).
+    if (!scratch[key]) scratch[key] = alloc(key === 'matrices' ? 512 : 32);
+    new Type(w.memory.buffer, scratch[key], values.length).set(values);
+    return scratch[key];
+  };
+
+  // A handle of umbra_receivers_new: one light's receiver map.
+  function receiversOf() {
+    let live = u(w.umbra_receivers_new());
+    if (!live) throw new UmbraGeomError('umbra-wasm: out of memory creating a receiver map');
+    const check = () => {
+      if (!live) throw new UmbraGeomError('umbra-wasm: receiver map used after free()');
+    };
+    return {
+      get handle() {
+        return live;
+      },
+      setGrid(light, bounds, side) {
+        check();
+        const l = scratchBlock('light', Float32Array, light);
+        const b = scratchBlock('bounds', Float32Array, bounds);
+        if (!w.umbra_receivers_set_grid(live, l, b, side)) return null;
+        return Float32Array.from(new Float32Array(w.memory.buffer, u(w.umbra_receivers_params_ptr(live)), 24));
+      },
+      cells() {
+        check();
+        return new Float32Array(w.memory.buffer, u(w.umbra_receivers_cells_ptr(live)), u(w.umbra_receivers_cells_len(live)));
+      },
+      build() {
+        check();
+        return w.umbra_receivers_build(live) !== 0;
+      },
+      /** The map from `samples` (samplesBuffer()'s: x y z w per pixel), bit `bit` of w left out. */
+      buildFromSamples(samples, bit) {
+        check();
+        return w.umbra_receivers_build_from_samples(live, samples.ptr, samples.length, bit) !== 0;
+      },
+      raise(points) {
+        check();
+        return w.umbra_receivers_raise_hull(live, scratchPoints(points), points.length) !== 0;
+      },
+      free() {
+        if (!live) return;
+        w.umbra_receivers_free(live);
+        live = 0;
+      },
+    };
+  }
+
+  // A block of f32 in the module's memory that the page reads pixels into (the receiver maps'
+  // samples), grown as needed.
+  function samplesBuffer() {
+    let ptr = 0;
+    let bytes = 0;
+    return {
+      get ptr() {
+        return ptr;
+      },
+      length: 0,
+      /** A view of `n` floats (valid until the module's memory grows: use it at once). */
+      view(n) {
+        if (4 * n > bytes) {
+          if (ptr) w.umbra_free(ptr, bytes);
+          ptr = 0;
+          bytes = 4 * n;
+          ptr = alloc(bytes);
+        }
+        this.length = n;
+        return new Float32Array(w.memory.buffer, ptr, n);
+      },
+      free() {
+        if (ptr) w.umbra_free(ptr, bytes);
+        ptr = 0;
+        bytes = 0;
+        this.length = 0;
+      },
+    };
+  }
+
   // A handle of umbra_result_caster: the per-frame work of one geometry.
-  function casterOf(handle, triangles) {
+  function casterOf(handle, triangles, vertices) {
     let live = handle;
     // Scratch blocks for the points (f64) and the light (f32), grown as needed.
     let points = 0;
     let pointsBytes = 0;
     const light = alloc(16);
+    const silhouetteViews = (n) => {
+      // Views of the module's memory (no copy): valid until the next call.
+      const memory = w.memory.buffer;
+      return {
+        orientation: new Int8Array(memory, u(w.umbra_caster_orientation_ptr(live)), triangles),
+        records: new Int32Array(memory, u(w.umbra_caster_records_ptr(live)), n),
+        single: u(w.umbra_caster_single_records(live)),
+      };
+    };
     return {
       nearWinding(p, l) {
         if (!live) throw new UmbraGeomError('umbra-wasm: nearWinding after free()');
@@ -99,15 +204,30 @@ export async function loadUmbraGeom(source) {
       silhouette(l) {
         if (!live) throw new UmbraGeomError('umbra-wasm: silhouette after free()');
         new Float32Array(w.memory.buffer, light, 4).set(l);
-        const n = u(w.umbra_caster_silhouette(live, light));
-        // Views of the module's memory (no copy): valid until the next call.
-        const memory = w.memory.buffer;
-        return {
-          orientation: new Int8Array(memory, u(w.umbra_caster_orientation_ptr(live)), triangles),
-          records: new Int32Array(memory, u(w.umbra_caster_records_ptr(live)), n),
-          single: u(w.umbra_caster_single_records(live)),
-        };
+        return silhouetteViews(u(w.umbra_caster_silhouette(live, light)));
       },
+      cull(receivers, { worldFromObject, objectFromWorld, clipFromObject, width, height, zfail, polygonPixels = 0, clamp = 'auto' }, l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: cull after free()');
+        const mode = clamp === 'always' ? 1 : clamp === 'never' ? 2 : 0;
+        const params = [...worldFromObject, ...objectFromWorld, ...clipFromObject, width, height, zfail ? 1 : 0, polygonPixels, mode];
+        const m = scratchBlock('matrices', Float64Array, params);
+        new Float32Array(w.memory.buffer, light, 4).set(l);
+        const n = w.umbra_caster_cull(live, receivers.handle, m, params.length, light);
+        if (n < 0) return null;
+        const s = silhouetteViews(n);
+        const memory = w.memory.buffer;
+        s.clamped = w.umbra_caster_clamped(live) !== 0;
+        s.kept = u(w.umbra_caster_cull_kept(live));
+        s.triangles = new Int32Array(memory, u(w.umbra_caster_kept_ptr(live)), u(w.umbra_caster_kept_len(live)));
+        s.far = new Float32Array(memory, u(w.umbra_caster_far_ptr(live)), u(w.umbra_caster_far_len(live)));
+        return s;
+      },
+      recordVertices() {
+        if (!live) throw new UmbraGeomError('umbra-wasm: recordVertices after free()');
+        const n = u(w.umbra_caster_record_vertices_len(live));
+        return new Uint32Array(w.memory.buffer, u(w.umbra_caster_record_vertices_ptr(live)), n).slice();
+      },
+      vertices,
       free() {
         if (!live) return;
         w.umbra_caster_free(live);
@@ -156,7 +276,7 @@ export async function loadUmbraGeom(source) {
       if (caster) {
         const handle = u(w.umbra_result_caster(result));
         if (handle === 0) throw new UmbraGeomError(`${name}: umbra-wasm could not build the caster's per-frame data`);
-        prepared.caster = casterOf(handle, prepared.counts.triangles);
+        prepared.caster = casterOf(handle, prepared.counts.triangles, prepared.counts.vertices);
       }
       return prepared;
     } finally {
@@ -167,6 +287,10 @@ export async function loadUmbraGeom(source) {
 
   return {
     prepare,
+    /** A new receiver map (one light's; crates/umbra-wasm/src/cull.rs), freed by its free(). */
+    receivers: receiversOf,
+    /** A block of floats the page reads its samples into, for receivers' buildFromSamples. */
+    samples: samplesBuffer,
     /** Bytes of the module's linear memory (it grows, never shrinks). */
     memoryBytes: () => w.memory.buffer.byteLength,
   };

@@ -26,6 +26,26 @@ export interface UmbraInfo {
    * it was counted z-fail.
    */
   zpass: (number | null)[];
+  /** Whether volumes are culled to their receivers on this context (`volumeCull`, and EXT_color_buffer_float offered). */
+  volumeCull: boolean;
+  /** Why `volumeCull` is off although it was asked for (a missing extension), else null. */
+  volumeCullMessage: string | null;
+  /** Where the receiver maps are scattered: 'gpu', 'cpu' (in the wasm), or null without the cull. */
+  receiverScatter: 'gpu' | 'cpu' | null;
+  /** Per light of the last frame: what its shadow volumes drew. */
+  volumes: UmbraVolumes[];
+}
+
+/** What one light's shadow volumes drew in the last frame, summed over its casters. */
+export interface UmbraVolumes {
+  /** Whether they were culled to the light's receiver map (false: volumeCull off, or a z-pass light whose map cannot bound the eye's near pyramid). */
+  culled: boolean;
+  /** Triangles whose volumes were drawn: the kept ones when culled, else every caster triangle. */
+  triangles: number;
+  /** Edge records of nonzero multiplicity (the silhouette's sides) drawn. */
+  edges: number;
+  /** Casters whose culled volume was also clamped (sides ending at far caps short of infinity, where that covers fewer pixels). */
+  clamped: number;
 }
 
 export interface UmbraOptions {
@@ -39,6 +59,16 @@ export interface UmbraOptions {
   snap?: number;
   /** Diagnostic: false counts every light z-fail, never z-pass (the same decision, slower). */
   zpass?: boolean;
+  /**
+   * Shadow volumes only where something visible receives them (default true): per light a map
+   * of the frame's visible samples, against which each caster's volume is culled and clamped
+   * exactly. false: every volume runs to infinity, as without the option.
+   */
+  volumeCull?: boolean;
+  /** Diagnostic: where the receiver maps are scattered ('auto': in the wasm on software rasterisers, else on the GPU). */
+  receiverScatter?: 'auto' | 'gpu' | 'cpu';
+  /** Diagnostic: clamp culled volumes 'always', 'never', or where it covers fewer pixels ('auto'). */
+  volumeClamp?: 'auto' | 'always' | 'never';
 }
 
 export class UmbraShadows {

@@ -38,6 +38,16 @@ impl Clearance {
     pub fn near_winding(&self, points: &[[f64; 3]], light: Light) -> Option<u32> {
         self.index.near_winding(&self.mesh, Some(&self.adjacency), points, light)
     }
+
+    /// The welded mesh.
+    pub fn mesh(&self) -> &WeldedMesh {
+        &self.mesh
+    }
+
+    /// Its edge adjacency.
+    pub fn adjacency(&self) -> &EdgeAdjacency {
+        &self.adjacency
+    }
 }
 
 #[cfg(test)]

@@ -17,15 +17,27 @@
 //! z-pass test ([`crate::Clearance`], [`umbra_caster_near_winding`]) and computes the
 //! silhouette ([`crate::Silhouette`], [`umbra_caster_silhouette`]) once per frame and light;
 //! [`umbra_caster_free`] frees it.
+//!
+//! Receiver cull ([`crate::cull`]): a receivers handle ([`umbra_receivers_new`]) per light holds
+//! the light's grid ([`umbra_receivers_set_grid`], whose parameters the page's scatter reads),
+//! the cells the page writes into its memory ([`umbra_receivers_cells_ptr`]) and the map built
+//! from them ([`umbra_receivers_build`], [`umbra_receivers_raise_hull`]); then
+//! [`umbra_caster_cull`] culls and clamps a caster against it and computes the silhouette of
+//! the kept triangles, with the kept triangles ([`umbra_caster_kept_ptr`]) and every vertex's
+//! far end ([`umbra_caster_far_ptr`]) beside it.
 
 use std::alloc::{alloc, dealloc, Layout};
 
 use umbra_geom::WeldedMesh;
 
-use crate::{prepare_welded, Clearance, PrepareError, Prepared, Silhouette};
+use umbra_geom::sides_data::record_ranges;
+use umbra_geom::Aabb;
+
+use crate::cull::Screen;
+use crate::{prepare_welded, CasterCull, Clearance, PrepareError, Prepared, Receivers, Silhouette};
 
 /// Version of this interface; the JavaScript module refuses any other.
-pub const ABI_VERSION: u32 = 2;
+pub const ABI_VERSION: u32 = 3;
 
 /// Alignment of every [`umbra_alloc`] block (enough for f32, u32 and f64).
 const ALIGN: usize = 8;
@@ -241,10 +253,16 @@ pub unsafe extern "C" fn umbra_result_bounds(r: *const PrepareResult) -> *const 
     }
 }
 
-/// What a caster handle holds: its z-pass test and its silhouette.
+/// What a caster handle holds: its z-pass test, its silhouette and its receiver cull.
 pub struct Caster {
     clearance: Clearance,
     silhouette: Silhouette,
+    cull: CasterCull,
+    max_mult: usize,
+    /// The welded vertices (A, B) of every edge record, built on first use.
+    record_vertices: Option<Vec<u32>>,
+    /// Whether the last cull kept its volume clamped.
+    clamped: bool,
 }
 
 /// The caster handle of a prepared result ([`crate::Clearance`] and [`crate::Silhouette`] of
@@ -261,7 +279,15 @@ pub unsafe extern "C" fn umbra_result_caster(r: *mut PrepareResult) -> *mut Cast
         (Some(welded), Ok(p)) => {
             let b = &p.buffers;
             let silhouette = Silhouette::new(&welded, &b.sides_data, &b.edge_triangles, b.max_mult);
-            Box::into_raw(Box::new(Caster { clearance: Clearance::new(welded), silhouette }))
+            let caster = Caster {
+                clearance: Clearance::new(welded),
+                silhouette,
+                cull: CasterCull::default(),
+                max_mult: b.max_mult,
+                record_vertices: None,
+                clamped: false,
+            };
+            Box::into_raw(Box::new(caster))
         }
         _ => std::ptr::null_mut(),
     }
@@ -303,6 +329,258 @@ pub unsafe extern "C" fn umbra_caster_silhouette(c: *mut Caster, light: *const f
         Ok(light) => c.silhouette.compute(light, None),
         Err(_) => 0,
     }
+}
+
+/// Floats of [`umbra_caster_cull`]'s parameters.
+pub const CULL_PARAMS: usize = 53;
+
+/// [`crate::CasterCull::cull`] against the map of `r`, [`crate::Silhouette::compute`] of the
+/// kept triangles towards `light` (4 f32, the geometry's own space, as its volumes are drawn),
+/// then [`crate::CasterCull::choose_clamp`]. `params`: [`CULL_PARAMS`] f64, the caster's world
+/// matrix, its inverse and its clip-from-object matrix (column-major, 16 each), the viewport's
+/// width and height in pixels, 1 for z-fail (light and dark caps drawn) or 0 for z-pass, what a
+/// polygon costs in pixels ([`crate::cull::Screen`]), and the clamp: 0 where it pays
+/// ([`crate::CasterCull::choose_clamp`]), 1 always, 2 never (far ends at infinity).
+/// Returns how many records have a nonzero multiplicity (as [`umbra_caster_silhouette`], whose
+/// accessors then read this silhouette), or -1 when nothing was culled (no map, a matrix that
+/// is not affine, a light that is not finite, parameters of another length): then call
+/// [`umbra_caster_silhouette`].
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`], `r` of [`umbra_receivers_new`];
+/// `params` points to `params_len` f64 and `light` to 4 f32.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_cull(
+    c: *mut Caster,
+    r: *const Receivers,
+    params: *const f64,
+    params_len: usize,
+    light: *const f32,
+) -> i32 {
+    // SAFETY: guaranteed by the caller.
+    let (c, r, p, light) = unsafe { (&mut *c, &*r, slice(params, params_len), slice(light, 4)) };
+    let (Ok(light), CULL_PARAMS) = (<[f32; 4]>::try_from(light), p.len()) else { return -1 };
+    let matrix = |at: usize| -> [f64; 16] { std::array::from_fn(|i| p[at + i]) };
+    let (world, inverse) = (matrix(0), matrix(16));
+    let screen = Screen { clip_from_object: matrix(32), width: p[48], height: p[49], polygon_pixels: p[51] };
+    let (caps, mode) = (p[50] != 0.0, p[52]);
+    record_vertices(c);
+    let Caster { clearance, silhouette, cull, record_vertices: rv, clamped, .. } = c;
+    let Some(keep) = cull.cull(clearance.mesh(), clearance.adjacency(), r, &world, &inverse, light) else {
+        return -1;
+    };
+    let n = silhouette.compute(light, Some(keep));
+    *clamped = if mode == 1.0 {
+        true
+    } else {
+        // "Never": no pixel is worth a far cap.
+        let screen = if mode == 2.0 { Screen { polygon_pixels: f64::INFINITY, ..screen } } else { screen };
+        cull.choose_clamp(silhouette, rv.as_deref().unwrap_or(&[]), light, &screen, caps)
+    };
+    i32::try_from(n).unwrap_or(-1)
+}
+
+/// Whether the last [`umbra_caster_cull`] kept its volume clamped (1; its far caps are then
+/// drawn in both counts) or put every far end at infinity (0: no far caps under z-pass).
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_clamped(c: *const Caster) -> u32 {
+    // SAFETY: guaranteed by the caller.
+    u32::from(unsafe { &*c }.clamped)
+}
+
+/// The kept triangles of nonzero orientation of the last [`umbra_caster_cull`] (i32,
+/// [`umbra_caster_kept_len`] of them).
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_kept_ptr(c: *const Caster) -> *const i32 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.silhouette.kept_triangles().as_ptr()
+}
+
+/// How many kept triangles of nonzero orientation the last [`umbra_caster_cull`] listed.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_kept_len(c: *const Caster) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.silhouette.kept_triangles().len()
+}
+
+/// Triangles the last [`umbra_caster_cull`] kept (of any orientation).
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_cull_kept(c: *const Caster) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.cull.stats().kept
+}
+
+/// The far vertex of every welded vertex of the last [`umbra_caster_cull`]: 4 f32 each
+/// (homogeneous, the geometry's own space), as many as the welded vertices.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_far_ptr(c: *const Caster) -> *const f32 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*c }.cull.far().as_ptr().cast()
+}
+
+/// Elements (f32) at [`umbra_caster_far_ptr`]: 4 per welded vertex after a cull, else 0.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_far_len(c: *const Caster) -> usize {
+    // SAFETY: guaranteed by the caller.
+    4 * unsafe { &*c }.cull.far().len()
+}
+
+/// The welded vertices `A, B` of every edge record (u32, 2 per record, in sides-data's order:
+/// the record's A and B), what the drawer reads a side's far vertices by; built on first call.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_record_vertices_ptr(c: *mut Caster) -> *const u32 {
+    // SAFETY: guaranteed by the caller.
+    record_vertices(unsafe { &mut *c }).as_ptr()
+}
+
+/// Elements (u32) at [`umbra_caster_record_vertices_ptr`]: 2 per edge record.
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_record_vertices_len(c: *mut Caster) -> usize {
+    // SAFETY: guaranteed by the caller.
+    record_vertices(unsafe { &mut *c }).len()
+}
+
+fn record_vertices(c: &mut Caster) -> &[u32] {
+    let (adj, max_mult) = (c.clearance.adjacency(), c.max_mult);
+    c.record_vertices.get_or_insert_with(|| record_ranges(adj, max_mult).flat_map(|r| adj.edges[r.edge]).collect())
+}
+
+/// A new receivers handle without a grid ([`crate::Receivers`]); [`umbra_receivers_free`]
+/// frees it.
+#[no_mangle]
+pub extern "C" fn umbra_receivers_new() -> *mut Receivers {
+    Box::into_raw(Box::new(Receivers::new()))
+}
+
+/// Frees a handle of [`umbra_receivers_new`].
+///
+/// # Safety
+/// `r` is a handle of [`umbra_receivers_new`] not freed yet, or null.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_free(r: *mut Receivers) {
+    if !r.is_null() {
+        // SAFETY: it came from Box::into_raw in umbra_receivers_new.
+        drop(unsafe { Box::from_raw(r) });
+    }
+}
+
+/// [`crate::Receivers::set_grid`]: the world-space light (4 f32), the world box of every
+/// sample (6 f32, min then max) and `side` cells a side. Returns 1, or 0 for bad input (no
+/// grid; the cells are then empty).
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`]; `light` points to 4 f32, `bounds` to 6.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_set_grid(
+    r: *mut Receivers,
+    light: *const f32,
+    bounds: *const f32,
+    side: u32,
+) -> u32 {
+    // SAFETY: guaranteed by the caller.
+    let (r, light, b) = unsafe { (&mut *r, slice(light, 4), slice(bounds, 6)) };
+    let (Ok(light), true) = (<[f32; 4]>::try_from(light), b.len() == 6) else { return 0 };
+    let bounds = Aabb { min: [b[0], b[1], b[2]], max: [b[3], b[4], b[5]] };
+    u32::from(r.set_grid(light, bounds, side))
+}
+
+/// The grid's parameters ([`crate::Receivers::params`], [`crate::cull::GRID_PARAMS`] f32).
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_params_ptr(r: *const Receivers) -> *const f32 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &*r }.params().as_ptr()
+}
+
+/// Where the page writes the cells (f32, [`umbra_receivers_cells_len`] of them) before
+/// [`umbra_receivers_build`]; valid until the next [`umbra_receivers_set_grid`].
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_cells_ptr(r: *mut Receivers) -> *mut f32 {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &mut *r }.cells_mut().as_mut_ptr()
+}
+
+/// Cells of the grid (0 without one).
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_cells_len(r: *mut Receivers) -> usize {
+    // SAFETY: guaranteed by the caller.
+    unsafe { &mut *r }.cells_mut().len()
+}
+
+/// [`crate::Receivers::build`]: 1, or 0 without a grid.
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_build(r: *mut Receivers) -> u32 {
+    // SAFETY: guaranteed by the caller.
+    u32::from(unsafe { &mut *r }.build())
+}
+
+/// [`crate::Receivers::build_from_samples`]: `samples_len` f32 at `samples` (x, y, z, w per
+/// pixel, the page's position target), the samples with bit `light_bit` of `w` left out. 1, or
+/// 0 without a grid.
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`]; `samples` points to `samples_len` f32.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_build_from_samples(
+    r: *mut Receivers,
+    samples: *const f32,
+    samples_len: usize,
+    light_bit: u32,
+) -> u32 {
+    // SAFETY: guaranteed by the caller.
+    let (r, samples) = unsafe { (&mut *r, slice(samples, samples_len)) };
+    u32::from(r.build_from_samples(samples, light_bit))
+}
+
+/// [`crate::Receivers::raise_hull`] with `points_len` f64 at `points` (x, y, z per point, world
+/// space): 1, or 0 when the map cannot bound them (the map is then dropped: nothing is culled).
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`]; `points` points to `points_len` f64.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_raise_hull(r: *mut Receivers, points: *const f64, points_len: usize) -> u32 {
+    // SAFETY: guaranteed by the caller.
+    let (r, flat) = unsafe { (&mut *r, slice(points, points_len)) };
+    if flat.is_empty() || flat.len() % 3 != 0 {
+        return u32::from(r.raise_hull(&[[f64::NAN; 3]]));
+    }
+    let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    u32::from(r.raise_hull(&points))
 }
 
 /// The orientations of the last [`umbra_caster_silhouette`], one i8 per triangle.

@@ -25,10 +25,12 @@ use umbra_geom::weld::weld;
 use umbra_geom::{Mesh, WeldedMesh};
 
 mod clearance;
+pub mod cull;
 pub mod ffi;
 mod silhouette;
 
 pub use clearance::Clearance;
+pub use cull::{CasterCull, Receivers};
 pub use silhouette::Silhouette;
 
 /// Why a geometry could not be prepared; the message starts with the mesh's name.

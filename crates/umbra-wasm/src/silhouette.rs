@@ -110,6 +110,32 @@ impl Silhouette {
         &self.records
     }
 
+    /// The multiplicity of edge record `r` under the last [`Silhouette::compute`].
+    pub fn multiplicity(&self, r: usize) -> i32 {
+        let count = self.counts[r] as usize;
+        self.edge_triangles[r * self.max_mult..r * self.max_mult + count]
+            .iter()
+            .map(|&t| {
+                let o = i32::from(self.orientation[(t.unsigned_abs() - 1) as usize]);
+                if t > 0 {
+                    o
+                } else {
+                    -o
+                }
+            })
+            .sum()
+    }
+
+    /// The welded positions.
+    pub fn positions(&self) -> &[[f32; 3]] {
+        &self.positions
+    }
+
+    /// The welded triangles.
+    pub fn triangle_vertices(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
     /// How many of [`Silhouette::records`] (the first ones) have multiplicity ±1.
     pub fn single(&self) -> usize {
         self.single

@@ -95,11 +95,13 @@ export class Topology {
 
   /**
    * The caster buffers of `geometry` (positions in its own space), named `name` in errors:
-   * { maxMult, records, triangles, sides, caps, edgeTriangles, caster, ms }; `caster` is the
-   * geometry's per-frame work in the wasm (umbra-geom-wasm's Caster: the z-pass test and the
-   * silhouette; the caller frees it). Throws TopologyError.
+   * { maxMult, records, triangles, vertices, sides, caps, edgeTriangles, caster, ms }, and with
+   * `cull` the welded vertices of every triangle and edge record ({ indices, recordVertices },
+   * what the receiver cull's far vertices are read by); `caster` is the geometry's per-frame
+   * work in the wasm (umbra-geom-wasm's Caster: the z-pass test, the silhouette, the cull; the
+   * caller frees it). Throws TopologyError.
    */
-  prepare(geometry, name) {
+  prepare(geometry, name, cull = false) {
     const positions = geometryPositions(geometry, name);
     const t0 = performance.now();
     let p;
@@ -113,6 +115,9 @@ export class Topology {
       maxMult: p.maxMult,
       records: p.counts.sidesDataRecords,
       triangles: p.counts.triangles,
+      vertices: p.counts.vertices,
+      indices: cull ? p.indices : null,
+      recordVertices: cull ? p.caster.recordVertices() : null,
       sides: p.sides,
       caps: p.caps,
       edgeTriangles: p.edgeTriangles,

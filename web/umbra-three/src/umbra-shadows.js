@@ -10,6 +10,11 @@
 //      reversed-Z, infinite far plane; the camera's fov, aspect and near);
 //   3. renderer.resetState(), then renderer.render(scene, camera) with the patched materials
 //      (materials.js) reading the decision of their pixel.
+// With `volumeCull` (default on), step 2 draws only the volumes something visible receives:
+// per light a receiver map of the frame's visible samples (the drawer's position pass and
+// scatter, read back), against which the wasm culls and clamps each caster's volume
+// (crates/umbra-wasm/src/cull.rs; umbra_geom::receivers), in world space; z-pass first raises
+// the eye's near pyramid into the map, and a light whose map cannot bound it is drawn unculled.
 // Nothing thrown inside render(): a refused mesh or a failed frame is an entry in `errors`
 // (and onError), and the frame is drawn by three.js all the same.
 import { ExternalTexture, Matrix4, Vector2, Vector3 } from 'three';
@@ -20,6 +25,43 @@ import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
 import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
+
+/** Cells along a side of a light's receiver map (crates/umbra-wasm/src/cull.rs PAGE_RECEIVER_SIDE). */
+const RECEIVER_SIDE = 128;
+
+/**
+ * What drawing one more polygon (a far cap: a point through the polygon pass, its fan's
+ * vertices) costs against one pixel of volume fill, in the choice between a clamped volume and
+ * the same one running to infinity (crates/umbra-wasm/src/cull.rs choose_clamp).
+ */
+const POLYGON_PIXELS = 16;
+
+/** The world box of a mesh's local box `b` ({min, max}) under its world matrix `m` (f64 elements). */
+function worldBox(b, m, into) {
+  for (let c = 0; c < 8; c++) {
+    const p = [c & 1 ? b.max[0] : b.min[0], c & 2 ? b.max[1] : b.min[1], c & 4 ? b.max[2] : b.min[2]];
+    for (let r = 0; r < 3; r++) {
+      const v = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+      into[r] = Math.min(into[r], v);
+      into[3 + r] = Math.max(into[3 + r], v);
+    }
+  }
+}
+
+/** The box of x y z positions, {min, max}, or null when there are none or one is not finite. */
+function boxOf(positions) {
+  if (positions.length < 3) return null;
+  const min = [Infinity, Infinity, Infinity];
+  const max = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < positions.length; i += 3) {
+    for (let a = 0; a < 3; a++) {
+      const v = positions[i + a];
+      if (v < min[a]) min[a] = v;
+      if (v > max[a]) max[a] = v;
+    }
+  }
+  return [...min, ...max].every(Number.isFinite) ? { min, max } : null;
+}
 
 /**
  * The stencil start of light `k` under z-pass, sum(W0) mod 256 (8-bit stencil, wrapping
@@ -42,10 +84,11 @@ export class UmbraShadows {
    * Loads the wasm preprocessing and sets up the WebGL 2 drawer on `renderer`'s context.
    * Throws a clear Error when the context is not WebGL 2 or lacks what umbra needs.
    * @param {import('three').WebGLRenderer} renderer
-   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number, zpass?: boolean}} options
+   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number, zpass?: boolean, volumeCull?: boolean}} options
    *   wasm: the module's URL, Response or bytes (default: umbra_wasm.wasm beside this file);
    *   depth, depthClamp, snap: diagnostics (docs/web.md); zpass: false counts every light
-   *   z-fail (a diagnostic: the two counts give the same decision)
+   *   z-fail (a diagnostic: the two counts give the same decision); volumeCull (default true):
+   *   volumes only where a visible sample may receive them (false: every volume to infinity)
    */
   static async create(renderer, options = {}) {
     const gl = renderer?.getContext?.();
@@ -80,7 +123,12 @@ export class UmbraShadows {
     this.owned = new Set(); // GL objects and wasm caster handles to free on dispose
     this.reported = new Set();
     this.channels = new Map(); // light -> channel of the last frame
-    this.info = { lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {}, zpass: [] };
+    this.receivers = []; // per light slot, its receiver map in the wasm (volumeCull)
+    this.samples = null; // the frame's samples in the wasm (volumeCull, receiverScatter 'cpu')
+    this.info = {
+      lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {}, zpass: [],
+      volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, volumes: [],
+    };
   }
 
   /** The renderer's name (WEBGL_debug_renderer_info) and its SUBPIXEL_BITS, for tests. */
@@ -172,7 +220,7 @@ export class UmbraShadows {
       }
       c = { key, volumes: null, wasm: null, error: null };
       try {
-        const data = this.topology.prepare(g, meshName(mesh));
+        const data = this.topology.prepare(g, meshName(mesh), this.drawer.volumeCull);
         this.info.prepareMs += data.ms;
         if (data.triangles > 0) {
           c.volumes = this.drawer.createVolumes(data);
@@ -205,11 +253,14 @@ export class UmbraShadows {
         this.drawer.deleteMeshBuffers(d.buffers);
         this.owned.delete(d.buffers);
       }
-      d = { key, buffers: null, error: null };
+      d = { key, buffers: null, box: null, error: null };
       try {
         const positions = geometryPositions(g, meshName(mesh));
         const index = g.index ? g.index.array.subarray(0, g.index.count) : null;
-        d.buffers = this.drawer.createMeshBuffers(flatTriangles(positions, index));
+        const tri = flatTriangles(positions, index);
+        d.buffers = this.drawer.createMeshBuffers(tri);
+        // Its box (the triangles' vertices), for the receiver maps' bounds.
+        d.box = boxOf(tri.positions);
         this.owned.add(d.buffers);
       } catch (e) {
         if (!(e instanceof TopologyError)) throw e;
@@ -218,7 +269,7 @@ export class UmbraShadows {
       this.drawn.set(g, d);
     }
     if (d.error) this.report(meshName(mesh), d.error);
-    return d.buffers;
+    return d.buffers ? d : null;
   }
 
   /** Steps 1-2 of the frame; false when there is nothing umbra shadows (a plain render). */
@@ -274,13 +325,27 @@ export class UmbraShadows {
     const frameMeshes = [];
     let casters = 0;
     let triangles = 0;
+    // The receiver cull of this frame: per light whether its map was built (frame.cull.receive),
+    // and what its volumes drew.
+    const cullOn = this.drawer.volumeCull;
+    const culledLights = lights.map(() => false);
+    // Each light's count, once known (the z-pass tests run after this loop).
+    const zpassOf = lights.map(() => null);
+    const drawnVolumes = lights.map(() => ({ culled: false, triangles: 0, edges: 0, clamped: 0 }));
+    // Every visible sample lies in the union of the drawn meshes' world boxes.
+    const bounds = [Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity];
+    let affineWorlds = true;
     for (const m of meshes) {
       if (m.isInstancedMesh || m.isSkinnedMesh || m.isBatchedMesh) {
         if (m.castShadow) this.report(meshName(m), `${m.type}: umbra-three casts shadows from plain Meshes only; drawn without its shadow`);
         continue;
       }
-      const buffers = this.buffersOf(m);
-      if (!buffers) continue;
+      const drawn = this.buffersOf(m);
+      if (!drawn) continue;
+      const buffers = drawn.buffers;
+      const we = m.matrixWorld.elements;
+      if (!(we[3] === 0 && we[7] === 0 && we[11] === 0 && we[15] === 1 && we.every(Number.isFinite))) affineWorlds = false;
+      if (cullOn && drawn.box) worldBox(drawn.box, we, bounds);
       const caster = m.castShadow ? this.casterOf(m) : null;
       const volumes = caster ? caster.volumes : null;
       if (volumes) {
@@ -298,14 +363,41 @@ export class UmbraShadows {
         const affine = w[3] === 0 && w[7] === 0 && w[11] === 0 && w[15] === 1;
         tests.push({ caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights });
       }
+      const worldFromObject = m.matrixWorld.elements.slice();
+      const clip = clipFromObject(projection, view, m.matrixWorld.elements);
+      // What the wasm's cull reads: the caster's world matrix and its inverse (its samples are
+      // in world space), and where its volume is drawn (clamped only where that covers fewer
+      // pixels).
+      const place = {
+        worldFromObject, objectFromWorld: e.slice(), clipFromObject: clip, width: size.x, height: size.y, zfail: true,
+        polygonPixels: POLYGON_PIXELS, clamp: this.options.volumeClamp ?? 'auto',
+      };
+      // Light k's silhouette: culled against its map when it was built (null from the wasm:
+      // a projective world matrix, drawn unculled), else every triangle's.
+      const silhouette = (k) => {
+        const w = caster.wasm.caster;
+        place.zfail = zpassOf[k] === null;
+        const s = culledLights[k] ? w.cull(this.receivers[k], place, objectLights[k]) : null;
+        const v = drawnVolumes[k];
+        v.triangles += s ? s.kept : caster.volumes.triangles;
+        if (s) {
+          v.edges += s.records.length;
+          v.clamped += s.clamped ? 1 : 0;
+          return s;
+        }
+        const u = w.silhouette(objectLights[k]);
+        v.edges += u.records.length;
+        return u;
+      };
       frameMeshes.push({
         buffers,
-        volumes,
-        clipFromObject: clipFromObject(projection, view, m.matrixWorld.elements),
+        volumes: caster ? caster.volumes : null,
+        clipFromObject: clip,
+        world: new Float32Array(worldFromObject),
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
         flip: m.matrixWorld.determinant() < 0 ? -1 : 1,
         lights: objectLights,
-        silhouette: caster ? (k) => caster.wasm.caster.silhouette(objectLights[k]) : null,
+        silhouette: caster ? silhouette : null,
       });
     }
     this.info.casters = casters;
@@ -315,10 +407,40 @@ export class UmbraShadows {
     const timing = this.timing ? {} : null;
     const t0 = timing ? performance.now() : 0;
     const zpass = lights.map((_, k) => zpassStart(tests, k));
+    zpass.forEach((z, k) => (zpassOf[k] = z));
     if (timing) timing.clearance = performance.now() - t0;
-    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length, zpass });
+    let cull = null;
+    // The map is made of world positions (x y z of the world matrix times the object point):
+    // a projective world matrix anywhere in the frame would misplace its samples, so such a
+    // frame is drawn unculled.
+    if (cullOn && affineWorlds && bounds.every(Number.isFinite)) {
+      const box = Float32Array.from(bounds);
+      while (this.receivers.length < lights.length) this.receivers.push(this.topology.geom.receivers());
+      cull = {
+        side: RECEIVER_SIDE,
+        // A light the wasm refuses a grid for (no direction, say) is drawn unculled.
+        grids: lights.map((_, k) => this.receivers[k].setGrid(Float32Array.from(lightWorld[k]), box, RECEIVER_SIDE)),
+        cells: (k) => this.receivers[k].cells(),
+        samples: (n) => {
+          this.samples ??= this.topology.geom.samples();
+          return this.samples.view(n);
+        },
+        // z-pass counts from the eye's near pyramid: raised into the map first, or no cull.
+        receive: (k, fromSamples) => {
+          const r = this.receivers[k];
+          const built = fromSamples ? r.buildFromSamples(this.samples, 1 << k) : r.build();
+          culledLights[k] = built && (zpass[k] === null || r.raise(pyramid));
+          drawnVolumes[k].culled = culledLights[k];
+        },
+      };
+    }
+    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length, zpass, cull });
     this.info.passes = timing || {};
     this.info.zpass = zpass;
+    this.info.volumes = drawnVolumes;
+    this.info.volumeCull = this.drawer.volumeCull;
+    this.info.receiverScatter = this.drawer.receiverScatter;
+    this.info.volumeCullMessage = this.drawer.volumeCullMessage;
     this.mask.sourceTexture = this.drawer.maskTexture;
     this.channels = new Map(lights.map((l, c) => [l, c]));
     this.setSelects(slots, this.channels);
@@ -355,6 +477,10 @@ export class UmbraShadows {
       else this.drawer.deleteMeshBuffers(o);
     }
     this.owned.clear();
+    for (const r of this.receivers) r.free();
+    this.receivers = [];
+    this.samples?.free();
+    this.samples = null;
     this.casters = new WeakMap();
     this.drawn = new WeakMap();
     this.drawer.dispose();

@@ -32,6 +32,9 @@ import { link, GlSetupError } from './program.js';
 import depthVert from './glsl/depth.vert.glsl';
 import depthFrag from './glsl/depth.frag.glsl';
 import maskFrag from './glsl/mask.frag.glsl';
+import positionFrag from './glsl/position.frag.glsl';
+import scatterVert from './glsl/scatter.vert.glsl';
+import scatterFrag from './glsl/scatter.frag.glsl';
 
 export { GlSetupError };
 
@@ -41,7 +44,13 @@ export const MAX_LIGHTS = 4;
 export class WebGLDrawer {
   /**
    * @param {WebGL2RenderingContext} gl
-   * @param {{depth?: 'reversed'|'standard', depthClamp?: boolean}} opts
+   * @param {{depth?: 'reversed'|'standard', depthClamp?: boolean, volumeCull?: boolean, receiverScatter?: 'auto'|'gpu'|'cpu'}} opts
+   *   volumeCull (default true): the receiver maps' passes, when the context can render RGBA32F
+   *   (EXT_color_buffer_float); `volumeCull` then says whether they are on, `volumeCullMessage`
+   *   why not. receiverScatter: where the samples are scattered into the maps: 'gpu' (a point
+   *   per pixel into an R32F map with MAX blending, EXT_float_blend; the map read back),
+   *   'cpu' (the positions read back, scattered in the wasm), 'auto' (default: 'cpu' on a
+   *   software rasteriser, where a point per pixel costs more than the read-back, else 'gpu')
    */
   constructor(gl, opts = {}) {
     this.gl = gl;
@@ -64,6 +73,31 @@ export class WebGLDrawer {
     this.volumePrograms = new VolumePrograms(gl);
     this.target = null;
     this.maskTexture = null;
+    // The receiver cull's passes (crates/umbra-wasm/src/cull.rs): the visible samples' world
+    // positions in an RGBA32F target, scattered per light into its map (receiverScatter).
+    // Its state changes are those of position.frag.glsl, scatter.vert.glsl and scatter().
+    // getExtension: enables rendering to RGBA32F (and below, blending R32F) on this context.
+    this.volumeCull = false;
+    this.volumeCullMessage = null;
+    this.cullTargets = null;
+    this.receiverScatter = null;
+    if (opts.volumeCull !== false) {
+      if (!gl.getExtension('EXT_color_buffer_float')) {
+        this.volumeCullMessage = 'volumeCull is off: this WebGL 2 context lacks EXT_color_buffer_float (the receiver maps are made of the visible samples\' RGBA32F world positions); every volume is drawn unculled';
+      } else {
+        const software = /SwiftShader|llvmpipe|softpipe|Software/i.test(this.rendererName);
+        const asked = opts.receiverScatter === 'gpu' || opts.receiverScatter === 'cpu' ? opts.receiverScatter : (software ? 'cpu' : 'gpu');
+        // The GPU scatter blends 32-bit floats: without EXT_float_blend the wasm scatters.
+        this.receiverScatter = asked === 'gpu' && gl.getExtension('EXT_float_blend') ? 'gpu' : 'cpu';
+        this.positionProgram = link(gl, 'position pass', 'glsl/depth.vert.glsl', vert, 'glsl/position.frag.glsl', positionFrag);
+        if (this.receiverScatter === 'gpu') {
+          this.scatterProgram = link(gl, 'receiver scatter', 'glsl/scatter.vert.glsl', scatterVert, 'glsl/scatter.frag.glsl', scatterFrag);
+          // The scatter reads textures only: an empty vertex array.
+          this.emptyVao = gl.createVertexArray();
+        }
+        this.volumeCull = true;
+      }
+    }
   }
 
   /** The shadow volumes of one caster's prepared buffers (topology.js). */
@@ -126,8 +160,137 @@ export class WebGLDrawer {
     return framebuffer;
   }
 
+  /**
+   * The receiver cull's targets for a frame of `width` x `height` (after ensureTarget) and maps
+   * of `side` cells a side: the position target (RGBA32F, sharing umbra's depth-stencil) and
+   * the map (R32F, side x 6 side: a point light's six faces, or a directional light's one).
+   */
+  ensureCullTargets(width, height, side) {
+    const gl = this.gl;
+    const c = this.cullTargets;
+    if (c && c.width === width && c.height === height && c.side === side && c.depth === this.target.depth) return c;
+    this.deleteCullTargets();
+    const texture = (format, w, h) => {
+      const t = gl.createTexture();
+      // Bound only to set it up; unbound again below.
+      gl.bindTexture(gl.TEXTURE_2D, t);
+      gl.texStorage2D(gl.TEXTURE_2D, 1, format, w, h);
+      // NEAREST: float textures are incomplete with filtering; both are read texel by texel.
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+      gl.bindTexture(gl.TEXTURE_2D, null);
+      return t;
+    };
+    const framebuffer = (tex, depth) => {
+      const fb = gl.createFramebuffer();
+      // Bound only to attach and check it; the default framebuffer bound again after.
+      gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
+      if (depth) gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_STENCIL_ATTACHMENT, gl.RENDERBUFFER, depth);
+      const status = gl.checkFramebufferStatus(gl.FRAMEBUFFER);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      return { fb, status };
+    };
+    const positions = texture(gl.RGBA32F, width, height);
+    const map = texture(gl.R32F, side, 6 * side);
+    const p = framebuffer(positions, this.target.depth);
+    const m = framebuffer(map, null);
+    this.cullTargets = { width, height, side, depth: this.target.depth, positions, map, positionFbo: p.fb, mapFbo: m.fb, readRed: false };
+    if (p.status !== gl.FRAMEBUFFER_COMPLETE || m.status !== gl.FRAMEBUFFER_COMPLETE) {
+      this.deleteCullTargets();
+      throw new GlSetupError(`the receiver maps' framebuffers are incomplete (0x${p.status.toString(16)}, 0x${m.status.toString(16)})`);
+    }
+    // How the map reads back: RED/FLOAT where the implementation offers it, else RGBA/FLOAT
+    // (always allowed for a float colour buffer).
+    // The implementation's read format is a property of the bound read framebuffer.
+    gl.bindFramebuffer(gl.FRAMEBUFFER, m.fb);
+    this.cullTargets.readRed = gl.getParameter(gl.IMPLEMENTATION_COLOR_READ_FORMAT) === gl.RED && gl.getParameter(gl.IMPLEMENTATION_COLOR_READ_TYPE) === gl.FLOAT;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    return this.cullTargets;
+  }
+
+  deleteCullTargets() {
+    const gl = this.gl;
+    const c = this.cullTargets;
+    if (!c) return;
+    gl.deleteFramebuffer(c.positionFbo);
+    gl.deleteFramebuffer(c.mapFbo);
+    gl.deleteTexture(c.positions);
+    gl.deleteTexture(c.map);
+    this.cullTargets = null;
+  }
+
+  /**
+   * Light k's receiver map (scatter.vert.glsl) from the position pass's samples, read back into
+   * `cells` (faces * side * side floats, cell (face * side + j) * side + i; -Infinity empty).
+   * `grid`: the wasm's grid parameters (crates/umbra-wasm/src/cull.rs Receivers::params);
+   * `cells()`: that array (fetched after the GL calls, as a view of wasm memory).
+   * Leaves umbra's target bound with blending off.
+   */
+  scatter(k, grid, width, height, cells, lap = null) {
+    const gl = this.gl;
+    const c = this.cullTargets;
+    const side = grid[1];
+    const faces = grid[0] === 0 ? 6 : 1;
+    // The grid's light: a point light's position (the cube's centre), or w = 0 (the flat grid).
+    const light = grid[0] === 0 ? [grid[2], grid[3], grid[4], 1] : [0, 0, 0, 0];
+    const P = this.scatterProgram;
+    // Into the map, one pixel per cell: the faces used, one above the other.
+    gl.bindFramebuffer(gl.FRAMEBUFFER, c.mapFbo);
+    gl.viewport(0, 0, side, faces * side);
+    // Every cell starts empty: -Infinity, below every value (a float target: not clamped).
+    gl.colorMask(true, true, true, true);
+    gl.clearBufferfv(gl.COLOR, 0, [-Infinity, 0, 0, 0]);
+    // No depth or stencil here (the map has none); MAX blending keeps each cell's largest value
+    // (EXT_float_blend: blending a 32-bit float target).
+    gl.disable(gl.DEPTH_TEST);
+    gl.disable(gl.STENCIL_TEST);
+    gl.enable(gl.BLEND);
+    gl.blendEquation(gl.MAX);
+    gl.useProgram(P.program);
+    gl.uniform1i(P.u.u_positions, 0);
+    gl.uniform1i(P.u.u_width, width);
+    gl.uniform1i(P.u.u_light_bit, 1 << k);
+    gl.uniform4fv(P.u.u_light, light);
+    gl.uniform1i(P.u.u_side, side);
+    gl.uniform1i(P.u.u_faces, faces);
+    if (grid[0] !== 0) {
+      gl.uniform3fv(P.u.u_origin, grid.subarray(5, 8));
+      gl.uniform3fv(P.u.u_u, grid.subarray(8, 11));
+      gl.uniform3fv(P.u.u_v, grid.subarray(11, 14));
+      gl.uniform3fv(P.u.u_travel, grid.subarray(14, 17));
+      gl.uniform2fv(P.u.u_lo, grid.subarray(17, 19));
+      gl.uniform2fv(P.u.u_scale, grid.subarray(19, 21));
+    }
+    // The samples on unit 0 (u_positions); the points read textures only: an empty vertex array.
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, c.positions);
+    gl.bindVertexArray(this.emptyVao);
+    gl.drawArrays(gl.POINTS, 0, width * height);
+    lap?.('receivers.scatter');
+    // Nothing of ours left bound for the passes after.
+    gl.bindVertexArray(null);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    // Back to the blending the other passes assume: off, FUNC_ADD.
+    gl.disable(gl.BLEND);
+    gl.blendEquation(gl.FUNC_ADD);
+    // Read into client memory: no pack buffer bound.
+    gl.bindBuffer(gl.PIXEL_PACK_BUFFER, null);
+    const n = faces * side * side;
+    if (c.readRed) {
+      gl.readPixels(0, 0, side, faces * side, gl.RED, gl.FLOAT, cells().subarray(0, n));
+    } else {
+      const rgba = new Float32Array(4 * n);
+      gl.readPixels(0, 0, side, faces * side, gl.RGBA, gl.FLOAT, rgba);
+      const out = cells();
+      for (let i = 0; i < n; i++) out[i] = rgba[4 * i];
+    }
+    lap?.('receivers.read');
+  }
+
   deleteTarget() {
     const gl = this.gl;
+    this.deleteCullTargets();
     if (!this.target) return;
     gl.deleteFramebuffer(this.target.framebuffer);
     gl.deleteTexture(this.target.mask);
@@ -140,7 +303,12 @@ export class WebGLDrawer {
   sync() {
     const gl = this.gl;
     const px = new Uint8Array(4);
+    // Read from umbra's RGBA8 target whatever is bound for drawing (a float map, say), then
+    // give the read binding back.
+    const bound = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING);
+    if (this.target) gl.bindFramebuffer(gl.READ_FRAMEBUFFER, this.target.framebuffer);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, bound);
   }
 
   /**
@@ -151,7 +319,13 @@ export class WebGLDrawer {
    *     silhouette: ((k: number) => {orientation: Int8Array, records: Int32Array})|null}[],
    *   lights: number, zpass?: (number|null)[]}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space;
    *   zpass[k]: light k's z-pass stencil start (sum of W0 mod 256), or null/absent for z-fail;
-   *   mesh.silhouette(k): a caster's silhouette towards light k (volumes.js prepare())
+   *   mesh.silhouette(k): a caster's silhouette towards light k (volumes.js prepare()), culled or not;
+   *   cull (with `volumeCull` only): { side, grids: per light the wasm's grid parameters or null,
+   *   cells(k): the wasm's cells of light k (a Float32Array view, fetched just before it is
+   *   written), samples(n): the wasm's block for the frame's n floats of samples (the same),
+   *   receive(k, fromSamples): builds light k's map from its cells or the samples, before its
+   *   casters' silhouettes };
+   *   mesh.world: its world-from-object matrix (f32), for the position pass
    */
   frame(f) {
     const gl = this.gl;
@@ -179,6 +353,18 @@ export class WebGLDrawer {
       gl.bindFramebuffer(gl.FRAMEBUFFER, fbo);
       gl.viewport(0, 0, f.width, f.height);
     };
+    // The receiver cull's targets first (making them binds framebuffers); a context that cannot
+    // make them turns the cull off, with the reason, and draws every volume unculled.
+    let cull = null;
+    if (this.volumeCull && f.cull && f.cull.grids.some(Boolean)) {
+      try {
+        cull = this.ensureCullTargets(f.width, f.height, f.cull.side);
+      } catch (e) {
+        if (!(e instanceof GlSetupError)) throw e;
+        this.volumeCull = false;
+        this.volumeCullMessage = `volumeCull is off: ${e.message}; every volume is drawn unculled`;
+      }
+    }
     bindTarget();
     // The silhouettes are uploaded from wasm memory: plain unpacking (no flip or premultiply,
     // which three.js sets per texture; tight rows; no unpack buffer). resetState() restores
@@ -223,13 +409,55 @@ export class WebGLDrawer {
       }
       gl.bindVertexArray(null);
     };
-    drawMeshes(this.depthProgram);
+    if (cull) {
+      // The depth pass with every visible sample's world position (position.frag.glsl) into the
+      // position target beside umbra's depth: cleared to w = -1 (no sample), colour writes on.
+      // "Nearer or equal" wins, so that of coplanar fragments at one depth the LAST drawn
+      // leaves its position and facing bits, as it leaves its decision in the mask pass (depth
+      // EQUAL, last write wins); the depth itself is the same (the nearest).
+      gl.bindFramebuffer(gl.FRAMEBUFFER, cull.positionFbo);
+      gl.colorMask(true, true, true, true);
+      gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, -1]);
+      gl.depthFunc(rz ? gl.GEQUAL : gl.LEQUAL);
+      const P = this.positionProgram;
+      drawMeshes(P, (m) => {
+        gl.uniformMatrix4fv(P.u.u_world_from_object, false, m.world);
+        const lights = new Float32Array(16);
+        for (let k = 0; k < f.lights; k++) lights.set(m.lights[k], 4 * k);
+        gl.uniform4fv(P.u['u_lights[0]'], lights);
+        gl.uniform1i(P.u.u_light_count, f.lights);
+        gl.uniform1f(P.u.u_flip, m.flip);
+      });
+      // Back to the depth pass's state for what follows: colour writes off, strictly nearer.
+      gl.colorMask(false, false, false, false);
+      gl.depthFunc(nearer);
+    } else {
+      drawMeshes(this.depthProgram);
+    }
     lap('depth');
+    if (cull && this.receiverScatter === 'cpu') {
+      // Every pixel's sample (x y z w), read once into the wasm's memory for all lights' maps.
+      // Into client memory: no pack buffer bound.
+      gl.bindBuffer(gl.PIXEL_PACK_BUFFER, null);
+      gl.readPixels(0, 0, f.width, f.height, gl.RGBA, gl.FLOAT, f.cull.samples(4 * f.width * f.height));
+      lap('receivers.read');
+    }
+    bindTarget();
 
     for (let k = 0; k < f.lights; k++) {
       const casters = f.meshes.filter((m) => m.volumes);
       const start = f.zpass?.[k] ?? null;
       const zpass = start !== null;
+      if (cull && casters.length && f.cull.grids[k]) {
+        // Light k's receiver map, scattered on the GPU and read back, or scattered in the wasm
+        // from the samples read above (its casters are culled against it when their
+        // silhouettes are computed below).
+        const gpu = this.receiverScatter === 'gpu';
+        if (gpu) this.scatter(k, f.cull.grids[k], f.width, f.height, () => f.cull.cells(k), timing ? (name) => lap(name) : null);
+        f.cull.receive(k, !gpu);
+        bindTarget();
+        lap('receivers.map');
+      }
       if (casters.length) {
         // The count starts at 0 (z-fail), or at W0 (z-pass: the eye's near pyramid lies in
         // W0 volumes, so a sample's count W(p) - W0 + W0 is 0 exactly when it is lit).
@@ -332,6 +560,11 @@ export class WebGLDrawer {
   dispose() {
     const gl = this.gl;
     this.deleteTarget();
+    if (this.positionProgram) gl.deleteProgram(this.positionProgram.program);
+    if (this.scatterProgram) {
+      gl.deleteProgram(this.scatterProgram.program);
+      gl.deleteVertexArray(this.emptyVao);
+    }
     gl.deleteProgram(this.depthProgram.program);
     gl.deleteProgram(this.maskProgram.program);
     this.volumePrograms.dispose();

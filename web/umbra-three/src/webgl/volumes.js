@@ -5,6 +5,9 @@
 // pass (its transform-feedback buffer and the RGBA32F texture the polygons are copied to) and
 // the fan pass, with programs shared by every caster (VolumePrograms); the drawer (drawer.js)
 // owns the frame, calls prepare() per light and draw() under the counting state it set.
+// Culled to the receivers (`volumeCull`, crates/umbra-wasm/src/cull.rs), a caster also holds
+// the welded vertices of its edge records and triangles (static) and, per light, the far end
+// of every welded vertex and the list of its kept triangles of nonzero orientation.
 import { link, GlSetupError } from './program.js';
 import {
   polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource,
@@ -59,6 +62,10 @@ const UNIT_EDGE_TRIANGLES = 1;
 const UNIT_ORIENTATION = 2;
 const UNIT_POLYGONS = 3;
 const UNIT_RECORDS = 4;
+const UNIT_FAR = 5;
+const UNIT_RECORD_VERTICES = 6;
+const UNIT_TRIANGLE_VERTICES = 7;
+const UNIT_KEPT = 8;
 
 /** The two volume programs, linked once per context and shared by every caster. */
 export class VolumePrograms {
@@ -80,8 +87,11 @@ export class ShadowVolumes {
   /**
    * @param {WebGL2RenderingContext} gl
    * @param {VolumePrograms} programs
-   * @param {{maxMult: number, records: number, triangles: number, sides: Float32Array, caps: Float32Array, edgeTriangles: Int32Array}} data
-   *   one caster's buffers (topology.js), in the caster's own (object) space
+   * @param {{maxMult: number, records: number, triangles: number, vertices: number, sides: Float32Array, caps: Float32Array, edgeTriangles: Int32Array,
+   *   indices?: Uint32Array, recordVertices?: Uint32Array}} data
+   *   one caster's buffers (topology.js), in the caster's own (object) space; `indices` (3 welded
+   *   vertices per triangle) and `recordVertices` (2 per edge record) when its volumes may be
+   *   culled to the receivers
    */
   constructor(gl, programs, data) {
     this.gl = gl;
@@ -99,6 +109,23 @@ export class ShadowVolumes {
     this.recordList = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records');
     this.silhouetteRecords = 0;
     this.singleRecords = 0;
+    // The receiver cull's textures (none without the welded indices): the welded vertices of
+    // every record and triangle, and per light every vertex's far end and the kept triangles.
+    this.vertices = data.vertices;
+    this.cull = null;
+    if (data.indices && data.recordVertices) {
+      this.cull = {
+        recordVertices: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.recordVertices.buffer, data.recordVertices.byteOffset, data.recordVertices.length), 1, Math.max(1, 2 * this.records), 'record vertices').tex,
+        triangleVertices: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.indices.buffer, data.indices.byteOffset, data.indices.length), 1, Math.max(1, 3 * this.triangles), 'triangle vertices').tex,
+        far: dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, Math.max(1, this.vertices), 'far vertices').tex,
+        kept: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.triangles), 'kept triangles').tex,
+      };
+    }
+    // Whether the current light's silhouette is culled (prepare()) and clamped (finite far
+    // ends), and its kept triangles.
+    this.culled = false;
+    this.clamped = false;
+    this.keptTriangles = 0;
     // The polygons of one set (sides, light caps or dark caps) at a time: one capture buffer
     // and one texture for the largest set, reused by the three.
     const polygons = Math.max(this.records, this.triangles, 1);
@@ -120,6 +147,7 @@ export class ShadowVolumes {
   dispose() {
     const gl = this.gl;
     for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.orientation.tex, this.recordList.tex, this.polygonTex]) gl.deleteTexture(t);
+    if (this.cull) for (const t of Object.values(this.cull)) gl.deleteTexture(t);
     gl.deleteBuffer(this.polygonBuffer);
     gl.deleteTransformFeedback(this.feedback);
     gl.deleteVertexArray(this.emptyVao);
@@ -143,10 +171,12 @@ export class ShadowVolumes {
    * The silhouette towards the light draw() is then called with (the wasm's Silhouette:
    * `orientation`, one Int8Array element per triangle, and `records`, the Int32Array of edge
    * records of nonzero multiplicity, the `single` ones of multiplicity ±1 first) into this
-   * caster's two textures. Needs the unpack state
+   * caster's two textures. Culled (the wasm's cull: also `triangles`, the Int32Array of kept
+   * triangles of nonzero orientation, `far`, 4 floats per welded vertex, and `clamped`: false
+   * when every far end is at infinity) also those two, and draw() then draws the culled volume. Needs the unpack state
    * the drawer sets (no flip, no premultiply, no row length or skips, no unpack buffer).
    */
-  prepare({ orientation, records, single }) {
+  prepare({ orientation, records, single, triangles = null, far = null, clamped = true }) {
     const gl = this.gl;
     const width = 2 ** this.shift;
     gl.bindTexture(gl.TEXTURE_2D, this.orientation.tex);
@@ -154,6 +184,19 @@ export class ShadowVolumes {
     if (records.length) {
       gl.bindTexture(gl.TEXTURE_2D, this.recordList.tex);
       upload(gl, width, gl.RED_INTEGER, gl.INT, records, 0, 1, records.length);
+    }
+    this.culled = !!(far && triangles && this.cull);
+    this.clamped = this.culled && clamped;
+    this.keptTriangles = 0;
+    if (this.culled) {
+      // Bound to upload the far vertices and the kept triangles, as the silhouette above.
+      gl.bindTexture(gl.TEXTURE_2D, this.cull.far);
+      upload(gl, width, gl.RGBA, gl.FLOAT, far, 0, 4, this.vertices);
+      if (triangles.length) {
+        gl.bindTexture(gl.TEXTURE_2D, this.cull.kept);
+        upload(gl, width, gl.RED_INTEGER, gl.INT, triangles, 0, 1, triangles.length);
+      }
+      this.keptTriangles = triangles.length;
     }
     gl.bindTexture(gl.TEXTURE_2D, null);
     this.silhouetteRecords = records.length;
@@ -169,14 +212,21 @@ export class ShadowVolumes {
    * (glsl/snap.glsl) and the viewport's size in pixels. `caps` false (z-pass): the sides only,
    * the caps' polygon and fan passes skipped (light caps lie on the far plane and dark caps at
    * infinity: under the strictly-nearer test z-pass never counts them). After prepare() for
-   * the same light. `tick(name)`, when given, is called after each polygon and fan pass (timing).
+   * the same light. A culled silhouette (prepare()) draws its sides to the far ends and its
+   * far caps in both counts (a clamped far cap may lie in front of a sample), the light caps
+   * of its kept triangles under z-fail. `tick(name)`, when given, is called after each polygon and fan pass (timing).
    */
   draw({ clipFromWorld, light, farClipZ, snap = 0, viewport, caps = true, tick = null }) {
     const gl = this.gl;
     const P = this.polygons;
+    const culled = this.culled;
     this.setUniforms(P, {
       u_texture_shift: this.shift, u_max_mult: this.maxMult,
       u_data: UNIT_DATA, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION, u_records: UNIT_RECORDS,
+      u_far: UNIT_FAR, u_record_vertices: UNIT_RECORD_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES, u_kept: UNIT_KEPT,
+      u_culled: culled ? 1 : 0,
+      // A far cap all at infinity is the dark cap: only where the unclamped volume draws it.
+      u_skip_infinite: caps && light[3] !== 0 ? 0 : 1,
     });
     gl.uniformMatrix4fv(P.u.u_clip_from_world, false, clipFromWorld);
     gl.uniform4fv(P.u.u_light, light);
@@ -184,6 +234,12 @@ export class ShadowVolumes {
     this.bindTexture(UNIT_EDGE_TRIANGLES, this.edgeTrianglesTex);
     this.bindTexture(UNIT_ORIENTATION, this.orientation.tex);
     this.bindTexture(UNIT_RECORDS, this.recordList.tex);
+    // The cull's units are bound either way: WebGL refuses a draw whose active sampler's unit
+    // holds a texture of another type (three.js's, say); null reads as an incomplete texture.
+    this.bindTexture(UNIT_FAR, culled ? this.cull.far : null);
+    this.bindTexture(UNIT_RECORD_VERTICES, culled ? this.cull.recordVertices : null);
+    this.bindTexture(UNIT_TRIANGLE_VERTICES, culled ? this.cull.triangleVertices : null);
+    this.bindTexture(UNIT_KEPT, culled ? this.cull.kept : null);
     gl.bindVertexArray(this.emptyVao);
     // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
     // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
@@ -231,12 +287,21 @@ export class ShadowVolumes {
     // Sides of multiplicity ±1 with one potential copy each, the others with maxMult.
     const n = this.silhouetteRecords;
     set(0, this.sidesTex, n, [[0, this.singleRecords, 1], [this.singleRecords, n, this.maxMult]]);
-    if (caps) {
+    if (culled) {
+      // The kept triangles of nonzero orientation: light caps (z-fail), far caps (both).
+      const kept = [[0, this.keptTriangles, 1]];
+      if (caps) set(1, this.capsTex, this.keptTriangles, kept);
+      // Far caps: those of a clamped volume (both counts), else the dark caps at infinity
+      // where the unclamped volume draws them (z-fail, point lights).
+      if (this.clamped || (caps && light[3] !== 0)) set(2, this.capsTex, this.keptTriangles, kept);
+    } else if (caps) {
       const all = [[0, this.triangles, 1]];
       set(1, this.capsTex, this.triangles, all);
       // A directional light's dark cap has zero area: none.
       if (light[3] !== 0) set(2, this.capsTex, this.triangles, all);
     }
+    // The cull's units left unbound, as the other draws expect them.
+    for (const unit of [UNIT_FAR, UNIT_RECORD_VERTICES, UNIT_TRIANGLE_VERTICES, UNIT_KEPT]) this.bindTexture(unit, null);
     gl.bindVertexArray(null);
   }
 }

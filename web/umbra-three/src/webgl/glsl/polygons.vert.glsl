@@ -28,6 +28,19 @@
 // cap extruded and reversed (line 11), the light cap pushed to the far plane after its cut
 // (Eq. 6); drawn once, or not at all for an edge-on triangle (lines 2-4).
 //
+// Culled to the receivers (u_culled 1, drawer.js `volumeCull`; crates/umbra-wasm/src/cull.rs):
+// the wasm has dropped the triangles whose shadow frustum holds no visible sample (orientation
+// 0: no cap, no part in any edge) and put each welded vertex's far end into u_far (homogeneous,
+// this caster's space; w = 0 at infinity), computed ONCE there in f64 and read by every
+// polygon that uses it, so the clamped volume closes as the infinite one does. A side's far
+// vertices are then u_far of its record's two welded vertices (u_record_vertices) instead of
+// umbra_extrude; u_mode 1 and 2 visit only the kept triangles of nonzero orientation
+// (u_kept), and u_mode 2 is the far cap (the dark cap at the far ends: umbra_geom's
+// extract_clamped far caps, P0' P2' P1' of the light-facing-oriented triangle), drawn under
+// z-pass too, since a clamped far cap may lie in front of a visible sample. A far cap all at
+// infinity is left out where the unclamped volume has no dark cap (u_skip_infinite: z-pass,
+// or a directional light, whose points at infinity coincide).
+//
 // Out: the polygon's vertices v_p0 .. v_p7 (clip space, as drawn) and v_info = (vertex
 // count, signed repeat), 36 floats: 9 RGBA32F texels per polygon once copied to a texture.
 
@@ -39,6 +52,12 @@ uniform highp sampler2D u_data;
 uniform highp isampler2D u_edge_triangles;
 uniform highp isampler2D u_orientation;
 uniform highp isampler2D u_records;
+uniform int u_culled;
+uniform int u_skip_infinite;
+uniform highp sampler2D u_far;
+uniform highp isampler2D u_record_vertices;
+uniform highp isampler2D u_triangle_vertices;
+uniform highp isampler2D u_kept;
 
 // w = 1 vertices must be bit for bit where the scene's vertex shader puts the same point
 // (same expression, invariant), so the sides meet the caster and a light cap keeps the
@@ -57,6 +76,11 @@ int umbra_orientation_of(int triangle) {
     return texelFetch(u_orientation, umbra_texel(triangle), 0).r;
 }
 
+// The far end of welded vertex `v` (culled volumes only).
+vec4 umbra_far(int v) {
+    return texelFetch(u_far, umbra_texel(v), 0);
+}
+
 void main() {
     // Transform feedback only: nothing of this pass is rasterised.
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
@@ -67,7 +91,8 @@ void main() {
     int n = 0;
     int repeat = 0;
     int planes = 4;
-    int record = u_mode == 0 ? texelFetch(u_records, umbra_texel(gl_VertexID), 0).r : gl_VertexID;
+    int record = u_mode == 0 ? texelFetch(u_records, umbra_texel(gl_VertexID), 0).r
+        : (u_culled != 0 ? texelFetch(u_kept, umbra_texel(gl_VertexID), 0).r : gl_VertexID);
     if (u_mode == 0) {
         int first = record * (2 + u_max_mult);
         vec4 a = texelFetch(u_data, umbra_texel(first), 0);
@@ -82,8 +107,14 @@ void main() {
             vec3 b = texelFetch(u_data, umbra_texel(first + 1), 0).xyz;
             vec4 pa = u_clip_from_world * vec4(a.xyz, 1.0);
             vec4 pb = u_clip_from_world * vec4(b, 1.0);
-            vec4 pa_inf = u_clip_from_world * umbra_extrude(a.xyz, u_light);
-            vec4 pb_inf = u_clip_from_world * umbra_extrude(b, u_light);
+            vec4 a_far = umbra_extrude(a.xyz, u_light);
+            vec4 b_far = umbra_extrude(b, u_light);
+            if (u_culled != 0) {
+                a_far = umbra_far(texelFetch(u_record_vertices, umbra_texel(2 * record), 0).r);
+                b_far = umbra_far(texelFetch(u_record_vertices, umbra_texel(2 * record + 1), 0).r);
+            }
+            vec4 pa_inf = u_clip_from_world * a_far;
+            vec4 pb_inf = u_clip_from_world * b_far;
             poly[0] = pb;
             poly[1] = repeat > 0 ? pa : pb_inf;
             poly[2] = pa_inf;
@@ -98,10 +129,22 @@ void main() {
             vec3 p0 = texelFetch(u_data, umbra_texel(3 * record), 0).xyz;
             vec3 p1 = texelFetch(u_data, umbra_texel(3 * record + 1), 0).xyz;
             vec3 p2 = texelFetch(u_data, umbra_texel(3 * record + 2), 0).xyz;
+            // The far ends of the three vertices (culled: u_far; else at infinity).
+            vec4 f0 = umbra_extrude(p0, u_light);
+            vec4 f1 = umbra_extrude(p1, u_light);
+            vec4 f2 = umbra_extrude(p2, u_light);
+            if (u_culled != 0 && u_mode == 2) {
+                f0 = umbra_far(texelFetch(u_triangle_vertices, umbra_texel(3 * record), 0).r);
+                f1 = umbra_far(texelFetch(u_triangle_vertices, umbra_texel(3 * record + 1), 0).r);
+                f2 = umbra_far(texelFetch(u_triangle_vertices, umbra_texel(3 * record + 2), 0).r);
+            }
             if (o < 0) {
                 vec3 t = p1;
                 p1 = p2;
                 p2 = t;
+                vec4 g = f1;
+                f1 = f2;
+                f2 = g;
             }
             if (u_mode == 1) {
                 // Cut by the near plane last (plane 4), so that its cuts by the viewport
@@ -110,10 +153,12 @@ void main() {
                 poly[0] = u_clip_from_world * vec4(p0, 1.0);
                 poly[1] = u_clip_from_world * vec4(p1, 1.0);
                 poly[2] = u_clip_from_world * vec4(p2, 1.0);
+            } else if (u_skip_infinite != 0 && f0.w == 0.0 && f1.w == 0.0 && f2.w == 0.0) {
+                n = 0;
             } else {
-                poly[0] = u_clip_from_world * umbra_extrude(p2, u_light);
-                poly[1] = u_clip_from_world * umbra_extrude(p1, u_light);
-                poly[2] = u_clip_from_world * umbra_extrude(p0, u_light);
+                poly[0] = u_clip_from_world * f2;
+                poly[1] = u_clip_from_world * f1;
+                poly[2] = u_clip_from_world * f0;
             }
         }
     }
