@@ -323,37 +323,41 @@ impl ReceiverMap {
         r
     }
 
-    /// Raises every cell that the convex hull of `points` may cover to at least the farthest
-    /// of them, so that every point of the hull keeps the count it has in the unclamped
-    /// volumes (z-pass starts counting at the eye's near rectangle, [`ReceiverMap::cull_and_clamp`]
-    /// must not change the count there). `false` when the map cannot bound the hull (a point
-    /// light's cone of it across cube faces, or the light inside it): then nothing may be
-    /// clamped for this light.
-    pub fn raise_hull(&mut self, points: &[[f64; 3]]) -> bool {
-        let (face, rect, value) = match self.grid {
+    /// The cells the directions (point light) or the across-light coordinates (directional)
+    /// of the convex hull of `points` may cover, widened by [`RECEIVER_MARGIN`] of the grid:
+    /// `(face, [i0, i1, j0, j1])`; `None` for a point light when the hull's cone does not lie
+    /// within one cube face by 4 cells (or reaches the light), so that the samples in it may
+    /// lie on another face. The central projection of a hull onto a face is the hull of the
+    /// projected points, so the rectangle of the points bounds it.
+    fn cells_of(&self, points: &[[f64; 3]]) -> Option<(u32, [u32; 4])> {
+        match self.grid {
             ReceiverGrid::Cube { light, side } => {
                 let l = f64x3(light);
-                let d: Vec<[f64; 3]> = points.iter().map(|&p| sub(p, l)).collect();
-                let c = d.iter().fold([0.0; 3], |acc, x| [acc[0] + x[0], acc[1] + x[1], acc[2] + x[2]]);
+                let c = points.iter().fold([0.0; 3], |acc, &p| {
+                    let d = sub(p, l);
+                    [acc[0] + d[0], acc[1] + d[1], acc[2] + d[2]]
+                });
                 let m = major(c.map(f64::abs));
                 let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
                 let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-                let mut far = 0.0f64;
-                for di in &d {
-                    let den = s * di[m];
+                for &p in points {
+                    let d = sub(p, l);
+                    let den = s * d[m];
                     if den.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                        return false;
+                        return None;
                     }
-                    let uv = [di[(m + 1) % 3] / den, di[(m + 2) % 3] / den];
+                    let uv = [d[(m + 1) % 3] / den, d[(m + 2) % 3] / den];
                     for j in 0..2 {
                         lo[j] = lo[j].min(uv[j]);
                         hi[j] = hi[j].max(uv[j]);
                     }
-                    far = far.max(dot(*di, *di).sqrt());
                 }
+                // Strictly inside the face by 4 cells: every direction of the cone has
+                // coordinate m as its largest by far more than a sample's rounding, so the
+                // samples in the cone lie on this face.
                 let limit = 1.0 - 4.0 / side as f64;
                 if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
-                    return false;
+                    return None;
                 }
                 let scale = 0.5 * side as f64;
                 let margin = 2.0 * RECEIVER_MARGIN;
@@ -363,14 +367,12 @@ impl ReceiverMap {
                     cell_f64(lo[1] - margin, -1.0, scale, side),
                     cell_f64(hi[1] + margin, -1.0, scale, side),
                 ];
-                (2 * m as u32 + u32::from(s < 0.0), rect, far * (1.0 + 2.0 * RECEIVER_ROUND_UP as f64))
+                Some((2 * m as u32 + u32::from(s < 0.0), rect))
             }
-            ReceiverGrid::Flat { origin, u, v, travel, lo: glo, scale, side } => {
+            ReceiverGrid::Flat { origin, u, v, lo: glo, scale, side, .. } => {
                 let o = f64x3(origin);
-                let (u, v, t) = (f64x3(u), f64x3(v), f64x3(travel));
+                let (u, v) = (f64x3(u), f64x3(v));
                 let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-                let mut far = f64::MIN;
-                let mut magnitude = 0.0f64;
                 for &p in points {
                     let rel = sub(p, o);
                     let uv = [dot(rel, u), dot(rel, v)];
@@ -378,8 +380,6 @@ impl ReceiverMap {
                         lo[j] = lo[j].min(uv[j]);
                         hi[j] = hi[j].max(uv[j]);
                     }
-                    far = far.max(dot(rel, t));
-                    magnitude = magnitude.max(rel[0].abs() + rel[1].abs() + rel[2].abs());
                 }
                 let glo = [glo[0] as f64, glo[1] as f64];
                 let scale = [scale[0] as f64, scale[1] as f64];
@@ -391,7 +391,32 @@ impl ReceiverMap {
                     cell_f64(lo[1] - margin[1], glo[1], scale[1], side),
                     cell_f64(hi[1] + margin[1], glo[1], scale[1], side),
                 ];
-                (0, rect, far + 2.0 * magnitude * RECEIVER_ROUND_UP as f64)
+                Some((0, rect))
+            }
+        }
+    }
+
+    /// Raises every cell that the convex hull of `points` may cover to at least the farthest
+    /// of them, so that every point of the hull keeps the count it has in the unclamped
+    /// volumes (z-pass starts counting at the eye's near rectangle, [`ReceiverMap::cull_and_clamp`]
+    /// must not change the count there). `false` when the map cannot bound the hull (a point
+    /// light's cone of it across cube faces, or the light inside it): then nothing may be
+    /// clamped for this light.
+    pub fn raise_hull(&mut self, points: &[[f64; 3]]) -> bool {
+        let Some((face, [i0, i1, j0, j1])) = self.cells_of(points) else { return false };
+        // The farthest point's value, rounded up as a sample's (twice over).
+        let value = match self.grid {
+            ReceiverGrid::Cube { light, .. } => {
+                let l = f64x3(light);
+                let far = points.iter().map(|&p| dot(sub(p, l), sub(p, l)).sqrt()).fold(0.0, f64::max);
+                far * (1.0 + 2.0 * RECEIVER_ROUND_UP as f64)
+            }
+            ReceiverGrid::Flat { origin, travel, .. } => {
+                let (o, t) = (f64x3(origin), f64x3(travel));
+                let far = points.iter().map(|&p| dot(sub(p, o), t)).fold(f64::MIN, f64::max);
+                let magnitude =
+                    points.iter().map(|&p| sub(p, o).iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
+                far + 2.0 * magnitude * RECEIVER_ROUND_UP as f64
             }
         };
         if !value.is_finite() {
@@ -402,7 +427,6 @@ impl ReceiverMap {
         if (value32 as f64) < value {
             value32 = value32.next_up();
         }
-        let [i0, i1, j0, j1] = rect;
         for (level, cells) in self.levels.iter_mut().enumerate() {
             let side = (self.grid.side() >> level) as usize;
             let base = face as usize * side * side;
@@ -418,86 +442,24 @@ impl ReceiverMap {
 
     /// Whether triangle `q` may shadow a visible sample, and if so the bound `R` on the value
     /// (distance or depth) of every visible sample in its frustum and the triangle's least
-    /// value `least`: `Some((R, least))`; `Some((inf, ..))` when the map cannot bound it (a
-    /// point light's cone across cube faces, or a triangle through the light).
+    /// value `least`: `Some((R, least))`. A point light's cone that does not lie within one
+    /// cube face (by 4 cells) is bounded by the largest value of the whole map.
     fn bound(&self, q: [[f64; 3]; 3]) -> Option<(f64, f64)> {
-        match self.grid {
-            ReceiverGrid::Cube { light, side } => {
-                let l = f64x3(light);
-                let d = q.map(|p| sub(p, l));
-                let c = [0, 1, 2].map(|j| d[0][j] + d[1][j] + d[2][j]);
-                let m = major(c.map(f64::abs));
-                let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
-                let least = distance_to_triangle(l, q);
-                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-                // A cone the faces cannot bound one by one is bounded by the largest value of
-                // the whole map (the top of the pyramid).
-                let everywhere = || {
-                    let r = self
-                        .levels
-                        .last()
-                        .map_or(f32::NEG_INFINITY, |top| top.iter().copied().fold(f32::NEG_INFINITY, f32::max));
-                    let r = r as f64;
-                    (r > least).then_some((r, least))
-                };
-                for di in d {
-                    let den = s * di[m];
-                    if den.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                        return everywhere();
-                    }
-                    let uv = [di[(m + 1) % 3] / den, di[(m + 2) % 3] / den];
-                    for j in 0..2 {
-                        lo[j] = lo[j].min(uv[j]);
-                        hi[j] = hi[j].max(uv[j]);
-                    }
-                }
-                // Strictly inside the face by 4 cells: every direction of the cone has
-                // coordinate m as its largest by far more than a sample's rounding, so the
-                // samples in the cone lie on this face.
-                let limit = 1.0 - 4.0 / side as f64;
-                if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
-                    return everywhere();
-                }
-                let scale = 0.5 * side as f64;
-                let margin = 2.0 * RECEIVER_MARGIN;
-                let rect = [
-                    cell_f64(lo[0] - margin, -1.0, scale, side),
-                    cell_f64(hi[0] + margin, -1.0, scale, side),
-                    cell_f64(lo[1] - margin, -1.0, scale, side),
-                    cell_f64(hi[1] + margin, -1.0, scale, side),
-                ];
-                let face = 2 * m as u32 + u32::from(s < 0.0);
-                let r = self.max_over(face, rect) as f64;
-                (r > least).then_some((r, least))
+        let least = match self.grid {
+            ReceiverGrid::Cube { light, .. } => distance_to_triangle(f64x3(light), q),
+            ReceiverGrid::Flat { origin, travel, .. } => {
+                let (o, t) = (f64x3(origin), f64x3(travel));
+                q.iter().map(|&p| dot(sub(p, o), t)).fold(f64::MAX, f64::min)
             }
-            ReceiverGrid::Flat { origin, u, v, travel, lo: glo, scale, side } => {
-                let o = f64x3(origin);
-                let (u, v, t) = (f64x3(u), f64x3(v), f64x3(travel));
-                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-                let mut least = f64::MAX;
-                for p in q {
-                    let rel = sub(p, o);
-                    let uv = [dot(rel, u), dot(rel, v)];
-                    for j in 0..2 {
-                        lo[j] = lo[j].min(uv[j]);
-                        hi[j] = hi[j].max(uv[j]);
-                    }
-                    least = least.min(dot(rel, t));
-                }
-                let glo = [glo[0] as f64, glo[1] as f64];
-                let scale = [scale[0] as f64, scale[1] as f64];
-                let extent = [0, 1].map(|j| side as f64 / scale[j]);
-                let margin = [0, 1].map(|j| (2.0 * extent[j] + 2.0 * glo[j].abs()) * RECEIVER_MARGIN);
-                let rect = [
-                    cell_f64(lo[0] - margin[0], glo[0], scale[0], side),
-                    cell_f64(hi[0] + margin[0], glo[0], scale[0], side),
-                    cell_f64(lo[1] - margin[1], glo[1], scale[1], side),
-                    cell_f64(hi[1] + margin[1], glo[1], scale[1], side),
-                ];
-                let r = self.max_over(0, rect) as f64;
-                (r > least).then_some((r, least))
-            }
-        }
+        };
+        let r = match self.cells_of(&q) {
+            Some((face, rect)) => self.max_over(face, rect),
+            None => self
+                .levels
+                .last()
+                .map_or(f32::NEG_INFINITY, |top| top.iter().copied().fold(f32::NEG_INFINITY, f32::max)),
+        } as f64;
+        (r > least).then_some((r, least))
     }
 
     /// The far end of triangle `q` as if a sample lay at its own farthest point: a short
