@@ -119,7 +119,7 @@ async function start() {
   if (!(Number.isInteger(snap) && snap >= 0)) throw new Error(`URL parameter snap=${params.get('snap')}: expected a whole number of positions per pixel`);
   let umbra;
   try {
-    umbra = await UmbraShadows.create(renderer, { depth: params.get('depth') === 'standard' ? 'standard' : 'reversed', depthClamp: params.get('clamp') !== '0', snap, zpass: params.get('zpass') !== '0', volumeCull: params.get('cull') !== '0', volumeClamp: params.get('volumeclamp') || 'auto', receiverScatter: params.get('scatter') || 'auto' });
+    umbra = await UmbraShadows.create(renderer, { depth: params.get('depth') === 'standard' ? 'standard' : 'reversed', depthClamp: params.get('clamp') !== '0', snap, zpass: params.get('zpass') !== '0', volumeCull: params.get('cull') !== '0', volumeClamp: params.get('volumeclamp') || 'auto', receiverScatter: params.get('scatter') || 'auto', positionPass: params.get('positions') || 'equal' });
   } catch (e) {
     throw new SetupError(e.message);
   }

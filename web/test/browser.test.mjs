@@ -221,6 +221,11 @@ test('volumes culled to their receivers and not (cull=0), point and directional 
     ['directional, unculled, z-pass', directional, 'cull=0', false, 0],
     ['directional, culled, z-fail', directional, 'zpass=0', true, null],
     ['directional, unculled, z-fail', directional, 'cull=0&zpass=0', false, null],
+    // Far ends short of infinity and far caps everywhere the cull keeps a triangle (the
+    // package clamps where that covers fewer pixels; on a software rasteriser seldom).
+    ['point, clamped, z-pass', point, 'volumeclamp=always', true, 0],
+    ['point, clamped, z-fail', point, 'volumeclamp=always&zpass=0', true, null],
+    ['directional, clamped, z-pass', directional, 'volumeclamp=always', true, 0],
   ];
   for (const impl of implementations()) {
     for (const [what, view, flags, culled, zpass] of cases) {
@@ -229,6 +234,7 @@ test('volumes culled to their receivers and not (cull=0), point and directional 
       assert.equal(r.status.state, 'ready');
       assert.deepEqual(r.status.zpass, [zpass], `${what}: counted ${zpass === null ? 'z-fail' : 'z-pass'}`);
       assert.equal(r.status.volumes[0].culled, culled, `${what}: culled or not as asked`);
+      if (/volumeclamp=always/.test(flags)) assert.equal(r.status.volumes[0].clamped, 1, `${what}: clamped`);
       assert.ok(r.browser.shadowed_reference > 500 && r.browser.samples - r.browser.shadowed_reference > 500, 'the view shows shadow and light');
       assert.equal(r.browser.mismatches_outside_band, 0, `${impl}, ${what}: the page disagrees with the reference outside the band`);
     }
@@ -290,14 +296,16 @@ test('two lights, a point and a directional one: each light\'s decision (umbra.r
   }
 });
 
-test('shared scenes: 0 samples outside the band on SwiftShader and ANGLE/llvmpipe; the page names the file', { skip: skipShared }, async () => {
+test('shared scenes: 0 samples outside the band on SwiftShader and ANGLE/llvmpipe, culled (and on SwiftShader also every culled volume clamped); the page names the file', { skip: skipShared }, async () => {
   const totals = {};
-  for (const impl of implementations()) {
+  const runs = implementations().flatMap((impl) => [[impl, ''], ...(impl === 'swiftshader' ? [[impl, '&volumeclamp=always']] : [])]);
+  for (const [impl, clamp] of runs) {
     for (const [i, s] of SHARED.entries()) {
       const scene = path.join(SCENES_DIR, s);
       const v = viewOf(sharedManifests[i].camera, sharedManifests[i].light);
-      const r = await judged(impl, { scene, width: SW, height: SH, query: `model=scenes/${s}&${v.query}` });
-      report(`${s}, ${impl}, ${SW}x${SH}`, r);
+      const r = await judged(impl, { scene, width: SW, height: SH, query: `model=scenes/${s}&${v.query}${clamp}` });
+      report(`${s}, ${impl}${clamp ? ', every volume clamped' : ''}, ${SW}x${SH}`, r);
+      if (clamp) assert.ok(r.status.volumes[0].clamped > 0, `${s}: clamped`);
       assert.equal(r.status.state, 'ready');
       assert.deepEqual(r.status.zpass, [SHARED_ZPASS[s]], `${s}: its default view counts z-pass from ${SHARED_ZPASS[s]}`);
       // Culled to the receivers (the package's default), and some of each scene's triangles

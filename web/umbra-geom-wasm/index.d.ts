@@ -42,7 +42,70 @@ export interface Caster {
   nearWinding(points: Float64Array | ArrayLike<number>, light: Float32Array | ArrayLike<number>): number | null;
   /** Every triangle's orientation towards `light` (x y z w, the geometry's own space) and the records of nonzero multiplicity. */
   silhouette(light: Float32Array | ArrayLike<number>): SilhouetteResult;
+  /**
+   * The silhouette of the triangles `receivers`' map keeps (crates/umbra-wasm/src/cull.rs),
+   * towards `light` (the geometry's own space, as its volumes are drawn), with every welded
+   * vertex's far end; null when nothing was culled (no map, a matrix that is not affine).
+   */
+  cull(receivers: Receivers, place: CullPlace, light: Float32Array | ArrayLike<number>): CullResult | null;
+  /** Its handle in the module (0 once freed). */
+  readonly handle: number;
+  /** The welded vertices A, B of every edge record (2 per record, sides-data's order). */
+  recordVertices(): Uint32Array;
+  /** Welded vertices. */
+  readonly vertices: number;
   /** Frees the module memory it holds (nearWinding and silhouette then throw). */
+  free(): void;
+}
+
+/** Where a caster is, for cull(): column-major f64 matrices and the viewport. */
+export interface CullPlace {
+  worldFromObject: ArrayLike<number>;
+  objectFromWorld: ArrayLike<number>;
+  /** The clip-from-object matrix its volume is drawn with (the clamp's screen-area estimate). */
+  clipFromObject: ArrayLike<number>;
+  width: number;
+  height: number;
+  /** z-fail: light caps and (point lights) dark caps drawn. */
+  zfail: boolean;
+  /** What a polygon costs against a pixel of fill (default 0). */
+  polygonPixels?: number;
+  /** Clamp where it covers fewer pixels ('auto', default), 'always' or 'never'. */
+  clamp?: 'auto' | 'always' | 'never';
+}
+
+/** A culled silhouette: views of the module's memory, valid until the next call. */
+export interface CullResult extends SilhouetteResult {
+  /** Triangles kept (any orientation). */
+  kept: number;
+  /** The kept triangles of nonzero orientation (their caps are drawn). */
+  triangles: Int32Array;
+  /** x y z w per welded vertex: its far end in the geometry's space (w = 0 at infinity). */
+  far: Float32Array;
+  /** Whether the far ends stayed clamped (else all at infinity). */
+  clamped: boolean;
+}
+
+/** One light's receiver map in the module (crates/umbra-wasm/src/cull.rs Receivers). */
+export interface Receivers {
+  /** The grid of the world light over the world box [min xyz, max xyz], side cells a side (a power of two); its 24 parameters, or null when refused. */
+  setGrid(light: ArrayLike<number>, bounds: ArrayLike<number>, side: number): Float32Array | null;
+  /** The cells to fill before build(): a view of the module's memory. */
+  cells(): Float32Array;
+  /** The map from the cells (-Infinity: empty, NaN: unbounded). */
+  build(): boolean;
+  /** The map from samples (x y z w each; w < 0 or bit `bit` set: left out), scattered in the wasm. */
+  buildFromSamples(samples: SamplesBuffer, bit: number): boolean;
+  /** Raises the hull of world-space points (x y z each) into the map; false drops the map. */
+  raise(points: Float64Array | ArrayLike<number>): boolean;
+  free(): void;
+}
+
+/** A block of floats in the module's memory for the page's samples. */
+export interface SamplesBuffer {
+  /** A view of n floats (valid until the memory grows: fill it at once). */
+  view(n: number): Float32Array;
+  readonly length: number;
   free(): void;
 }
 
@@ -88,6 +151,12 @@ export interface PreparedGeometry {
 export interface UmbraGeom {
   /** Welds and prepares a geometry; throws UmbraGeomError naming `name` and the bad element. */
   prepare(input: GeometryInput): PreparedGeometry;
+  /** A new receiver map (one light's), freed by its free(). */
+  receivers(): Receivers;
+  /** A block for the page's samples, freed by its free(). */
+  samples(): SamplesBuffer;
+  /** The z-pass test of the union of casters that share one space (their meshes welded together), freed by its free(). */
+  union(casters: Caster[]): { nearWinding(points: Float64Array | ArrayLike<number>, light: Float32Array | ArrayLike<number>): number | null; free(): void };
   /** Bytes of the module's linear memory (it grows, never shrinks). */
   memoryBytes(): number;
 }

@@ -170,6 +170,36 @@ export async function loadUmbraGeom(source) {
     };
   }
 
+  // A handle of umbra_union_new: the z-pass test of casters that share one space.
+  function unionOf(casters) {
+    const handles = casters.map((c) => c.handle);
+    if (handles.some((h) => !h)) throw new UmbraGeomError('umbra-wasm: union of a freed caster');
+    const list = alloc(4 * handles.length);
+    new Uint32Array(w.memory.buffer, list, handles.length).set(handles);
+    let live = 0;
+    try {
+      live = u(w.umbra_union_new(list, handles.length));
+    } finally {
+      w.umbra_free(list, 4 * handles.length);
+    }
+    if (!live) throw new UmbraGeomError('umbra-wasm: out of memory building a union of casters');
+    return {
+      /** As Caster.nearWinding, for the union (W0 of all its triangles together), or null. */
+      nearWinding(p, l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: nearWinding after free()');
+        const points = scratchPoints(p);
+        const light = scratchBlock('light', Float32Array, l);
+        const r = w.umbra_union_near_winding(live, points, p.length, light);
+        return r < 0 ? null : r;
+      },
+      free() {
+        if (!live) return;
+        w.umbra_union_free(live);
+        live = 0;
+      },
+    };
+  }
+
   // A handle of umbra_result_caster: the per-frame work of one geometry.
   function casterOf(handle, triangles, vertices) {
     let live = handle;
@@ -221,6 +251,9 @@ export async function loadUmbraGeom(source) {
         s.triangles = new Int32Array(memory, u(w.umbra_caster_kept_ptr(live)), u(w.umbra_caster_kept_len(live)));
         s.far = new Float32Array(memory, u(w.umbra_caster_far_ptr(live)), u(w.umbra_caster_far_len(live)));
         return s;
+      },
+      get handle() {
+        return live;
       },
       recordVertices() {
         if (!live) throw new UmbraGeomError('umbra-wasm: recordVertices after free()');
@@ -291,6 +324,8 @@ export async function loadUmbraGeom(source) {
     receivers: receiversOf,
     /** A block of floats the page reads its samples into, for receivers' buildFromSamples. */
     samples: samplesBuffer,
+    /** The z-pass test of the union of casters that share one space (crates/umbra-wasm/src/clearance.rs), freed by its free(). */
+    union: unionOf,
     /** Bytes of the module's linear memory (it grows, never shrinks). */
     memoryBytes: () => w.memory.buffer.byteLength,
   };

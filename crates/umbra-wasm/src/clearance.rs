@@ -12,8 +12,20 @@
 //! test's margin (1e-6 of the scene's scale), and the light it is asked with is the same f32
 //! value the volumes are drawn with.
 
+//!
+//! **A union of casters.** A model a loader splits into groups (OBJLoader: one mesh per `g`/`o`,
+//! Crytek Sponza's 25) has open edges along every group's border where the whole model has
+//! none, and a group's own count varies across the eye's near pyramid wherever such an edge
+//! lies between the pyramid and the light. The count z-pass must start from is the sum over
+//! casters, the winding of all their triangles together, so for casters that share a world
+//! matrix (one space) the question may be asked of their union instead
+//! ([`Clearance::union`]: their welded meshes concatenated and welded again, which closes the
+//! borders that share positions): when the union's winding is provably `W0` over the whole
+//! pyramid, so is the sum the stencil counts, whichever caster each face belongs to.
+
 use umbra_geom::clearance::ClearanceIndex;
-use umbra_geom::{EdgeAdjacency, Light, WeldedMesh};
+use umbra_geom::weld::weld;
+use umbra_geom::{EdgeAdjacency, Light, Mesh, WeldedMesh};
 
 /// One geometry's clearance data (see the module documentation).
 #[derive(Clone, Debug)]
@@ -37,6 +49,18 @@ impl Clearance {
     /// sides on edges of nonzero multiplicity only (paper 003's vs-silhouette).
     pub fn near_winding(&self, points: &[[f64; 3]], light: Light) -> Option<u32> {
         self.index.near_winding(&self.mesh, Some(&self.adjacency), points, light)
+    }
+
+    /// The clearance data of the union of `meshes` (one space): positions concatenated,
+    /// triangles renumbered, welded again (module documentation).
+    pub fn union<'a>(meshes: impl IntoIterator<Item = &'a WeldedMesh>) -> Clearance {
+        let mut all = Mesh::default();
+        for m in meshes {
+            let base = all.positions.len() as u32;
+            all.positions.extend_from_slice(&m.positions);
+            all.triangles.extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
+        }
+        Clearance::new(weld(&all))
     }
 
     /// The welded mesh.
@@ -69,6 +93,27 @@ mod tests {
             points.push([eye[0] + dx, eye[1] + dy, eye[2] - 0.1]);
         }
         points
+    }
+
+    /// The square split in two triangles, each its own caster: under the square near its
+    /// diagonal, each half alone cannot prove one count (the other half's border, open for it,
+    /// lies between the pyramid and the light); their union can, and its `W0` is the sum.
+    #[test]
+    fn a_union_proves_what_its_parts_cannot() {
+        let half = |idx: [u32; 3]| {
+            let p = [0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 1.0, 1.0];
+            let (_, welded) = prepare_welded("half", &p, Some(&idx)).expect("half");
+            welded
+        };
+        let (a, b) = (half([0, 1, 2]), half([0, 2, 3]));
+        let light = [0.5, 0.5, 3.0, 1.0];
+        let eye = pyramid([0.5, 0.52, 0.5]);
+        assert_eq!(Clearance::new(a.clone()).near_winding(&eye, light), None);
+        assert_eq!(Clearance::new(b.clone()).near_winding(&eye, light), None);
+        let u = Clearance::union([&a, &b]);
+        assert_eq!((u.mesh().positions.len(), u.mesh().triangles.len()), (4, 2), "the shared edge welded");
+        assert_eq!(u.near_winding(&eye, light), Some(1));
+        assert_eq!(u.near_winding(&pyramid([3.0, 0.5, 0.5]), light), Some(0));
     }
 
     #[test]

@@ -25,6 +25,9 @@
 //! [`umbra_caster_cull`] culls and clamps a caster against it and computes the silhouette of
 //! the kept triangles, with the kept triangles ([`umbra_caster_kept_ptr`]) and every vertex's
 //! far end ([`umbra_caster_far_ptr`]) beside it.
+//!
+//! z-pass for casters that share a world matrix: [`umbra_union_new`] asks the test of their
+//! union ([`Clearance::union`]), which [`umbra_union_free`] frees.
 
 use std::alloc::{alloc, dealloc, Layout};
 
@@ -469,6 +472,52 @@ fn record_vertices(c: &mut Caster) -> &[u32] {
     c.record_vertices.get_or_insert_with(|| record_ranges(adj, max_mult).flat_map(|r| adj.edges[r.edge]).collect())
 }
 
+/// The z-pass test of the union of `n` casters that share one space ([`Clearance::union`]):
+/// `casters` points to `n` live caster handles. A handle for [`umbra_union_near_winding`],
+/// which [`umbra_union_free`] frees; it does not refer to the casters after the call.
+///
+/// # Safety
+/// `casters` points to `n` live handles of [`umbra_result_caster`].
+#[no_mangle]
+pub unsafe extern "C" fn umbra_union_new(casters: *const *const Caster, n: usize) -> *mut Clearance {
+    // SAFETY: guaranteed by the caller.
+    let handles = unsafe { slice(casters, n) };
+    // SAFETY: each is a live caster handle.
+    let meshes = handles.iter().map(|&c| unsafe { &*c }.clearance.mesh());
+    Box::into_raw(Box::new(Clearance::union(meshes)))
+}
+
+/// [`umbra_caster_near_winding`] asked of a union of [`umbra_union_new`].
+///
+/// # Safety
+/// `u` is a live handle of [`umbra_union_new`]; `points` points to `points_len` f64 and
+/// `light` to 4 f32.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_union_near_winding(
+    u: *const Clearance,
+    points: *const f64,
+    points_len: usize,
+    light: *const f32,
+) -> i32 {
+    // SAFETY: guaranteed by the caller.
+    let (u, flat, light) = unsafe { (&*u, slice(points, points_len), slice(light, 4)) };
+    let (Ok(light), 0) = (<[f32; 4]>::try_from(light), flat.len() % 3) else { return -1 };
+    let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    u.near_winding(&points, light).and_then(|w| i32::try_from(w).ok()).unwrap_or(-1)
+}
+
+/// Frees a handle of [`umbra_union_new`].
+///
+/// # Safety
+/// `u` is a handle of [`umbra_union_new`] not freed yet, or null.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_union_free(u: *mut Clearance) {
+    if !u.is_null() {
+        // SAFETY: it came from Box::into_raw in umbra_union_new.
+        drop(unsafe { Box::from_raw(u) });
+    }
+}
+
 /// A new receivers handle without a grid ([`crate::Receivers`]); [`umbra_receivers_free`]
 /// frees it.
 #[no_mangle]
@@ -690,6 +739,12 @@ mod tests {
             assert_eq!(ask(&pyramid(0.3, 0.6, 0.5)), 1);
             assert_eq!(ask(&pyramid(3.0, 0.5, 0.5)), 0);
             assert_eq!(ask(&pyramid(0.5, 0.5, 1.05)), -1);
+            // The union of the caster with itself: every triangle twice, W0 doubled.
+            let both = [c as *const Caster, c as *const Caster];
+            let u = umbra_union_new(both.as_ptr(), 2);
+            let p = pyramid(0.3, 0.6, 0.5);
+            assert_eq!(umbra_union_near_winding(u, p.as_ptr(), p.len(), light.as_ptr()), 2);
+            umbra_union_free(u);
             assert_eq!(ask(&pyramid(0.3, 0.6, 0.5)[..14]), -1, "not whole points");
             // The light above the square: both triangles face it, its 4 border edges are the
             // silhouette, the diagonal (multiplicity 0) is not.

@@ -30,11 +30,14 @@ const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
 const RECEIVER_SIDE = 128;
 
 /**
- * What drawing one more polygon (a far cap: a point through the polygon pass, its fan's
+ * What drawing one more polygon (a far cap: a point through the polygon pass, its fan's 18
  * vertices) costs against one pixel of volume fill, in the choice between a clamped volume and
- * the same one running to infinity (crates/umbra-wasm/src/cull.rs choose_clamp).
+ * the same one running to infinity (crates/umbra-wasm/src/cull.rs choose_clamp). On a software
+ * rasteriser a far cap costs about 3.5 us (Sponza and Sibenik along their fly-throughs at
+ * 640 x 360 on SwiftShader: every clamped view slower than the same volumes unclamped;
+ * docs/web-speed.md), a thousand pixels of fill; a GPU runs vertices far cheaper.
  */
-const POLYGON_PIXELS = 16;
+const POLYGON_PIXELS = { software: 1024, gpu: 16 };
 
 /** The world box of a mesh's local box `b` ({min, max}) under its world matrix `m` (f64 elements). */
 function worldBox(b, m, into) {
@@ -67,14 +70,33 @@ function boxOf(positions) {
  * The stencil start of light `k` under z-pass, sum(W0) mod 256 (8-bit stencil, wrapping
  * counts), when every caster's test proves one count W0 for the eye's whole near pyramid;
  * null (z-fail) when any caster cannot (or has no points: z-pass off, projective matrix).
+ * Casters that share a world matrix (`group`, one space) are asked together when one of them
+ * cannot answer alone: the test of their union (`unionOf(tests)`, crates/umbra-wasm/src/
+ * clearance.rs), whose W0 is the sum the stencil counts (a loader's groups of one model have
+ * open borders that the union closes).
  */
-function zpassStart(tests, k) {
-  let sum = 0;
+function zpassStart(tests, k, unionOf) {
+  const groups = new Map();
   for (const t of tests) {
     if (!t.points) return null;
-    const w0 = t.caster.nearWinding(t.points, t.lights[k]);
-    if (w0 === null) return null;
-    sum += w0;
+    if (!groups.has(t.group)) groups.set(t.group, []);
+    groups.get(t.group).push(t);
+  }
+  let sum = 0;
+  for (const group of groups.values()) {
+    let w = 0;
+    for (const t of group) {
+      const w0 = t.caster.nearWinding(t.points, t.lights[k]);
+      if (w0 === null) {
+        w = null;
+        break;
+      }
+      w += w0;
+    }
+    // The same matrix: the same points and light in the group's space.
+    if (w === null && group.length > 1) w = unionOf(group).nearWinding(group[0].points, group[0].lights[k]);
+    if (w === null) return null;
+    sum += w;
   }
   return sum % 256;
 }
@@ -123,6 +145,8 @@ export class UmbraShadows {
     this.owned = new Set(); // GL objects and wasm caster handles to free on dispose
     this.reported = new Set();
     this.channels = new Map(); // light -> channel of the last frame
+    this.unions = new Map(); // z-pass tests of casters sharing a world matrix, by their keys
+    this.frameCount = 0;
     this.receivers = []; // per light slot, its receiver map in the wasm (volumeCull)
     this.samples = null; // the frame's samples in the wasm (volumeCull, receiverScatter 'cpu')
     this.info = {
@@ -240,6 +264,18 @@ export class UmbraShadows {
     }
     if (c.error) this.report(meshName(mesh), c.error);
     return c.volumes ? c : null;
+  }
+
+  /** The z-pass test of the union of `tests`' casters (one space), built once per set of geometry versions. */
+  unionOf(tests) {
+    const key = tests.map((t) => t.key).sort().join('|');
+    let u = this.unions.get(key);
+    if (!u) {
+      u = { union: this.topology.geom.union(tests.map((t) => t.caster)), frame: this.frameCount };
+      this.unions.set(key, u);
+    }
+    u.frame = this.frameCount;
+    return u.union;
   }
 
   /** A mesh's depth/mask-pass buffers (once per geometry version), or null (no positions). */
@@ -361,7 +397,11 @@ export class UmbraShadows {
         // crates/umbra-wasm/src/clearance.rs); a projective world matrix: no test, z-fail.
         const w = m.matrixWorld.elements;
         const affine = w[3] === 0 && w[7] === 0 && w[11] === 0 && w[15] === 1;
-        tests.push({ caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights });
+        tests.push({
+          caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights,
+          // Casters of one world matrix share a space: asked as a union where needed.
+          group: w.join(','), key: `${m.geometry.uuid}/${caster.key}`,
+        });
       }
       const worldFromObject = m.matrixWorld.elements.slice();
       const clip = clipFromObject(projection, view, m.matrixWorld.elements);
@@ -370,7 +410,7 @@ export class UmbraShadows {
       // pixels).
       const place = {
         worldFromObject, objectFromWorld: e.slice(), clipFromObject: clip, width: size.x, height: size.y, zfail: true,
-        polygonPixels: POLYGON_PIXELS, clamp: this.options.volumeClamp ?? 'auto',
+        polygonPixels: this.drawer.software ? POLYGON_PIXELS.software : POLYGON_PIXELS.gpu, clamp: this.options.volumeClamp ?? 'auto',
       };
       // Light k's silhouette: culled against its map when it was built (null from the wasm:
       // a projective world matrix, drawn unculled), else every triangle's.
@@ -406,7 +446,15 @@ export class UmbraShadows {
     if (casters === 0) return false;
     const timing = this.timing ? {} : null;
     const t0 = timing ? performance.now() : 0;
-    const zpass = lights.map((_, k) => zpassStart(tests, k));
+    const zpass = lights.map((_, k) => zpassStart(tests, k, (group) => this.unionOf(group)));
+    // Unions no group of this frame asked for are freed.
+    for (const [key, u] of this.unions) {
+      if (u.frame !== this.frameCount) {
+        u.union.free();
+        this.unions.delete(key);
+      }
+    }
+    this.frameCount++;
     zpass.forEach((z, k) => (zpassOf[k] = z));
     if (timing) timing.clearance = performance.now() - t0;
     let cull = null;
@@ -479,6 +527,8 @@ export class UmbraShadows {
     this.owned.clear();
     for (const r of this.receivers) r.free();
     this.receivers = [];
+    for (const u of this.unions.values()) u.union.free();
+    this.unions.clear();
     this.samples?.free();
     this.samples = null;
     this.casters = new WeakMap();

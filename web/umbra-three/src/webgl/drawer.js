@@ -64,6 +64,12 @@ export class WebGLDrawer {
     const dbg = gl.getExtension('WEBGL_debug_renderer_info');
     this.rendererName = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
     this.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
+    // A CPU rasteriser (what a user without a GPU gets), whose costs differ from a GPU's: the
+    // receiver cull's choices (receiverScatter, the clamp's cost per polygon) follow it.
+    this.software = /SwiftShader|llvmpipe|softpipe|Software/i.test(this.rendererName);
+    // Diagnostic (positionPass 'mrt'): the positions written by the depth pass itself instead of
+    // a pass of their own over its depth.
+    this.positionPass = opts.positionPass === 'mrt' ? 'mrt' : 'equal';
 
     const version = '#version 300 es\n';
     if (!depthVert.startsWith(version)) throw new GlSetupError('glsl/depth.vert.glsl must start with #version 300 es');
@@ -85,8 +91,7 @@ export class WebGLDrawer {
       if (!gl.getExtension('EXT_color_buffer_float')) {
         this.volumeCullMessage = 'volumeCull is off: this WebGL 2 context lacks EXT_color_buffer_float (the receiver maps are made of the visible samples\' RGBA32F world positions); every volume is drawn unculled';
       } else {
-        const software = /SwiftShader|llvmpipe|softpipe|Software/i.test(this.rendererName);
-        const asked = opts.receiverScatter === 'gpu' || opts.receiverScatter === 'cpu' ? opts.receiverScatter : (software ? 'cpu' : 'gpu');
+        const asked = opts.receiverScatter === 'gpu' || opts.receiverScatter === 'cpu' ? opts.receiverScatter : (this.software ? 'cpu' : 'gpu');
         // The GPU scatter blends 32-bit floats: without EXT_float_blend the wasm scatters.
         this.receiverScatter = asked === 'gpu' && gl.getExtension('EXT_float_blend') ? 'gpu' : 'cpu';
         this.positionProgram = link(gl, 'position pass', 'glsl/depth.vert.glsl', vert, 'glsl/position.frag.glsl', positionFrag);
@@ -409,30 +414,49 @@ export class WebGLDrawer {
       }
       gl.bindVertexArray(null);
     };
-    if (cull) {
-      // The depth pass with every visible sample's world position (position.frag.glsl) into the
-      // position target beside umbra's depth: cleared to w = -1 (no sample), colour writes on.
-      // "Nearer or equal" wins, so that of coplanar fragments at one depth the LAST drawn
+    const positionUniforms = (P) => (m) => {
+      gl.uniformMatrix4fv(P.u.u_world_from_object, false, m.world);
+      const lights = new Float32Array(16);
+      for (let k = 0; k < f.lights; k++) lights.set(m.lights[k], 4 * k);
+      gl.uniform4fv(P.u['u_lights[0]'], lights);
+      gl.uniform1i(P.u.u_light_count, f.lights);
+      gl.uniform1f(P.u.u_flip, m.flip);
+    };
+    if (cull && this.positionPass === 'mrt') {
+      // The depth pass itself writes every sample's world position (position.frag.glsl) into
+      // the position target beside umbra's depth: cleared to w = -1 (no sample), colour writes
+      // on. "Nearer or equal" wins, so that of coplanar fragments at one depth the LAST drawn
       // leaves its position and facing bits, as it leaves its decision in the mask pass (depth
       // EQUAL, last write wins); the depth itself is the same (the nearest).
       gl.bindFramebuffer(gl.FRAMEBUFFER, cull.positionFbo);
       gl.colorMask(true, true, true, true);
       gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, -1]);
       gl.depthFunc(rz ? gl.GEQUAL : gl.LEQUAL);
-      const P = this.positionProgram;
-      drawMeshes(P, (m) => {
-        gl.uniformMatrix4fv(P.u.u_world_from_object, false, m.world);
-        const lights = new Float32Array(16);
-        for (let k = 0; k < f.lights; k++) lights.set(m.lights[k], 4 * k);
-        gl.uniform4fv(P.u['u_lights[0]'], lights);
-        gl.uniform1i(P.u.u_light_count, f.lights);
-        gl.uniform1f(P.u.u_flip, m.flip);
-      });
+      drawMeshes(this.positionProgram, positionUniforms(this.positionProgram));
       // Back to the depth pass's state for what follows: colour writes off, strictly nearer.
       gl.colorMask(false, false, false, false);
       gl.depthFunc(nearer);
     } else {
       drawMeshes(this.depthProgram);
+    }
+    if (cull && this.positionPass !== 'mrt') {
+      // Every visible sample's world position (position.frag.glsl) into the position target
+      // beside umbra's depth, drawn over the depth pass's depth with depth EQUAL and no depth
+      // writes, so the shader runs for the visible fragments only (the depth pass runs none);
+      // cleared to w = -1 (no sample); colour writes on. Of coplanar fragments at one depth
+      // the LAST drawn leaves its position and facing bits, as it leaves its decision in the
+      // mask pass (the same test, the same order).
+      gl.bindFramebuffer(gl.FRAMEBUFFER, cull.positionFbo);
+      gl.colorMask(true, true, true, true);
+      gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, -1]);
+      gl.depthFunc(gl.EQUAL);
+      gl.depthMask(false);
+      drawMeshes(this.positionProgram, positionUniforms(this.positionProgram));
+      // Back to the depth pass's state for what follows: colour writes off, depth writes on,
+      // strictly nearer.
+      gl.colorMask(false, false, false, false);
+      gl.depthMask(true);
+      gl.depthFunc(nearer);
     }
     lap('depth');
     if (cull && this.receiverScatter === 'cpu') {

@@ -1,6 +1,7 @@
 #version 300 es
-// umbra's depth pass when volumes are culled to their receivers (drawer.js, `volumeCull`):
-// besides the depth, every visible sample's world position into an RGBA32F target, which the
+// umbra's position pass when volumes are culled to their receivers (drawer.js, `volumeCull`),
+// drawn after the depth pass over its depth with depth EQUAL (the visible fragments only):
+// every visible sample's world position into an RGBA32F target, which the
 // scatter (scatter.vert.glsl) turns into each light's receiver map (umbra_geom::receivers; the
 // CC shadow volumes of Lloyd, Wendt, Govindaraju & Manocha, EGSR 2004, with the receivers
 // taken from the frame itself). Why a fragment shader of its own: the vertex shader
