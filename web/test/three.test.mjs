@@ -469,6 +469,14 @@ test('volumeCull: the mask of every volume to infinity, but for pixels on shadow
       cpu: (zpass) => UmbraShadows.create(makeRenderer(), { zpass, receiverScatter: 'cpu' }),
       gpu: (zpass) => UmbraShadows.create(makeRenderer(), { zpass, receiverScatter: 'gpu' }),
       clamped: (zpass) => UmbraShadows.create(makeRenderer(), { zpass, volumeClamp: 'always' }),
+      // A context without EXT_color_buffer_float: the cull off, and why, in umbra.info.
+      noext: (zpass) => {
+        const r = makeRenderer();
+        const gl = r.getContext();
+        const get = gl.getExtension.bind(gl);
+        gl.getExtension = (name) => (name === 'EXT_color_buffer_float' ? null : get(name));
+        return UmbraShadows.create(r, { zpass });
+      },
     };
     const out = {};
     for (const directional of [false, true]) {
@@ -500,7 +508,7 @@ test('volumeCull: the mask of every volume to infinity, but for pixels on shadow
         };
         out[`${directional ? 'directional' : 'point'}, ${zpass ? 'z-pass' : 'z-fail'}`] = Object.fromEntries(Object.entries(row).map(([k, v]) => [k, {
           differing: differing(v.mask, ref), offBoundary: inside(v.mask), dark: zeros(v.mask), errors: v.errors, zpass: v.info.zpass, volumes: v.info.volumes,
-          volumeCull: v.info.volumeCull, receiverScatter: v.info.receiverScatter,
+          volumeCull: v.info.volumeCull, receiverScatter: v.info.receiverScatter, volumeCullMessage: v.info.volumeCullMessage,
         }]));
       }
     }
@@ -514,6 +522,10 @@ test('volumeCull: the mask of every volume to infinity, but for pixels on shadow
     assert.ok(row.off.dark > 500 && row.off.dark < 18000, `${what}: partly shadowed (${row.off.dark} dark pixels)`);
     assert.deepEqual(row.off.zpass, what.endsWith('z-pass') ? [0] : [null], `${what}: its count`);
     assert.ok(row.clamped.volumes[0].clamped > 0, `${what}: volumeClamp 'always' clamps`);
+    assert.equal(row.noext.volumeCull, false, `${what}: no EXT_color_buffer_float, no cull`);
+    assert.match(row.noext.volumeCullMessage, /EXT_color_buffer_float/);
+    assert.equal(row.noext.differing, 0, `${what}: unculled without the extension, the unculled mask`);
+    assert.equal(row.noext.errors, 0);
     for (const scatter of ['cpu', 'gpu', 'clamped']) {
       const v = row[scatter];
       assert.equal(v.errors, 0, `${what}, ${scatter}: no errors`);

@@ -69,6 +69,8 @@ export interface UmbraOptions {
   receiverScatter?: 'auto' | 'gpu' | 'cpu';
   /** Diagnostic: clamp culled volumes 'always', 'never', or where it covers fewer pixels ('auto'). */
   volumeClamp?: 'auto' | 'always' | 'never';
+  /** Diagnostic: the samples' positions drawn by a pass of their own over the depth ('equal', default) or by the depth pass itself ('mrt'). */
+  positionPass?: 'equal' | 'mrt';
 }
 
 export class UmbraShadows {
