@@ -59,7 +59,7 @@ async function start() {
   // three.js's material untouched by the package's shader patch.
   const patched = plain.clone();
   // The package's other rows (each UmbraShadows patches its own instance): its options.
-  const VARIANTS = { umbra: {}, umbranocull: { volumeCull: false }, umbraclamp: { volumeClamp: 'always' }, umbranoclamp: { volumeClamp: 'never' } };
+  const VARIANTS = { umbra: {}, umbranocull: { volumeCull: false }, umbraclamp: { volumeClamp: 'always' }, umbranoclamp: { volumeClamp: 'never' }, umbramrt: { positionPass: 'mrt' } };
   const variantMaterial = Object.fromEntries(Object.keys(VARIANTS).map((k) => [k, k === 'umbra' ? patched : plain.clone()]));
   const meshes = [];
   let triangles = 0;

@@ -51,8 +51,8 @@ const flyViews = Number(arg('--flythrough', '0'));
 const impl = arg('--impl', 'swiftshader');
 const outFile = arg('--out', null);
 const shots = arg('--shots', null);
-const LABELS = { none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped' };
-const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp'];
+const LABELS = { none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped', umbramrt: 'umbra-three, positions from the depth pass' };
+const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp', 'umbramrt'];
 
 /** The fly-through keyframes of `scene` (bench/<name>.flythrough: eye xyz, target xyz per line). */
 async function flythrough(scene) {

@@ -27,16 +27,22 @@ uniform float u_flip;
 
 out vec4 o_position;
 
+// Whether the seen side (unit normal n) clearly faces away from light l: its cosine with the
+// direction to the light below -2^-10, without a square root or a division:
+// dot(n, v) < 0 and dot(n, v)^2 > 2^-20 |v|^2 (n is a unit normal; a zero one never counts).
+float away(vec3 n, vec4 l, float bit) {
+    vec3 v = l.xyz - v_world_pos * l.w;
+    float d = dot(n, v);
+    return d < 0.0 && d * d * 1048576.0 > dot(v, v) ? bit : 0.0;
+}
+
 void main() {
     vec3 n = (gl_FrontFacing ? u_flip : -u_flip) * v_normal;
-    int away = 0;
-    for (int k = 0; k < 4; ++k) {
-        if (k < u_light_count) {
-            vec3 l = normalize(u_lights[k].xyz - v_world_pos * u_lights[k].w);
-            if (dot(n, l) < -1.0 / 1024.0) {
-                away |= 1 << k;
-            }
-        }
-    }
-    o_position = vec4((u_world_from_object * vec4(v_world_pos, 1.0)).xyz, float(away));
+    // Unrolled over the at most 4 lights (constant indices).
+    float bits = 0.0;
+    if (u_light_count > 0) bits += away(n, u_lights[0], 1.0);
+    if (u_light_count > 1) bits += away(n, u_lights[1], 2.0);
+    if (u_light_count > 2) bits += away(n, u_lights[2], 4.0);
+    if (u_light_count > 3) bits += away(n, u_lights[3], 8.0);
+    o_position = vec4((u_world_from_object * vec4(v_world_pos, 1.0)).xyz, bits);
 }
