@@ -85,8 +85,10 @@ try {
     const runs = Object.fromEntries(variants.map(([name]) => [name, []]));
     for (const v of views) {
       if (v) {
-        for (const p of Object.values(pages)) {
-          await p.goto(`${p.url().split('?')[0]}?${new URL(p.url()).searchParams.toString()}&${v}`);
+        // From each page's own first URL: appending to the current one would keep the previous
+        // view's eye= first, which the viewer reads.
+        for (const [name, p] of Object.entries(pages)) {
+          await p.goto(`${variants.find(([n]) => n === name)[1]}&${v}`);
           await p.waitForFunction(() => document.body.dataset.state !== 'loading', null, { timeout: 600_000, polling: 250 });
         }
       }
