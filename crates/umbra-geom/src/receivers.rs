@@ -25,6 +25,7 @@ use rayon::prelude::*;
 
 use crate::adjacency::EdgeAdjacency;
 use crate::silhouette::{keep_whole_regions, travel, TriangleSlots, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
+use crate::vec3::{cross, dot, norm, sub};
 use crate::weld::WeldedMesh;
 use crate::{Aabb, Light};
 
@@ -79,14 +80,6 @@ fn cell_f64(x: f64, lo: f64, scale: f64, n: u32) -> u32 {
     ((x - lo) * scale).floor().clamp(0.0, (n - 1) as f64) as u32
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
 /// The axis of the largest of `a` (ties: x, then y), as the GPU scatter picks a cube face.
 fn major(a: [f64; 3]) -> usize {
     if a[0] >= a[1] && a[0] >= a[2] {
@@ -121,9 +114,9 @@ impl ReceiverGrid {
         };
         let k = dot(a, t);
         let u = sub(a, t.map(|x| x * k));
-        let n = dot(u, u).sqrt();
+        let n = norm(u);
         let u = u.map(|x| x / n);
-        let v = [t[1] * u[2] - t[2] * u[1], t[2] * u[0] - t[0] * u[2], t[0] * u[1] - t[1] * u[0]];
+        let v = cross(t, u);
         let (u, v, t) = (u.map(|x| x as f32), v.map(|x| x as f32), t.map(|x| x as f32));
         let origin = bounds.center();
         let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
@@ -408,7 +401,7 @@ impl ReceiverMap {
         let value = match self.grid {
             ReceiverGrid::Cube { light, .. } => {
                 let l = f64x3(light);
-                let far = points.iter().map(|&p| dot(sub(p, l), sub(p, l)).sqrt()).fold(0.0, f64::max);
+                let far = points.iter().map(|&p| norm(sub(p, l))).fold(0.0, f64::max);
                 far * (1.0 + 2.0 * RECEIVER_ROUND_UP as f64)
             }
             ReceiverGrid::Flat { origin, travel, .. } => {
@@ -468,7 +461,7 @@ impl ReceiverMap {
         match self.grid {
             ReceiverGrid::Cube { light, .. } => {
                 let l = f64x3(light);
-                let far = q.iter().map(|&p| dot(sub(p, l), sub(p, l)).sqrt()).fold(0.0, f64::max);
+                let far = q.iter().map(|&p| norm(sub(p, l))).fold(0.0, f64::max);
                 far_end(far, distance_to_triangle(l, q), point, 0.0)
             }
             ReceiverGrid::Flat { origin, travel, .. } => {
@@ -571,7 +564,6 @@ fn far_end(r: f64, least: f64, point: bool, extent: f64) -> f32 {
 /// The distance from `p` to the triangle `q` (Ericson, Real-Time Collision Detection, 5.1.5:
 /// the closest point by Voronoi regions), in f64.
 pub fn distance_to_triangle(p: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> f64 {
-    let len = |x: [f64; 3]| dot(x, x).sqrt();
     let at = |base: [f64; 3], dir: [f64; 3], t: f64| [base[0] + dir[0] * t, base[1] + dir[1] * t, base[2] + dir[2] * t];
     let ab = sub(b, a);
     let ac = sub(c, a);
@@ -579,35 +571,35 @@ pub fn distance_to_triangle(p: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> f64 {
     let d1 = dot(ab, ap);
     let d2 = dot(ac, ap);
     if d1 <= 0.0 && d2 <= 0.0 {
-        return len(ap);
+        return norm(ap);
     }
     let bp = sub(p, b);
     let d3 = dot(ab, bp);
     let d4 = dot(ac, bp);
     if d3 >= 0.0 && d4 <= d3 {
-        return len(bp);
+        return norm(bp);
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return len(sub(p, at(a, ab, d1 / (d1 - d3))));
+        return norm(sub(p, at(a, ab, d1 / (d1 - d3))));
     }
     let cp = sub(p, c);
     let d5 = dot(ab, cp);
     let d6 = dot(ac, cp);
     if d6 >= 0.0 && d5 <= d6 {
-        return len(cp);
+        return norm(cp);
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return len(sub(p, at(a, ac, d2 / (d2 - d6))));
+        return norm(sub(p, at(a, ac, d2 / (d2 - d6))));
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return len(sub(p, at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+        return norm(sub(p, at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
     }
     let denom = 1.0 / (va + vb + vc);
     let (v, w) = (vb * denom, vc * denom);
-    len(sub(p, [a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w]))
+    norm(sub(p, [a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w]))
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 //! f64 3-vector helpers shared by the exact geometric tests (umbra_geom::clearance, the
-//! oracle's reference and band classes). Plain arrays, no SIMD: the callers care about the
+//! receiver map's cull, the oracle's reference and band classes). Plain arrays, no SIMD: the callers care about the
 //! operation order being the obvious one.
 
 /// `a - b`.

@@ -14,6 +14,8 @@
 //! edges already, so no drop creates a side where the unculled volume had none between two
 //! triangles of one region.
 
+use rayon::prelude::*;
+
 use super::slots::TriangleSlots;
 use crate::adjacency::EdgeAdjacency;
 use crate::multiplicity::triangle_orientation;
@@ -43,7 +45,7 @@ pub fn keep_whole_regions(
     let n = mesh.triangles.len();
     assert_eq!(keep.len(), n, "one keep flag per triangle");
     let orientation: Vec<i8> =
-        mesh.triangles.iter().map(|&t| triangle_orientation(&mesh.positions, t, light) as i8).collect();
+        mesh.triangles.par_iter().map(|&t| triangle_orientation(&mesh.positions, t, light) as i8).collect();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     for e in 0..adj.len() {
         let range = adj.opposite_start[e] as usize..adj.opposite_start[e + 1] as usize;

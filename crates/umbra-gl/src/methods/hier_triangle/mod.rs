@@ -101,6 +101,9 @@ const SETUP_COMP: &str = include_str!("setup.comp.glsl");
 const INIT_COMP: &str = include_str!("init.comp.glsl");
 const TRAVERSE_COMP: &str = include_str!("traverse.comp.glsl");
 const RECEIVERS: &str = include_str!("receivers.glsl");
+/// `receiver_encode`, `receiver_decode`, `receiver_cell`, `receiver_cube_cell`, shared with
+/// cpu-silhouette's receiver scatter.
+const RECEIVER_CELL: &str = include_str!("../shared/receiver_cell.glsl");
 const RECEIVERS_COMP: &str = include_str!("receivers.comp.glsl");
 const RESOLVE_FRAG: &str = include_str!("resolve.frag.glsl");
 
@@ -172,7 +175,7 @@ fn header(lanes: u32) -> String {
         "#version 450 core\n#extension GL_ARB_shader_ballot : require\n#extension GL_ARB_gpu_shader_int64 : require\n";
     format!(
         "{}#define LANES {lanes}u\n#define SLOT_WORDS {}u\n#define RECEIVER_SIDE {}u\n#define RECEIVER_FLAT {}u\n\
-         {FRUSTUM}\n{LIVE}\n{RECEIVERS}\n",
+         {FRUSTUM}\n{LIVE}\n{RECEIVER_CELL}\n{RECEIVERS}\n",
         hier::header(4, false).replacen(version, extensions, 1),
         layout::SLOT_WORDS,
         layout::RECEIVER_SIDE,

@@ -2,7 +2,7 @@
 // per cell, cleared, and one more that stores the directional grid's box; 1: one invocation per pixel, its live sample (present, not facing away:
 // init.comp.glsl's bit) raises its cell to its distance from the light (point) or its depth
 // along the light (directional), rounded up. Prepended: hier/hierarchy.glsl, hier/region.glsl,
-// frustum.glsl, live.glsl, receivers.glsl.
+// frustum.glsl, live.glsl, shared/receiver_cell.glsl, receivers.glsl.
 
 layout(local_size_x = 64) in;
 
@@ -42,13 +42,7 @@ void main() {
         if (!(magnitude > 0.0)) {
             return;
         }
-        uint m = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
-        uint face = 2u * m + (rel[m] < 0.0 ? 1u : 0u);
-        vec2 uv = vec2(rel[(m + 1u) % 3u], rel[(m + 2u) % 3u]) / a[m];
-        float scale = 0.5 * float(RECEIVER_SIDE);
-        uint ci = receiver_cell(uv.x, -1.0, scale, RECEIVER_SIDE);
-        uint cj = receiver_cell(uv.y, -1.0, scale, RECEIVER_SIDE);
-        cell = (face * RECEIVER_SIDE + cj) * RECEIVER_SIDE + ci;
+        cell = receiver_cube_cell(rel, RECEIVER_SIDE);
         value = length(rel) * (1.0 + 1.0 / 1048576.0);
     } else {
         vec4 box;

@@ -33,20 +33,8 @@ const float RECEIVER_MARGIN = 1.0 / 16384.0;
 layout(std430, binding = 10) coherent buffer Receivers { uint receivers[]; };
 #endif
 
-// Order-preserving f32 -> u32 (a larger float gives a larger word; 0 is below every float).
-uint receiver_encode(float x) {
-    uint u = floatBitsToUint(x);
-    return (u & 0x80000000u) != 0u ? ~u : (u | 0x80000000u);
-}
-
-float receiver_decode(uint e) {
-    return uintBitsToFloat((e & 0x80000000u) != 0u ? (e & 0x7FFFFFFFu) : ~e);
-}
-
-// The cell index along one axis of a coordinate x in [lo, lo + extent), n cells (clamped).
-uint receiver_cell(float x, float lo, float scale, uint n) {
-    return uint(clamp(floor((x - lo) * scale), 0.0, float(n - 1u)));
-}
+// receiver_encode, receiver_decode, receiver_cell, receiver_cube_cell: shared/receiver_cell.glsl,
+// prepended before this file.
 
 // A directional light's grid: the union of the top nodes' boxes (u0, u1, v0, v1), empty
 // (u0 > u1) when no top node holds a sample. Computed once per light by the map's clearing

@@ -20,6 +20,8 @@ use crate::scene::SceneGpu;
 use crate::state::GlState;
 
 const SCATTER_FRAG: &str = include_str!("scatter.frag.glsl");
+/// The cells and the encoding, shared with hier-triangle's receiver map.
+const RECEIVER_CELL_GLSL: &str = include_str!("../shared/receiver_cell.glsl");
 
 /// Shader-storage binding of the map during the scatter (unbound afterwards). Binding 0 is the
 /// scene's triangle normals.
@@ -38,12 +40,13 @@ impl ReceiverPass {
     /// Links the scatter program and allocates the map's buffer.
     pub(crate) fn new(gl: &glow::Context) -> Result<Self, GlError> {
         let binding = format!("UMBRA_RECEIVERS_BINDING {RECEIVERS_BINDING}");
+        let fragment = format!("#version 450 core\n{RECEIVER_CELL_GLSL}\n{SCATTER_FRAG}");
         let program = link_program(
             gl,
             "receiver map scatter",
             &[
                 ShaderSource::vertex("shaders/scene.vert.glsl", crate::scene::SCENE_VERT),
-                ShaderSource::fragment("receivers/scatter.frag.glsl", SCATTER_FRAG),
+                ShaderSource::fragment("receivers/scatter.frag.glsl", &fragment),
             ],
             &[&binding],
         )?;

@@ -17,7 +17,8 @@
 // two programs may compute the lighting pass's `n_dot_l > 0` differently; samples nearer to
 // edge-on stay in the map.
 
-#version 450 core
+// Prepended by receivers/mod.rs: "#version 450 core" and shared/receiver_cell.glsl
+// (receiver_encode, receiver_cell, receiver_cube_cell).
 
 layout(early_fragment_tests) in;
 
@@ -40,15 +41,6 @@ uniform vec2 u_scale;
 
 const float ROUND_UP = 1.0 / 1048576.0;
 
-// Order-preserving f32 -> u32 (umbra_geom::receivers::encode).
-uint receiver_encode(float x) {
-    uint u = floatBitsToUint(x);
-    return (u & 0x80000000u) != 0u ? ~u : (u | 0x80000000u);
-}
-
-uint receiver_cell(float x, float lo, float scale, uint n) {
-    return uint(clamp(floor((x - lo) * scale), 0.0, float(n - 1u)));
-}
 
 void main() {
     vec3 n = triangle_normals[gl_PrimitiveID].xyz;
@@ -68,13 +60,7 @@ void main() {
         if (!(a.x + a.y + a.z > 0.0)) {
             return;
         }
-        uint m = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
-        uint face = 2u * m + (rel[m] < 0.0 ? 1u : 0u);
-        vec2 uv = vec2(rel[(m + 1u) % 3u], rel[(m + 2u) % 3u]) / a[m];
-        float scale = 0.5 * float(u_side);
-        uint ci = receiver_cell(uv.x, -1.0, scale, u_side);
-        uint cj = receiver_cell(uv.y, -1.0, scale, u_side);
-        cell = (face * u_side + cj) * u_side + ci;
+        cell = receiver_cube_cell(rel, u_side);
         value = length(rel) * (1.0 + ROUND_UP);
     } else {
         vec3 rel = v_world_pos - u_origin;
