@@ -32,7 +32,6 @@ use umbra_geom::silhouette::{
     estimate_fill, extract_clamped, extract_indexed, has_dark_caps, IndexedVolume, ScreenClip, TriangleSlots,
     VolumeClamp,
 };
-use umbra_geom::Aabb;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
@@ -130,8 +129,6 @@ pub struct CpuSilhouette {
     last_cull: Option<CullStats>,
     /// Triangles of the prepared scene.
     triangles: usize,
-    /// Bounds of the welded positions of the prepared scene (a directional light's receiver grid).
-    bounds: Option<Aabb>,
 }
 
 /// The eye and its near rectangle in world space, enlarged (as the renderer's auto z-pass
@@ -145,17 +142,6 @@ fn near_pyramid(frame: &VolumeFrame<'_>) -> Vec<[f64; 3]> {
         *p = std::array::from_fn(|a| eye[a] + 1.02 * (p[a] - eye[a]));
     }
     points
-}
-
-/// The box of `positions`; `None` when there are none.
-fn bounds_of(positions: &[[f32; 3]]) -> Option<Aabb> {
-    let first = *positions.first()?;
-    let mut b = Aabb { min: first, max: first };
-    for p in positions {
-        b.min = [0, 1, 2].map(|k| b.min[k].min(p[k]));
-        b.max = [0, 1, 2].map(|k| b.max[k].max(p[k]));
-    }
-    Some(b)
 }
 
 /// The bytes of plain-old-data arrays of `u32` or `f32` (no padding, every byte initialised).
@@ -296,7 +282,6 @@ impl ShadowMethod for CpuSilhouette {
                 });
             }
         }
-        self.bounds = bounds_of(&scene.mesh().positions);
         self.triangles = scene.mesh().triangles.len();
         self.prepared = Some(scene.id());
         Ok(())
@@ -320,7 +305,8 @@ impl ShadowMethod for CpuSilhouette {
             if self.receivers.is_none() {
                 self.receivers = Some(ReceiverPass::new(gl)?);
             }
-            if let (Some(pass), Some(bounds)) = (self.receivers.as_ref(), self.bounds) {
+            // The scene's box (a directional light's grid spans it), as the renderer has it.
+            if let (Some(pass), Some(bounds)) = (self.receivers.as_ref(), scene.bounds()) {
                 let mut map = pass.build(gl, scene, frame, bounds)?;
                 // z-pass starts every count at the eye's near rectangle with the eye's winding
                 // (the renderer's W0, from the unclamped volumes): the near pyramid's cells are
