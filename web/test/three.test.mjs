@@ -323,6 +323,79 @@ test('a moving caster and a moving light: the shadow follows without re-preparin
   assert.ok(r.samePrepare, 'no topology prepared again for a transform or a light');
 });
 
+test('cache: nothing moved, the decisions reused; the camera moved, each light\'s silhouettes kept; after the camera, a light and then a caster moved, every mask that of a fresh frame (cache: false), culled and not, two lights', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const out = {};
+    for (const volumeCull of [false, true]) {
+      // Two of everything: the cached instance and the one that recomputes every frame, each
+      // on its own renderer and scene (an instance patches its scene's materials).
+      const make = async (cache) => {
+        const renderer = makeRenderer();
+        const umbra = await UmbraShadows.create(renderer, { cache, volumeCull });
+        const s = makeScene();
+        const second = new THREE.PointLight(0xffffff, 4, 0, 0);
+        second.position.set(-2, 3, 0.5);
+        second.castShadow = true;
+        s.scene.add(second);
+        return { umbra, ...s, second };
+      };
+      const a = await make(true);
+      const b = await make(false);
+      const steps = [];
+      const step = (name, change) => {
+        for (const x of [a, b]) change(x);
+        for (const x of [a, b]) x.umbra.render(x.scene, x.camera);
+        const masks = [a, b].map((x) => [x.umbra.readMask(x.light), x.umbra.readMask(x.second)]);
+        steps.push({
+          name,
+          reused: a.umbra.info.reused,
+          freshReused: b.umbra.info.reused,
+          cached: a.umbra.info.volumes.map((v) => v.cached),
+          freshCached: b.umbra.info.volumes.map((v) => v.cached),
+          differing: differing(masks[0][0], masks[1][0]) + differing(masks[0][1], masks[1][1]),
+          shadowed: zeros(masks[0][0]) + zeros(masks[0][1]),
+          cpuMs: a.umbra.info.cpuMs,
+        });
+      };
+      step('first', () => {});
+      step('nothing moved', () => {});
+      step('camera', (x) => {
+        x.camera.position.set(1, 4.5, 5.5);
+        x.camera.lookAt(0, 0, 0);
+      });
+      step('light', (x) => x.light.position.set(1.5, 4, 0.5));
+      step('caster', (x) => x.box.position.set(0.5, 1.2, 0));
+      step('nothing moved again', () => {});
+      out[volumeCull ? 'culled' : 'unculled'] = { steps, volumeCull: a.umbra.info.volumeCull };
+    }
+    return out;
+  });
+  console.log(JSON.stringify(r));
+  for (const [name, { steps, volumeCull }] of Object.entries(r)) {
+    assert.equal(volumeCull, name === 'culled', `${name}: volumeCull as asked`);
+    const at = (s) => steps.find((x) => x.name === s);
+    for (const s of steps) {
+      assert.equal(s.differing, 0, `${name}, ${s.name}: the cached instance's masks are the fresh one's`);
+      assert.ok(s.shadowed > 100, `${name}, ${s.name}: something is shadowed (the masks are not blank)`);
+      assert.equal(s.freshReused, false, `${name}, ${s.name}: cache: false never reuses a frame`);
+      assert.deepEqual(s.freshCached, [0, 0], `${name}, ${s.name}: cache: false keeps no silhouette`);
+      assert.ok(s.cpuMs > 0, `${name}, ${s.name}: info.cpuMs measured`);
+    }
+    for (const s of ['first', 'camera', 'light', 'caster']) assert.equal(at(s).reused, false, `${name}, ${s}: a frame where something moved is drawn`);
+    for (const s of ['nothing moved', 'nothing moved again']) assert.equal(at(s).reused, true, `${name}, ${s}: reused`);
+    if (name === 'unculled') {
+      // Two casters (floor and box) per light.
+      assert.deepEqual(at('camera').cached, [2, 2], 'the camera moved: both lights\' silhouettes of both casters kept');
+      assert.deepEqual(at('light').cached, [0, 2], 'the first light moved: its silhouettes computed again, the second light\'s kept');
+      assert.deepEqual(at('caster').cached, [1, 1], 'the box moved: its silhouettes computed again, the floor\'s kept');
+    } else {
+      // Culled silhouettes depend on the frame's receivers: never kept.
+      for (const s of steps) assert.deepEqual(s.cached, [0, 0], `culled, ${s.name}: nothing kept`);
+    }
+  }
+});
+
 test('light order: a shadow-casting light added after another lands on its own uniform (three.js sorts casters first)', { skip }, async () => {
   const r = await page.evaluate(async () => {
     const { THREE, UmbraShadows } = window.T;

@@ -18,6 +18,14 @@ export interface UmbraInfo {
   triangles: number;
   /** Total milliseconds spent preparing topologies (wasm) so far. */
   prepareMs: number;
+  /**
+   * Main-thread milliseconds umbra spent in the last render() before three.js's own frame: its
+   * passes' commands, the wasm's work and any read-back it waited for (with `volumeCull`, the
+   * receiver maps; with `timing`, every pass).
+   */
+  cpuMs: number;
+  /** Whether the last frame reused the decisions of the one before (`cache`: nothing umbra draws from moved). */
+  reused: boolean;
   /** Milliseconds per pass of the last frame (clearance, depth, volumes, mask), only with `timing = true`. */
   passes: Record<string, number>;
   /**
@@ -46,6 +54,8 @@ export interface UmbraVolumes {
   edges: number;
   /** Casters whose culled volume was also clamped (sides ending at far caps short of infinity, where that covers fewer pixels). */
   clamped: number;
+  /** Casters whose unculled silhouette was kept from an earlier frame (`cache`: the light did not move in the caster's space). */
+  cached: number;
 }
 
 export interface UmbraOptions {
@@ -65,6 +75,13 @@ export interface UmbraOptions {
    * exactly. false: every volume runs to infinity, as without the option.
    */
   volumeCull?: boolean;
+  /**
+   * Keep work that nothing changed (default true): a caster's unculled silhouette per light
+   * while the light stays where it is in the caster's space, and the whole frame's decisions
+   * while the camera, the lights and every drawn mesh's geometry and matrix stay the same.
+   * false: everything computed again every frame (benchmarks of a moving view).
+   */
+  cache?: boolean;
   /** Diagnostic: where the receiver maps are scattered ('auto': in the wasm on software rasterisers, else on the GPU). */
   receiverScatter?: 'auto' | 'gpu' | 'cpu';
   /** Diagnostic: clamp culled volumes 'always', 'never', or where it covers fewer pixels ('auto'). */

@@ -101,6 +101,34 @@ function zpassStart(tests, k, unionOf) {
   return sum % 256;
 }
 
+/** Whether two values of a frame's inputs are equal: typed arrays and arrays element by element, others by identity. */
+function sameValue(a, b) {
+  if (a === b) return true;
+  if (!a || !b || typeof a !== 'object' || typeof b !== 'object') return false;
+  const list = (x) => ArrayBuffer.isView(x) || Array.isArray(x);
+  if (!list(a) || !list(b) || a.length !== b.length) return false;
+  for (let i = 0; i < a.length; i++) if (!sameValue(a[i], b[i])) return false;
+  return true;
+}
+
+/**
+ * Whether frame `b` draws what frame `a` drew: the same settings and lights (`a.key`), and the
+ * same meshes in the same order, each with the same buffers, volumes and every other value the
+ * drawer reads (matrices, lights in its space, flip...); its functions (the silhouette) are
+ * derived from those.
+ */
+function sameFrame(a, b) {
+  if (!a || !b || !sameValue(a.key, b.key) || a.meshes.length !== b.meshes.length) return false;
+  for (let i = 0; i < a.meshes.length; i++) {
+    const m = a.meshes[i];
+    const n = b.meshes[i];
+    const keys = Object.keys(m);
+    if (keys.length !== Object.keys(n).length) return false;
+    for (const k of keys) if (typeof m[k] !== 'function' && !sameValue(m[k], n[k])) return false;
+  }
+  return true;
+}
+
 export class UmbraShadows {
   /**
    * Loads the wasm preprocessing and sets up the WebGL 2 drawer on `renderer`'s context.
@@ -147,10 +175,14 @@ export class UmbraShadows {
     this.channels = new Map(); // light -> channel of the last frame
     this.unions = new Map(); // z-pass tests of casters sharing a world matrix, by their keys
     this.frameCount = 0;
+    // The inputs of the last frame whose decisions are in the mask target (null: none): a frame
+    // with the same ones reuses them (`cache`).
+    this.lastFrame = null;
+    this.cache = options.cache !== false;
     this.receivers = []; // per light slot, its receiver map in the wasm (volumeCull)
     this.samples = null; // the frame's samples in the wasm (volumeCull, receiverScatter 'cpu')
     this.info = {
-      lights: 0, casters: 0, triangles: 0, prepareMs: 0, passes: {}, zpass: [],
+      lights: 0, casters: 0, triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, passes: {}, zpass: [],
       volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, volumes: [],
     };
   }
@@ -189,6 +221,9 @@ export class UmbraShadows {
   /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */
   render(scene, camera) {
     let shadowed = false;
+    // umbra's own main-thread time this frame (info.cpuMs): its passes' commands, the wasm's
+    // work and the read-backs it waits for; three.js's frame after it is not counted.
+    const t0 = performance.now();
     if (this.enabled && !this.disposed) {
       try {
         shadowed = this.drawDecisions(scene, camera);
@@ -199,9 +234,11 @@ export class UmbraShadows {
       this.renderer.resetState();
     }
     if (!shadowed) {
+      this.lastFrame = null;
       this.channels = new Map();
       this.setSelects(new Map(), new Map());
     }
+    this.info.cpuMs = performance.now() - t0;
     // three.js's shadow maps stay off in umbra's frame (a light would be shadowed twice);
     // the selects go back to "lit" after it, so that a plain renderer.render() of the same
     // scene (three.js's own shadow maps, say) is three.js's own image.
@@ -367,7 +404,7 @@ export class UmbraShadows {
     const culledLights = lights.map(() => false);
     // Each light's count, once known (the z-pass tests run after this loop).
     const zpassOf = lights.map(() => null);
-    const drawnVolumes = lights.map(() => ({ culled: false, triangles: 0, edges: 0, clamped: 0 }));
+    const drawnVolumes = lights.map(() => ({ culled: false, triangles: 0, edges: 0, clamped: 0, cached: 0 }));
     // Every visible sample lies in the union of the drawn meshes' world boxes.
     const bounds = [Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity];
     let affineWorlds = true;
@@ -413,21 +450,32 @@ export class UmbraShadows {
         polygonPixels: this.drawer.software ? POLYGON_PIXELS.software : POLYGON_PIXELS.gpu, clamp: this.options.volumeClamp ?? 'auto',
       };
       // Light k's silhouette: culled against its map when it was built (null from the wasm:
-      // a projective world matrix, drawn unculled), else every triangle's.
+      // a projective world matrix, drawn unculled), else every triangle's, which the caster's
+      // slot k keeps while the light stays where it is in the caster's space (its key: the
+      // light's four f32 object-space coordinates, what the wasm orients the triangles by).
       const silhouette = (k) => {
         const w = caster.wasm.caster;
-        place.zfail = zpassOf[k] === null;
-        const s = culledLights[k] ? w.cull(this.receivers[k], place, objectLights[k]) : null;
         const v = drawnVolumes[k];
-        v.triangles += s ? s.kept : caster.volumes.triangles;
-        if (s) {
-          v.edges += s.records.length;
-          v.clamped += s.clamped ? 1 : 0;
-          return s;
+        if (culledLights[k]) {
+          place.zfail = zpassOf[k] === null;
+          const s = w.cull(this.receivers[k], place, objectLights[k]);
+          if (s) {
+            v.triangles += s.kept;
+            v.edges += s.records.length;
+            v.clamped += s.clamped ? 1 : 0;
+            return { silhouette: s, key: null };
+          }
+        }
+        v.triangles += caster.volumes.triangles;
+        const key = this.cache ? objectLights[k].join(',') : null;
+        if (caster.volumes.holds(k, key)) {
+          v.edges += caster.volumes.slots[k].records;
+          v.cached++;
+          return { silhouette: null, key };
         }
         const u = w.silhouette(objectLights[k]);
         v.edges += u.records.length;
-        return u;
+        return { silhouette: u, key };
       };
       frameMeshes.push({
         buffers,
@@ -444,6 +492,24 @@ export class UmbraShadows {
     this.info.triangles = triangles;
     // No caster: nothing is shadowed, and the frame is three.js's own.
     if (casters === 0) return false;
+    // Nothing moved since the last frame drawn (`cache`): the same settings, camera, lights (and
+    // their slots in three.js's uniforms) and the same meshes with the same buffers, volumes,
+    // matrices and lights in their space. Every pass below reads only those, so the mask target
+    // holds this frame's decisions already: no pass, no z-pass test, no silhouette.
+    const frame = {
+      key: [size.x, size.y, reversed, this.options.snap || 0, this.options.zpass !== false, this.options.volumeClamp ?? 'auto', cullOn,
+        projection.slice(), view.slice(), lights, lights.map((l) => [slots.get(l).kind, slots.get(l).index]), lightWorld],
+      meshes: frameMeshes,
+    };
+    if (this.cache && sameFrame(this.lastFrame, frame) && this.drawer.maskTexture) {
+      this.info.reused = true;
+      this.info.passes = {};
+      this.mask.sourceTexture = this.drawer.maskTexture;
+      this.setSelects(slots, this.channels);
+      return true;
+    }
+    this.lastFrame = null;
+    this.info.reused = false;
     const timing = this.timing ? {} : null;
     const t0 = timing ? performance.now() : 0;
     const zpass = lights.map((_, k) => zpassStart(tests, k, (group) => this.unionOf(group)));
@@ -492,6 +558,7 @@ export class UmbraShadows {
     this.mask.sourceTexture = this.drawer.maskTexture;
     this.channels = new Map(lights.map((l, c) => [l, c]));
     this.setSelects(slots, this.channels);
+    this.lastFrame = this.cache ? frame : null;
     return true;
   }
 

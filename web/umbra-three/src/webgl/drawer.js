@@ -321,10 +321,11 @@ export class WebGLDrawer {
    * (the caller then calls renderer.resetState()).
    * @param {{width: number, height: number, snap?: number, timing?: object|null,
    *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null,
-   *     silhouette: ((k: number) => {orientation: Int8Array, records: Int32Array})|null}[],
+   *     silhouette: ((k: number) => {silhouette: {orientation: Int8Array, records: Int32Array}|null, key: string|null})|null}[],
    *   lights: number, zpass?: (number|null)[]}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space;
    *   zpass[k]: light k's z-pass stencil start (sum of W0 mod 256), or null/absent for z-fail;
-   *   mesh.silhouette(k): a caster's silhouette towards light k (volumes.js prepare()), culled or not;
+   *   mesh.silhouette(k): a caster's silhouette towards light k and its key (volumes.js prepare()),
+   *   culled or not, or silhouette null when the caster's slot k holds the one of that key;
    *   cull (with `volumeCull` only): { side, grids: per light the wasm's grid parameters or null,
    *   cells(k): the wasm's cells of light k (a Float32Array view, fetched just before it is
    *   written), samples(n): the wasm's block for the frame's n floats of samples (the same),
@@ -492,9 +493,11 @@ export class WebGLDrawer {
         for (const m of casters) {
           const light = m.lights[k];
           // Each triangle of the caster oriented once towards the light, and its silhouette
-          // records, from the wasm into the caster's textures.
+          // records, from the wasm into the caster's textures of light slot k (nothing, when
+          // they hold the silhouette of this light position already).
           if (tick) ts = performance.now();
-          m.volumes.prepare(m.silhouette(k));
+          const s = m.silhouette(k);
+          m.volumes.prepare(k, s.silhouette, s.key);
           tick?.('volumes.silhouette');
           // Pass 2: counting (state.rs shadow_volume_for(zpass, convention)): stencil test
           // always passes; z-fail: back faces behind the sample +1, front faces behind it -1;

@@ -1,7 +1,8 @@
 // The shadow volumes of one caster: paper 003's vs-silhouette (vs_silhouette.js) as WebGL 2
 // objects. Owns the caster's data textures (from topology.js: the buffers `umbra export`
-// writes), the silhouette's textures (the triangles' orientations, R8I, and the list of edge
-// records of nonzero multiplicity, R32I, both computed by the wasm per light), the polygon
+// writes), the silhouette's textures per light slot (the triangles' orientations, R8I, and the
+// list of edge records of nonzero multiplicity, R32I, both computed by the wasm per light, kept
+// while the light does not move in the caster's space), the polygon
 // pass (its transform-feedback buffer and the RGBA32F texture the polygons are copied to) and
 // the fan pass, with programs shared by every caster (VolumePrograms); the drawer (drawer.js)
 // owns the frame, calls prepare() per light and draw() under the counting state it set.
@@ -103,12 +104,14 @@ export class ShadowVolumes {
     this.sidesTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.sides, 4, this.records * (2 + this.maxMult), 'sides-data').tex;
     this.capsTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.caps, 4, 3 * this.triangles, 'caps-data').tex;
     this.edgeTrianglesTex = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles').tex;
-    // The silhouette of the current light, uploaded by prepare(): every triangle's orientation
-    // (R8I, one per triangle) and the edge records of nonzero multiplicity (R32I, at most all).
-    this.orientation = dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations');
-    this.recordList = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records');
-    this.silhouetteRecords = 0;
-    this.singleRecords = 0;
+    // The silhouette towards each light slot k (prepare(k, ...)): every triangle's orientation
+    // (R8I, one per triangle) and the edge records of nonzero multiplicity (R32I, at most all),
+    // and the key it was computed for (the light in this caster's space; null when culled,
+    // which depends on the frame's receivers). A slot whose key matches the next frame's is
+    // drawn as it is: a light and a caster that did not move cost neither the wasm's
+    // silhouette nor an upload. Slot 0 at once, the others when a light first uses them.
+    this.slots = [];
+    this.slot = this.silhouetteSlot(0);
     // The receiver cull's textures (none without the welded indices): the welded vertices of
     // every record and triangle, and per light every vertex's far end and the kept triangles.
     this.vertices = data.vertices;
@@ -146,7 +149,8 @@ export class ShadowVolumes {
   /** Frees every GL object of this caster (not the shared programs). */
   dispose() {
     const gl = this.gl;
-    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.orientation.tex, this.recordList.tex, this.polygonTex]) gl.deleteTexture(t);
+    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.polygonTex]) gl.deleteTexture(t);
+    for (const slot of this.slots) for (const t of [slot.orientation.tex, slot.recordList.tex]) gl.deleteTexture(t);
     if (this.cull) for (const t of Object.values(this.cull)) gl.deleteTexture(t);
     gl.deleteBuffer(this.polygonBuffer);
     gl.deleteTransformFeedback(this.feedback);
@@ -167,22 +171,56 @@ export class ShadowVolumes {
     gl.activeTexture(gl.TEXTURE0);
   }
 
+  /** Light slot k's silhouette textures, made when first asked for. */
+  silhouetteSlot(k) {
+    while (this.slots.length <= k) {
+      const gl = this.gl;
+      const s = this.shift;
+      this.slots.push({
+        orientation: dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations'),
+        recordList: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records'),
+        records: 0,
+        single: 0,
+        key: null,
+      });
+    }
+    return this.slots[k];
+  }
+
+  /** Whether light slot k holds the unculled silhouette computed for `key` (prepare(k, null, key) then draws it). */
+  holds(k, key) {
+    return key !== null && k < this.slots.length && this.slots[k].key === key;
+  }
+
   /**
-   * The silhouette towards the light draw() is then called with (the wasm's Silhouette:
-   * `orientation`, one Int8Array element per triangle, and `records`, the Int32Array of edge
-   * records of nonzero multiplicity, the `single` ones of multiplicity ±1 first) into this
-   * caster's two textures. Culled (the wasm's cull: also `triangles`, the Int32Array of kept
-   * triangles of nonzero orientation, `far`, 4 floats per welded vertex, and `clamped`: false
-   * when every far end is at infinity) also those two, and draw() then draws the culled volume. Needs the unpack state
-   * the drawer sets (no flip, no premultiply, no row length or skips, no unpack buffer).
+   * Light slot k's silhouette, which draw() then draws: the wasm's Silhouette (`orientation`,
+   * one Int8Array element per triangle, and `records`, the Int32Array of edge records of
+   * nonzero multiplicity, the `single` ones of multiplicity ±1 first) into the slot's two
+   * textures, remembered as computed for `key` (null: not to be reused); `silhouette` null:
+   * the slot already holds the one for `key` (holds(k, key)), nothing uploaded. Culled (the
+   * wasm's cull: also `triangles`, the Int32Array of kept triangles of nonzero orientation,
+   * `far`, 4 floats per welded vertex, and `clamped`: false when every far end is at infinity)
+   * also those two, and draw() then draws the culled volume. Needs the unpack state the drawer
+   * sets (no flip, no premultiply, no row length or skips, no unpack buffer).
    */
-  prepare({ orientation, records, single, triangles = null, far = null, clamped = true }) {
+  prepare(k, silhouette, key = null) {
     const gl = this.gl;
     const width = 2 ** this.shift;
-    gl.bindTexture(gl.TEXTURE_2D, this.orientation.tex);
+    const slot = this.silhouetteSlot(k);
+    this.slot = slot;
+    if (!silhouette) {
+      if (!this.holds(k, key)) throw new Error(`umbra-three: light slot ${k} holds no silhouette for ${key}`);
+      // An unculled silhouette: nothing of the cull's.
+      this.culled = false;
+      this.clamped = false;
+      this.keptTriangles = 0;
+      return;
+    }
+    const { orientation, records, single, triangles = null, far = null, clamped = true } = silhouette;
+    gl.bindTexture(gl.TEXTURE_2D, slot.orientation.tex);
     upload(gl, width, gl.RED_INTEGER, gl.BYTE, orientation, 0, 1, this.triangles);
     if (records.length) {
-      gl.bindTexture(gl.TEXTURE_2D, this.recordList.tex);
+      gl.bindTexture(gl.TEXTURE_2D, slot.recordList.tex);
       upload(gl, width, gl.RED_INTEGER, gl.INT, records, 0, 1, records.length);
     }
     this.culled = !!(far && triangles && this.cull);
@@ -199,8 +237,10 @@ export class ShadowVolumes {
       this.keptTriangles = triangles.length;
     }
     gl.bindTexture(gl.TEXTURE_2D, null);
-    this.silhouetteRecords = records.length;
-    this.singleRecords = single;
+    slot.records = records.length;
+    slot.single = single;
+    // A culled silhouette depends on the frame's receivers: never reused.
+    slot.key = this.culled ? null : key;
   }
 
   /**
@@ -212,7 +252,7 @@ export class ShadowVolumes {
    * (glsl/snap.glsl) and the viewport's size in pixels. `caps` false (z-pass): the sides only,
    * the caps' polygon and fan passes skipped (light caps lie on the far plane and dark caps at
    * infinity: under the strictly-nearer test z-pass never counts them). After prepare() for
-   * the same light. A culled silhouette (prepare()) draws its sides to the far ends and its
+   * the same light (its slot). A culled silhouette (prepare()) draws its sides to the far ends and its
    * far caps in both counts (a clamped far cap may lie in front of a sample), the light caps
    * of its kept triangles under z-fail. `tick(name)`, when given, is called after each polygon and fan pass (timing).
    */
@@ -232,8 +272,8 @@ export class ShadowVolumes {
     gl.uniform4fv(P.u.u_light, light);
     gl.uniform1f(P.u.u_far_clip_z, farClipZ);
     this.bindTexture(UNIT_EDGE_TRIANGLES, this.edgeTrianglesTex);
-    this.bindTexture(UNIT_ORIENTATION, this.orientation.tex);
-    this.bindTexture(UNIT_RECORDS, this.recordList.tex);
+    this.bindTexture(UNIT_ORIENTATION, this.slot.orientation.tex);
+    this.bindTexture(UNIT_RECORDS, this.slot.recordList.tex);
     // The cull's units are bound either way: WebGL refuses a draw whose active sampler's unit
     // holds a texture of another type (three.js's, say); null reads as an incomplete texture.
     this.bindTexture(UNIT_FAR, culled ? this.cull.far : null);
@@ -285,8 +325,8 @@ export class ShadowVolumes {
     };
     // The sides: the listed records only (every other record's multiplicity is 0: no side).
     // Sides of multiplicity ±1 with one potential copy each, the others with maxMult.
-    const n = this.silhouetteRecords;
-    set(0, this.sidesTex, n, [[0, this.singleRecords, 1], [this.singleRecords, n, this.maxMult]]);
+    const n = this.slot.records;
+    set(0, this.sidesTex, n, [[0, this.slot.single, 1], [this.slot.single, n, this.maxMult]]);
     if (culled) {
       // The kept triangles of nonzero orientation: light caps (z-fail), far caps (both).
       const kept = [[0, this.keptTriangles, 1]];
