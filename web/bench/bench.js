@@ -59,7 +59,14 @@ async function start() {
   // three.js's material untouched by the package's shader patch.
   const patched = plain.clone();
   // The package's other rows (each UmbraShadows patches its own instance): its options.
-  const VARIANTS = { umbra: {}, umbranocull: { volumeCull: false }, umbraclamp: { volumeClamp: 'always' }, umbranoclamp: { volumeClamp: 'never' }, umbramrt: { positionPass: 'mrt' } };
+  // The rows timed frame by frame over one view draw every frame in full (cache: false: a
+  // frame with nothing moved would reuse the last one's decisions); umbracache and
+  // umbracachenocull are the package's defaults (cache on), for the orbit (bench.orbit).
+  const VARIANTS = {
+    umbra: { cache: false }, umbranocull: { volumeCull: false, cache: false }, umbraclamp: { volumeClamp: 'always', cache: false },
+    umbranoclamp: { volumeClamp: 'never', cache: false }, umbramrt: { positionPass: 'mrt', cache: false },
+    umbracache: {}, umbracachenocull: { volumeCull: false },
+  };
   const variantMaterial = Object.fromEntries(Object.keys(VARIANTS).map((k) => [k, k === 'umbra' ? patched : plain.clone()]));
   const meshes = [];
   let triangles = 0;
@@ -170,6 +177,31 @@ async function start() {
     camera.position.set(...eye);
     camera.lookAt(...target);
     camera.updateMatrixWorld();
+  };
+  // One frame of an orbit (run.mjs --orbit): the camera at angle 2 pi i / n around the view's
+  // target (about the up axis, at the eye's distance and height), the light still or, with
+  // moveLight, on a small circle around its place (diagonal / 100); returns the main-thread ms
+  // of the row's render call (no GPU sync inside: what the page's script costs), then the
+  // frame's ms until a readPixels returned (the GPU's work included), and umbra's info.cpuMs.
+  const orbitUp = new THREE.Vector3(...view.up).normalize();
+  const orbitTarget = new THREE.Vector3(...view.target);
+  const orbitEye = new THREE.Vector3(...view.eye).sub(orbitTarget);
+  bench.orbit = (mode, i, n, moveLight = false) => {
+    const a = (2 * Math.PI * i) / n;
+    camera.position.copy(orbitEye).applyAxisAngle(orbitUp, a).add(orbitTarget);
+    camera.up.copy(orbitUp);
+    camera.lookAt(orbitTarget);
+    camera.updateMatrixWorld();
+    const r = moveLight ? diagonal / 100 : 0;
+    for (const l of lights) l.position.set(view.light[0] + r * Math.cos(a), view.light[1], view.light[2] + r * Math.sin(a));
+    const t0 = performance.now();
+    draw(mode);
+    const cpu = performance.now() - t0;
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+    const frame = performance.now() - t0;
+    if (instance(mode)?.errors.length) throw new Error(`umbra refused meshes: ${JSON.stringify(instance(mode).errors.slice(0, 3))}`);
+    const info = instance(mode)?.info;
+    return { cpu, frame, umbraCpu: info ? info.cpuMs : null, parts: info ? info.cpu : null, reused: info ? info.reused : null, cached: info ? info.volumes.reduce((x, v) => x + v.cached, 0) : null };
   };
   // What a row draws, as a PNG data URL (run.mjs --shots): read in the frame's own task,
   // before the drawing buffer is presented and cleared.

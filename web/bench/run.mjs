@@ -22,8 +22,14 @@
 //             default): per view one warm-up frame per row, then one timed frame per row in
 //             turn; the means are over the views; umbra's pass breakdown (--passes 1) is one
 //             frame per view and umbra row
+//   --orbit N  instead: N + 1 frames of a camera orbit about the view's target (one turn, frame
+//             0 a warm-up), one frame per row in turn; per row the main-thread ms of its render
+//             call (no GPU sync inside the span) and the frame's ms until a readPixels returned;
+//             --move-light: the light also moves every frame (a small circle)
 // Rows: none, map1024, map2048, bvh, umbra, umbranocull (the package with volumeCull off),
-// umbraclamp / umbranoclamp (culled volumes always / never clamped: volumeClamp).
+// umbraclamp / umbranoclamp (culled volumes always / never clamped: volumeClamp), each with
+// cache: false (every frame drawn in full); umbracache and umbracachenocull (the package's
+// defaults, cache on, with volumeCull on / off) for the orbit.
 // Needs /usr/bin/chromium (or UMBRA_CHROMIUM), `npm ci` in web/ and the package built.
 import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
 import { existsSync } from 'node:fs';
@@ -48,11 +54,13 @@ const warmup = Number(arg('--warmup', '1'));
 const passFrames = Number(arg('--passes', '1'));
 const modes = arg('--modes', 'none,map1024,map2048,bvh,umbra').split(',');
 const flyViews = Number(arg('--flythrough', '0'));
+const orbitFrames = Number(arg('--orbit', '0'));
+const moveLight = process.argv.includes('--move-light');
 const impl = arg('--impl', 'swiftshader');
 const outFile = arg('--out', null);
 const shots = arg('--shots', null);
-const LABELS = { none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped', umbramrt: 'umbra-three, positions from the depth pass' };
-const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp', 'umbramrt'];
+const LABELS = { umbracache: 'umbra-three (cache)', umbracachenocull: 'umbra-three (cache), volumeCull off', none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped', umbramrt: 'umbra-three, positions from the depth pass' };
+const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp', 'umbramrt', 'umbracache', 'umbracachenocull'];
 
 /** The fly-through keyframes of `scene` (bench/<name>.flythrough: eye xyz, target xyz per line). */
 async function flythrough(scene) {
@@ -156,7 +164,22 @@ try {
           console.error(`  view ${v + 1}/${flyViews}: ${modes.map((m) => `${m} ${fmt(round[m])}`).join(', ')}; ${Object.entries(drawn).map(([m, d]) => `${m} ${JSON.stringify(d.volumes)} zpass ${JSON.stringify(d.zpass)}`).join('; ')}`);
         }
       }
-      for (let r = 0; flyViews === 0 && r < warmup + frames; r++) {
+      if (orbitFrames > 0) {
+        run.orbit = { frames: orbitFrames, moveLight, rows: Object.fromEntries(modes.map((m) => [m, []])) };
+        for (let f = 0; f <= orbitFrames; f++) {
+          const round = {};
+          for (const mode of modes) {
+            round[mode] = await page.evaluate(([m, i, n, l]) => window.bench.orbit(m, i, n, l), [mode, f, orbitFrames, moveLight]);
+            if (f > 0) run.orbit.rows[mode].push(round[mode]);
+          }
+          if (f % 10 === 0 || process.env.UMBRA_BENCH_VERBOSE) console.error(`  orbit ${f}/${orbitFrames}: ${modes.map((m) => `${m} ${fmt(round[m].cpu)} / ${fmt(round[m].frame)}${round[m].parts ? ` ${JSON.stringify(round[m].parts)}` : ''}`).join(', ')}`);
+        }
+        run.orbit.summary = Object.fromEntries(modes.map((m) => {
+          const rows = run.orbit.rows[m];
+          return [m, { cpu: summary(rows.map((x) => x.cpu)), frame: summary(rows.map((x) => x.frame)), reused: rows.filter((x) => x.reused).length, cached: rows.reduce((a, x) => a + (x.cached || 0), 0) }];
+        }));
+      }
+      for (let r = 0; flyViews === 0 && orbitFrames === 0 && r < warmup + frames; r++) {
         const round = {};
         for (const mode of modes) {
           round[mode] = await page.evaluate((m) => window.bench.frame(m), mode);
@@ -164,7 +187,7 @@ try {
         }
         console.error(`  round ${r + 1}/${warmup + frames}${r < warmup ? ' (warm-up)' : ''}: ${modes.map((m) => `${m} ${fmt(round[m])}`).join(', ')}`);
       }
-      for (const mode of modes) run.summary[mode] = summary(run.ms[mode]);
+      for (const mode of modes) run.summary[mode] = run.ms[mode].length ? summary(run.ms[mode]) : null;
       if (flyViews > 0) {
         // The pass breakdown: the mean over the views.
         for (const mode of modes.filter((m) => UMBRA_ROWS.includes(m))) {
@@ -172,7 +195,7 @@ try {
           for (const v of run.views) for (const [k, x] of Object.entries(v.drawn[mode].passes || {})) sum[k] = (sum[k] || 0) + x / run.views.length;
           (run.flyPasses ??= {})[mode] = sum;
         }
-      } else if (modes.includes('umbra') && passFrames > 0) {
+      } else if (modes.includes('umbra') && passFrames > 0 && orbitFrames === 0) {
         const p = await page.evaluate((n) => window.bench.passes(n), passFrames);
         run.passes = p.passes;
         run.umbraInfo = p.info;
@@ -199,6 +222,7 @@ console.log(markdown(results));
 
 /** The results as markdown tables: frame times, first frames, ratios, umbra's passes. */
 function markdown(r) {
+  if (orbitFrames > 0) return orbitMarkdown(r);
   const how = flyViews > 0 ? `${flyViews} fly-through views, one frame per row and view after one warm-up frame per row and view, interleaved` : `${r.frames} frames per row after ${r.warmup} warm-up, interleaved`;
   const lines = [`${r.date.slice(0, 10)}, ${r.browser} (${r.implementation}), ${r.machine}; \`${r.command}\`; ${how}.`, ''];
   lines.push(`Mean ms per frame (p95 in brackets):`, '');
@@ -237,6 +261,27 @@ function markdown(r) {
       lines.push(`| scene | size | ${names.join(' | ')} |`, `| --- | --- |${names.map(() => ' ---: |').join('')}`);
       for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${names.map((n) => (run.passes?.[n] === undefined ? '-' : fmt(run.passes[n]))).join(' | ')} |`);
     }
+  }
+  return lines.join('\n');
+}
+
+/** The orbit's tables: main-thread ms of the render call and frame ms, per row; ratios against map2048. */
+function orbitMarkdown(r) {
+  const lines = [`${r.date.slice(0, 10)}, ${r.browser} (${r.implementation}), ${r.machine}; \`${r.command}\`; ${orbitFrames} frames of a camera orbit (one turn about the view's target) after one warm-up frame, one frame per row in turn; the light ${moveLight ? 'moving every frame' : 'still'}.`, ''];
+  lines.push('Main-thread ms of the render call, no GPU sync inside (mean, p95 in brackets) / ms until the frame was read back (mean):', '');
+  lines.push(`| scene | size | ${modes.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${modes.map(() => ' ---: |').join('')}`);
+  for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${modes.map((m) => `${fmt(run.orbit.summary[m].cpu.mean)} (${fmt(run.orbit.summary[m].cpu.p95)}) / ${fmt(run.orbit.summary[m].frame.mean)}`).join(' | ')} |`);
+  const ours = modes.filter((m) => UMBRA_ROWS.includes(m));
+  if (modes.includes('map2048') && ours.length) {
+    lines.push('', 'Ratios against three.js\'s 2048 point-light map (main thread; frame), below 1: umbra costs less:', '');
+    lines.push(`| scene | size | ${ours.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${ours.map(() => ' ---: |').join('')}`);
+    for (const run of r.runs) {
+      const s = run.orbit.summary;
+      lines.push(`| ${run.scene} | ${run.size} | ${ours.map((m) => `${(s[m].cpu.mean / s.map2048.cpu.mean).toFixed(2)}; ${(s[m].frame.mean / s.map2048.frame.mean).toFixed(2)}`).join(' | ')} |`);
+    }
+    lines.push('', 'Silhouettes kept (casters x lights, summed over the frames) and frames reused:', '');
+    lines.push(`| scene | size | ${ours.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${ours.map(() => ' ---: |').join('')}`);
+    for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${ours.map((m) => `${run.orbit.summary[m].cached} kept, ${run.orbit.summary[m].reused} reused`).join(' | ')} |`);
   }
   return lines.join('\n');
 }

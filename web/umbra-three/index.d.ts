@@ -36,7 +36,7 @@ export interface UmbraInfo {
   zpass: (number | null)[];
   /** Whether volumes are culled to their receivers on this context (`volumeCull`, and EXT_color_buffer_float offered). */
   volumeCull: boolean;
-  /** Why `volumeCull` is off although it was asked for (a missing extension), else null. */
+  /** Why `volumeCull` is off (a missing extension, or 'auto' on a GPU), else null. */
   volumeCullMessage: string | null;
   /** Where the receiver maps are scattered: 'gpu', 'cpu' (in the wasm), or null without the cull. */
   receiverScatter: 'gpu' | 'cpu' | null;
@@ -70,11 +70,14 @@ export interface UmbraOptions {
   /** Diagnostic: false counts every light z-fail, never z-pass (the same decision, slower). */
   zpass?: boolean;
   /**
-   * Shadow volumes only where something visible receives them (default true): per light a map
-   * of the frame's visible samples, against which each caster's volume is culled and clamped
-   * exactly. false: every volume runs to infinity, as without the option.
+   * Shadow volumes only where something visible receives them: per light a map of the frame's
+   * visible samples, against which each caster's volume is culled and clamped exactly. false:
+   * every volume runs to infinity. 'auto' (the default): on where the renderer is a software
+   * rasteriser (SwiftShader, llvmpipe), where fill is the frame's cost; off on a GPU, where
+   * reading the maps back every frame would make the main thread wait for the GPU
+   * (`info.volumeCullMessage` says so).
    */
-  volumeCull?: boolean;
+  volumeCull?: boolean | 'auto';
   /**
    * Keep work that nothing changed (default true): a caster's unculled silhouette per light
    * while the light stays where it is in the caster's space, and the whole frame's decisions

@@ -10,7 +10,7 @@
 //      reversed-Z, infinite far plane; the camera's fov, aspect and near);
 //   3. renderer.resetState(), then renderer.render(scene, camera) with the patched materials
 //      (materials.js) reading the decision of their pixel.
-// With `volumeCull` (default on), step 2 draws only the volumes something visible receives:
+// With `volumeCull` (default 'auto': on a software rasteriser), step 2 draws only the volumes something visible receives:
 // per light a receiver map of the frame's visible samples (the drawer's position pass and
 // scatter, read back), against which the wasm culls and clamps each caster's volume
 // (crates/umbra-wasm/src/cull.rs; umbra_geom::receivers), in world space; z-pass first raises
@@ -134,11 +134,13 @@ export class UmbraShadows {
    * Loads the wasm preprocessing and sets up the WebGL 2 drawer on `renderer`'s context.
    * Throws a clear Error when the context is not WebGL 2 or lacks what umbra needs.
    * @param {import('three').WebGLRenderer} renderer
-   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number, zpass?: boolean, volumeCull?: boolean}} options
+   * @param {{wasm?: any, depth?: 'reversed'|'standard', depthClamp?: boolean, snap?: number, zpass?: boolean, volumeCull?: boolean|'auto', cache?: boolean}} options
    *   wasm: the module's URL, Response or bytes (default: umbra_wasm.wasm beside this file);
    *   depth, depthClamp, snap: diagnostics (docs/web.md); zpass: false counts every light
-   *   z-fail (a diagnostic: the two counts give the same decision); volumeCull (default true):
-   *   volumes only where a visible sample may receive them (false: every volume to infinity)
+   *   z-fail (a diagnostic: the two counts give the same decision); volumeCull (default 'auto':
+   *   on a software rasteriser): volumes only where a visible sample may receive them (false:
+   *   every volume to infinity); cache (default true): what did not move is kept (the
+   *   silhouettes of a light that stayed put, a frame's decisions when nothing moved)
    */
   static async create(renderer, options = {}) {
     const gl = renderer?.getContext?.();
@@ -347,6 +349,11 @@ export class UmbraShadows {
 
   /** Steps 1-2 of the frame; false when there is nothing umbra shadows (a plain render). */
   drawDecisions(scene, camera) {
+    // Where the main thread's time goes (info.cpu): the scene walked and every mesh placed,
+    // the z-pass tests, the passes issued (silhouettes, uploads and read-backs included).
+    const cpu = { scene: 0, clearance: 0, passes: 0 };
+    this.info.cpu = cpu;
+    let tc = performance.now();
     if (scene.matrixWorldAutoUpdate) scene.updateMatrixWorld();
     if (camera.parent === null && camera.matrixWorldAutoUpdate) camera.updateMatrixWorld();
     const gathered = gatherLights(scene, camera);
@@ -512,6 +519,8 @@ export class UmbraShadows {
     this.info.reused = false;
     const timing = this.timing ? {} : null;
     const t0 = timing ? performance.now() : 0;
+    cpu.scene = performance.now() - tc;
+    tc = performance.now();
     const zpass = lights.map((_, k) => zpassStart(tests, k, (group) => this.unionOf(group)));
     // Unions no group of this frame asked for are freed.
     for (const [key, u] of this.unions) {
@@ -523,6 +532,8 @@ export class UmbraShadows {
     this.frameCount++;
     zpass.forEach((z, k) => (zpassOf[k] = z));
     if (timing) timing.clearance = performance.now() - t0;
+    cpu.clearance = performance.now() - tc;
+    tc = performance.now();
     let cull = null;
     // The map is made of world positions (x y z of the world matrix times the object point):
     // a projective world matrix anywhere in the frame would misplace its samples, so such a
@@ -549,6 +560,7 @@ export class UmbraShadows {
       };
     }
     this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length, zpass, cull });
+    cpu.passes = performance.now() - tc;
     this.info.passes = timing || {};
     this.info.zpass = zpass;
     this.info.volumes = drawnVolumes;

@@ -44,10 +44,13 @@ export const MAX_LIGHTS = 4;
 export class WebGLDrawer {
   /**
    * @param {WebGL2RenderingContext} gl
-   * @param {{depth?: 'reversed'|'standard', depthClamp?: boolean, volumeCull?: boolean, receiverScatter?: 'auto'|'gpu'|'cpu'}} opts
-   *   volumeCull (default true): the receiver maps' passes, when the context can render RGBA32F
-   *   (EXT_color_buffer_float); `volumeCull` then says whether they are on, `volumeCullMessage`
-   *   why not. receiverScatter: where the samples are scattered into the maps: 'gpu' (a point
+   * @param {{depth?: 'reversed'|'standard', depthClamp?: boolean, volumeCull?: boolean|'auto', receiverScatter?: 'auto'|'gpu'|'cpu'}} opts
+   *   volumeCull (true, false, or 'auto', the default: on a software rasteriser only): the
+   *   receiver maps' passes, when the context can render RGBA32F (EXT_color_buffer_float);
+   *   `volumeCull` then says whether they are on, `volumeCullMessage` why not. The maps are read
+   *   back every frame, so the main thread waits for the frame's depth pass: on a GPU that
+   *   wait costs more than the fill the cull saves, and keeps the silhouettes from being
+   *   kept across frames (cache); on a software rasteriser the fill is the frame. receiverScatter: where the samples are scattered into the maps: 'gpu' (a point
    *   per pixel into an R32F map with MAX blending, EXT_float_blend; the map read back),
    *   'cpu' (the positions read back, scattered in the wasm), 'auto' (default: 'cpu' on a
    *   software rasteriser, where a point per pixel costs more than the read-back, else 'gpu')
@@ -87,7 +90,11 @@ export class WebGLDrawer {
     this.volumeCullMessage = null;
     this.cullTargets = null;
     this.receiverScatter = null;
-    if (opts.volumeCull !== false) {
+    const cullAsked = opts.volumeCull === undefined || opts.volumeCull === 'auto' ? this.software : opts.volumeCull !== false;
+    if (!cullAsked && opts.volumeCull !== false) {
+      this.volumeCullMessage = `volumeCull is off: 'auto' culls on a software rasteriser only, and this is a GPU (${this.rendererName}), where reading the receiver maps back every frame would make the main thread wait for it; volumeCull: true turns it on`;
+    }
+    if (cullAsked) {
       if (!gl.getExtension('EXT_color_buffer_float')) {
         this.volumeCullMessage = 'volumeCull is off: this WebGL 2 context lacks EXT_color_buffer_float (the receiver maps are made of the visible samples\' RGBA32F world positions); every volume is drawn unculled';
       } else {
