@@ -396,6 +396,39 @@ test('cache: nothing moved, the decisions reused; the camera moved, each light\'
   }
 });
 
+test('memory: a caster of more polygons than one chunk of the shared polygon storage (80,000 triangles, z-fail caps) decides as its 2-triangle twin; info.gpuBytes counts umbra\'s buffers', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const run = async (segments) => {
+      const renderer = makeRenderer();
+      // z-fail everywhere: the floor's light and dark caps are drawn, 80,000 polygons a set.
+      const umbra = await UmbraShadows.create(renderer, { zpass: false, volumeCull: false });
+      const s = makeScene();
+      s.floor.geometry = new THREE.PlaneGeometry(10, 10, segments, segments).rotateX(-Math.PI / 2);
+      umbra.render(s.scene, s.camera);
+      const mask = umbra.readMask(s.light);
+      return { mask, info: { ...umbra.info }, storage: umbra.drawer.volumePrograms.storage?.capacity ?? 0 };
+    };
+    const fine = await run(200);
+    const coarse = await run(1);
+    return {
+      differing: differing(fine.mask, coarse.mask), shadowed: zeros(coarse.mask), triangles: fine.info.triangles,
+      zpass: fine.info.zpass, gpuBytes: [fine.info.gpuBytes, coarse.info.gpuBytes], storage: [fine.storage, coarse.storage],
+    };
+  });
+  console.log(JSON.stringify(r));
+  assert.ok(r.triangles > 80000, 'the fine floor has more triangles than one chunk');
+  assert.deepEqual(r.zpass, [null], 'counted z-fail: caps drawn');
+  assert.ok(r.shadowed > 1000, 'the box shadows the floor');
+  // The two floors' depth differs by rounding only: a pixel or two on the shadow's edge.
+  assert.ok(r.differing <= r.shadowed / 200, `fine and coarse floors decide alike (${r.differing} of ${r.shadowed})`);
+  assert.equal(r.storage[0], 65536, 'the fine floor\'s sets are drawn in chunks of the largest storage');
+  assert.ok(r.storage[1] < 65536, 'a small scene keeps a small storage');
+  // 160 x 120: mask 4 + depth-stencil 8 bytes a pixel at least, and the casters' textures.
+  assert.ok(r.gpuBytes[1] > 160 * 120 * 12, `gpuBytes counts the targets (${r.gpuBytes[1]})`);
+  assert.ok(r.gpuBytes[0] > r.gpuBytes[1] + 80000 * 48, `gpuBytes counts the fine floor's caps-data (${r.gpuBytes[0]})`);
+});
+
 test('light order: a shadow-casting light added after another lands on its own uniform (three.js sorts casters first)', { skip }, async () => {
   const r = await page.evaluate(async () => {
     const { THREE, UmbraShadows } = window.T;

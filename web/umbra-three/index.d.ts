@@ -24,6 +24,12 @@ export interface UmbraInfo {
    * receiver maps; with `timing`, every pass).
    */
   cpuMs: number;
+  /**
+   * Bytes of umbra's own GPU buffers and textures after the last frame drawn: each caster's
+   * topology and silhouette textures, each mesh's depth-pass buffers, the shared polygon
+   * storage of the volume passes, and umbra's targets (mask, depth-stencil, the cull's).
+   */
+  gpuBytes: number;
   /** Whether the last frame reused the decisions of the one before (`cache`: nothing umbra draws from moved). */
   reused: boolean;
   /** Milliseconds per pass of the last frame (clearance, depth, volumes, mask), only with `timing = true`. */

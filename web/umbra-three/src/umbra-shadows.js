@@ -184,7 +184,7 @@ export class UmbraShadows {
     this.receivers = []; // per light slot, its receiver map in the wasm (volumeCull)
     this.samples = null; // the frame's samples in the wasm (volumeCull, receiverScatter 'cpu')
     this.info = {
-      lights: 0, casters: 0, triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, passes: {}, zpass: [],
+      lights: 0, casters: 0, triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, gpuBytes: 0, passes: {}, zpass: [],
       volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, volumes: [],
     };
   }
@@ -571,7 +571,15 @@ export class UmbraShadows {
     this.channels = new Map(lights.map((l, c) => [l, c]));
     this.setSelects(slots, this.channels);
     this.lastFrame = this.cache ? frame : null;
+    this.info.gpuBytes = this.gpuBytes();
     return true;
+  }
+
+  /** Bytes of umbra's GPU buffers and textures now: every live caster's and mesh's, and the drawer's targets. */
+  gpuBytes() {
+    let bytes = this.drawer.gpuBytes;
+    for (const o of this.owned) bytes += o.gpuBytes ?? o.bytes ?? 0;
+    return bytes;
   }
 
   /** The texture holding `light`'s decision (screen sized; channel maskChannel(light)), or null. */

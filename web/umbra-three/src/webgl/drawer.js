@@ -134,7 +134,21 @@ export class WebGLDrawer {
     }
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
-    return { vao, buffers, vertices: 3 * tri.triangles };
+    return { vao, buffers, vertices: 3 * tri.triangles, bytes: tri.positions.byteLength + tri.normals.byteLength };
+  }
+
+  /**
+   * Bytes of the drawer's own targets (mask RGBA8; depth-stencil counted at 8 bytes a pixel
+   * for DEPTH32F_STENCIL8, 4 for DEPTH24_STENCIL8; the cull's RGBA32F positions and R32F map)
+   * and of the volumes' shared polygon storage. The casters' and meshes' buffers are their own.
+   */
+  get gpuBytes() {
+    let bytes = this.volumePrograms.gpuBytes;
+    const t = this.target;
+    if (t) bytes += t.width * t.height * (4 + (this.reversedZ ? 8 : 4));
+    const c = this.cullTargets;
+    if (c) bytes += c.width * c.height * 16 + c.side * 6 * c.side * 4;
+    return bytes;
   }
 
   deleteMeshBuffers(m) {

@@ -36,8 +36,16 @@ function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, te
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
   if (data) upload(gl, width, format, type, data, 0, perTexel, texels);
   gl.bindTexture(gl.TEXTURE_2D, null);
-  return { tex, width, rows };
+  // What it holds on the GPU: whole rows of texels (BYTE: 1 byte per component, else 4).
+  const bytes = width * rows * perTexel * (type === gl.BYTE || type === gl.UNSIGNED_BYTE ? 1 : 4);
+  return { tex, width, rows, bytes };
 }
+
+/**
+ * Polygons one polygon pass captures at most (2^16: 9.4 MB of buffer and as much of texture);
+ * a larger set is drawn in chunks of this many.
+ */
+export const POLYGON_CHUNK = 1 << 16;
 
 /** `texels` elements into the bound texture, from `source` (a typed array, or a byte offset
  * into the bound PIXEL_UNPACK_BUFFER) at element `first`: the full rows, then the rest. Rows
@@ -68,7 +76,12 @@ const UNIT_RECORD_VERTICES = 6;
 const UNIT_TRIANGLE_VERTICES = 7;
 const UNIT_KEPT = 8;
 
-/** The two volume programs, linked once per context and shared by every caster. */
+/**
+ * The two volume programs, linked once per context, and the storage of the polygons between
+ * them, all shared by every caster: one set (a caster's sides, light caps or dark caps) is
+ * drawn at a time, so one capture buffer and one texture serve all, sized to the largest
+ * chunk drawn so far (at most POLYGON_CHUNK polygons), grown when a larger one comes.
+ */
 export class VolumePrograms {
   /** @param {WebGL2RenderingContext} gl */
   constructor(gl) {
@@ -77,10 +90,48 @@ export class VolumePrograms {
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
     this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'glsl/fan.frag.glsl', fanFragmentSource());
     this.gl = gl;
+    this.storage = null;
+    this.feedback = gl.createTransformFeedback();
+    // The passes read textures only: an empty vertex array.
+    this.emptyVao = gl.createVertexArray();
+  }
+
+  /**
+   * The polygon storage for a chunk of `count` polygons (<= POLYGON_CHUNK): { buffer, tex,
+   * capacity, bytes }, made or grown to the next power of two of `count` when it is smaller.
+   */
+  polygonStorage(count) {
+    const gl = this.gl;
+    if (this.storage && this.storage.capacity >= count) return this.storage;
+    this.deleteStorage();
+    const capacity = Math.min(POLYGON_CHUNK, 2 ** Math.ceil(Math.log2(Math.max(count, 1024))));
+    const buffer = gl.createBuffer();
+    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, buffer);
+    // DYNAMIC_COPY: written by the GPU (transform feedback) and read by the GPU, every frame.
+    gl.bufferData(gl.TRANSFORM_FEEDBACK_BUFFER, 16 * POLYGON_TEXELS * capacity, gl.DYNAMIC_COPY);
+    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, null);
+    const tex = dataTexture(gl, this.shift, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, POLYGON_TEXELS * capacity, 'volume polygons');
+    this.storage = { buffer, tex: tex.tex, capacity, bytes: 16 * POLYGON_TEXELS * capacity + tex.bytes };
+    return this.storage;
+  }
+
+  deleteStorage() {
+    if (!this.storage) return;
+    this.gl.deleteBuffer(this.storage.buffer);
+    this.gl.deleteTexture(this.storage.tex);
+    this.storage = null;
+  }
+
+  /** Bytes of the shared polygon storage. */
+  get gpuBytes() {
+    return this.storage ? this.storage.bytes : 0;
   }
 
   dispose() {
     for (const p of [this.polygons, this.fan]) this.gl.deleteProgram(p.program);
+    this.deleteStorage();
+    this.gl.deleteTransformFeedback(this.feedback);
+    this.gl.deleteVertexArray(this.emptyVao);
   }
 }
 
@@ -101,9 +152,16 @@ export class ShadowVolumes {
     this.triangles = data.triangles;
     const s = programs.shift;
     this.shift = s;
-    this.sidesTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.sides, 4, this.records * (2 + this.maxMult), 'sides-data').tex;
-    this.capsTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.caps, 4, 3 * this.triangles, 'caps-data').tex;
-    this.edgeTrianglesTex = dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles').tex;
+    // Bytes of every texture this caster owns (gpuBytes), counted as each is made.
+    this.bytes = 0;
+    const made = (t) => {
+      this.bytes += t.bytes;
+      return t;
+    };
+    this.made = made;
+    this.sidesTex = made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.sides, 4, this.records * (2 + this.maxMult), 'sides-data')).tex;
+    this.capsTex = made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.caps, 4, 3 * this.triangles, 'caps-data')).tex;
+    this.edgeTrianglesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles')).tex;
     // The silhouette towards each light slot k (prepare(k, ...)): every triangle's orientation
     // (R8I, one per triangle) and the edge records of nonzero multiplicity (R32I, at most all),
     // and the key it was computed for (the light in this caster's space; null when culled,
@@ -118,10 +176,10 @@ export class ShadowVolumes {
     this.cull = null;
     if (data.indices && data.recordVertices) {
       this.cull = {
-        recordVertices: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.recordVertices.buffer, data.recordVertices.byteOffset, data.recordVertices.length), 1, Math.max(1, 2 * this.records), 'record vertices').tex,
-        triangleVertices: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.indices.buffer, data.indices.byteOffset, data.indices.length), 1, Math.max(1, 3 * this.triangles), 'triangle vertices').tex,
-        far: dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, Math.max(1, this.vertices), 'far vertices').tex,
-        kept: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.triangles), 'kept triangles').tex,
+        recordVertices: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.recordVertices.buffer, data.recordVertices.byteOffset, data.recordVertices.length), 1, Math.max(1, 2 * this.records), 'record vertices')).tex,
+        triangleVertices: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.indices.buffer, data.indices.byteOffset, data.indices.length), 1, Math.max(1, 3 * this.triangles), 'triangle vertices')).tex,
+        far: made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, Math.max(1, this.vertices), 'far vertices')).tex,
+        kept: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.triangles), 'kept triangles')).tex,
       };
     }
     // Whether the current light's silhouette is culled (prepare()) and clamped (finite far
@@ -129,32 +187,27 @@ export class ShadowVolumes {
     this.culled = false;
     this.clamped = false;
     this.keptTriangles = 0;
-    // The polygons of one set (sides, light caps or dark caps) at a time: one capture buffer
-    // and one texture for the largest set, reused by the three.
-    const polygons = Math.max(this.records, this.triangles, 1);
-    this.polygonBuffer = gl.createBuffer();
-    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, this.polygonBuffer);
-    // DYNAMIC_COPY: written by the GPU (transform feedback) and read by the GPU, every frame.
-    gl.bufferData(gl.TRANSFORM_FEEDBACK_BUFFER, 16 * POLYGON_TEXELS * polygons, gl.DYNAMIC_COPY);
-    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, null);
-    this.polygonTex = dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, POLYGON_TEXELS * polygons, 'volume polygons').tex;
-    this.feedback = gl.createTransformFeedback();
-    // The passes read textures only: an empty vertex array.
-    this.emptyVao = gl.createVertexArray();
+    // The polygons between the polygon and fan passes: the programs' shared storage.
+    this.programs = programs;
+    this.feedback = programs.feedback;
+    this.emptyVao = programs.emptyVao;
 
     this.polygons = programs.polygons;
     this.fan = programs.fan;
   }
 
+  /** Bytes of this caster's own textures (its data, every light slot's silhouette, the cull's). */
+  get gpuBytes() {
+    return this.bytes;
+  }
+
   /** Frees every GL object of this caster (not the shared programs). */
   dispose() {
     const gl = this.gl;
-    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex, this.polygonTex]) gl.deleteTexture(t);
+    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex]) gl.deleteTexture(t);
     for (const slot of this.slots) for (const t of [slot.orientation.tex, slot.recordList.tex]) gl.deleteTexture(t);
     if (this.cull) for (const t of Object.values(this.cull)) gl.deleteTexture(t);
-    gl.deleteBuffer(this.polygonBuffer);
-    gl.deleteTransformFeedback(this.feedback);
-    gl.deleteVertexArray(this.emptyVao);
+    this.bytes = 0;
   }
 
   /** This caster's integer uniforms (the programs are shared: set before each use). */
@@ -177,8 +230,8 @@ export class ShadowVolumes {
       const gl = this.gl;
       const s = this.shift;
       this.slots.push({
-        orientation: dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations'),
-        recordList: dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records'),
+        orientation: this.made(dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations')),
+        recordList: this.made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records')),
         records: 0,
         single: 0,
         key: null,
@@ -284,44 +337,54 @@ export class ShadowVolumes {
     // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
     // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
     const set = (mode, data, count, fans) => {
-      if (count === 0) return;
-      // Polygon pass: one point per record, its polygon captured; nothing rasterised.
-      gl.useProgram(P.program);
-      gl.uniform1i(P.u.u_mode, mode);
-      this.bindTexture(UNIT_DATA, data);
-      gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, this.feedback);
-      gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, this.polygonBuffer);
-      gl.enable(gl.RASTERIZER_DISCARD);
-      gl.beginTransformFeedback(gl.POINTS);
-      gl.drawArrays(gl.POINTS, 0, count);
-      gl.endTransformFeedback();
-      gl.disable(gl.RASTERIZER_DISCARD);
-      // WebGL forbids a buffer bound for transform feedback and for another use at once.
-      gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
-      gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
-      // The polygons into their texture (a copy on the GPU side).
-      gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, this.polygonBuffer);
-      gl.bindTexture(gl.TEXTURE_2D, this.polygonTex);
-      upload(gl, 2 ** this.shift, gl.RGBA, gl.FLOAT, 0, 0, 4, POLYGON_TEXELS * count);
-      gl.bindTexture(gl.TEXTURE_2D, null);
-      gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
-      tick?.('volumes.polygons');
-      // Fan pass: the polygons into the stencil.
-      this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
-      this.bindTexture(UNIT_POLYGONS, this.polygonTex);
-      gl.uniform1f(this.fan.u.u_far_clip_z, farClipZ);
-      gl.uniform1f(this.fan.u.u_snap, snap);
-      gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
-      for (const [first, end, repeat] of fans) {
-        if (end <= first) continue;
-        const per = polygonsPerInstance(repeat);
-        gl.uniform1i(this.fan.u.u_first, first);
-        gl.uniform1i(this.fan.u.u_count, end);
-        gl.uniform1i(this.fan.u.u_repeat, repeat);
-        gl.uniform1i(this.fan.u.u_per_instance, per);
-        gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil((end - first) / per));
+      // In chunks of at most POLYGON_CHUNK polygons (the shared storage's most), each drawn
+      // whole before the next is captured over it.
+      for (let c0 = 0; c0 < count; c0 += POLYGON_CHUNK) {
+        const n = Math.min(POLYGON_CHUNK, count - c0);
+        const storage = this.programs.polygonStorage(n);
+        // Polygon pass: one point per record, its polygon captured; nothing rasterised. The
+        // chunk's points are records c0 ..< c0 + n (gl_VertexID counts from drawArrays'
+        // first), captured from the buffer's start.
+        gl.useProgram(P.program);
+        gl.uniform1i(P.u.u_mode, mode);
+        this.bindTexture(UNIT_DATA, data);
+        gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, this.feedback);
+        gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, storage.buffer);
+        gl.enable(gl.RASTERIZER_DISCARD);
+        gl.beginTransformFeedback(gl.POINTS);
+        gl.drawArrays(gl.POINTS, c0, n);
+        gl.endTransformFeedback();
+        gl.disable(gl.RASTERIZER_DISCARD);
+        // WebGL forbids a buffer bound for transform feedback and for another use at once.
+        gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
+        gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
+        // The polygons into their texture (a copy on the GPU side).
+        gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, storage.buffer);
+        gl.bindTexture(gl.TEXTURE_2D, storage.tex);
+        upload(gl, 2 ** this.shift, gl.RGBA, gl.FLOAT, 0, 0, 4, POLYGON_TEXELS * n);
+        gl.bindTexture(gl.TEXTURE_2D, null);
+        gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+        tick?.('volumes.polygons');
+        // Fan pass: the polygons into the stencil, each range of `fans` cut to the chunk and
+        // counted from its start.
+        this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
+        this.bindTexture(UNIT_POLYGONS, storage.tex);
+        gl.uniform1f(this.fan.u.u_far_clip_z, farClipZ);
+        gl.uniform1f(this.fan.u.u_snap, snap);
+        gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
+        for (const [from, to, repeat] of fans) {
+          const first = Math.max(from, c0) - c0;
+          const end = Math.min(to, c0 + n) - c0;
+          if (end <= first) continue;
+          const per = polygonsPerInstance(repeat);
+          gl.uniform1i(this.fan.u.u_first, first);
+          gl.uniform1i(this.fan.u.u_count, end);
+          gl.uniform1i(this.fan.u.u_repeat, repeat);
+          gl.uniform1i(this.fan.u.u_per_instance, per);
+          gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil((end - first) / per));
+        }
+        tick?.('volumes.fans');
       }
-      tick?.('volumes.fans');
     };
     // The sides: the listed records only (every other record's multiplicity is 0: no side).
     // Sides of multiplicity ±1 with one potential copy each, the others with maxMult.
