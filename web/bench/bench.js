@@ -170,6 +170,21 @@ async function start() {
     }
     return { passes: sum, info: { ...u.info, passes: undefined } };
   };
+  // Bytes on the GPU: three.js's own vertex and index buffers of the model (every attribute
+  // array and index of its meshes' geometries, each geometry once), and each umbra row's
+  // info.gpuBytes after its last frame.
+  bench.memory = () => {
+    const seen = new Set();
+    let three = 0;
+    for (const o of meshes) {
+      const g = o.geometry;
+      if (seen.has(g)) continue;
+      seen.add(g);
+      for (const a of Object.values(g.attributes)) three += a.array.byteLength;
+      if (g.index) three += g.index.array.byteLength;
+    }
+    return { three, umbra: Object.fromEntries(Object.entries(umbras).map(([k, u]) => [k, u.info.gpuBytes])) };
+  };
   // What the package's last frame drew (umbra.info without the pass times).
   bench.info = (mode = 'umbra') => ({ ...instance(mode).info, passes: undefined });
   // A view of a fly-through (run.mjs --flythrough): the camera moved, the light left in place.

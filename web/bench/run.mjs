@@ -164,6 +164,8 @@ try {
           console.error(`  view ${v + 1}/${flyViews}: ${modes.map((m) => `${m} ${fmt(round[m])}`).join(', ')}; ${Object.entries(drawn).map(([m, d]) => `${m} ${JSON.stringify(d.volumes)} zpass ${JSON.stringify(d.zpass)}`).join('; ')}`);
         }
       }
+      run.memory = await page.evaluate(() => window.bench.memory());
+      console.error(`  GPU bytes: three.js's buffers ${run.memory.three}; ${Object.entries(run.memory.umbra).map(([m, b]) => `${m} ${b} (${(b / run.memory.three).toFixed(2)}x)`).join(', ')}`);
       if (orbitFrames > 0) {
         run.orbit = { frames: orbitFrames, moveLight, rows: Object.fromEntries(modes.map((m) => [m, []])) };
         for (let f = 0; f <= orbitFrames; f++) {
@@ -262,7 +264,7 @@ function markdown(r) {
       for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${names.map((n) => (run.passes?.[n] === undefined ? '-' : fmt(run.passes[n]))).join(' | ')} |`);
     }
   }
-  return lines.join('\n');
+  return [...lines, ...memoryLines(r)].join('\n');
 }
 
 /** The orbit's tables: main-thread ms of the render call and frame ms, per row; ratios against map2048. */
@@ -283,5 +285,17 @@ function orbitMarkdown(r) {
     lines.push(`| scene | size | ${ours.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- |${ours.map(() => ' ---: |').join('')}`);
     for (const run of r.runs) lines.push(`| ${run.scene} | ${run.size} | ${ours.map((m) => `${run.orbit.summary[m].cached} kept, ${run.orbit.summary[m].reused} reused`).join(' | ')} |`);
   }
-  return lines.join('\n');
+  return [...lines, ...memoryLines(r)].join('\n');
+}
+
+/** GPU bytes per run: three.js's vertex and index buffers against each umbra row's info.gpuBytes. */
+function memoryLines(r) {
+  const runs = r.runs.filter((run) => run.memory && Object.keys(run.memory.umbra).length);
+  if (!runs.length) return [];
+  const rows = [...new Set(runs.flatMap((run) => Object.keys(run.memory.umbra)))];
+  const mb = (b) => (b / 2 ** 20).toFixed(1);
+  const lines = ['', 'GPU memory after the last frame, MiB (umbra.info.gpuBytes; in brackets: against three.js\'s own vertex and index buffers of the model):', ''];
+  lines.push(`| scene | size | three.js buffers | ${rows.map((m) => LABELS[m]).join(' | ')} |`, `| --- | --- | ---: |${rows.map(() => ' ---: |').join('')}`);
+  for (const run of runs) lines.push(`| ${run.scene} | ${run.size} | ${mb(run.memory.three)} | ${rows.map((m) => (run.memory.umbra[m] === undefined ? '-' : `${mb(run.memory.umbra[m])} (${(run.memory.umbra[m] / run.memory.three).toFixed(2)}x)`)).join(' | ')} |`);
+  return lines;
 }

@@ -1,7 +1,9 @@
 // The preprocessing of umbra-three, apart from any drawing API (the WebGL 2 drawer is
 // webgl/; a WebGPU drawer would read the same buffers):
-// * a caster's topology: the buffers `umbra export` writes (welded mesh, sides-data, caps-data,
-//   edge triangles) and its per-frame work (the z-pass test, the silhouette), computed from its
+// * a caster's topology: of the buffers `umbra export` writes, the welded mesh, the welded
+//   vertices of every edge record and the edge triangles (sides-data and caps-data repeat the
+//   welded positions per record and triangle: the drawer reads them by index instead), and
+//   its per-frame work (the z-pass test, the silhouette), computed from its
 //   BufferGeometry's positions and index by umbra-geom compiled to WebAssembly
 //   (../../umbra-geom-wasm), once per geometry version;
 // * every drawn mesh's de-indexed triangles with their flat normals (flatTriangles), what the
@@ -95,10 +97,10 @@ export class Topology {
 
   /**
    * The caster buffers of `geometry` (positions in its own space), named `name` in errors:
-   * { maxMult, records, triangles, vertices, sides, caps, edgeTriangles, caster, ms }, and with
-   * `cull` the welded vertices of every triangle and edge record ({ indices, recordVertices },
-   * what the receiver cull's far vertices are read by); `caster` is the geometry's per-frame
-   * work in the wasm (umbra-geom-wasm's Caster: the z-pass test, the silhouette, the cull; the
+   * { maxMult, records, triangles, vertices, positions (welded, x y z each), indices (3 welded
+   * vertices per triangle), recordVertices (A, B of every edge record), edgeTriangles, cull,
+   * caster, ms }; `caster` is the geometry's per-frame work in the wasm (umbra-geom-wasm's
+   * Caster: the z-pass test, the silhouette, the cull with `cull`; the
    * caller frees it). Throws TopologyError.
    */
   prepare(geometry, name, cull = false) {
@@ -116,10 +118,10 @@ export class Topology {
       records: p.counts.sidesDataRecords,
       triangles: p.counts.triangles,
       vertices: p.counts.vertices,
-      indices: cull ? p.indices : null,
-      recordVertices: cull ? p.caster.recordVertices() : null,
-      sides: p.sides,
-      caps: p.caps,
+      positions: p.positions,
+      indices: p.indices,
+      recordVertices: p.caster.recordVertices(),
+      cull,
       edgeTriangles: p.edgeTriangles,
       caster: p.caster,
       ms: performance.now() - t0,

@@ -1,14 +1,14 @@
 // The shadow volumes of one caster: paper 003's vs-silhouette (vs_silhouette.js) as WebGL 2
-// objects. Owns the caster's data textures (from topology.js: the buffers `umbra export`
+// objects. Owns the caster's geometry textures (from topology.js: its welded vertices, the
+// welded vertices of every triangle and edge record, and the edge triangles `umbra export`
 // writes), the silhouette's textures per light slot (the triangles' orientations, R8I, and the
 // list of edge records of nonzero multiplicity, R32I, both computed by the wasm per light, kept
-// while the light does not move in the caster's space), the polygon
-// pass (its transform-feedback buffer and the RGBA32F texture the polygons are copied to) and
-// the fan pass, with programs shared by every caster (VolumePrograms); the drawer (drawer.js)
-// owns the frame, calls prepare() per light and draw() under the counting state it set.
-// Culled to the receivers (`volumeCull`, crates/umbra-wasm/src/cull.rs), a caster also holds
-// the welded vertices of its edge records and triangles (static) and, per light, the far end
-// of every welded vertex and the list of its kept triangles of nonzero orientation.
+// while the light does not move in the caster's space); the polygon and fan passes, with their
+// programs and the polygons' storage, are shared by every caster (VolumePrograms); the drawer
+// (drawer.js) owns the frame, calls prepare() per light and draw() under the counting state it
+// set. Culled to the receivers (`volumeCull`, crates/umbra-wasm/src/cull.rs), a caster also
+// holds, per light, the far end of every welded vertex and the list of its kept triangles of
+// nonzero orientation.
 import { link, GlSetupError } from './program.js';
 import {
   polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource,
@@ -42,10 +42,11 @@ function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, te
 }
 
 /**
- * Polygons one polygon pass captures at most (2^16: 9.4 MB of buffer and as much of texture);
- * a larger set is drawn in chunks of this many.
+ * Polygons one polygon pass captures at most (2^14: 2.4 MB of buffer and as much of texture);
+ * a larger set is drawn in chunks of this many (a few more draws, each still thousands of
+ * polygons).
  */
-export const POLYGON_CHUNK = 1 << 16;
+export const POLYGON_CHUNK = 1 << 14;
 
 /** `texels` elements into the bound texture, from `source` (a typed array, or a byte offset
  * into the bound PIXEL_UNPACK_BUFFER) at element `first`: the full rows, then the rest. Rows
@@ -66,7 +67,7 @@ function upload(gl, width, format, type, source, first, perTexel, texels) {
 }
 
 // Texture units, one per sampler (samplers of different types may not share a unit).
-const UNIT_DATA = 0;
+const UNIT_VERTICES = 0;
 const UNIT_EDGE_TRIANGLES = 1;
 const UNIT_ORIENTATION = 2;
 const UNIT_POLYGONS = 3;
@@ -139,11 +140,11 @@ export class ShadowVolumes {
   /**
    * @param {WebGL2RenderingContext} gl
    * @param {VolumePrograms} programs
-   * @param {{maxMult: number, records: number, triangles: number, vertices: number, sides: Float32Array, caps: Float32Array, edgeTriangles: Int32Array,
-   *   indices?: Uint32Array, recordVertices?: Uint32Array}} data
-   *   one caster's buffers (topology.js), in the caster's own (object) space; `indices` (3 welded
-   *   vertices per triangle) and `recordVertices` (2 per edge record) when its volumes may be
-   *   culled to the receivers
+   * @param {{maxMult: number, records: number, triangles: number, vertices: number, positions: Float32Array, indices: Uint32Array,
+   *   recordVertices: Uint32Array, edgeTriangles: Int32Array, cull?: boolean}} data
+   *   one caster's buffers (topology.js), in the caster's own (object) space: its welded
+   *   vertices (x y z each), the 3 welded vertices of every triangle and the 2 (A, B) of every
+   *   edge record, its edge triangles; `cull`: its volumes may be culled to the receivers
    */
   constructor(gl, programs, data) {
     this.gl = gl;
@@ -159,8 +160,15 @@ export class ShadowVolumes {
       return t;
     };
     this.made = made;
-    this.sidesTex = made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.sides, 4, this.records * (2 + this.maxMult), 'sides-data')).tex;
-    this.capsTex = made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, data.caps, 4, 3 * this.triangles, 'caps-data')).tex;
+    // The geometry: the welded vertices (RGB32F) and, by index, every edge record's and
+    // triangle's; what paper 003's sides-data and caps-data repeat per record and triangle
+    // (16 (2 + maxMult) and 48 bytes each), in 12 bytes per vertex, 8 per record and 12 per
+    // triangle (glsl/polygons.vert.glsl).
+    this.vertices = data.vertices;
+    const ints = (a) => new Int32Array(a.buffer, a.byteOffset, a.length);
+    this.vertexTex = made(dataTexture(gl, s, gl.RGB32F, gl.RGB, gl.FLOAT, data.positions, 3, Math.max(1, this.vertices), 'welded vertices')).tex;
+    this.recordVerticesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, ints(data.recordVertices), 1, Math.max(1, 2 * this.records), 'record vertices')).tex;
+    this.triangleVerticesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, ints(data.indices), 1, Math.max(1, 3 * this.triangles), 'triangle vertices')).tex;
     this.edgeTrianglesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles')).tex;
     // The silhouette towards each light slot k (prepare(k, ...)): every triangle's orientation
     // (R8I, one per triangle) and the edge records of nonzero multiplicity (R32I, at most all),
@@ -170,14 +178,11 @@ export class ShadowVolumes {
     // silhouette nor an upload. Slot 0 at once, the others when a light first uses them.
     this.slots = [];
     this.slot = this.silhouetteSlot(0);
-    // The receiver cull's textures (none without the welded indices): the welded vertices of
-    // every record and triangle, and per light every vertex's far end and the kept triangles.
-    this.vertices = data.vertices;
+    // The receiver cull's textures (with `cull`): per light every vertex's far end and the
+    // kept triangles.
     this.cull = null;
-    if (data.indices && data.recordVertices) {
+    if (data.cull) {
       this.cull = {
-        recordVertices: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.recordVertices.buffer, data.recordVertices.byteOffset, data.recordVertices.length), 1, Math.max(1, 2 * this.records), 'record vertices')).tex,
-        triangleVertices: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, new Int32Array(data.indices.buffer, data.indices.byteOffset, data.indices.length), 1, Math.max(1, 3 * this.triangles), 'triangle vertices')).tex,
         far: made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, Math.max(1, this.vertices), 'far vertices')).tex,
         kept: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.triangles), 'kept triangles')).tex,
       };
@@ -204,7 +209,7 @@ export class ShadowVolumes {
   /** Frees every GL object of this caster (not the shared programs). */
   dispose() {
     const gl = this.gl;
-    for (const t of [this.sidesTex, this.capsTex, this.edgeTrianglesTex]) gl.deleteTexture(t);
+    for (const t of [this.vertexTex, this.recordVerticesTex, this.triangleVerticesTex, this.edgeTrianglesTex]) gl.deleteTexture(t);
     for (const slot of this.slots) for (const t of [slot.orientation.tex, slot.recordList.tex]) gl.deleteTexture(t);
     if (this.cull) for (const t of Object.values(this.cull)) gl.deleteTexture(t);
     this.bytes = 0;
@@ -315,7 +320,7 @@ export class ShadowVolumes {
     const culled = this.culled;
     this.setUniforms(P, {
       u_texture_shift: this.shift, u_max_mult: this.maxMult,
-      u_data: UNIT_DATA, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION, u_records: UNIT_RECORDS,
+      u_vertices: UNIT_VERTICES, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION, u_records: UNIT_RECORDS,
       u_far: UNIT_FAR, u_record_vertices: UNIT_RECORD_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES, u_kept: UNIT_KEPT,
       u_culled: culled ? 1 : 0,
       // A far cap all at infinity is the dark cap: only where the unclamped volume draws it.
@@ -330,13 +335,14 @@ export class ShadowVolumes {
     // The cull's units are bound either way: WebGL refuses a draw whose active sampler's unit
     // holds a texture of another type (three.js's, say); null reads as an incomplete texture.
     this.bindTexture(UNIT_FAR, culled ? this.cull.far : null);
-    this.bindTexture(UNIT_RECORD_VERTICES, culled ? this.cull.recordVertices : null);
-    this.bindTexture(UNIT_TRIANGLE_VERTICES, culled ? this.cull.triangleVertices : null);
     this.bindTexture(UNIT_KEPT, culled ? this.cull.kept : null);
+    // The geometry's indices, read by every set (its vertices: bound in each, below).
+    this.bindTexture(UNIT_RECORD_VERTICES, this.recordVerticesTex);
+    this.bindTexture(UNIT_TRIANGLE_VERTICES, this.triangleVerticesTex);
     gl.bindVertexArray(this.emptyVao);
     // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
     // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
-    const set = (mode, data, count, fans) => {
+    const set = (mode, count, fans) => {
       // In chunks of at most POLYGON_CHUNK polygons (the shared storage's most), each drawn
       // whole before the next is captured over it.
       for (let c0 = 0; c0 < count; c0 += POLYGON_CHUNK) {
@@ -347,7 +353,9 @@ export class ShadowVolumes {
         // first), captured from the buffer's start.
         gl.useProgram(P.program);
         gl.uniform1i(P.u.u_mode, mode);
-        this.bindTexture(UNIT_DATA, data);
+        // Bound again each chunk: the copy below binds the polygon texture on the active
+        // unit, 0, the vertices' unit.
+        this.bindTexture(UNIT_VERTICES, this.vertexTex);
         gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, this.feedback);
         gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, storage.buffer);
         gl.enable(gl.RASTERIZER_DISCARD);
@@ -389,22 +397,22 @@ export class ShadowVolumes {
     // The sides: the listed records only (every other record's multiplicity is 0: no side).
     // Sides of multiplicity ±1 with one potential copy each, the others with maxMult.
     const n = this.slot.records;
-    set(0, this.sidesTex, n, [[0, this.slot.single, 1], [this.slot.single, n, this.maxMult]]);
+    set(0, n, [[0, this.slot.single, 1], [this.slot.single, n, this.maxMult]]);
     if (culled) {
       // The kept triangles of nonzero orientation: light caps (z-fail), far caps (both).
       const kept = [[0, this.keptTriangles, 1]];
-      if (caps) set(1, this.capsTex, this.keptTriangles, kept);
+      if (caps) set(1, this.keptTriangles, kept);
       // Far caps: those of a clamped volume (both counts), else the dark caps at infinity
       // where the unclamped volume draws them (z-fail, point lights).
-      if (this.clamped || (caps && light[3] !== 0)) set(2, this.capsTex, this.keptTriangles, kept);
+      if (this.clamped || (caps && light[3] !== 0)) set(2, this.keptTriangles, kept);
     } else if (caps) {
       const all = [[0, this.triangles, 1]];
-      set(1, this.capsTex, this.triangles, all);
+      set(1, this.triangles, all);
       // A directional light's dark cap has zero area: none.
-      if (light[3] !== 0) set(2, this.capsTex, this.triangles, all);
+      if (light[3] !== 0) set(2, this.triangles, all);
     }
-    // The cull's units left unbound, as the other draws expect them.
-    for (const unit of [UNIT_FAR, UNIT_RECORD_VERTICES, UNIT_TRIANGLE_VERTICES, UNIT_KEPT]) this.bindTexture(unit, null);
+    // The units left unbound, as the other draws expect them.
+    for (const unit of [UNIT_FAR, UNIT_RECORD_VERTICES, UNIT_TRIANGLE_VERTICES, UNIT_KEPT, UNIT_VERTICES]) this.bindTexture(unit, null);
     gl.bindVertexArray(null);
   }
 }

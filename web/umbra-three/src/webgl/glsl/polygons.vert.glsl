@@ -19,12 +19,19 @@
 //    ES 3.00 has no gl_ClipDistance for the near-plane cut of light caps (native umbra:
 //    gl_ClipDistance[0]).
 //
-// u_mode 0: edge record u_records[gl_VertexID] of sides-data (u_data: 2 + maxMult RGBA32F texels per
-// record: A + count, B + split, opposites): the quad B A A_inf B_inf (the native id_CCW
+// The caster's geometry is its welded vertices (u_vertices, RGB32F, one texel each) named by
+// index: the two vertices A, B of every edge record (u_record_vertices, sides-data's order)
+// and the three of every triangle (u_triangle_vertices, caps-data's order). The positions are
+// those paper 003's sides-data and caps-data (Eq. 8, 9) repeat per record and per triangle,
+// bit for bit; the opposite vertices of sides-data are not needed here (orientations are
+// read, point 1), and a record's opposite slots are its nonzero edge_triangles entries (0 for
+// an unused slot).
+//
+// u_mode 0: edge record u_records[gl_VertexID]: the quad B A A_inf B_inf (the native id_CCW
 // triangles (B, A, A_inf), (B, A_inf, B_inf)) for curMult > 0, reversed for curMult < 0 (so
 // that opposite-signed records of a split edge clip to the same polygon and cancel), drawn
-// |curMult| times (Alg. 1). u_mode 1 / 2: the light / dark cap of triangle `gl_VertexID` of
-// caps-data (3 texels per triangle), wound to face the light (Alg. 2, lines 5-6), the dark
+// |curMult| times (Alg. 1). u_mode 1 / 2: the light / dark cap of triangle `gl_VertexID`,
+// wound to face the light (Alg. 2, lines 5-6), the dark
 // cap extruded and reversed (line 11), the light cap pushed to the far plane after its cut
 // (Eq. 6); drawn once, or not at all for an edge-on triangle (lines 2-4).
 //
@@ -48,7 +55,7 @@ uniform mat4 u_clip_from_world;
 uniform vec4 u_light;
 uniform int u_mode;
 uniform int u_max_mult;
-uniform highp sampler2D u_data;
+uniform highp sampler2D u_vertices;
 uniform highp isampler2D u_edge_triangles;
 uniform highp isampler2D u_orientation;
 uniform highp isampler2D u_records;
@@ -76,6 +83,11 @@ int umbra_orientation_of(int triangle) {
     return texelFetch(u_orientation, umbra_texel(triangle), 0).r;
 }
 
+// Welded vertex `v` of the caster (its space).
+vec3 umbra_vertex(int v) {
+    return texelFetch(u_vertices, umbra_texel(v), 0).xyz;
+}
+
 // The far end of welded vertex `v` (culled volumes only).
 vec4 umbra_far(int v) {
     return texelFetch(u_far, umbra_texel(v), 0);
@@ -94,24 +106,28 @@ void main() {
     int record = u_mode == 0 ? texelFetch(u_records, umbra_texel(gl_VertexID), 0).r
         : (u_culled != 0 ? texelFetch(u_kept, umbra_texel(gl_VertexID), 0).r : gl_VertexID);
     if (u_mode == 0) {
-        int first = record * (2 + u_max_mult);
-        vec4 a = texelFetch(u_data, umbra_texel(first), 0);
-        // Alg. 1, line 2: the record's (sub-)multiplicity, Alg. 3's terms read.
-        int count = int(a.w);
-        for (int i = 0; i < count; ++i) {
+        // Alg. 1, line 2: the record's (sub-)multiplicity, Alg. 3's terms read; its used
+        // slots come first.
+        for (int i = 0; i < u_max_mult; ++i) {
             int t = texelFetch(u_edge_triangles, umbra_texel(record * u_max_mult + i), 0).r;
+            if (t == 0) {
+                break;
+            }
             int o = umbra_orientation_of(abs(t) - 1);
             repeat += t > 0 ? o : -o;
         }
         if (repeat != 0) {
-            vec3 b = texelFetch(u_data, umbra_texel(first + 1), 0).xyz;
-            vec4 pa = u_clip_from_world * vec4(a.xyz, 1.0);
+            int va = texelFetch(u_record_vertices, umbra_texel(2 * record), 0).r;
+            int vb = texelFetch(u_record_vertices, umbra_texel(2 * record + 1), 0).r;
+            vec3 a = umbra_vertex(va);
+            vec3 b = umbra_vertex(vb);
+            vec4 pa = u_clip_from_world * vec4(a, 1.0);
             vec4 pb = u_clip_from_world * vec4(b, 1.0);
-            vec4 a_far = umbra_extrude(a.xyz, u_light);
+            vec4 a_far = umbra_extrude(a, u_light);
             vec4 b_far = umbra_extrude(b, u_light);
             if (u_culled != 0) {
-                a_far = umbra_far(texelFetch(u_record_vertices, umbra_texel(2 * record), 0).r);
-                b_far = umbra_far(texelFetch(u_record_vertices, umbra_texel(2 * record + 1), 0).r);
+                a_far = umbra_far(va);
+                b_far = umbra_far(vb);
             }
             vec4 pa_inf = u_clip_from_world * a_far;
             vec4 pb_inf = u_clip_from_world * b_far;
@@ -126,17 +142,20 @@ void main() {
         if (o != 0) {
             repeat = 1;
             n = 3;
-            vec3 p0 = texelFetch(u_data, umbra_texel(3 * record), 0).xyz;
-            vec3 p1 = texelFetch(u_data, umbra_texel(3 * record + 1), 0).xyz;
-            vec3 p2 = texelFetch(u_data, umbra_texel(3 * record + 2), 0).xyz;
+            int v0 = texelFetch(u_triangle_vertices, umbra_texel(3 * record), 0).r;
+            int v1 = texelFetch(u_triangle_vertices, umbra_texel(3 * record + 1), 0).r;
+            int v2 = texelFetch(u_triangle_vertices, umbra_texel(3 * record + 2), 0).r;
+            vec3 p0 = umbra_vertex(v0);
+            vec3 p1 = umbra_vertex(v1);
+            vec3 p2 = umbra_vertex(v2);
             // The far ends of the three vertices (culled: u_far; else at infinity).
             vec4 f0 = umbra_extrude(p0, u_light);
             vec4 f1 = umbra_extrude(p1, u_light);
             vec4 f2 = umbra_extrude(p2, u_light);
             if (u_culled != 0 && u_mode == 2) {
-                f0 = umbra_far(texelFetch(u_triangle_vertices, umbra_texel(3 * record), 0).r);
-                f1 = umbra_far(texelFetch(u_triangle_vertices, umbra_texel(3 * record + 1), 0).r);
-                f2 = umbra_far(texelFetch(u_triangle_vertices, umbra_texel(3 * record + 2), 0).r);
+                f0 = umbra_far(v0);
+                f1 = umbra_far(v1);
+                f2 = umbra_far(v2);
             }
             if (o < 0) {
                 vec3 t = p1;
