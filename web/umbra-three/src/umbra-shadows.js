@@ -26,6 +26,9 @@ import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPo
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
 
+/** Instances of an InstancedMesh or BatchedMesh that keep their own silhouettes (`cache`); the others' are computed every frame. */
+const INSTANCE_SLOTS = 16;
+
 /** Cells along a side of a light's receiver map (crates/umbra-wasm/src/cull.rs PAGE_RECEIVER_SIDE). */
 const RECEIVER_SIDE = 128;
 
@@ -172,6 +175,7 @@ export class UmbraShadows {
     this.patched = new WeakSet();
     this.casters = new WeakMap(); // geometry -> { key, volumes and wasm | error }
     this.drawn = new WeakMap(); // geometry -> { key, buffers }
+    this.batched = new WeakMap(); // BatchedMesh -> Map geometry id -> its geometry (batchedGeometry)
     this.owned = new Set(); // GL objects and wasm caster handles to free on dispose
     this.reported = new Set();
     this.channels = new Map(); // light -> channel of the last frame
@@ -267,8 +271,7 @@ export class UmbraShadows {
   }
 
   /** The caster state of a mesh's geometry (prepared once per version), or null with an error reported. */
-  casterOf(mesh) {
-    const g = mesh.geometry;
+  casterOf(mesh, g = mesh.geometry) {
     const pos = g?.attributes?.position;
     const key = `${pos?.version}/${pos?.count}/${g?.index?.version}/${g?.index?.count}`;
     let c = this.casters.get(g);
@@ -317,9 +320,42 @@ export class UmbraShadows {
     return u.union;
   }
 
+  /**
+   * Geometry `id` of BatchedMesh `m` as a geometry of its own (what casterOf and buffersOf
+   * read: a position attribute and an index with versions): its range of the batch's vertices
+   * and indices, the indices counted from the range's first vertex. One object per (mesh, id),
+   * refilled (its version raised) when the batch's buffers or the range change.
+   */
+  batchedGeometry(m, id) {
+    let views = this.batched.get(m);
+    if (!views) this.batched.set(m, (views = new Map()));
+    const g = m.geometry;
+    const pos = g.attributes.position;
+    const r = m.getGeometryRangeAt(id);
+    const key = `${pos.version}/${g.index?.version}/${r.vertexStart}/${r.vertexCount}/${r.indexStart}/${r.indexCount}`;
+    let v = views.get(id);
+    if (v && v.key === key) return v.geometry;
+    const positions = new Float32Array(3 * r.vertexCount);
+    for (let i = 0; i < r.vertexCount; i++) {
+      positions[3 * i] = pos.getX(r.vertexStart + i);
+      positions[3 * i + 1] = pos.getY(r.vertexStart + i);
+      positions[3 * i + 2] = pos.getZ(r.vertexStart + i);
+    }
+    let index = null;
+    if (g.index) {
+      index = new Uint32Array(r.indexCount);
+      for (let j = 0; j < r.indexCount; j++) index[j] = g.index.getX(r.indexStart + j) - r.vertexStart;
+    }
+    const version = v ? v.geometry.attributes.position.version + 1 : 0;
+    const geometry = v ? v.geometry : { uuid: `${m.uuid}/geometry ${id}`, attributes: {}, index: null };
+    geometry.attributes.position = { array: positions, itemSize: 3, count: r.vertexCount, normalized: false, version };
+    geometry.index = index ? { array: index, count: index.length, version } : null;
+    views.set(id, { key, geometry });
+    return geometry;
+  }
+
   /** A mesh's depth/mask-pass buffers (once per geometry version), or null (no positions). */
-  buffersOf(mesh) {
-    const g = mesh.geometry;
+  buffersOf(mesh, g = mesh.geometry) {
     const pos = g?.attributes?.position;
     const key = `${pos?.version}/${pos?.count}/${g?.index?.version}/${g?.index?.count}`;
     let d = this.drawn.get(g);
@@ -415,40 +451,39 @@ export class UmbraShadows {
     // Every visible sample lies in the union of the drawn meshes' world boxes.
     const bounds = [Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity];
     let affineWorlds = true;
-    for (const m of meshes) {
-      if (m.isInstancedMesh || m.isSkinnedMesh || m.isBatchedMesh) {
-        if (m.castShadow) this.report(meshName(m), `${m.type}: umbra-three casts shadows from plain Meshes only; drawn without its shadow`);
-        continue;
-      }
-      const drawn = this.buffersOf(m);
-      if (!drawn) continue;
+    // One drawn mesh: `geometry` (a mesh's own, or one of a BatchedMesh's) placed by `world`
+    // (its matrixWorld, times an instance's matrix); `instance` names the instance (null for
+    // a plain mesh), so that each keeps its own silhouettes (`cache`).
+    const place = (m, geometry, world, instance) => {
+      const drawn = this.buffersOf(m, geometry);
+      if (!drawn) return;
       const buffers = drawn.buffers;
-      const we = m.matrixWorld.elements;
+      const we = world.elements;
       if (!(we[3] === 0 && we[7] === 0 && we[11] === 0 && we[15] === 1 && we.every(Number.isFinite))) affineWorlds = false;
       if (cullOn && drawn.box) worldBox(drawn.box, we, bounds);
-      const caster = m.castShadow ? this.casterOf(m) : null;
+      const caster = m.castShadow ? this.casterOf(m, geometry) : null;
       const volumes = caster ? caster.volumes : null;
       if (volumes) {
         casters++;
         triangles += volumes.triangles;
       }
-      inverse.copy(m.matrixWorld).invert();
+      inverse.copy(world).invert();
       const e = inverse.elements;
       const toObject = (v) => new Float32Array([0, 1, 2, 3].map((r) => e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r] * v[3]));
       const objectLights = lightWorld.map(toObject);
       if (caster) {
         // The test in the caster's space (an affine map keeps what it proves; see
         // crates/umbra-wasm/src/clearance.rs); a projective world matrix: no test, z-fail.
-        const w = m.matrixWorld.elements;
+        const w = world.elements;
         const affine = w[3] === 0 && w[7] === 0 && w[11] === 0 && w[15] === 1;
         tests.push({
           caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights,
           // Casters of one world matrix share a space: asked as a union where needed.
-          group: w.join(','), key: `${m.geometry.uuid}/${caster.key}`,
+          group: w.join(','), key: `${geometry.uuid}/${caster.key}`,
         });
       }
-      const worldFromObject = m.matrixWorld.elements.slice();
-      const clip = clipFromObject(projection, view, m.matrixWorld.elements);
+      const worldFromObject = world.elements.slice();
+      const clip = clipFromObject(projection, view, world.elements);
       // What the wasm's cull reads: the caster's world matrix and its inverse (its samples are
       // in world space), and where its volume is drawn (clamped only where that covers fewer
       // pixels).
@@ -460,6 +495,8 @@ export class UmbraShadows {
       // a projective world matrix, drawn unculled), else every triangle's, which the caster's
       // slot k keeps while the light stays where it is in the caster's space (its key: the
       // light's four f32 object-space coordinates, what the wasm orients the triangles by).
+      const index = instance === null ? null : typeof instance === 'number' ? instance : Number(instance.slice(1));
+      const instanceSlot = index !== null && index < INSTANCE_SLOTS ? MAX_LIGHTS * (1 + index) : null;
       const silhouette = (k) => {
         const w = caster.wasm.caster;
         const v = drawnVolumes[k];
@@ -470,19 +507,22 @@ export class UmbraShadows {
             v.triangles += s.kept;
             v.edges += s.records.length;
             v.clamped += s.clamped ? 1 : 0;
-            return { silhouette: s, key: null };
+            return { silhouette: s, key: null, slot: k };
           }
         }
         v.triangles += caster.volumes.triangles;
-        const key = this.cache ? objectLights[k].join(',') : null;
-        if (caster.volumes.holds(k, key)) {
-          v.edges += caster.volumes.slots[k].records;
+        // The caster's slot for light k: its own per instance for the first ones; the others
+        // share slot k, computed again every frame (key null).
+        const slot = instanceSlot === null ? k : instanceSlot + k;
+        const key = this.cache && (instanceSlot !== null || instance === null) ? objectLights[k].join(',') : null;
+        if (caster.volumes.holds(slot, key)) {
+          v.edges += caster.volumes.slots[slot].records;
           v.cached++;
-          return { silhouette: null, key };
+          return { silhouette: null, key, slot };
         }
         const u = w.silhouette(objectLights[k]);
         v.edges += u.records.length;
-        return { silhouette: u, key };
+        return { silhouette: u, key, slot };
       };
       frameMeshes.push({
         buffers,
@@ -490,10 +530,36 @@ export class UmbraShadows {
         clipFromObject: clip,
         world: new Float32Array(worldFromObject),
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
-        flip: m.matrixWorld.determinant() < 0 ? -1 : 1,
+        flip: world.determinant() < 0 ? -1 : 1,
         lights: objectLights,
         silhouette: caster ? silhouette : null,
       });
+    };
+    const instanceWorld = new Matrix4();
+    for (const m of meshes) {
+      if (m.isSkinnedMesh) {
+        if (m.castShadow) this.report(meshName(m), `${m.type}: umbra-three does not follow skinning; drawn without its shadow`);
+        continue;
+      }
+      if (m.isBatchedMesh) {
+        // Every active, visible instance: its geometry's range of the batch, by its matrix.
+        const info = m._instanceInfo;
+        for (let i = 0; i < info.length; i++) {
+          if (!info[i].active || !info[i].visible) continue;
+          const geometry = this.batchedGeometry(m, info[i].geometryIndex);
+          if (!geometry) continue;
+          m.getMatrixAt(i, instanceWorld).premultiply(m.matrixWorld);
+          place(m, geometry, instanceWorld.clone(), `b${i}`);
+        }
+      } else if (m.isInstancedMesh) {
+        // The first `count` instances, each by its matrix; one topology serves them all.
+        for (let i = 0; i < m.count; i++) {
+          m.getMatrixAt(i, instanceWorld).premultiply(m.matrixWorld);
+          place(m, m.geometry, instanceWorld.clone(), i);
+        }
+      } else {
+        place(m, m.geometry, m.matrixWorld, null);
+      }
     }
     this.info.casters = casters;
     this.info.triangles = triangles;
@@ -620,6 +686,7 @@ export class UmbraShadows {
     this.samples = null;
     this.casters = new WeakMap();
     this.drawn = new WeakMap();
+    this.batched = new WeakMap();
     this.drawer.dispose();
     this.mask.sourceTexture = null;
     this.channels = new Map();

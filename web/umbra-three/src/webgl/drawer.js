@@ -342,11 +342,12 @@ export class WebGLDrawer {
    * (the caller then calls renderer.resetState()).
    * @param {{width: number, height: number, snap?: number, timing?: object|null,
    *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null,
-   *     silhouette: ((k: number) => {silhouette: {orientation: Int8Array, records: Int32Array}|null, key: string|null})|null}[],
+   *     silhouette: ((k: number) => {silhouette: {orientation: Int8Array, records: Int32Array}|null, key: string|null, slot?: number})|null}[],
    *   lights: number, zpass?: (number|null)[]}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space;
    *   zpass[k]: light k's z-pass stencil start (sum of W0 mod 256), or null/absent for z-fail;
-   *   mesh.silhouette(k): a caster's silhouette towards light k and its key (volumes.js prepare()),
-   *   culled or not, or silhouette null when the caster's slot k holds the one of that key;
+   *   mesh.silhouette(k): a caster's silhouette towards light k, its key and the caster's slot
+   *   that holds it (volumes.js prepare(); default k), culled or not, or silhouette null when
+   *   that slot holds the one of that key already;
    *   cull (with `volumeCull` only): { side, grids: per light the wasm's grid parameters or null,
    *   cells(k): the wasm's cells of light k (a Float32Array view, fetched just before it is
    *   written), samples(n): the wasm's block for the frame's n floats of samples (the same),
@@ -518,14 +519,17 @@ export class WebGLDrawer {
           // they hold the silhouette of this light position already).
           if (tick) ts = performance.now();
           const s = m.silhouette(k);
-          m.volumes.prepare(k, s.silhouette, s.key);
+          m.volumes.prepare(s.slot ?? k, s.silhouette, s.key);
           tick?.('volumes.silhouette');
           // Pass 2: counting (state.rs shadow_volume_for(zpass, convention)): stencil test
           // always passes; z-fail: back faces behind the sample +1, front faces behind it -1;
           // z-pass: front faces in front of it +1, back faces in front of it -1; wrapping
           // (exact modulo 256); depth func strictly nearer (caps at the far plane fail
           // everywhere, background included, so z-pass may leave them out); no depth or
-          // colour writes; no culling (both faces count in one pass); CCW = outward = front.
+          // colour writes; no culling (both faces count in one pass); CCW = outward = front, in
+          // the caster's space: a mirroring world matrix (m.flip -1) turns every volume face's
+          // winding on screen, so CW is its front there (else its counts would take the
+          // opposite sign and cancel another caster's where their shadows overlap).
           gl.enable(gl.DEPTH_TEST);
           gl.enable(gl.STENCIL_TEST);
           gl.stencilFunc(gl.ALWAYS, 0, 0xff);
@@ -540,12 +544,14 @@ export class WebGLDrawer {
           gl.depthFunc(nearer);
           gl.depthMask(false);
           gl.colorMask(false, false, false, false);
-          gl.frontFace(gl.CCW);
+          gl.frontFace(m.flip < 0 ? gl.CW : gl.CCW);
           // Nothing of a volume may be clipped (state.rs): depth clamp when available (the
           // volume program clips to the viewport, and light caps to the near plane, itself).
           if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
           m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height], caps: !zpass, tick });
           if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
+          // GL's default winding again for the passes after.
+          gl.frontFace(gl.CCW);
         }
         lap('volumes');
       }
