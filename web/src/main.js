@@ -15,6 +15,7 @@
 // reversed-Z even when EXT_clip_control is offered), snap=N (every vertex on a 1/N-pixel grid),
 // zpass=0 (every light counted z-fail; umbra.info().zpass says which count each light got),
 // cull=0 (volumeCull off: every volume to infinity; umbra.info().volumes says what each light drew),
+// silhouettes=gpu|wasm (where the unculled silhouettes are computed; umbra.info().silhouettes),
 // nowebgl=1 / nostencil=1 (a browser without WebGL 2 / a canvas without a stencil buffer).
 // The page's state is in document.body.dataset.state: loading, ready, error; on error the
 // message is shown on the page (never a blank page) and in window.umbra.error.
@@ -119,7 +120,7 @@ async function start() {
   if (!(Number.isInteger(snap) && snap >= 0)) throw new Error(`URL parameter snap=${params.get('snap')}: expected a whole number of positions per pixel`);
   let umbra;
   try {
-    umbra = await UmbraShadows.create(renderer, { depth: params.get('depth') === 'standard' ? 'standard' : 'reversed', depthClamp: params.get('clamp') !== '0', snap, zpass: params.get('zpass') !== '0', volumeCull: params.get('cull') !== '0', volumeClamp: params.get('volumeclamp') || 'auto', receiverScatter: params.get('scatter') || 'auto', positionPass: params.get('positions') || 'equal' });
+    umbra = await UmbraShadows.create(renderer, { depth: params.get('depth') === 'standard' ? 'standard' : 'reversed', depthClamp: params.get('clamp') !== '0', snap, zpass: params.get('zpass') !== '0', volumeCull: params.get('cull') !== '0', volumeClamp: params.get('volumeclamp') || 'auto', receiverScatter: params.get('scatter') || 'auto', positionPass: params.get('positions') || 'equal', silhouettes: params.get('silhouettes') || 'auto' });
   } catch (e) {
     throw new SetupError(e.message);
   }

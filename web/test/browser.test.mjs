@@ -323,6 +323,19 @@ test('shared scenes: 0 samples outside the band on SwiftShader and ANGLE/llvmpip
   console.log(`shared scenes at ${SW}x${SH}, samples outside the band: ${Object.entries(totals).map(([k, v]) => `${k} ${v}`).join(', ')}`);
 });
 
+test('shared scene with GPU silhouettes (silhouettes=gpu, cull=0: the orientation pass, every record visited), SwiftShader: 0 samples outside the band', { skip: skipShared }, async () => {
+  const i = SHARED.indexOf('crytek-sponza.obj.gz');
+  const s = SHARED[i];
+  const v = viewOf(sharedManifests[i].camera, sharedManifests[i].light);
+  const r = await judged('swiftshader', { scene: path.join(SCENES_DIR, s), width: SW, height: SH, query: `model=scenes/${s}&${v.query}&cull=0&silhouettes=gpu` });
+  report(`${s}, swiftshader, GPU silhouettes, ${SW}x${SH}`, r);
+  assert.equal(r.status.state, 'ready');
+  assert.equal(r.status.silhouettes, 'gpu', 'the GPU silhouettes as asked');
+  assert.equal(r.status.volumes[0].culled, false, 'unculled');
+  assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, `${s}: shadow and light in view`);
+  assert.equal(r.browser.mismatches_outside_band, 0, `${s}: GPU silhouettes`);
+});
+
 test('mask view agrees with the shaded view; shadows off; frame time', { skip }, async () => {
   const { page, status, logs } = await open(`size=${W}x${H}`);
   assert.equal(status.state, 'ready', `viewer failed: ${status.error}\n${logs.join('\n')}`);

@@ -61,105 +61,107 @@ before(async () => {
   page = await ctx.newPage();
   page.on('pageerror', (e) => console.log(`page error: ${e}`));
   await page.goto(base);
-  await page.evaluate(async ([w, h]) => {
-    const THREE = await import('three');
-    const { UmbraShadows } = await import('umbra-three');
-    const canvas = document.createElement('canvas');
-    document.body.appendChild(canvas);
-    const renderer = new THREE.WebGLRenderer({ canvas });
-    renderer.setPixelRatio(1);
-    renderer.setSize(w, h, false);
-    const umbra = await UmbraShadows.create(renderer);
-    const scene = new THREE.Scene();
-    const mat = () => new THREE.MeshLambertMaterial({ color: 0xcccccc, side: THREE.DoubleSide });
-    const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 10).rotateX(-Math.PI / 2), mat());
-    floor.castShadow = true;
-    scene.add(floor);
-    // Matrices of 0, ±1, ±0.5 and dyadic offsets: the world positions are exact.
-    const m4 = (r0, r1, r2, t) => new THREE.Matrix4().set(...r0, t[0], ...r1, t[1], ...r2, t[2], 0, 0, 0, 1);
-    const boxes = new THREE.InstancedMesh(new THREE.BoxGeometry(1, 1, 1), mat(), 4);
-    boxes.name = 'boxes';
-    boxes.castShadow = true;
-    boxes.setMatrixAt(0, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [-2, 1, 0]));
-    // Mirrored (determinant -1): its winding turns, its shadow must not.
-    boxes.setMatrixAt(1, m4([-1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 1.5, -1]));
-    // Turned a quarter about y and halved.
-    boxes.setMatrixAt(2, m4([0, 0, 0.5], [0, 0.5, 0], [-0.5, 0, 0], [2, 1, 1]));
-    // Past `count`: neither drawn nor casting.
-    boxes.setMatrixAt(3, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 1, 2]));
-    boxes.count = 3;
-    scene.add(boxes);
-    const batch = new THREE.BatchedMesh(4, 200, 400, mat());
-    batch.name = 'batch';
-    batch.castShadow = true;
-    const cone = batch.addGeometry(new THREE.ConeGeometry(0.5, 1, 8));
-    const slab = batch.addGeometry(new THREE.BoxGeometry(1.5, 0.25, 0.5));
-    const b0 = batch.addInstance(cone);
-    batch.setMatrixAt(b0, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, 0.75, 2]));
-    const b1 = batch.addInstance(slab);
-    batch.setMatrixAt(b1, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 2.5, -0.5]));
-    const b2 = batch.addInstance(cone);
-    batch.setMatrixAt(b2, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [3, 0.75, -2]));
-    batch.setVisibleAt(b2, false);
-    scene.add(batch);
-    const light = new THREE.PointLight(0xffffff, 8, 0, 0);
-    light.position.set(0.5, 4.5, 1);
-    light.castShadow = true;
-    scene.add(light, new THREE.AmbientLight(0xffffff, 0.3));
-    scene.updateMatrixWorld(true);
+  await page.evaluate(([w, h]) => {
+    window.makeWorld = async (options) => {
+      const THREE = await import('three');
+      const { UmbraShadows } = await import('umbra-three');
+      const canvas = document.createElement('canvas');
+      document.body.appendChild(canvas);
+      const renderer = new THREE.WebGLRenderer({ canvas });
+      renderer.setPixelRatio(1);
+      renderer.setSize(w, h, false);
+      const umbra = await UmbraShadows.create(renderer, options);
+      const scene = new THREE.Scene();
+      const mat = () => new THREE.MeshLambertMaterial({ color: 0xcccccc, side: THREE.DoubleSide });
+      const floor = new THREE.Mesh(new THREE.PlaneGeometry(10, 10).rotateX(-Math.PI / 2), mat());
+      floor.castShadow = true;
+      scene.add(floor);
+      // Matrices of 0, ±1, ±0.5 and dyadic offsets: the world positions are exact.
+      const m4 = (r0, r1, r2, t) => new THREE.Matrix4().set(...r0, t[0], ...r1, t[1], ...r2, t[2], 0, 0, 0, 1);
+      const boxes = new THREE.InstancedMesh(new THREE.BoxGeometry(1, 1, 1), mat(), 4);
+      boxes.name = 'boxes';
+      boxes.castShadow = true;
+      boxes.setMatrixAt(0, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [-2, 1, 0]));
+      // Mirrored (determinant -1): its winding turns, its shadow must not.
+      boxes.setMatrixAt(1, m4([-1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 1.5, -1]));
+      // Turned a quarter about y and halved.
+      boxes.setMatrixAt(2, m4([0, 0, 0.5], [0, 0.5, 0], [-0.5, 0, 0], [2, 1, 1]));
+      // Past `count`: neither drawn nor casting.
+      boxes.setMatrixAt(3, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 1, 2]));
+      boxes.count = 3;
+      scene.add(boxes);
+      const batch = new THREE.BatchedMesh(4, 200, 400, mat());
+      batch.name = 'batch';
+      batch.castShadow = true;
+      const cone = batch.addGeometry(new THREE.ConeGeometry(0.5, 1, 8));
+      const slab = batch.addGeometry(new THREE.BoxGeometry(1.5, 0.25, 0.5));
+      const b0 = batch.addInstance(cone);
+      batch.setMatrixAt(b0, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, 0.75, 2]));
+      const b1 = batch.addInstance(slab);
+      batch.setMatrixAt(b1, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 2.5, -0.5]));
+      const b2 = batch.addInstance(cone);
+      batch.setMatrixAt(b2, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [3, 0.75, -2]));
+      batch.setVisibleAt(b2, false);
+      scene.add(batch);
+      const light = new THREE.PointLight(0xffffff, 8, 0, 0);
+      light.position.set(0.5, 4.5, 1);
+      light.castShadow = true;
+      scene.add(light, new THREE.AmbientLight(0xffffff, 0.3));
+      scene.updateMatrixWorld(true);
 
-    // Every drawn instance's triangles in world space (what umbra verify judges), f64 then f32.
-    const world = () => {
-      const pos = [];
-      const add = (geometry, m, range = null) => {
-        const p = geometry.attributes.position;
-        const idx = geometry.index;
-        const first = range ? range.indexStart : 0;
-        const n = range ? range.indexCount : idx ? idx.count : p.count;
-        const e = m.elements;
-        for (let k = first; k < first + n; k++) {
-          const i = idx ? idx.getX(k) : k;
-          const v = [p.getX(i), p.getY(i), p.getZ(i)];
-          for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
+      // Every drawn instance's triangles in world space (what umbra verify judges), f64 then f32.
+      const world = () => {
+        const pos = [];
+        const add = (geometry, m, range = null) => {
+          const p = geometry.attributes.position;
+          const idx = geometry.index;
+          const first = range ? range.indexStart : 0;
+          const n = range ? range.indexCount : idx ? idx.count : p.count;
+          const e = m.elements;
+          for (let k = first; k < first + n; k++) {
+            const i = idx ? idx.getX(k) : k;
+            const v = [p.getX(i), p.getY(i), p.getZ(i)];
+            for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
+          }
+        };
+        const m = new THREE.Matrix4();
+        add(floor.geometry, floor.matrixWorld);
+        for (let i = 0; i < boxes.count; i++) add(boxes.geometry, boxes.getMatrixAt(i, m).premultiply(boxes.matrixWorld));
+        for (const id of [b0, b1, b2]) {
+          if (!batch.getVisibleAt(id)) continue;
+          add(batch.geometry, batch.getMatrixAt(id, m).premultiply(batch.matrixWorld), batch.getGeometryRangeAt(batch.getGeometryIdAt(id)));
         }
+        const lines = [];
+        for (let i = 0; i < pos.length; i += 3) lines.push(`v ${pos[i]} ${pos[i + 1]} ${pos[i + 2]}`);
+        for (let t = 0; t < pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
+        // umbra's near plane for a mesh file (crates/umbra-cli/src/session.rs; examples/gltf/view.js):
+        // 1e-3 of the f32 diagonal of the triangles' bounds.
+        const f = Math.fround;
+        const lo = [Infinity, Infinity, Infinity];
+        const hi = [-Infinity, -Infinity, -Infinity];
+        for (let i = 0; i < pos.length; i++) {
+          lo[i % 3] = Math.min(lo[i % 3], pos[i]);
+          hi[i % 3] = Math.max(hi[i % 3], pos[i]);
+        }
+        const e = [0, 1, 2].map((a) => f(hi[a] - lo[a]));
+        const diagonal = f(Math.sqrt(f(f(f(e[0] * e[0]) + f(e[1] * e[1])) + f(e[2] * e[2]))));
+        return { obj: `${lines.join('\n')}\n`, near: Math.max(diagonal, 1e-6) * 1e-3, triangles: pos.length / 9 };
       };
-      const m = new THREE.Matrix4();
-      add(floor.geometry, floor.matrixWorld);
-      for (let i = 0; i < boxes.count; i++) add(boxes.geometry, boxes.getMatrixAt(i, m).premultiply(boxes.matrixWorld));
-      for (const id of [b0, b1, b2]) {
-        if (!batch.getVisibleAt(id)) continue;
-        add(batch.geometry, batch.getMatrixAt(id, m).premultiply(batch.matrixWorld), batch.getGeometryRangeAt(batch.getGeometryIdAt(id)));
-      }
-      const lines = [];
-      for (let i = 0; i < pos.length; i += 3) lines.push(`v ${pos[i]} ${pos[i + 1]} ${pos[i + 2]}`);
-      for (let t = 0; t < pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
-      // umbra's near plane for a mesh file (crates/umbra-cli/src/session.rs; examples/gltf/view.js):
-      // 1e-3 of the f32 diagonal of the triangles' bounds.
-      const f = Math.fround;
-      const lo = [Infinity, Infinity, Infinity];
-      const hi = [-Infinity, -Infinity, -Infinity];
-      for (let i = 0; i < pos.length; i++) {
-        lo[i % 3] = Math.min(lo[i % 3], pos[i]);
-        hi[i % 3] = Math.max(hi[i % 3], pos[i]);
-      }
-      const e = [0, 1, 2].map((a) => f(hi[a] - lo[a]));
-      const diagonal = f(Math.sqrt(f(f(f(e[0] * e[0]) + f(e[1] * e[1])) + f(e[2] * e[2]))));
-      return { obj: `${lines.join('\n')}\n`, near: Math.max(diagonal, 1e-6) * 1e-3, triangles: pos.length / 9 };
+      const camera = new THREE.PerspectiveCamera(50, w / h, 0.1, 100);
+      camera.position.set(0, 5, 7);
+      camera.lookAt(0, 0, 0);
+      const frame = () => {
+        const out = world();
+        camera.near = out.near;
+        camera.updateProjectionMatrix();
+        umbra.render(scene, camera);
+        const mask = umbra.readMask(light);
+        let s = '';
+        for (let i = 0; i < mask.length; i += 8192) s += String.fromCharCode.apply(null, mask.subarray(i, i + 8192));
+        return { ...out, mask: s, errors: umbra.errors.slice(), info: { casters: umbra.info.casters, triangles: umbra.info.triangles, volumes: umbra.info.volumes, zpass: umbra.info.zpass }, subpixelBits: umbra.subpixelBits };
+      };
+      window.T = { THREE, umbra, scene, camera, light, boxes, batch, frame, m4, ids: [b0, b1, b2] };
     };
-    const camera = new THREE.PerspectiveCamera(50, w / h, 0.1, 100);
-    camera.position.set(0, 5, 7);
-    camera.lookAt(0, 0, 0);
-    const frame = () => {
-      const out = world();
-      camera.near = out.near;
-      camera.updateProjectionMatrix();
-      umbra.render(scene, camera);
-      const mask = umbra.readMask(light);
-      let s = '';
-      for (let i = 0; i < mask.length; i += 8192) s += String.fromCharCode.apply(null, mask.subarray(i, i + 8192));
-      return { ...out, mask: s, errors: umbra.errors.slice(), info: { casters: umbra.info.casters, triangles: umbra.info.triangles, volumes: umbra.info.volumes, zpass: umbra.info.zpass }, subpixelBits: umbra.subpixelBits };
-    };
-    window.T = { THREE, umbra, scene, camera, light, boxes, batch, frame, m4, ids: [b0, b1, b2] };
   }, [W, H]);
 });
 
@@ -187,32 +189,35 @@ async function judged(name) {
   return { browser: r.browser, explained: r.explained, frame: f, dark };
 }
 
-test('InstancedMesh and BatchedMesh cast from every drawn instance (mirrored, turned, scaled; a hidden one and those past count cast nothing): 0 samples outside the band; a moved instance moves its shadow', { skip }, async () => {
-  const first = await judged('instances');
-  console.log(JSON.stringify({ row: first.browser, info: first.frame.info, errors: first.frame.errors, triangles: first.frame.triangles, dark: first.dark }));
-  assert.deepEqual(first.frame.errors, [], 'no mesh refused');
-  // floor + 3 boxes + 2 batch instances.
-  assert.equal(first.frame.info.casters, 6, 'one caster per drawn instance');
-  assert.equal(first.browser.mismatches_outside_band, 0, `0 outside the band: ${first.explained.join('; ')}`);
-  assert.ok(first.browser.shadowed_reference > 1000, 'the instances shadow the floor');
-  assert.ok(first.browser.samples > 0.5 * W * H, 'the floor fills the view');
-  // The hidden batch instance and the instance past `count`, shown: more shadow.
-  await page.evaluate(() => {
-    const { boxes, batch, ids } = window.T;
-    boxes.count = 4;
-    batch.setVisibleAt(ids[2], true);
+for (const [name, options] of [['default', {}], ['GPU silhouettes, unculled', { silhouettes: 'gpu', volumeCull: false }]]) {
+  test(`${name}: InstancedMesh and BatchedMesh cast from every drawn instance (mirrored, turned, scaled; a hidden one and those past count cast nothing): 0 samples outside the band; a moved instance moves its shadow`, { skip }, async () => {
+    await page.evaluate((o) => window.makeWorld(o), options);
+    const first = await judged('instances');
+    console.log(JSON.stringify({ row: first.browser, info: first.frame.info, errors: first.frame.errors, triangles: first.frame.triangles, dark: first.dark }));
+    assert.deepEqual(first.frame.errors, [], 'no mesh refused');
+    // floor + 3 boxes + 2 batch instances.
+    assert.equal(first.frame.info.casters, 6, 'one caster per drawn instance');
+    assert.equal(first.browser.mismatches_outside_band, 0, `0 outside the band: ${first.explained.join('; ')}`);
+    assert.ok(first.browser.shadowed_reference > 1000, 'the instances shadow the floor');
+    assert.ok(first.browser.samples > 0.5 * W * H, 'the floor fills the view');
+    // The hidden batch instance and the instance past `count`, shown: more shadow.
+    await page.evaluate(() => {
+      const { boxes, batch, ids } = window.T;
+      boxes.count = 4;
+      batch.setVisibleAt(ids[2], true);
+    });
+    const shown = await judged('shown');
+    assert.equal(shown.frame.info.casters, 8, 'the shown instances cast too');
+    assert.equal(shown.browser.mismatches_outside_band, 0, `shown: 0 outside the band: ${shown.explained.join('; ')}`);
+    assert.ok(shown.dark > first.dark + 100, 'the shown instances add shadow');
+    // One instance moved: judged again (its silhouette kept by slot must not be stale).
+    await page.evaluate(() => {
+      const { boxes, m4 } = window.T;
+      boxes.setMatrixAt(0, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [-2.5, 1, -1.5]));
+      boxes.instanceMatrix.needsUpdate = true;
+    });
+    const moved = await judged('moved');
+    assert.equal(moved.browser.mismatches_outside_band, 0, `moved: 0 outside the band: ${moved.explained.join('; ')}`);
+    assert.notEqual(moved.frame.mask, shown.frame.mask, 'the moved instance moved its shadow');
   });
-  const shown = await judged('shown');
-  assert.equal(shown.frame.info.casters, 8, 'the shown instances cast too');
-  assert.equal(shown.browser.mismatches_outside_band, 0, `shown: 0 outside the band: ${shown.explained.join('; ')}`);
-  assert.ok(shown.dark > first.dark + 100, 'the shown instances add shadow');
-  // One instance moved: judged again (its silhouette kept by slot must not be stale).
-  await page.evaluate(() => {
-    const { boxes, m4 } = window.T;
-    boxes.setMatrixAt(0, m4([1, 0, 0], [0, 1, 0], [0, 0, 1], [-2.5, 1, -1.5]));
-    boxes.instanceMatrix.needsUpdate = true;
-  });
-  const moved = await judged('moved');
-  assert.equal(moved.browser.mismatches_outside_band, 0, `moved: 0 outside the band: ${moved.explained.join('; ')}`);
-  assert.notEqual(moved.frame.mask, shown.frame.mask, 'the moved instance moved its shadow');
-});
+}

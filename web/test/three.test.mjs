@@ -429,6 +429,55 @@ test('memory: a caster of more polygons than the shared polygon storage holds at
   assert.ok(r.gpuBytes[0] > r.gpuBytes[1] + 80000 * 48, `gpuBytes counts the fine floor's caps-data (${r.gpuBytes[0]})`);
 });
 
+test('silhouettes: \'gpu\' (the orientation pass, every record visited) decides as the wasm\'s silhouettes after the camera, a light and a caster moved, z-pass and z-fail, two lights; kept while a light stays put', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const out = [];
+    for (const zpass of [true, false]) {
+      const make = async (silhouettes) => {
+        const renderer = makeRenderer();
+        const umbra = await UmbraShadows.create(renderer, { silhouettes, volumeCull: false, zpass });
+        const s = makeScene();
+        const second = new THREE.PointLight(0xffffff, 4, 0, 0);
+        second.position.set(-2, 3, 0.5);
+        second.castShadow = true;
+        s.scene.add(second);
+        return { umbra, ...s, second };
+      };
+      const a = await make('gpu');
+      const b = await make('wasm');
+      const step = (name, change) => {
+        for (const x of [a, b]) change(x);
+        for (const x of [a, b]) x.umbra.render(x.scene, x.camera);
+        const masks = [a, b].map((x) => [x.umbra.readMask(x.light), x.umbra.readMask(x.second)]);
+        out.push({
+          name: `${zpass ? 'z-pass' : 'z-fail'}, ${name}`, silhouettes: [a.umbra.info.silhouettes, b.umbra.info.silhouettes], zpass: a.umbra.info.zpass,
+          cached: a.umbra.info.volumes.map((v) => v.cached), errors: a.umbra.errors.length,
+          differing: differing(masks[0][0], masks[1][0]) + differing(masks[0][1], masks[1][1]), shadowed: zeros(masks[0][0]) + zeros(masks[0][1]),
+        });
+      };
+      step('first', () => {});
+      step('camera', (x) => {
+        x.camera.position.set(1, 4.5, 5.5);
+        x.camera.lookAt(0, 0, 0);
+      });
+      step('light', (x) => x.light.position.set(1.5, 4, 0.5));
+      step('caster', (x) => x.box.position.set(0.5, 1.2, 0));
+    }
+    return out;
+  });
+  console.log(JSON.stringify(r));
+  for (const s of r) {
+    assert.deepEqual(s.silhouettes, ['gpu', 'wasm'], `${s.name}: the silhouettes as asked`);
+    assert.equal(s.errors, 0, `${s.name}: no error`);
+    assert.equal(s.differing, 0, `${s.name}: the GPU silhouettes' masks are the wasm's`);
+    assert.ok(s.shadowed > 100, `${s.name}: something is shadowed`);
+  }
+  assert.deepEqual(r.find((s) => s.name === 'z-fail, camera').zpass, [null, null], 'z-fail counted where asked');
+  assert.deepEqual(r.find((s) => s.name === 'z-pass, camera').cached, [2, 2], 'the camera moved: the GPU orientations kept');
+  assert.deepEqual(r.find((s) => s.name === 'z-pass, light').cached, [0, 2], 'a light moved: its orientations computed again');
+});
+
 test('light order: a shadow-casting light added after another lands on its own uniform (three.js sorts casters first)', { skip }, async () => {
   const r = await page.evaluate(async () => {
     const { THREE, UmbraShadows } = window.T;

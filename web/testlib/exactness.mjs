@@ -39,7 +39,7 @@ export async function openViewer(ctx, url, timeout = 600_000) {
   page.on('pageerror', (e) => logs.push(String(e)));
   await page.goto(url);
   await page.waitForFunction(() => document.body.dataset.state !== 'loading', null, { timeout, polling: 250 });
-  const status = await page.evaluate(() => ({ state: window.umbra.state, depth: window.umbra.depth, error: window.umbra.error, frameMs: window.umbra.frameMs, renderer: window.umbra.renderer, depthClamp: window.umbra.depthClamp, subpixelBits: window.umbra.subpixelBits, zpass: window.umbra.info?.().zpass ?? null, volumes: window.umbra.info?.().volumes ?? null, volumeCull: window.umbra.info?.().volumeCull ?? null, info: document.getElementById('info').textContent, message: document.getElementById('message').textContent, visible: getComputedStyle(document.getElementById('message')).display !== 'none' }));
+  const status = await page.evaluate(() => ({ state: window.umbra.state, depth: window.umbra.depth, error: window.umbra.error, frameMs: window.umbra.frameMs, renderer: window.umbra.renderer, depthClamp: window.umbra.depthClamp, subpixelBits: window.umbra.subpixelBits, zpass: window.umbra.info?.().zpass ?? null, volumes: window.umbra.info?.().volumes ?? null, volumeCull: window.umbra.info?.().volumeCull ?? null, silhouettes: window.umbra.info?.().silhouettes ?? null, info: document.getElementById('info').textContent, message: document.getElementById('message').textContent, visible: getComputedStyle(document.getElementById('message')).display !== 'none' }));
   return { page, status, logs };
 }
 

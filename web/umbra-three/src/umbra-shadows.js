@@ -185,11 +185,19 @@ export class UmbraShadows {
     // with the same ones reuses them (`cache`).
     this.lastFrame = null;
     this.cache = options.cache !== false;
+    // Where the unculled silhouettes are computed: 'wasm' (the orientations and the list of
+    // silhouette records on the main thread) or 'gpu' (the orientation pass and every record
+    // visited by the sides' polygon pass: no main-thread work per light move); 'auto' (the
+    // default): the GPU where it is hardware, the wasm on a software rasteriser, whose "GPU"
+    // is the same CPU and where the wasm's short list draws far fewer polygons.
+    const asked = options.silhouettes ?? 'auto';
+    if (!['auto', 'wasm', 'gpu'].includes(asked)) throw new Error(`umbra-three: silhouettes: '${asked}': expected 'auto', 'wasm' or 'gpu'`);
+    this.silhouettes = asked === 'auto' ? (this.drawer.software ? 'wasm' : 'gpu') : asked;
     this.receivers = []; // per light slot, its receiver map in the wasm (volumeCull)
     this.samples = null; // the frame's samples in the wasm (volumeCull, receiverScatter 'cpu')
     this.info = {
       lights: 0, casters: 0, triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, gpuBytes: 0, passes: {}, zpass: [],
-      volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, volumes: [],
+      volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, silhouettes: this.silhouettes, volumes: [],
     };
   }
 
@@ -444,6 +452,7 @@ export class UmbraShadows {
     // The receiver cull of this frame: per light whether its map was built (frame.cull.receive),
     // and what its volumes drew.
     const cullOn = this.drawer.volumeCull;
+    const gpuSilhouettes = this.silhouettes === 'gpu';
     const culledLights = lights.map(() => false);
     // Each light's count, once known (the z-pass tests run after this loop).
     const zpassOf = lights.map(() => null);
@@ -515,10 +524,15 @@ export class UmbraShadows {
         // share slot k, computed again every frame (key null).
         const slot = instanceSlot === null ? k : instanceSlot + k;
         const key = this.cache && (instanceSlot !== null || instance === null) ? objectLights[k].join(',') : null;
-        if (caster.volumes.holds(slot, key)) {
+        if (caster.volumes.holds(slot, key) && caster.volumes.slots[slot].gpu === gpuSilhouettes) {
           v.edges += caster.volumes.slots[slot].records;
           v.cached++;
           return { silhouette: null, key, slot };
+        }
+        if (gpuSilhouettes) {
+          // Oriented on the GPU; the sides visit every record.
+          v.edges += caster.volumes.records;
+          return { silhouette: 'gpu', key, slot };
         }
         const u = w.silhouette(objectLights[k]);
         v.edges += u.records.length;

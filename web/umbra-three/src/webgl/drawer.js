@@ -519,7 +519,7 @@ export class WebGLDrawer {
           // they hold the silhouette of this light position already).
           if (tick) ts = performance.now();
           const s = m.silhouette(k);
-          m.volumes.prepare(s.slot ?? k, s.silhouette, s.key);
+          m.volumes.prepare(s.slot ?? k, s.silhouette, s.key, light);
           tick?.('volumes.silhouette');
           // Pass 2: counting (state.rs shadow_volume_for(zpass, convention)): stencil test
           // always passes; z-fail: back faces behind the sample +1, front faces behind it -1;

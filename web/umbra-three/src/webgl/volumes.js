@@ -11,7 +11,7 @@
 // nonzero orientation.
 import { link, GlSetupError } from './program.js';
 import {
-  polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource,
+  polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource, orientVertexSource,
   POLYGON_VARYINGS, FAN_VERTICES, polygonsPerInstance, textureShift, textureRows,
 } from './vs_silhouette.js';
 
@@ -90,6 +90,10 @@ export class VolumePrograms {
     this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
     this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'glsl/fan.frag.glsl', fanFragmentSource());
+    // The GPU silhouettes' orientation pass, linked when first used (silhouettes: 'gpu').
+    this.orient = null;
+    this.orientBuffer = null;
+    this.orientCapacity = 0;
     this.gl = gl;
     this.storage = null;
     this.feedback = gl.createTransformFeedback();
@@ -116,6 +120,22 @@ export class VolumePrograms {
     return this.storage;
   }
 
+  /** The orientation pass and a capture buffer for `triangles` ints (grown as needed). */
+  orientation(triangles) {
+    const gl = this.gl;
+    this.orient ??= link(gl, 'orientation pass', 'glsl/orient.vert.glsl', orientVertexSource(), 'vs_silhouette/volume.frag.glsl', volumeFragmentSource(), ['v_orientation']);
+    if (this.orientCapacity < triangles) {
+      if (this.orientBuffer) gl.deleteBuffer(this.orientBuffer);
+      this.orientCapacity = 2 ** Math.ceil(Math.log2(Math.max(triangles, 1024)));
+      this.orientBuffer = gl.createBuffer();
+      gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, this.orientBuffer);
+      // DYNAMIC_COPY: written by transform feedback, copied into a texture on the GPU.
+      gl.bufferData(gl.TRANSFORM_FEEDBACK_BUFFER, 4 * this.orientCapacity, gl.DYNAMIC_COPY);
+      gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, null);
+    }
+    return { program: this.orient, buffer: this.orientBuffer };
+  }
+
   deleteStorage() {
     if (!this.storage) return;
     this.gl.deleteBuffer(this.storage.buffer);
@@ -123,14 +143,16 @@ export class VolumePrograms {
     this.storage = null;
   }
 
-  /** Bytes of the shared polygon storage. */
+  /** Bytes of the shared polygon storage and the orientation pass's buffer. */
   get gpuBytes() {
-    return this.storage ? this.storage.bytes : 0;
+    return (this.storage ? this.storage.bytes : 0) + 4 * this.orientCapacity;
   }
 
   dispose() {
     for (const p of [this.polygons, this.fan]) this.gl.deleteProgram(p.program);
     this.deleteStorage();
+    if (this.orient) this.gl.deleteProgram(this.orient.program);
+    if (this.orientBuffer) this.gl.deleteBuffer(this.orientBuffer);
     this.gl.deleteTransformFeedback(this.feedback);
     this.gl.deleteVertexArray(this.emptyVao);
   }
@@ -210,7 +232,7 @@ export class ShadowVolumes {
   dispose() {
     const gl = this.gl;
     for (const t of [this.vertexTex, this.recordVerticesTex, this.triangleVerticesTex, this.edgeTrianglesTex]) gl.deleteTexture(t);
-    for (const slot of this.slots) for (const t of [slot.orientation.tex, slot.recordList.tex]) gl.deleteTexture(t);
+    for (const slot of this.slots) for (const t of [slot.orientation.tex, slot.recordList.tex, slot.gpuOrientation?.tex]) if (t) gl.deleteTexture(t);
     if (this.cull) for (const t of Object.values(this.cull)) gl.deleteTexture(t);
     this.bytes = 0;
   }
@@ -237,6 +259,10 @@ export class ShadowVolumes {
       this.slots.push({
         orientation: this.made(dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations')),
         recordList: this.made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records')),
+        // The GPU silhouettes' orientations (R32I, what transform feedback captures), made
+        // when first used.
+        gpuOrientation: null,
+        gpu: false,
         records: 0,
         single: 0,
         key: null,
@@ -258,10 +284,12 @@ export class ShadowVolumes {
    * the slot already holds the one for `key` (holds(k, key)), nothing uploaded. Culled (the
    * wasm's cull: also `triangles`, the Int32Array of kept triangles of nonzero orientation,
    * `far`, 4 floats per welded vertex, and `clamped`: false when every far end is at infinity)
-   * also those two, and draw() then draws the culled volume. Needs the unpack state the drawer
-   * sets (no flip, no premultiply, no row length or skips, no unpack buffer).
+   * also those two, and draw() then draws the culled volume. `silhouette` 'gpu': the
+   * orientations computed on the GPU towards `light` (this caster's space; orientOnGpu), and
+   * every record visited by the sides. Needs the unpack state the drawer sets (no flip, no
+   * premultiply, no row length or skips, no unpack buffer).
    */
-  prepare(k, silhouette, key = null) {
+  prepare(k, silhouette, key = null, light = null) {
     const gl = this.gl;
     const width = 2 ** this.shift;
     const slot = this.silhouetteSlot(k);
@@ -274,6 +302,18 @@ export class ShadowVolumes {
       this.keptTriangles = 0;
       return;
     }
+    if (silhouette === 'gpu') {
+      this.orientOnGpu(slot, light);
+      this.culled = false;
+      this.clamped = false;
+      this.keptTriangles = 0;
+      slot.gpu = true;
+      slot.records = this.records;
+      slot.single = 0;
+      slot.key = key;
+      return;
+    }
+    slot.gpu = false;
     const { orientation, records, single, triangles = null, far = null, clamped = true } = silhouette;
     gl.bindTexture(gl.TEXTURE_2D, slot.orientation.tex);
     upload(gl, width, gl.RED_INTEGER, gl.BYTE, orientation, 0, 1, this.triangles);
@@ -302,6 +342,41 @@ export class ShadowVolumes {
   }
 
   /**
+   * Every triangle's orientation towards `light` (this caster's space) by the orientation
+   * pass (glsl/orient.vert.glsl) into `slot`'s R32I texture: captured by transform feedback
+   * (rasteriser off), then copied on the GPU through the unpack buffer binding.
+   */
+  orientOnGpu(slot, light) {
+    const gl = this.gl;
+    if (this.triangles === 0) return;
+    const width = 2 ** this.shift;
+    slot.gpuOrientation ??= this.made(dataTexture(gl, this.shift, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, this.triangles, 'GPU orientations'));
+    const { program: O, buffer } = this.programs.orientation(this.triangles);
+    this.setUniforms(O, { u_texture_shift: this.shift, u_vertices: UNIT_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES });
+    gl.uniform4fv(O.u.u_light, light);
+    this.bindTexture(UNIT_VERTICES, this.vertexTex);
+    this.bindTexture(UNIT_TRIANGLE_VERTICES, this.triangleVerticesTex);
+    gl.bindVertexArray(this.emptyVao);
+    gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, this.feedback);
+    gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, buffer);
+    gl.enable(gl.RASTERIZER_DISCARD);
+    gl.beginTransformFeedback(gl.POINTS);
+    gl.drawArrays(gl.POINTS, 0, this.triangles);
+    gl.endTransformFeedback();
+    gl.disable(gl.RASTERIZER_DISCARD);
+    // WebGL forbids a buffer bound for transform feedback and for another use at once.
+    gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
+    gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
+    gl.bindVertexArray(null);
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, buffer);
+    gl.bindTexture(gl.TEXTURE_2D, slot.gpuOrientation.tex);
+    upload(gl, width, gl.RED_INTEGER, gl.INT, 0, 0, 1, this.triangles);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+    for (const unit of [UNIT_VERTICES, UNIT_TRIANGLE_VERTICES]) this.bindTexture(unit, null);
+  }
+
+  /**
    * The volumes into the stencil under the counting state the caller set and its viewport:
    * the sides of every silhouette edge, the light caps and (point lights) the dark caps, each
    * set through the polygon pass, then the fan pass. `clipFromWorld`: this caster's clip
@@ -323,6 +398,7 @@ export class ShadowVolumes {
       u_vertices: UNIT_VERTICES, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION, u_records: UNIT_RECORDS,
       u_far: UNIT_FAR, u_record_vertices: UNIT_RECORD_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES, u_kept: UNIT_KEPT,
       u_culled: culled ? 1 : 0,
+      u_all_records: this.slot.gpu ? 1 : 0,
       // A far cap all at infinity is the dark cap: only where the unclamped volume draws it.
       u_skip_infinite: caps && light[3] !== 0 ? 0 : 1,
     });
@@ -330,7 +406,7 @@ export class ShadowVolumes {
     gl.uniform4fv(P.u.u_light, light);
     gl.uniform1f(P.u.u_far_clip_z, farClipZ);
     this.bindTexture(UNIT_EDGE_TRIANGLES, this.edgeTrianglesTex);
-    this.bindTexture(UNIT_ORIENTATION, this.slot.orientation.tex);
+    this.bindTexture(UNIT_ORIENTATION, this.slot.gpu ? this.slot.gpuOrientation.tex : this.slot.orientation.tex);
     this.bindTexture(UNIT_RECORDS, this.slot.recordList.tex);
     // The cull's units are bound either way: WebGL refuses a draw whose active sampler's unit
     // holds a texture of another type (three.js's, say); null reads as an incomplete texture.

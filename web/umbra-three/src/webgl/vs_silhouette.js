@@ -29,6 +29,7 @@ import polygonsVert from './glsl/polygons.vert.glsl';
 import fanVert from './glsl/fan.vert.glsl';
 import fanFrag from './glsl/fan.frag.glsl';
 import snapGlsl from './glsl/snap.glsl';
+import orientVert from './glsl/orient.vert.glsl';
 
 export const sources = native;
 export { snapGlsl };
@@ -41,6 +42,11 @@ export function polygonsVertexSource() {
 
 export function fanVertexSource() {
   return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
+}
+
+/** The orientation pass of the GPU silhouettes (glsl/orient.vert.glsl). */
+export function orientVertexSource() {
+  return `${prelude()}${native.multiplicity}\n${elementsGlsl}\n${orientVert}`;
 }
 
 /** The fragment shader of the polygon pass (nothing rasterised). */

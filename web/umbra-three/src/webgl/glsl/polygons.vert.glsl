@@ -27,6 +27,11 @@
 // read, point 1), and a record's opposite slots are its nonzero edge_triangles entries (0 for
 // an unused slot).
 //
+// GPU silhouettes (u_all_records 1, `silhouettes: 'gpu'`): the orientations come from the
+// orientation pass (orient.vert.glsl) instead of the wasm, and with no list every record is
+// visited (record gl_VertexID); one of multiplicity 0 gives no polygon, as paper 003 draws
+// every edge.
+//
 // u_mode 0: edge record u_records[gl_VertexID]: the quad B A A_inf B_inf (the native id_CCW
 // triangles (B, A, A_inf), (B, A_inf, B_inf)) for curMult > 0, reversed for curMult < 0 (so
 // that opposite-signed records of a split edge clip to the same polygon and cancel), drawn
@@ -59,6 +64,7 @@ uniform highp sampler2D u_vertices;
 uniform highp isampler2D u_edge_triangles;
 uniform highp isampler2D u_orientation;
 uniform highp isampler2D u_records;
+uniform int u_all_records;
 uniform int u_culled;
 uniform int u_skip_infinite;
 uniform highp sampler2D u_far;
@@ -103,7 +109,7 @@ void main() {
     int n = 0;
     int repeat = 0;
     int planes = 4;
-    int record = u_mode == 0 ? texelFetch(u_records, umbra_texel(gl_VertexID), 0).r
+    int record = u_mode == 0 ? (u_all_records != 0 ? gl_VertexID : texelFetch(u_records, umbra_texel(gl_VertexID), 0).r)
         : (u_culled != 0 ? texelFetch(u_kept, umbra_texel(gl_VertexID), 0).r : gl_VertexID);
     if (u_mode == 0) {
         // Alg. 1, line 2: the record's (sub-)multiplicity, Alg. 3's terms read; its used
