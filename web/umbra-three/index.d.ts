@@ -44,6 +44,13 @@ export interface UmbraInfo {
   volumeCull: boolean;
   /** Why `volumeCull` is off (a missing extension, or 'auto' on a GPU), else null. */
   volumeCullMessage: string | null;
+  /** Where the unculled silhouettes are computed (`silhouettes`, 'auto' resolved): 'wasm' or 'gpu'. */
+  silhouettes: 'wasm' | 'gpu';
+  /**
+   * Main-thread milliseconds of the last frame drawn, by part: the scene walked and its meshes
+   * placed, the z-pass tests, the passes issued (silhouettes, uploads and read-backs included).
+   */
+  cpu: { scene: number; clearance: number; passes: number };
   /** Where the receiver maps are scattered: 'gpu', 'cpu' (in the wasm), or null without the cull. */
   receiverScatter: 'gpu' | 'cpu' | null;
   /** Per light of the last frame: what its shadow volumes drew. */
@@ -56,7 +63,7 @@ export interface UmbraVolumes {
   culled: boolean;
   /** Triangles whose volumes were drawn: the kept ones when culled, else every caster triangle. */
   triangles: number;
-  /** Edge records of nonzero multiplicity (the silhouette's sides) drawn. */
+  /** Edge records of nonzero multiplicity (the silhouette's sides) drawn; with `silhouettes: 'gpu'`, every record the sides' pass visited. */
   edges: number;
   /** Casters whose culled volume was also clamped (sides ending at far caps short of infinity, where that covers fewer pixels). */
   clamped: number;
@@ -91,6 +98,15 @@ export interface UmbraOptions {
    * false: everything computed again every frame (benchmarks of a moving view).
    */
   cache?: boolean;
+  /**
+   * Where the unculled silhouettes are computed: 'wasm' (every triangle oriented and the
+   * silhouette's records listed on the main thread), 'gpu' (a transform-feedback pass orients
+   * the triangles, and the sides' pass visits every edge record: no main-thread work when a
+   * light or a caster moves) or 'auto' (the default: 'gpu' on a GPU, 'wasm' on a software
+   * rasteriser, where the GPU's work is the CPU's too and the wasm's short list draws fewer
+   * polygons). Volumes culled to their receivers are always the wasm's.
+   */
+  silhouettes?: 'auto' | 'wasm' | 'gpu';
   /** Diagnostic: where the receiver maps are scattered ('auto': in the wasm on software rasterisers, else on the GPU). */
   receiverScatter?: 'auto' | 'gpu' | 'cpu';
   /** Diagnostic: clamp culled volumes 'always', 'never', or where it covers fewer pixels ('auto'). */
