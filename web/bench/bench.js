@@ -61,11 +61,12 @@ async function start() {
   // The package's other rows (each UmbraShadows patches its own instance): its options.
   // The rows timed frame by frame over one view draw every frame in full (cache: false: a
   // frame with nothing moved would reuse the last one's decisions); umbracache and
-  // umbracachenocull are the package's defaults (cache on), for the orbit (bench.orbit).
+  // umbracachenocull are the package's defaults (cache on), for the orbit (bench.orbit), and
+  // umbragpu what a GPU gets by default (unculled, silhouettes on the GPU).
   const VARIANTS = {
     umbra: { cache: false }, umbranocull: { volumeCull: false, cache: false }, umbraclamp: { volumeClamp: 'always', cache: false },
     umbranoclamp: { volumeClamp: 'never', cache: false }, umbramrt: { positionPass: 'mrt', cache: false },
-    umbracache: {}, umbracachenocull: { volumeCull: false },
+    umbracache: {}, umbracachenocull: { volumeCull: false }, umbragpu: { volumeCull: false, silhouettes: 'gpu' },
   };
   const variantMaterial = Object.fromEntries(Object.keys(VARIANTS).map((k) => [k, k === 'umbra' ? patched : plain.clone()]));
   const meshes = [];

@@ -29,7 +29,8 @@
 // Rows: none, map1024, map2048, bvh, umbra, umbranocull (the package with volumeCull off),
 // umbraclamp / umbranoclamp (culled volumes always / never clamped: volumeClamp), each with
 // cache: false (every frame drawn in full); umbracache and umbracachenocull (the package's
-// defaults, cache on, with volumeCull on / off) for the orbit.
+// defaults, cache on, with volumeCull on / off) and umbragpu (unculled, silhouettes: 'gpu':
+// a GPU's defaults) for the orbit.
 // Needs /usr/bin/chromium (or UMBRA_CHROMIUM), `npm ci` in web/ and the package built.
 import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
 import { existsSync } from 'node:fs';
@@ -59,8 +60,8 @@ const moveLight = process.argv.includes('--move-light');
 const impl = arg('--impl', 'swiftshader');
 const outFile = arg('--out', null);
 const shots = arg('--shots', null);
-const LABELS = { umbracache: 'umbra-three (cache)', umbracachenocull: 'umbra-three (cache), volumeCull off', none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped', umbramrt: 'umbra-three, positions from the depth pass' };
-const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp', 'umbramrt', 'umbracache', 'umbracachenocull'];
+const LABELS = { umbragpu: 'umbra-three (cache), unculled, GPU silhouettes', umbracache: 'umbra-three (cache)', umbracachenocull: 'umbra-three (cache), volumeCull off', none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped', umbramrt: 'umbra-three, positions from the depth pass' };
+const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp', 'umbramrt', 'umbracache', 'umbracachenocull', 'umbragpu'];
 
 /** The fly-through keyframes of `scene` (bench/<name>.flythrough: eye xyz, target xyz per line). */
 async function flythrough(scene) {

@@ -26,6 +26,9 @@ import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPo
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
 
+/** Frames a z-pass union (unionOf) is kept after the last frame that asked for it. */
+const UNION_FRAMES = 600;
+
 /** Instances of an InstancedMesh or BatchedMesh that keep their own silhouettes (`cache`); the others' are computed every frame. */
 const INSTANCE_SLOTS = 16;
 
@@ -602,9 +605,11 @@ export class UmbraShadows {
     cpu.scene = performance.now() - tc;
     tc = performance.now();
     const zpass = lights.map((_, k) => zpassStart(tests, k, (group) => this.unionOf(group)));
-    // Unions no group of this frame asked for are freed.
+    // Unions no group asked for in the last UNION_FRAMES frames are freed (a moving camera
+    // needs a group's union in one frame and not the next: building it again cost Sponza
+    // 50-160 ms of main thread a time).
     for (const [key, u] of this.unions) {
-      if (u.frame !== this.frameCount) {
+      if (this.frameCount - u.frame >= UNION_FRAMES) {
         u.union.free();
         this.unions.delete(key);
       }
