@@ -70,6 +70,13 @@ pub struct ViewArgs {
     /// backend draw their volumes as they are either way.
     #[arg(long, default_value = "on")]
     pub volume_cull: String,
+    /// Which faces a pixel can show: `both` (the nearest triangle, either face: triangle soups
+    /// are two-sided) or `front` (the nearest triangle facing the eye, counter-clockwise on the
+    /// screen: back faces culled in the depth pass, as three.js draws a `FrontSide` material).
+    /// The reference judges the samples that depth pass drew. Casters cast from both faces
+    /// either way. `front` is GL backend only.
+    #[arg(long, default_value = "both")]
+    pub receivers: String,
     /// Largest accepted input file in bytes, after decompression.
     #[arg(long)]
     pub max_input_bytes: Option<u64>,

@@ -522,6 +522,7 @@ mod tests {
             zpass: false,
             zmode: "auto".into(),
             volume_cull: "on".into(),
+            receivers: "both".into(),
             max_input_bytes: None,
         }
     }

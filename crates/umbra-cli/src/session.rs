@@ -73,6 +73,7 @@ pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> 
         zpass: view.zpass,
         auto_zpass: view.auto_zpass,
         volume_cull: view.volume_cull,
+        receivers: view.receivers,
         ..FrameParams::default()
     }
 }

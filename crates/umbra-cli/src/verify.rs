@@ -24,6 +24,8 @@ struct JsonRow<'a> {
     counter: &'a str,
     /// Per light: counted z-pass (`--zmode`; auto chooses it where provably exact).
     zpass: Vec<bool>,
+    /// "both" or "front" (`--receivers`): which faces the samples' depth pass showed.
+    receivers: &'static str,
     samples: u64,
     shadowed_reference: u64,
     mismatches: u64,
@@ -219,6 +221,7 @@ pub fn run(a: &VerifyConfig) -> Result<bool, CliError> {
                 backend: backend.name(),
                 counter,
                 zpass: zpass.clone(),
+                receivers: view.receivers.name(),
                 samples: r.metrics.samples,
                 shadowed_reference: r.metrics.shadowed_reference,
                 mismatches: r.metrics.mismatches,
@@ -251,11 +254,12 @@ pub fn run(a: &VerifyConfig) -> Result<bool, CliError> {
         println!("{}", serde_json::to_string_pretty(&json).map_err(|e| CliError::Other(e.to_string()))?);
     } else {
         println!(
-            "{} at {}x{}, {} light(s), {}; reference {:.0} ms",
+            "{} at {}x{}, {} light(s), receivers {}, {}; reference {:.0} ms",
             view.scene_spec,
             view.width,
             view.height,
             view.lights.len(),
+            view.receivers.name(),
             device_name,
             reference.total_ms()
         );

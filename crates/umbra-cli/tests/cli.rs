@@ -460,6 +460,76 @@ fn volume_cull_on_and_off_on_every_subcommand() {
     }
 }
 
+/// A floor (facing up) under a sheet that faces down, seen from above, lit from above: with
+/// `--receivers both` a pixel shows the sheet's back (lit: the eye and the light are on the same
+/// side of it); with `--receivers front` the depth pass culls it and shows the floor behind,
+/// in the sheet's shadow, as three.js draws a `FrontSide` material. The sheet casts either way.
+fn sheet_over_floor() -> PathBuf {
+    let obj = tmp("sheet-over-floor.obj");
+    std::fs::write(
+        &obj,
+        "# floor at y = 0, counter-clockwise seen from above (+y)\n\
+         v -4 0 -4\nv -4 0 4\nv 4 0 4\nv 4 0 -4\n\
+         # sheet at y = 1, counter-clockwise seen from below (-y)\n\
+         v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\n\
+         f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\n",
+    )
+    .expect("write the scene");
+    obj
+}
+
+#[test]
+fn receivers_front_shows_the_floor_behind_a_back_facing_sheet_and_both_verify() {
+    let obj = sheet_over_floor();
+    let view = ["--scene", obj.to_str().unwrap(), "--size", "160x120", "--eye", "0,4,5", "--target", "0,0,0"];
+    let view = [&view[..], &["--light", "0.5,6,0.3"]].concat();
+    let verify = |receivers: &str, methods: &str| {
+        let o = umbra(&[&["verify", "--json", "--method", methods, "--receivers", receivers][..], &view].concat());
+        assert_eq!(o.status.code(), Some(0), "{receivers}: {}\n{}", stdout(&o), stderr(&o));
+        json(&o)
+    };
+    // The methods that decide per sample without rasterizing volume caps (the hier methods'
+    // samples pass and ray-bvh's re-draw the scene over the depth pass, culled as it is). The
+    // stencil-volume methods push every light cap to the far plane (paper 003 Eq. 6), which
+    // counts a caster that lies in front of the sample as if it were behind: not exact for a
+    // sample seen through a back-facing caster (docs/cli.md, `--receivers`).
+    let exact = "hier-triangle,hier-silhouette,ray-bvh";
+    let (both, front) = (verify("both", &format!("cpu-silhouette,vs-silhouette,{exact}")), verify("front", exact));
+    for (rows, receivers) in [(&both, "both"), (&front, "front")] {
+        for row in rows.as_array().unwrap() {
+            assert_eq!(row["receivers"], receivers, "{row}");
+            assert_eq!(row["mismatches_outside_band"], 0, "{receivers}: {row}");
+        }
+    }
+    // The same pixels hold a sample (the floor covers the sheet's image), but under the sheet
+    // `front` shows the shadowed floor where `both` shows the lit sheet.
+    let count = |v: &serde_json::Value, key: &str| v.as_array().unwrap().last().unwrap()[key].as_u64().unwrap();
+    assert_eq!(count(&front, "samples"), count(&both, "samples"));
+    let (shadowed_both, shadowed_front) = (count(&both, "shadowed_reference"), count(&front, "shadowed_reference"));
+    assert!(shadowed_front > shadowed_both + 200, "front: {shadowed_front} shadowed samples, both: {shadowed_both}");
+    // The sheet's image is the floor's shadow seen through it: render shows it too.
+    let png = |receivers: &str| {
+        let out = tmp(&format!("sheet-{receivers}.png"));
+        let o = umbra(&[&["render", "--receivers", receivers, "--out", out.to_str().unwrap()][..], &view].concat());
+        assert!(o.status.success(), "render {receivers}: {}", stderr(&o));
+        std::fs::read(&out).expect("render wrote its PNG")
+    };
+    assert_ne!(png("front"), png("both"));
+    // Default: both.
+    let o = umbra(&[&["verify", "--json", "--method", "ray-bvh"][..], &view].concat());
+    assert_eq!(json(&o)[0]["shadowed_reference"], shadowed_both);
+    // The stencil-volume methods under `front`: the floor behind the sheet counted lit.
+    let o = umbra(&[&["verify", "--json", "--method", "cpu-silhouette", "--receivers", "front"][..], &view].concat());
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    // Bad values and the wgpu backend (both faces only) are usage errors naming the flag.
+    for (command, extra) in [("verify", &[][..]), ("render", &[][..]), ("verify", &["--backend", "wgpu"][..])] {
+        let value = if extra.is_empty() { "back" } else { "front" };
+        let o = umbra(&[&[command, "--size", "16x16", "--receivers", value][..], extra].concat());
+        assert_eq!(o.status.code(), Some(2), "{command} {value} {extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("--receivers") && !stderr(&o).contains("panicked"), "{}", stderr(&o));
+    }
+}
+
 #[test]
 fn verify_writes_diff_image() {
     let d = tmp("diff.png");

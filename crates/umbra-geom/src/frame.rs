@@ -2,8 +2,8 @@
 //! shadow-volume [`Counter`] it names.
 //!
 //! A backend that cannot honour a value refuses the frame with a typed error before any GPU
-//! work: umbra-wgpu draws reversed-Z with the 8-bit stencil counter only, umbra-gl draws
-//! every value.
+//! work: umbra-wgpu draws reversed-Z with the 8-bit stencil counter and both faces only,
+//! umbra-gl draws every value.
 
 use crate::camera::{Camera, CameraError, DepthConvention};
 use crate::frame_images::{CaptureFlags, LightCapture};
@@ -31,6 +31,30 @@ impl Counter {
         match self {
             Counter::Stencil8 => "stencil8",
             Counter::Float32 => "float32",
+        }
+    }
+}
+
+/// Which faces of a triangle can be the surface a pixel shows: the depth pass (and every pass
+/// that re-draws the scene with depth EQUAL) culls the others. Casters cast from both faces
+/// whatever this says: the shadow volumes are the same either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Receivers {
+    /// Both faces: a pixel shows the nearest triangle (triangle soups are two-sided).
+    #[default]
+    Both,
+    /// Front faces only (counter-clockwise on the screen, GL's default `glFrontFace(GL_CCW)`):
+    /// a pixel shows the nearest triangle that faces the eye, as three.js draws a `FrontSide`
+    /// material, so a surface behind a back-facing sheet shows through it.
+    Front,
+}
+
+impl Receivers {
+    /// "both" or "front".
+    pub fn name(self) -> &'static str {
+        match self {
+            Receivers::Both => "both",
+            Receivers::Front => "front",
         }
     }
 }
@@ -86,12 +110,14 @@ pub struct FrameParams {
     /// (docs/exactness.md, "Volumes clamped to their receivers"); the same decision at every
     /// sample. Off: the unclamped volumes, to measure the difference.
     pub volume_cull: bool,
+    /// Which faces the depth pass shows (default both; [`Receivers`]).
+    pub receivers: Receivers,
 }
 
 impl Default for FrameParams {
     /// 1280x720, default camera, no lights, auto z-pass (z-fail where it cannot be proved
     /// exact), light grey surfaces, ambient 0.15, white light, dark blue-grey background,
-    /// reversed-Z, the 8-bit stencil counter, volumes culled against their receivers.
+    /// reversed-Z, the 8-bit stencil counter, volumes culled against their receivers, both faces shown.
     fn default() -> Self {
         Self {
             camera: Camera::default(),
@@ -110,6 +136,7 @@ impl Default for FrameParams {
             depth_convention: DepthConvention::default(),
             counter: Counter::default(),
             volume_cull: true,
+            receivers: Receivers::Both,
         }
     }
 }
@@ -184,6 +211,8 @@ mod tests {
         assert_eq!(p.counter, Counter::Stencil8);
         assert_eq!(Counter::Stencil8.name(), "stencil8");
         assert_eq!(Counter::Float32.name(), "float32");
+        assert_eq!(p.receivers, Receivers::Both);
+        assert_eq!((Receivers::Both.name(), Receivers::Front.name()), ("both", "front"));
     }
 
     #[test]

@@ -116,7 +116,7 @@ pub mod weld;
 pub mod winding_bound;
 
 pub use adjacency::EdgeAdjacency;
-pub use frame::{Counter, FrameParams, InvalidFrame};
+pub use frame::{Counter, FrameParams, InvalidFrame, Receivers};
 pub use mesh::{Aabb, Mesh};
 pub use weld::WeldedMesh;
 

@@ -52,7 +52,7 @@ pub use methods::{
     VolumeFrame,
 };
 pub use renderer::{
-    CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Renderer,
+    CaptureFlags, FrameImages, FrameParams, FrameTarget, LightCapture, LitMask, LitMaskCapture, Receivers, Renderer,
     StencilCapture, StencilMask, VolumeFragmentQuery,
 };
 pub use scene::{SceneGpu, SceneId};

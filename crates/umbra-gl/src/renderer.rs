@@ -79,7 +79,7 @@ use crate::target::{read_stencil, Attachments, RenderTarget, TargetPass};
 
 pub use crate::scene::SCENE_CLIP_BINDING;
 pub use fragments::VolumeFragmentQuery;
-pub use umbra_geom::frame::FrameParams;
+pub use umbra_geom::frame::{FrameParams, Receivers};
 pub use umbra_geom::frame_images::{CaptureFlags, FrameImages, LightCapture, LitMask, StencilMask};
 
 /// Which per-light stencil masks to read back (after the method's volume pass, before

@@ -11,6 +11,7 @@
 use glow::HasContext;
 
 use crate::camera::{DepthConvention, DepthConventionGl};
+use crate::renderer::Receivers;
 
 /// One face's stencil function and operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -329,7 +330,7 @@ impl GlState {
     /// The state of a pass that re-draws the scene to record each pixel's visible sample into
     /// a buffer (the hier methods' samples pass, ray-bvh's): only the fragments whose depth
     /// equals the depth pass's run, and nothing of the frame is written.
-    pub fn visible_samples() -> GlState {
+    pub fn visible_samples(receivers: Receivers) -> GlState {
         GlState {
             // Reason: exactly the visible surface of each pixel: the renderer's invariant
             // vertex shader gives the depth pass's depths bit for bit, EQUAL selects them
@@ -346,11 +347,26 @@ impl GlState {
             stencil_back: StencilFace::KEEP,
             // Reason: no colour output (the frame's colour stays untouched).
             color_write: [false; 4],
-            // Reason: two-sided surfaces, as in the depth pass.
-            cull_face: None,
+            // Reason: the faces the depth pass showed, culled as it culled them
+            // ([`GlState::receivers_cull`]): a culled triangle coplanar with the visible one
+            // would pass EQUAL too.
+            cull_face: GlState::receivers_cull(receivers),
             front_face: glow::CCW,
             blend: None,
             polygon_offset: None,
+        }
+    }
+
+    /// The face culling of every pass that draws the scene's surfaces (the depth pass, and the
+    /// passes that re-draw them with depth EQUAL): `None` for [`Receivers::Both`] (triangle
+    /// soups are two-sided: every triangle is visible from both sides), `Some(GL_BACK)` for
+    /// [`Receivers::Front`] (a pixel shows the nearest triangle facing the eye, counter-clockwise
+    /// with `glFrontFace(GL_CCW)`, as three.js culls a `FrontSide` material). Never for volumes:
+    /// casters cast from both faces.
+    pub fn receivers_cull(receivers: Receivers) -> Option<u32> {
+        match receivers {
+            Receivers::Both => None,
+            Receivers::Front => Some(glow::BACK),
         }
     }
 }

@@ -97,6 +97,7 @@
 use std::collections::HashSet;
 
 use umbra_geom::adjacency::EdgeAdjacency;
+use umbra_geom::frame::Receivers;
 use umbra_geom::vec3::{cross, dot, norm, sub};
 use umbra_geom::{Light, WeldedMesh};
 
@@ -229,6 +230,11 @@ pub struct RasterView {
     /// produced the samples, with this precision (an external mask drawn by another renderer):
     /// then the band has [`BandParts::SEEN_SURFACE`] ([`crate::seen_surface`]).
     pub other_depth_pass: bool,
+    /// Which faces the depth passes can show ([`Receivers`]): with [`Receivers::Front`] both
+    /// the samples' pass and another depth pass cull back faces, so a triangle that faces away
+    /// from the eye beyond the rasterizer's precision is never the surface a pixel shows
+    /// ([`crate::seen_surface`]).
+    pub receivers: Receivers,
 }
 
 /// `2^(e - 23)` for the exponent `e` of `z` (the f32 spacing just above `|z|`, i.e. GL's `r`
@@ -248,6 +254,7 @@ impl RasterView {
             subpixel_bits: MIN_SUBPIXEL_BITS,
             depth: DepthFormat::Float32,
             other_depth_pass: false,
+            receivers: Receivers::Both,
         }
     }
 

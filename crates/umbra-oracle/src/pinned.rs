@@ -4,7 +4,7 @@
 use umbra_geom::camera::{Camera, DepthConvention};
 use umbra_geom::WeldedMesh;
 
-use crate::envelope::{BandParts, DepthFormat, RasterView};
+use crate::envelope::{BandParts, RasterView};
 use crate::{reference_in_view, Bvh, SampleClass, Samples};
 
 /// The triangles that decide one pixel, the light, the sample's world position and the camera
@@ -30,7 +30,7 @@ impl PinnedView {
     ) -> ((u32, u32), SampleClass, BandParts) {
         let cols = self.camera.clip_from_world_cols(f64::from(width) / f64::from(height), DepthConvention::ReversedZ);
         let clip_from_world: [f64; 16] = std::array::from_fn(|i| cols[i / 4][i % 4]);
-        let view = RasterView { clip_from_world, subpixel_bits: bits, depth: DepthFormat::Float32, other_depth_pass };
+        let view = RasterView { subpixel_bits: bits, other_depth_pass, ..RasterView::new(clip_from_world) };
         let s = self.sample.map(f64::from);
         let [x, y] = view.window_xy(s, width, height).unwrap().map(|c| c.floor() as u32);
         let i = (y * width + x) as usize;

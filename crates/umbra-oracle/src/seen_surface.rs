@@ -36,6 +36,17 @@
 //!   ([`segment_crosses`], by signs: a distance compared with 0 missed Sponza's (556, 461) at
 //!   1280 x 720), and the background unless one of those covers every point within `δ` of `c`.
 //!
+//!
+//! With front faces only ([`crate::envelope::RasterView::receivers`], both depth passes cull
+//! back faces, as three.js draws a `FrontSide` material), a triangle that faces away from the
+//! eye is never seen: it is no candidate, unless its facing is within the rasterizer's
+//! precision ([`RasterView::facing_uncertain`]: its snapped vertices may wind either way, and
+//! one pass may draw it while the other culls it). Such a triangle covers a pixel centre only
+//! within `δ` of its edges (its inradius is at most twice the snapping), so the walk above
+//! finds it. Behind a free edge, only a triangle that surely faces the eye covers the pixel
+//! for every pass, and a coplanar neighbour continues `T`'s surface only when it is wound as
+//! `T` ([`free_edge`]).
+//!
 //! The sample is [`crate::BandParts::SEEN_SURFACE`] when a candidate's own decision — its
 //! class and band at the point where the pixel's ray meets its plane, with its own envelope
 //! (which covers the rasterizer moving that point along it) — differs from the sample's or is
@@ -143,9 +154,37 @@ pub fn segment_crosses(p0: [f64; 3], p1: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> 
     v >= 0.0 && w >= 0.0 && v + w <= 1.0
 }
 
+/// Every triangle's edges as it walks them, `[from, to, opposite]`, sorted: whether a triangle
+/// on an edge is wound as its neighbour across it (it walks the edge the other way).
+pub struct DirectedEdges(Vec<[u32; 3]>);
+
+impl DirectedEdges {
+    pub fn build(mesh: &WeldedMesh) -> DirectedEdges {
+        let mut walks: Vec<[u32; 3]> =
+            mesh.triangles.iter().flat_map(|t| (0..3).map(move |k| [t[k], t[(k + 1) % 3], t[(k + 2) % 3]])).collect();
+        walks.par_sort_unstable();
+        DirectedEdges(walks)
+    }
+
+    /// Whether some triangle walks the edge `from -> to` with `opposite` as its third vertex.
+    pub fn walks(&self, from: u32, to: u32, opposite: u32) -> bool {
+        self.0.binary_search(&[from, to, opposite]).is_ok()
+    }
+}
+
 /// Whether the edge `k` of triangle `t` is *free* for its surface: no other triangle on it
-/// lies in `t`'s plane (within `tolerance`, world units) on the other side of the edge.
-pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, tolerance: f64) -> bool {
+/// lies in `t`'s plane (within `tolerance`, world units) on the other side of the edge. With
+/// `front_only` (the depth passes cull back faces, [`crate::envelope::RasterView::receivers`])
+/// only a neighbour wound as `t` continues it: one wound the other way faces away from the eye
+/// wherever `t` faces it, and is culled.
+pub fn free_edge(
+    mesh: &WeldedMesh,
+    adjacency: &EdgeAdjacency,
+    t: u32,
+    k: u8,
+    tolerance: f64,
+    front_only: Option<&DirectedEdges>,
+) -> bool {
     let tri = mesh.triangles[t as usize];
     let (ia, ib, io) = (tri[k as usize], tri[(k as usize + 1) % 3], tri[(k as usize + 2) % 3]);
     let key = [ia.min(ib), ia.max(ib)];
@@ -166,7 +205,9 @@ pub fn free_edge(mesh: &WeldedMesh, adjacency: &EdgeAdjacency, t: u32, k: u8, to
     let own = side(o);
     !adjacency.opposites(e).iter().any(|&v| {
         let p = pos(v);
-        (dot(n, sub(p, a)) / nlen).abs() <= tolerance && side(p) * own < 0.0
+        (dot(n, sub(p, a)) / nlen).abs() <= tolerance
+            && side(p) * own < 0.0
+            && front_only.is_none_or(|walks| walks.walks(ib, ia, v))
     })
 }
 
@@ -411,8 +452,8 @@ mod tests {
             degenerate_triangles: 0,
         };
         let adjacency = EdgeAdjacency::build(&flat);
-        assert!(!free_edge(&flat, &adjacency, 0, 1, 1e-9), "edge 1-2 continues into triangle 1");
-        assert!(free_edge(&flat, &adjacency, 0, 0, 1e-9), "edge 0-1 is the border");
+        assert!(!free_edge(&flat, &adjacency, 0, 1, 1e-9, None), "edge 1-2 continues into triangle 1");
+        assert!(free_edge(&flat, &adjacency, 0, 0, 1e-9, None), "edge 0-1 is the border");
         let folded = WeldedMesh {
             positions,
             triangles: vec![[0, 1, 2], [1, 4, 2]],
@@ -420,6 +461,25 @@ mod tests {
             degenerate_triangles: 0,
         };
         let adjacency = EdgeAdjacency::build(&folded);
-        assert!(free_edge(&folded, &adjacency, 0, 1, 1e-9), "a crease: the neighbour is not in the plane");
+        assert!(free_edge(&folded, &adjacency, 0, 1, 1e-9, None), "a crease: the neighbour is not in the plane");
+    }
+
+    #[test]
+    fn with_front_faces_only_a_neighbour_wound_the_other_way_ends_the_surface() {
+        // The plane z = 0 again, the second triangle wound as the first (it walks 2 -> 1) or
+        // the other way round (1 -> 2): seen from +z it faces away from the eye, and is culled.
+        let positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+        for (second, free) in [([1, 3, 2], false), ([1, 2, 3], true)] {
+            let mesh = WeldedMesh {
+                positions: positions.clone(),
+                triangles: vec![[0, 1, 2], second],
+                source_triangle: vec![0, 1],
+                degenerate_triangles: 0,
+            };
+            let adjacency = EdgeAdjacency::build(&mesh);
+            let walks = DirectedEdges::build(&mesh);
+            assert!(!free_edge(&mesh, &adjacency, 0, 1, 1e-9, None), "both faces: {second:?} continues it");
+            assert_eq!(free_edge(&mesh, &adjacency, 0, 1, 1e-9, Some(&walks)), free, "front faces only: {second:?}");
+        }
     }
 }

@@ -234,6 +234,8 @@ pub fn raster_view(gl: &glow::Context, params: &FrameParams) -> RasterView {
     let bits = unsafe { gl.get_parameter_i32(glow::SUBPIXEL_BITS) };
     let mut view = RasterView::new(clip_from_world);
     view.depth = depth;
+    // The faces the depth pass shows: the reference judges the samples that pass drew.
+    view.receivers = params.receivers;
     // The spec's minimum when the query returns less (it may not).
     view.subpixel_bits = u32::try_from(bits).unwrap_or(0).max(view.subpixel_bits);
     view

@@ -44,6 +44,8 @@ pub fn bench_view(scene: &BenchScene, cameras: &[Keyframe], o: &MeasureOptions) 
         zpass: o.zpass,
         auto_zpass: o.auto_zpass,
         volume_cull: o.volume_cull,
+        // Benchmarks draw both faces, as the papers' methods do.
+        receivers: umbra_geom::Receivers::Both,
     })
 }
 

@@ -60,6 +60,7 @@ fn export_view_args(scene: &str, a: &ExportArgs) -> ViewArgs {
         zpass: false,
         zmode: "auto".into(),
         volume_cull: "on".into(),
+        receivers: "both".into(),
         max_input_bytes: a.max_input_bytes,
     }
 }

@@ -1,7 +1,7 @@
 //! Flag values to typed values: the parsers the per-command configurations call. Each
 //! error names its flag (`--size: expected WxH ...`).
 
-use umbra_geom::Light;
+use umbra_geom::{Light, Receivers};
 use umbra_gl::counter::Counter;
 use umbra_gl::methods::shadow_map::FacePasses;
 use umbra_gl::{create_method, method_names};
@@ -88,6 +88,16 @@ pub fn parse_volume_cull(text: &str) -> Result<bool, CliError> {
         "on" => Ok(true),
         "off" => Ok(false),
         other => Err(bad("--volume-cull", format!("expected on or off, got {other:?}"))),
+    }
+}
+
+/// `--receivers`: `both` (a pixel shows the nearest triangle, either face) or `front` (the
+/// nearest one facing the eye, as three.js draws a `FrontSide` material).
+pub fn parse_receivers(text: &str) -> Result<Receivers, CliError> {
+    match text.trim() {
+        "both" => Ok(Receivers::Both),
+        "front" => Ok(Receivers::Front),
+        other => Err(bad("--receivers", format!("expected front or both, got {other:?}"))),
     }
 }
 
@@ -223,6 +233,14 @@ mod tests {
         assert!(parse_size("0x720").is_err());
         assert!(parse_size("1280").is_err());
         assert!(parse_size("99999x1").is_err());
+    }
+
+    #[test]
+    fn receivers_flag_values() {
+        assert_eq!(parse_receivers("both").unwrap(), Receivers::Both);
+        assert_eq!(parse_receivers(" front ").unwrap(), Receivers::Front);
+        let e = parse_receivers("back").unwrap_err().to_string();
+        assert!(e.contains("--receivers") && e.contains("expected front or both"), "{e}");
     }
 
     #[test]

@@ -2,10 +2,11 @@
 //! `render`, `verify`, `view` and `export` draw them.
 
 use umbra_geom::scene;
-use umbra_geom::{Aabb, Light, Mesh};
+use umbra_geom::{Aabb, Light, Mesh, Receivers};
 
-use super::parse::{check_fov, parse_light, parse_size, parse_vec3, parse_volume_cull, parse_zmode};
+use super::parse::{check_fov, parse_light, parse_receivers, parse_size, parse_vec3, parse_volume_cull, parse_zmode};
 use crate::args::ViewArgs;
+use crate::backend::Backend;
 use crate::error::{bad, CliError};
 use crate::scenes::{default_camera, default_light, load_scene, CameraConfig, Framing};
 
@@ -24,6 +25,8 @@ pub struct ViewConfig {
     pub auto_zpass: bool,
     /// Volumes culled and clamped against the receivers (`--volume-cull on`, the default).
     pub volume_cull: bool,
+    /// Which faces a pixel can show (`--receivers`, default both).
+    pub receivers: Receivers,
 }
 
 impl ViewConfig {
@@ -71,6 +74,7 @@ impl ViewConfig {
         };
         let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
         let volume_cull = parse_volume_cull(&a.volume_cull)?;
+        let receivers = parse_receivers(&a.receivers)?;
         Ok(ViewConfig {
             scene_spec: a.scene.clone(),
             mesh,
@@ -81,6 +85,16 @@ impl ViewConfig {
             zpass,
             auto_zpass,
             volume_cull,
+            receivers,
         })
     }
+}
+
+/// `--receivers front` culls back faces in the GL renderer's depth pass; the wgpu backend draws
+/// both faces only.
+pub fn check_receivers(backend: Backend, view: &ViewConfig) -> Result<(), CliError> {
+    if backend == Backend::Wgpu && view.receivers != Receivers::Both {
+        return Err(bad("--receivers", "front applies to --backend gl (the wgpu backend draws both faces)"));
+    }
+    Ok(())
 }

@@ -118,6 +118,10 @@ pub struct VolumeFrame<'a> {
     /// Cull and clamp the volumes against the light's receivers, for the methods that can
     /// ([`ShadowMethod::culls_volumes`]); from [`umbra_geom::FrameParams::volume_cull`].
     pub volume_cull: bool,
+    /// Which faces the depth pass showed ([`umbra_geom::FrameParams::receivers`]): a pass that
+    /// re-draws the scene's surfaces with depth EQUAL culls as it did
+    /// ([`crate::GlState::visible_samples`]).
+    pub receivers: crate::Receivers,
     /// Size of the render target in pixels.
     pub width: u32,
     /// Height of the render target in pixels.

@@ -97,8 +97,12 @@ impl Renderer {
             stencil_front: StencilFace::KEEP,
             stencil_back: StencilFace::KEEP,
             color_write: [true; 4],
-            // Reason: triangle soups are two-sided; every triangle is visible from both sides.
-            cull_face: None,
+            // Reason: which faces a pixel can show (`params.receivers`): none culled for
+            // triangle soups, which are two-sided; back faces culled for `Receivers::Front`,
+            // so the nearest front-facing triangle wins, as three.js draws a FrontSide
+            // material ([`GlState::receivers_cull`]).
+            cull_face: GlState::receivers_cull(params.receivers),
+            // Reason: counter-clockwise on the screen is the front face (GL's default).
             front_face: glow::CCW,
             // Reason: opaque ambient base colour.
             blend: None,

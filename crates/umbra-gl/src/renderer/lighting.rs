@@ -123,8 +123,9 @@ impl Renderer {
             stencil_back: write_zero,
             // Reason: no colour output at all (the caller's colour stays untouched).
             color_write: [false; 4],
-            // Reason: two-sided surfaces.
-            cull_face: None,
+            // Reason: the faces pass 1 showed, culled as it culled them: a culled triangle
+            // coplanar with the visible one would pass EQUAL too ([`GlState::receivers_cull`]).
+            cull_face: GlState::receivers_cull(params.receivers),
             front_face: glow::CCW,
             blend: None,
             polygon_offset: None,
@@ -247,8 +248,10 @@ impl Renderer {
             stencil_back: stencil_face,
             // Reason: alpha keeps pass 1's coverage value 1.
             color_write: [true, true, true, false],
-            // Reason: two-sided surfaces, as in pass 1.
-            cull_face: None,
+            // Reason: the faces pass 1 showed, culled as it culled them: a culled triangle
+            // coplanar with the visible one would pass EQUAL and add this light where the
+            // surface shown is not lit ([`GlState::receivers_cull`]).
+            cull_face: GlState::receivers_cull(params.receivers),
             front_face: glow::CCW,
             // Reason: each light adds its diffuse + specular onto ambient + earlier lights.
             // On the R8 lit mask (draw buffer 3) the same blend is min(1, dst + src) with

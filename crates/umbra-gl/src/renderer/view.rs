@@ -48,6 +48,7 @@ impl PassView {
             light_index,
             zpass: params.zpass,
             volume_cull: params.volume_cull,
+            receivers: params.receivers,
             width: params.width,
             height: params.height,
             target_framebuffer: self.fb,

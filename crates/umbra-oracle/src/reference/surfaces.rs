@@ -10,7 +10,8 @@ use umbra_geom::vec3::{cross, dot, norm, sub};
 use super::{to_f64, Context, Envelope, SampleClass, Samples};
 use crate::envelope::{BandParts, RasterView};
 use crate::nearer_contour::PixelSurface;
-use crate::seen_surface::{free_edge, inverse_w_plane, segment_crosses, NearEdge};
+use crate::seen_surface::{free_edge, inverse_w_plane, segment_crosses, DirectedEdges, NearEdge};
+use umbra_geom::frame::Receivers;
 
 impl Context<'_> {
     /// SURFACE's nearer contours (crate::envelope): marks the samples at whose pixel the
@@ -46,6 +47,49 @@ impl Context<'_> {
             .collect();
         for i in marked {
             parts[i] |= BandParts::SURFACE;
+        }
+    }
+
+    /// Which faces the depth passes show ([`RasterView::receivers`]; both without a view).
+    fn receivers(&self) -> Receivers {
+        self.view.map_or(Receivers::Both, |v| v.receivers)
+    }
+
+    /// Whether triangle `id` faces away from the eye (its counter-clockwise side, GL's front
+    /// face, does not face it), and whether that is within the rasterizer's precision: its
+    /// snapped vertices may wind either way ([`RasterView::facing_uncertain`], the same test
+    /// as the samples' FACING part), or its plane passes through the eye.
+    fn faces_away(&self, id: u32) -> (bool, bool) {
+        let tri = self.mesh.triangles[id as usize].map(|k| self.vertex(k));
+        let [a, b, c] = tri;
+        let eye_side = dot(cross(sub(b, a), sub(c, a)), sub(self.eye, a));
+        let uncertain = eye_side == 0.0
+            || !eye_side.is_finite()
+            || self.view.is_some_and(|v| v.facing_uncertain(tri, self.width, self.height));
+        (eye_side < 0.0, uncertain)
+    }
+
+    /// Whether a depth pass may show triangle `id`: every triangle with both faces; with front
+    /// faces only, not one that faces away from the eye beyond the rasterizer's precision.
+    fn may_show(&self, id: u32) -> bool {
+        match self.receivers() {
+            Receivers::Both => true,
+            Receivers::Front => {
+                let (away, uncertain) = self.faces_away(id);
+                !away || uncertain
+            }
+        }
+    }
+
+    /// Whether every depth pass draws triangle `id` (none culls it): with front faces only, it
+    /// faces the eye beyond the rasterizer's precision.
+    fn surely_shown(&self, id: u32) -> bool {
+        match self.receivers() {
+            Receivers::Both => true,
+            Receivers::Front => {
+                let (away, uncertain) = self.faces_away(id);
+                !away && !uncertain
+            }
         }
     }
 
@@ -94,6 +138,7 @@ impl Context<'_> {
     ) -> Vec<(usize, [f64; 3], f64)> {
         let delta = self.lateral_pixels;
         let adjacency = EdgeAdjacency::build(self.mesh);
+        let walks = (self.receivers() == Receivers::Front).then(|| DirectedEdges::build(self.mesh));
         // The pixels of `near` still outside the band (SURFACE's nearer contours took some).
         let groups: Vec<&[NearEdge]> = near
             .chunk_by(|a, b| a.0 == b.0)
@@ -103,7 +148,7 @@ impl Context<'_> {
             .par_iter()
             .map(|group| {
                 let i = group[0].0 as usize;
-                let (mark, others) = self.seen_at(samples, &adjacency, i, class[i], group, delta);
+                let (mark, others) = self.seen_at(samples, (&adjacency, walks.as_ref()), i, class[i], group, delta);
                 (i, mark, others)
             })
             .collect();
@@ -124,7 +169,7 @@ impl Context<'_> {
     fn seen_at(
         &self,
         samples: &Samples,
-        adjacency: &EdgeAdjacency,
+        (adjacency, walks): (&EdgeAdjacency, Option<&DirectedEdges>),
         i: usize,
         class: SampleClass,
         group: &[NearEdge],
@@ -136,13 +181,19 @@ impl Context<'_> {
         let (x, y, t, s, radius) = (at.x, at.y, at.triangle, at.s, at.radius);
         let same_surface = |id: u32| at.same_surface(self.mesh, id);
         // T's surface may not cover the pixel centre: a free edge of it passes within delta.
-        let free =
-            group.iter().any(|&(_, id, k)| same_surface(id) && free_edge(self.mesh, adjacency, id, k, at.position));
+        // (With front faces only, a coplanar neighbour wound the other way is culled: it does
+        // not continue T's surface.)
+        let free = group
+            .iter()
+            .any(|&(_, id, k)| same_surface(id) && free_edge(self.mesh, adjacency, id, k, at.position, walks));
         // (Most surfaces in front with an edge within delta made the pixel SURFACE band
         // already, mark_nearer_contours; not T's neighbour across T's own edge.)
         let in_front = |id: u32| at.in_front(self.mesh, view, id, delta);
-        let mut candidates: Vec<u32> =
-            group.iter().map(|g| g.1).filter(|&id| !same_surface(id) && (free || in_front(id))).collect();
+        let mut candidates: Vec<u32> = group
+            .iter()
+            .map(|g| g.1)
+            .filter(|&id| !same_surface(id) && self.may_show(id) && (free || in_front(id)))
+            .collect();
         let mut background = false;
         if free {
             // What lies behind the sample along its ray, and whether one of those covers every
@@ -154,9 +205,11 @@ impl Context<'_> {
             let mut covered = false;
             self.bvh.triangles_near_segment(self.eye, dir, 1.0 - radius / len, far, t, 0.0, |id, v| {
                 let v = v.map(to_f64);
-                if !same_surface(id) && segment_crosses(s, end, v) {
+                if !same_surface(id) && self.may_show(id) && segment_crosses(s, end, v) {
                     candidates.push(id);
-                    covered |= view.edge_distance_px(v, x, y, width, height).is_some_and(|d| d > delta);
+                    // Covers for sure only if no depth pass may cull it.
+                    covered |= self.surely_shown(id)
+                        && view.edge_distance_px(v, x, y, width, height).is_some_and(|d| d > delta);
                 }
                 false
             });

@@ -3,7 +3,7 @@
 //! ([`FrameParams::check`], [`WgpuError::InvalidParams`]).
 
 use umbra_geom::camera::DepthConvention;
-use umbra_geom::frame::Counter;
+use umbra_geom::frame::{Counter, Receivers};
 use umbra_geom::FrameParams;
 
 use crate::error::WgpuError;
@@ -22,6 +22,13 @@ pub(super) fn validate(params: &FrameParams) -> Result<(), WgpuError> {
             what: "depth convention",
             value: format!("{:?}", params.depth_convention),
             supported: "ReversedZ",
+        });
+    }
+    if params.receivers != Receivers::Both {
+        return Err(WgpuError::Unsupported {
+            what: "receivers",
+            value: params.receivers.name().to_string(),
+            supported: Receivers::Both.name(),
         });
     }
     Ok(params.check()?)
@@ -43,6 +50,9 @@ mod tests {
         let standard = FrameParams { depth_convention: DepthConvention::Standard, ..FrameParams::default() };
         let e = validate(&standard).unwrap_err();
         assert!(matches!(e, WgpuError::Unsupported { what: "depth convention", .. }), "{e:?}");
+        let front = FrameParams { receivers: Receivers::Front, ..FrameParams::default() };
+        let e = validate(&front).unwrap_err();
+        assert!(matches!(e, WgpuError::Unsupported { what: "receivers", .. }), "{e:?}");
         let e = validate(&FrameParams { width: 0, ..FrameParams::default() }).unwrap_err();
         assert!(matches!(e, WgpuError::InvalidParams(_)), "{e:?}");
     }

@@ -509,7 +509,7 @@ impl<'a> Passes<'a> {
             return;
         }
         self.clear(light, 0, pixels);
-        GlState::visible_samples().apply(gl);
+        GlState::visible_samples(frame.receivers).apply(gl);
         // SAFETY: our program and the scene's vertex array; the frame's target is bound.
         unsafe {
             // Reason: the clear's writes must land before the fragment shader's.

@@ -323,7 +323,7 @@ impl RayBvhMethod {
             // Reason: the clear's writes must land before the fragment shader's.
             gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
         }
-        GlState::visible_samples().apply(gl);
+        GlState::visible_samples(frame.receivers).apply(gl);
         // SAFETY: as above.
         unsafe {
             gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, frame.target_framebuffer);

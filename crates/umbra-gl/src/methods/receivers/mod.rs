@@ -79,7 +79,7 @@ impl ReceiverPass {
         let light: Light = frame.light;
         let grid = ReceiverGrid::new(light, bounds, RECEIVER_SIDE);
         let cells = grid.cells();
-        GlState::visible_samples().apply(gl);
+        GlState::visible_samples(frame.receivers).apply(gl);
         // Reason: the scene's vertex shader writes no gl_ClipDistance, and the renderer may
         // have enabled them for the volume pass this runs in: off for this draw (as the depth
         // pass had them), restored below.
