@@ -478,6 +478,54 @@ test('silhouettes: \'gpu\' (the orientation pass, every record visited) decides 
   assert.deepEqual(r.find((s) => s.name === 'z-pass, light').cached, [0, 2], 'a light moved: its orientations computed again');
 });
 
+test('alpha-tested casters: a checkered leaf (alphaTest with an alphaMap) casts a checkered shadow through three.js\'s map while umbra decides for the rest; alphaCasters: \'triangles\' casts its whole quad; the user\'s flags kept', { skip }, async () => {
+  const r = await page.evaluate(async () => {
+    const { THREE, UmbraShadows } = window.T;
+    const run = async ({ alphaCasters, leafCasts }) => {
+      const renderer = makeRenderer();
+      const umbra = await UmbraShadows.create(renderer, alphaCasters ? { alphaCasters } : {});
+      const s = makeScene();
+      s.floor.receiveShadow = false; // the user's choice: umbra's shadows and the map's reach it anyway
+      // A 4 x 4 checker of alpha 0 and 1 on a 1 x 1 quad, 2.5 above the floor.
+      const alpha = new Uint8Array(4 * 16);
+      for (let i = 0; i < 16; i++) alpha.set(((i & 3) + (i >> 2)) % 2 ? [255, 255, 255, 255] : [0, 0, 0, 255], 4 * i);
+      const alphaMap = new THREE.DataTexture(alpha, 4, 4);
+      alphaMap.needsUpdate = true;
+      const leaf = new THREE.Mesh(new THREE.PlaneGeometry(1, 1).rotateX(-Math.PI / 2), new THREE.MeshLambertMaterial({ color: 0x44aa44, alphaMap, alphaTest: 0.5, side: THREE.DoubleSide }));
+      leaf.name = 'leaf';
+      leaf.position.set(-0.5, 2.5, 1.5);
+      leaf.castShadow = leafCasts;
+      s.scene.add(leaf);
+      s.light.shadow.mapSize.set(1024, 1024);
+      umbra.render(s.scene, s.camera);
+      return {
+        mask: umbra.readMask(s.light), image: pixels(renderer), mapCasters: umbra.info.mapCasters, errs: umbra.errors,
+        flags: { box: s.box.castShadow, floorReceives: s.floor.receiveShadow, leafCasts: leaf.castShadow, shadowMap: renderer.shadowMap.enabled }, errors: umbra.errors.length,
+      };
+    };
+    const map = await run({ leafCasts: true });
+    const none = await run({ leafCasts: false });
+    const triangles = await run({ alphaCasters: 'triangles', leafCasts: true });
+    for (const x of [map, none, triangles]) if (!x.mask) throw new Error(`no mask: ${JSON.stringify(x.errs)}`);
+    // Pixels the leaf darkens in the shaded image (the map), and pixels its whole quad shadows
+    // in umbra's mask (triangles).
+    let darker = 0;
+    for (let i = 0; i < map.image.length; i += 4) if (map.image[i + 1] + 8 < none.image[i + 1]) darker++;
+    return {
+      darker, quad: differing(triangles.mask, none.mask), maskSame: differing(map.mask, none.mask), mapCasters: [map.mapCasters, triangles.mapCasters],
+      flags: map.flags, errors: map.errors + none.errors + triangles.errors, shadowed: zeros(none.mask),
+    };
+  });
+  console.log(JSON.stringify(r));
+  assert.equal(r.errors, 0);
+  assert.deepEqual(r.mapCasters, [['leaf'], []], 'the leaf goes to the map; with alphaCasters: triangles, to umbra');
+  assert.equal(r.maskSame, 0, 'umbra\'s decision leaves the alpha-tested leaf out');
+  assert.ok(r.shadowed > 100, 'umbra still shadows the box');
+  assert.ok(r.quad > 200, `alphaCasters: triangles: the whole quad shadows the floor (${r.quad} pixels)`);
+  assert.ok(r.darker > 0.2 * r.quad && r.darker < 0.8 * r.quad, `the map's shadow is the leaf's checker, about half the quad's (${r.darker} of ${r.quad})`);
+  assert.deepEqual(r.flags, { box: true, floorReceives: false, leafCasts: true, shadowMap: false }, 'the user\'s flags after the frame');
+});
+
 test('light order: a shadow-casting light added after another lands on its own uniform (three.js sorts casters first)', { skip }, async () => {
   const r = await page.evaluate(async () => {
     const { THREE, UmbraShadows } = window.T;
