@@ -12,8 +12,10 @@ export interface UmbraError {
 export interface UmbraInfo {
   /** Lights umbra shadowed in the last frame (at most 4). */
   lights: number;
-  /** Casters (meshes with castShadow and a prepared topology) in the last frame. */
+  /** Casters (meshes with castShadow and a prepared topology; each drawn instance of an InstancedMesh or BatchedMesh) in the last frame. */
   casters: number;
+  /** Alpha-tested casters of the last frame that cast through three.js's shadow map (`alphaCasters: 'shadowMap'`), by name (else uuid). */
+  mapCasters: string[];
   /** Their triangles after welding. */
   triangles: number;
   /** Total milliseconds spent preparing topologies (wasm) so far. */
@@ -107,6 +109,15 @@ export interface UmbraOptions {
    * polygons). Volumes culled to their receivers are always the wasm's.
    */
   silhouettes?: 'auto' | 'wasm' | 'gpu';
+  /**
+   * Casters whose material discards fragments (alphaTest > 0, with or without an alphaMap, or
+   * alphaHash): 'shadowMap' (the default) casts them through three.js's own shadow map for
+   * that light, umbra the rest, and the lit materials multiply the two (every mesh receives
+   * that map in umbra's frame, whatever its receiveShadow; the light's shadow camera and
+   * mapSize are three.js's as the user set them); 'triangles' casts their whole triangles with
+   * umbra's volumes.
+   */
+  alphaCasters?: 'shadowMap' | 'triangles';
   /** Diagnostic: where the receiver maps are scattered ('auto': in the wasm on software rasterisers, else on the GPU). */
   receiverScatter?: 'auto' | 'gpu' | 'cpu';
   /** Diagnostic: clamp culled volumes 'always', 'never', or where it covers fewer pixels ('auto'). */

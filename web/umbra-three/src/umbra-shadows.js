@@ -22,10 +22,19 @@ import { Topology, TopologyError, flatTriangles, geometryPositions, meshName } f
 import { gatherLights, lightSlots } from './lights.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
-import { sidesOf } from './sides.js';
 import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
+
+/**
+ * Whether a mesh's material discards fragments by their alpha (three.js's alphaTest, with or
+ * without an alphaMap, or alphaHash): its shadow is not its triangles'. Any of a mesh's
+ * materials does it for the whole mesh.
+ */
+function alphaTested(mesh) {
+  const materials = Array.isArray(mesh.material) ? mesh.material : [mesh.material];
+  return materials.some((m) => m && (m.alphaTest > 0 || m.alphaHash === true));
+}
 
 /** Frames a z-pass union (unionOf) is kept after the last frame that asked for it. */
 const UNION_FRAMES = 600;
@@ -189,6 +198,12 @@ export class UmbraShadows {
     // with the same ones reuses them (`cache`).
     this.lastFrame = null;
     this.cache = options.cache !== false;
+    // Casters whose material discards fragments (alphaTested): to three.js's shadow map
+    // ('shadowMap', the default: a leaf casts a leaf) or as their whole triangles ('triangles').
+    const alpha = options.alphaCasters ?? 'shadowMap';
+    if (!['shadowMap', 'triangles'].includes(alpha)) throw new Error(`umbra-three: alphaCasters: '${alpha}': expected 'shadowMap' or 'triangles'`);
+    this.alphaCasters = alpha;
+    this.mapCasters = new Set();
     // Where the unculled silhouettes are computed: 'wasm' (the orientations and the list of
     // silhouette records on the main thread) or 'gpu' (the orientation pass and every record
     // visited by the sides' polygon pass: no main-thread work per light move); 'auto' (the
@@ -200,7 +215,7 @@ export class UmbraShadows {
     this.receivers = []; // per light slot, its receiver map in the wasm (volumeCull)
     this.samples = null; // the frame's samples in the wasm (volumeCull, receiverScatter 'cpu')
     this.info = {
-      lights: 0, casters: 0, triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, gpuBytes: 0, passes: {}, zpass: [],
+      lights: 0, casters: 0, mapCasters: [], triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, gpuBytes: 0, passes: {}, zpass: [],
       volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, silhouettes: this.silhouettes, volumes: [],
     };
   }
@@ -262,9 +277,28 @@ export class UmbraShadows {
     // scene (three.js's own shadow maps, say) is three.js's own image.
     const shadowMap = this.renderer.shadowMap.enabled;
     if (this.enabled) this.renderer.shadowMap.enabled = false;
+    // Alpha-tested casters (`alphaCasters: 'shadowMap'`) cast through three.js's own shadow
+    // map in this frame, umbra through its volumes for the rest: the map on (its programs
+    // multiply each light by its map, the patch by umbra's decision: the product), only those
+    // casters casting into it, every mesh receiving it as it receives umbra's shadows. Each
+    // flag is the user's again after the frame.
+    const restore = [];
+    if (this.enabled && !this.disposed && this.mapCasters.size) {
+      this.renderer.shadowMap.enabled = true;
+      scene.traverse((o) => {
+        if (!o.isMesh) return;
+        restore.push([o, o.castShadow, o.receiveShadow]);
+        o.castShadow = this.mapCasters.has(o);
+        o.receiveShadow = true;
+      });
+    }
     try {
       this.renderer.render(scene, camera);
     } finally {
+      for (const [o, cast, receive] of restore) {
+        o.castShadow = cast;
+        o.receiveShadow = receive;
+      }
       this.renderer.shadowMap.enabled = shadowMap;
       this.setSelects(new Map(), new Map());
     }
@@ -399,6 +433,7 @@ export class UmbraShadows {
   drawDecisions(scene, camera) {
     // Where the main thread's time goes (info.cpu): the scene walked and every mesh placed,
     // the z-pass tests, the passes issued (silhouettes, uploads and read-backs included).
+    this.mapCasters = new Set();
     const cpu = { scene: 0, clearance: 0, passes: 0 };
     this.info.cpu = cpu;
     let tc = performance.now();
@@ -467,14 +502,21 @@ export class UmbraShadows {
     // One drawn mesh: `geometry` (a mesh's own, or one of a BatchedMesh's) placed by `world`
     // (its matrixWorld, times an instance's matrix); `instance` names the instance (null for
     // a plain mesh), so that each keeps its own silhouettes (`cache`).
-    const place = (m, geometry, world, instance) => {
+    const mapCasting = this.alphaCasters === 'shadowMap';
+    const mapCasters = new Set();
+    const placeMesh = (m, geometry, world, instance, cast = true) => {
       const drawn = this.buffersOf(m, geometry);
       if (!drawn) return;
       const buffers = drawn.buffers;
       const we = world.elements;
       if (!(we[3] === 0 && we[7] === 0 && we[11] === 0 && we[15] === 1 && we.every(Number.isFinite))) affineWorlds = false;
       if (cullOn && drawn.box) worldBox(drawn.box, we, bounds);
-      const caster = m.castShadow ? this.casterOf(m, geometry) : null;
+      // An alpha-tested caster goes to three.js's shadow map (render()): not umbra's.
+      if (cast && m.castShadow && mapCasting && alphaTested(m)) {
+        mapCasters.add(m);
+        return placeMesh(m, geometry, world, instance, false);
+      }
+      const caster = m.castShadow && cast ? this.casterOf(m, geometry) : null;
       const volumes = caster ? caster.volumes : null;
       if (volumes) {
         casters++;
@@ -549,8 +591,6 @@ export class UmbraShadows {
         world: new Float32Array(worldFromObject),
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
         flip: world.determinant() < 0 ? -1 : 1,
-        // The ranges three.js draws and the faces its materials cull there (sides.js).
-        sides: sidesOf(m.material, geometry, buffers.vertices),
         lights: objectLights,
         silhouette: caster ? silhouette : null,
       });
@@ -569,18 +609,20 @@ export class UmbraShadows {
           const geometry = this.batchedGeometry(m, info[i].geometryIndex);
           if (!geometry) continue;
           m.getMatrixAt(i, instanceWorld).premultiply(m.matrixWorld);
-          place(m, geometry, instanceWorld.clone(), `b${i}`);
+          placeMesh(m, geometry, instanceWorld.clone(), `b${i}`);
         }
       } else if (m.isInstancedMesh) {
         // The first `count` instances, each by its matrix; one topology serves them all.
         for (let i = 0; i < m.count; i++) {
           m.getMatrixAt(i, instanceWorld).premultiply(m.matrixWorld);
-          place(m, m.geometry, instanceWorld.clone(), i);
+          placeMesh(m, m.geometry, instanceWorld.clone(), i);
         }
       } else {
-        place(m, m.geometry, m.matrixWorld, null);
+        placeMesh(m, m.geometry, m.matrixWorld, null);
       }
     }
+    this.mapCasters = mapCasters;
+    this.info.mapCasters = [...mapCasters].map(meshName);
     this.info.casters = casters;
     this.info.triangles = triangles;
     // No caster: nothing is shadowed, and the frame is three.js's own.
