@@ -15,6 +15,7 @@ import { gatherLights, lightSlots } from '../umbra-three/src/lights.js';
 import { Topology, TopologyError, flatTriangles, positionArray } from '../umbra-three/src/topology.js';
 import { patchedLightsChunk, patchMaterial, createUniforms, isReceiverMaterial } from '../umbra-three/src/materials.js';
 import { clipFromObject, infiniteProjection, mul } from '../umbra-three/src/camera.js';
+import { sidesOf, CULL_NONE, CULL_BACK, CULL_FRONT } from '../umbra-three/src/sides.js';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const WASM = path.join(here, '..', 'umbra-geom-wasm', 'umbra_wasm.wasm');
@@ -171,4 +172,25 @@ test('camera: clip from object is projection * view * model; reversed-Z puts the
   const near = view([0, 0, -0.5, 1]);
   assert.ok(Math.abs(near[2] / near[3] - 1) < 1e-12);
   assert.equal(view([0, 0, -1, 0])[2], 0);
+});
+
+test('sides: the ranges three.js draws and how each culls (FrontSide back faces, BackSide front faces, DoubleSide none), per group with an array of materials', () => {
+  const geometry = new THREE.BoxGeometry(); // 12 triangles, 6 groups of 6 indices
+  const single = (side) => Array.from(sidesOf(new THREE.MeshBasicMaterial({ side }), geometry, 36));
+  assert.deepEqual(single(THREE.FrontSide), [0, 36, CULL_BACK]);
+  assert.deepEqual(single(THREE.BackSide), [0, 36, CULL_FRONT]);
+  assert.deepEqual(single(THREE.DoubleSide), [0, 36, CULL_NONE]);
+  // The default material is FrontSide.
+  assert.deepEqual(Array.from(sidesOf(new THREE.Mesh(geometry).material, geometry, 36)), [0, 36, CULL_BACK]);
+  // An array of materials: by groups only, a group whose material is missing is not drawn.
+  const sides = [THREE.FrontSide, THREE.BackSide, THREE.DoubleSide].map((side) => new THREE.MeshBasicMaterial({ side }));
+  assert.deepEqual(Array.from(sidesOf([sides[0], sides[1], sides[2], sides[0]], geometry, 36)), [
+    0, 6, CULL_BACK, 6, 6, CULL_FRONT, 12, 6, CULL_NONE, 18, 6, CULL_BACK,
+  ]);
+  // Groups in any order and of any length, clamped to the drawn vertices.
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(27), 3));
+  g.addGroup(3, Infinity, 1);
+  g.addGroup(0, 3, 0);
+  assert.deepEqual(Array.from(sidesOf([sides[2], sides[1]], g, 9)), [3, 6, CULL_FRONT, 0, 3, CULL_NONE]);
 });

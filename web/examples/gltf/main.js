@@ -5,7 +5,10 @@
 // default scene.gltf beside this page), size=WxH (fixed canvas size), mask=1 (show the first
 // light's decision: white lit, black shadowed, as `umbra render`'s lit mask), eye=X,Y,Z,
 // target=X,Y,Z, up=X,Y,Z, fov=DEGREES, light=X,Y,Z[,W] (W = 0: directional, coming from
-// X,Y,Z) and maps=1 (start with three.js's shadow maps). `scene=URL` is taken as `model=URL`
+// X,Y,Z), maps=1 (start with three.js's shadow maps), side=front (every material
+// FrontSide, three.js's default: back faces culled, judged with `umbra verify --receivers
+// front`; default: DoubleSide) and mirror=1 (the model mirrored in x by its root's scale).
+// `scene=URL` is taken as `model=URL`
 // (a model file: this page loads no `umbra export` folder).
 // The camera and the first light are the ones `umbra render --scene MODEL` uses with the same
 // flags (view.js), so `umbra verify --external-mask` can judge the mask.
@@ -120,6 +123,9 @@ async function start() {
 
   const url = params.get('model') || params.get('scene') || 'scene.gltf';
   const model = await loadModel(url);
+  // mirror=1: the model mirrored in x by its root's scale (a world matrix of negative
+  // determinant, where three.js turns glFrontFace to CW).
+  if (params.get('mirror') === '1') model.scale.x = -model.scale.x;
   model.updateMatrixWorld(true);
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0x20242e);
@@ -135,9 +141,10 @@ async function start() {
     if (g.attributes.position && !g.attributes.normal) g.computeVertexNormals();
     o.castShadow = true;
     o.receiveShadow = true;
-    // Both faces drawn: umbra decides for whatever surface is nearest, front or back, and CAD
-    // and BIM models do not wind their faces consistently.
-    for (const m of Array.isArray(o.material) ? o.material : [o.material]) m.side = THREE.DoubleSide;
+    // Both faces drawn (CAD and BIM models do not wind their faces consistently), or with
+    // side=front the front faces only; umbra decides for the surface three.js shows either way.
+    const side = params.get('side') === 'front' ? THREE.FrontSide : THREE.DoubleSide;
+    for (const m of Array.isArray(o.material) ? o.material : [o.material]) m.side = side;
   });
 
   const bounds = triangleBounds(model);

@@ -22,6 +22,7 @@ import { Topology, TopologyError, flatTriangles, geometryPositions, meshName } f
 import { gatherLights, lightSlots } from './lights.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
+import { sidesOf } from './sides.js';
 import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
@@ -591,6 +592,8 @@ export class UmbraShadows {
         world: new Float32Array(worldFromObject),
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
         flip: world.determinant() < 0 ? -1 : 1,
+        // The ranges three.js draws and the faces its materials cull there (sides.js).
+        sides: sidesOf(m.material, geometry, buffers.vertices),
         lights: objectLights,
         silhouette: caster ? silhouette : null,
       });

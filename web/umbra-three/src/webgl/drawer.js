@@ -29,6 +29,7 @@
 import { ShadowVolumes, VolumePrograms } from './volumes.js';
 import { snapGlsl } from './vs_silhouette.js';
 import { link, GlSetupError } from './program.js';
+import { CULL_BACK, CULL_NONE } from '../sides.js';
 import depthVert from './glsl/depth.vert.glsl';
 import depthFrag from './glsl/depth.frag.glsl';
 import maskFrag from './glsl/mask.frag.glsl';
@@ -341,7 +342,7 @@ export class WebGLDrawer {
    * Draws one frame's decisions into the mask target. Leaves GL's default state behind it
    * (the caller then calls renderer.resetState()).
    * @param {{width: number, height: number, snap?: number, timing?: object|null,
-   *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, lights: Float32Array[], volumes: ShadowVolumes|null,
+   *   meshes: {buffers: object, clipFromObject: Float32Array, flip: number, sides?: Int32Array, lights: Float32Array[], volumes: ShadowVolumes|null,
    *     silhouette: ((k: number) => {silhouette: {orientation: Int8Array, records: Int32Array}|null, key: string|null, slot?: number})|null}[],
    *   lights: number, zpass?: (number|null)[]}} f  lights: how many (<= MAX_LIGHTS); mesh.lights[k]: light k in the mesh's space;
    *   zpass[k]: light k's z-pass stencil start (sum of W0 mod 256), or null/absent for z-fail;
@@ -353,7 +354,9 @@ export class WebGLDrawer {
    *   written), samples(n): the wasm's block for the frame's n floats of samples (the same),
    *   receive(k, fromSamples): builds light k's map from its cells or the samples, before its
    *   casters' silhouettes };
-   *   mesh.world: its world-from-object matrix (f32), for the position pass
+   *   mesh.world: its world-from-object matrix (f32), for the position pass;
+   *   mesh.sides: the vertex ranges three.js draws and how it culls each (sides.js sidesOf;
+   *   absent: every vertex, no culling)
    */
   frame(f) {
     const gl = this.gl;
@@ -417,24 +420,44 @@ export class WebGLDrawer {
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT | gl.STENCIL_BUFFER_BIT);
 
     // Pass 1: depth. Strictly nearer wins, depth writes on, colour off; no stencil, no
-    // blending, no culling (two-sided surfaces: triangle soups have no inside).
+    // blending; faces culled as three.js culls them (drawMeshes).
     gl.enable(gl.DEPTH_TEST);
     gl.depthFunc(nearer);
     gl.disable(gl.STENCIL_TEST);
     gl.disable(gl.BLEND);
-    gl.disable(gl.CULL_FACE);
     gl.colorMask(false, false, false, false);
+    // The depth, position and mask passes draw each mesh's ranges with its materials' sides
+    // (mesh.sides, sides.js): the surface three.js shows at a pixel is the one umbra decides
+    // for. Reason for each state: CULL_FACE on with glCullFace(BACK) for FrontSide and
+    // glCullFace(FRONT) for BackSide, off for DoubleSide (no inside to hide), as three.js
+    // culls; glFrontFace stays CCW (GL's default, what gl_FrontFacing and u_flip in the mask
+    // and position shaders assume), so for a mirroring world matrix, where three.js turns
+    // glFrontFace to CW and culls the same face, the other face is culled here: the same
+    // triangles. Culling off again after the pass: the volumes count both faces.
+    const cullFace = (cull, flip) => ((cull === CULL_BACK) === (flip > 0) ? gl.BACK : gl.FRONT);
     const drawMeshes = (program, perMesh) => {
       gl.useProgram(program.program);
       gl.uniform1f(program.u.u_snap, snap);
       gl.uniform2f(program.u.u_viewport_size, f.width, f.height);
+      gl.frontFace(gl.CCW);
       for (const m of f.meshes) {
         if (m.buffers.vertices === 0) continue;
         gl.uniformMatrix4fv(program.u.u_clip_from_world, false, m.clipFromObject);
         perMesh?.(m);
         gl.bindVertexArray(m.buffers.vao);
-        gl.drawArrays(gl.TRIANGLES, 0, m.buffers.vertices);
+        const sides = m.sides ?? Int32Array.of(0, m.buffers.vertices, CULL_NONE);
+        for (let i = 0; i < sides.length; i += 3) {
+          const cull = sides[i + 2];
+          if (cull === CULL_NONE) {
+            gl.disable(gl.CULL_FACE);
+          } else {
+            gl.enable(gl.CULL_FACE);
+            gl.cullFace(cullFace(cull, m.flip));
+          }
+          gl.drawArrays(gl.TRIANGLES, sides[i], sides[i + 1]);
+        }
       }
+      gl.disable(gl.CULL_FACE);
       gl.bindVertexArray(null);
     };
     const positionUniforms = (P) => (m) => {
