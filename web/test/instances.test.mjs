@@ -110,9 +110,12 @@ before(async () => {
       scene.updateMatrixWorld(true);
 
       // Every drawn instance's triangles in world space (what umbra verify judges), f64 then f32.
+      // Meshes the tests add (skinned, morphed), baked in their pose.
+      const extra = [];
       const world = () => {
         const pos = [];
-        const add = (geometry, m, range = null) => {
+        // `posedBy`: a skinned or morphed mesh, read in its pose (getVertexPosition, f64).
+        const add = (geometry, m, range = null, posedBy = null) => {
           const p = geometry.attributes.position;
           const idx = geometry.index;
           const first = range ? range.indexStart : 0;
@@ -120,7 +123,7 @@ before(async () => {
           const e = m.elements;
           for (let k = first; k < first + n; k++) {
             const i = idx ? idx.getX(k) : k;
-            const v = [p.getX(i), p.getY(i), p.getZ(i)];
+            const v = posedBy ? posedBy.getVertexPosition(i, new THREE.Vector3()).toArray() : [p.getX(i), p.getY(i), p.getZ(i)];
             for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
           }
         };
@@ -131,6 +134,7 @@ before(async () => {
           if (!batch.getVisibleAt(id)) continue;
           add(batch.geometry, batch.getMatrixAt(id, m).premultiply(batch.matrixWorld), batch.getGeometryRangeAt(batch.getGeometryIdAt(id)));
         }
+        for (const x of extra) add(x.geometry, x.matrixWorld, null, x);
         const lines = [];
         for (let i = 0; i < pos.length; i += 3) lines.push(`v ${pos[i]} ${pos[i + 1]} ${pos[i + 2]}`);
         for (let t = 0; t < pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
@@ -160,7 +164,7 @@ before(async () => {
         for (let i = 0; i < mask.length; i += 8192) s += String.fromCharCode.apply(null, mask.subarray(i, i + 8192));
         return { ...out, mask: s, errors: umbra.errors.slice(), info: { casters: umbra.info.casters, triangles: umbra.info.triangles, volumes: umbra.info.volumes, zpass: umbra.info.zpass }, subpixelBits: umbra.subpixelBits };
       };
-      window.T = { THREE, umbra, scene, camera, light, boxes, batch, frame, m4, ids: [b0, b1, b2] };
+      window.T = { THREE, umbra, scene, camera, light, boxes, batch, frame, m4, ids: [b0, b1, b2], extra };
     };
   }, [W, H]);
 });
@@ -221,3 +225,65 @@ for (const [name, options] of [['default', {}], ['GPU silhouettes, unculled', { 
     assert.notEqual(moved.frame.mask, shown.frame.mask, 'the moved instance moved its shadow');
   });
 }
+
+test('a SkinnedMesh (a bent, jointed column) and a morphed box cast from the pose three.js draws, frame after frame: 0 samples outside the band', { skip }, async () => {
+  await page.evaluate(async () => {
+    await window.makeWorld({});
+    const { THREE, scene, extra } = window.T;
+    // A column of 2 bones, its vertices weighted to the lower or upper bone by height.
+    const geometry = new THREE.CylinderGeometry(0.25, 0.25, 2, 8, 4);
+    geometry.translate(0, 1, 0);
+    const p = geometry.attributes.position;
+    const skinIndex = [];
+    const skinWeight = [];
+    for (let i = 0; i < p.count; i++) {
+      const upper = p.getY(i) > 1;
+      skinIndex.push(upper ? 1 : 0, 0, 0, 0);
+      skinWeight.push(1, 0, 0, 0);
+    }
+    geometry.setAttribute('skinIndex', new THREE.Uint16BufferAttribute(skinIndex, 4));
+    geometry.setAttribute('skinWeight', new THREE.Float32BufferAttribute(skinWeight, 4));
+    const root = new THREE.Bone();
+    const joint = new THREE.Bone();
+    joint.position.y = 1;
+    root.add(joint);
+    const column = new THREE.SkinnedMesh(geometry, new THREE.MeshLambertMaterial({ color: 0xcccccc, side: THREE.DoubleSide }));
+    column.name = 'column';
+    column.castShadow = true;
+    column.add(root);
+    column.bind(new THREE.Skeleton([root, joint]));
+    column.position.set(0.5, 0, -2);
+    scene.add(column);
+    // A box whose top is pulled up by a morph target.
+    const box = new THREE.BoxGeometry(1, 0.5, 1);
+    const up = box.attributes.position.clone();
+    for (let i = 0; i < up.count; i++) if (up.getY(i) > 0) up.setY(i, up.getY(i) + 1);
+    box.morphAttributes.position = [up];
+    const morphed = new THREE.Mesh(box, new THREE.MeshLambertMaterial({ color: 0xcccccc, side: THREE.DoubleSide }));
+    morphed.name = 'morphed';
+    morphed.castShadow = true;
+    morphed.position.set(-2.5, 0.25, -1.5);
+    morphed.morphTargetInfluences = [0.5];
+    scene.add(morphed);
+    scene.updateMatrixWorld(true);
+    extra.push(column, morphed);
+    window.T.pose = (angle, influence) => {
+      joint.rotation.z = angle;
+      morphed.morphTargetInfluences[0] = influence;
+      scene.updateMatrixWorld(true);
+    };
+  });
+  const masks = [];
+  for (const [angle, influence] of [[0.6, 0.5], [1.2, 1], [-0.8, 0.25]]) {
+    await page.evaluate(([a, i]) => window.T.pose(a, i), [angle, influence]);
+    const r = await judged(`posed-${angle}`);
+    console.log(JSON.stringify({ angle, influence, row: r.browser.mismatches_outside_band, band: r.browser.band_samples, shadowed: r.browser.shadowed_reference, errors: r.frame.errors, info: r.frame.info }));
+    assert.deepEqual(r.frame.errors, [], 'no mesh refused');
+    assert.equal(r.frame.info.casters, 8, 'the floor, 3 boxes, 2 batch instances, the column and the morphed box cast');
+    assert.deepEqual(r.frame.info.zpass, [null], 'a posed caster is counted z-fail');
+    assert.equal(r.browser.mismatches_outside_band, 0, `pose ${angle}, ${influence}: 0 outside the band: ${r.explained.join('; ')}`);
+    masks.push(r.frame.mask);
+  }
+  assert.notEqual(masks[0], masks[1], 'the pose moved the shadow');
+  assert.notEqual(masks[1], masks[2], 'and again');
+});

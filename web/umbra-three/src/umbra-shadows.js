@@ -18,7 +18,7 @@
 // Nothing thrown inside render(): a refused mesh or a failed frame is an entry in `errors`
 // (and onError), and the frame is drawn by three.js all the same.
 import { ExternalTexture, Matrix4, Vector2, Vector3 } from 'three';
-import { Topology, TopologyError, flatTriangles, geometryPositions, meshName } from './topology.js';
+import { Topology, TopologyError, flatTriangles, geometryPositions, meshName, positionArray } from './topology.js';
 import { gatherLights, lightSlots } from './lights.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
@@ -341,6 +341,8 @@ export class UmbraShadows {
           // The per-frame work (z-pass test, silhouette) lives in the wasm module's memory:
           // freed with the volumes.
           c.wasm = { caster: data.caster, dispose: () => data.caster.free() };
+          // The welded rest positions (a posed mesh's welded vertices start from them).
+          c.welded = data.positions;
           this.owned.add(c.wasm);
         } else {
           data.caster?.free();
@@ -365,6 +367,53 @@ export class UmbraShadows {
     }
     u.frame = this.frameCount;
     return u.union;
+  }
+
+  /**
+   * The positions (x y z per vertex, the mesh's space) of a skinned or morphed mesh `m` in the
+   * pose three.js draws it in this frame (Mesh / SkinnedMesh getVertexPosition: its morph
+   * targets, then its bones, in f64, rounded to f32), or null when `m` is neither (or its
+   * morph influences are all 0).
+   */
+  posed(m, geometry) {
+    const morphed = !!geometry.morphAttributes?.position?.length && (m.morphTargetInfluences || []).some((x) => x !== 0);
+    if (!m.isSkinnedMesh && !morphed) return null;
+    const count = geometry.attributes.position.count;
+    const out = new Float32Array(3 * count);
+    const v = new Vector3();
+    for (let i = 0; i < count; i++) {
+      m.getVertexPosition(i, v);
+      out[3 * i] = v.x;
+      out[3 * i + 1] = v.y;
+      out[3 * i + 2] = v.z;
+    }
+    return out;
+  }
+
+  /**
+   * A caster's welded vertices in `pose` (posed()): each welded vertex takes the posed position
+   * of the first input vertex welded into it (welding is by exact rest position: the map is
+   * built once per caster from its rest positions and the wasm's welded ones).
+   */
+  weldedPose(caster, geometry, pose) {
+    if (!caster.weldMap) {
+      const key = (x, y, z) => `${x === 0 ? 0 : x},${y === 0 ? 0 : y},${z === 0 ? 0 : z}`;
+      const welded = new Map();
+      const w = caster.welded;
+      for (let i = 0; i < w.length / 3; i++) welded.set(key(w[3 * i], w[3 * i + 1], w[3 * i + 2]), i);
+      const rest = positionArray(geometry.attributes.position);
+      const map = new Int32Array(rest.length / 3).fill(-1);
+      for (let i = 0; i < map.length; i++) map[i] = welded.get(key(rest[3 * i], rest[3 * i + 1], rest[3 * i + 2])) ?? -1;
+      caster.weldMap = map;
+    }
+    const out = Float32Array.from(caster.welded);
+    const done = new Uint8Array(out.length / 3);
+    caster.weldMap.forEach((wv, i) => {
+      if (wv < 0 || done[wv]) return;
+      done[wv] = 1;
+      out.set(pose.subarray(3 * i, 3 * i + 3), 3 * wv);
+    });
+    return out;
   }
 
   /**
@@ -511,6 +560,15 @@ export class UmbraShadows {
       const buffers = drawn.buffers;
       const we = world.elements;
       if (!(we[3] === 0 && we[7] === 0 && we[11] === 0 && we[15] === 1 && we.every(Number.isFinite))) affineWorlds = false;
+      // A skinned or morphed mesh in the pose three.js draws this frame (posed()): its depth-pass
+      // triangles and, as a caster, its welded vertices are those of the pose; its silhouettes
+      // come from the GPU, its count is z-fail (the z-pass test knows the rest pose only), and
+      // the frame is not culled (the receiver maps' bounds are the rest pose's).
+      const pose = instance === null ? this.posed(m, geometry) : null;
+      if (pose) {
+        this.drawer.updateMeshBuffers(buffers, flatTriangles(pose, geometry.index ? geometry.index.array.subarray(0, geometry.index.count) : null));
+        affineWorlds = false;
+      }
       if (cullOn && drawn.box) worldBox(drawn.box, we, bounds);
       // An alpha-tested caster goes to three.js's shadow map (render()): not umbra's.
       if (cast && m.castShadow && mapCasting && alphaTested(m)) {
@@ -522,6 +580,7 @@ export class UmbraShadows {
       if (volumes) {
         casters++;
         triangles += volumes.triangles;
+        if (pose) volumes.setVertices(this.weldedPose(caster, geometry, pose));
       }
       inverse.copy(world).invert();
       const e = inverse.elements;
@@ -533,7 +592,7 @@ export class UmbraShadows {
         const w = world.elements;
         const affine = w[3] === 0 && w[7] === 0 && w[11] === 0 && w[15] === 1;
         tests.push({
-          caster: caster.wasm.caster, points: pyramid && affine ? transformPoints(e, pyramid) : null, lights: objectLights,
+          caster: caster.wasm.caster, points: pyramid && affine && !pose ? transformPoints(e, pyramid) : null, lights: objectLights,
           // Casters of one world matrix share a space: asked as a union where needed.
           group: w.join(','), key: `${geometry.uuid}/${caster.key}`,
         });
@@ -570,13 +629,13 @@ export class UmbraShadows {
         // The caster's slot for light k: its own per instance for the first ones; the others
         // share slot k, computed again every frame (key null).
         const slot = instanceSlot === null ? k : instanceSlot + k;
-        const key = this.cache && (instanceSlot !== null || instance === null) ? objectLights[k].join(',') : null;
+        const key = this.cache && !pose && (instanceSlot !== null || instance === null) ? objectLights[k].join(',') : null;
         if (caster.volumes.holds(slot, key) && caster.volumes.slots[slot].gpu === gpuSilhouettes) {
           v.edges += caster.volumes.slots[slot].records;
           v.cached++;
           return { silhouette: null, key, slot };
         }
-        if (gpuSilhouettes) {
+        if (gpuSilhouettes || pose) {
           // Oriented on the GPU; the sides visit every record.
           v.edges += caster.volumes.records;
           return { silhouette: 'gpu', key, slot };
@@ -592,6 +651,8 @@ export class UmbraShadows {
         world: new Float32Array(worldFromObject),
         // A mirroring transform turns the winding: the mask pass flips gl_FrontFacing back.
         flip: world.determinant() < 0 ? -1 : 1,
+        // A posed mesh's frame is never the last one's (its pose is read every frame).
+        pose: pose ? this.frameCount : -1,
         // The ranges three.js draws and the faces its materials cull there (sides.js).
         sides: sidesOf(m.material, geometry, buffers.vertices),
         lights: objectLights,
@@ -600,10 +661,6 @@ export class UmbraShadows {
     };
     const instanceWorld = new Matrix4();
     for (const m of meshes) {
-      if (m.isSkinnedMesh) {
-        if (m.castShadow) this.report(meshName(m), `${m.type}: umbra-three does not follow skinning; drawn without its shadow`);
-        continue;
-      }
       if (m.isBatchedMesh) {
         // Every active, visible instance: its geometry's range of the batch, by its matrix.
         const info = m._instanceInfo;

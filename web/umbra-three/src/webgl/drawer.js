@@ -152,6 +152,17 @@ export class WebGLDrawer {
     return bytes;
   }
 
+  /** A mesh's buffers (createMeshBuffers) refilled with `tri` of the same triangle count (a posed mesh). */
+  updateMeshBuffers(m, tri) {
+    const gl = this.gl;
+    if (3 * tri.triangles !== m.vertices) throw new Error(`umbra-three: a posed mesh has ${tri.triangles} triangles, its buffers ${m.vertices / 3}`);
+    m.buffers.forEach((b, i) => {
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.bufferSubData(gl.ARRAY_BUFFER, 0, i === 0 ? tri.positions : tri.normals);
+    });
+    gl.bindBuffer(gl.ARRAY_BUFFER, null);
+  }
+
   deleteMeshBuffers(m) {
     const gl = this.gl;
     gl.deleteVertexArray(m.vao);

@@ -251,6 +251,27 @@ export class ShadowVolumes {
     gl.activeTexture(gl.TEXTURE0);
   }
 
+  /**
+   * The welded vertices moved to `positions` (x y z each, this caster's space: a skinned or
+   * morphed mesh's pose), read by the GPU silhouettes and every polygon after. Sets the plain
+   * unpack state it needs (three.js sets its own per texture; resetState() after umbra's frame).
+   */
+  setVertices(positions) {
+    const gl = this.gl;
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.pixelStorei(gl.UNPACK_ROW_LENGTH, 0);
+    gl.pixelStorei(gl.UNPACK_SKIP_ROWS, 0);
+    gl.pixelStorei(gl.UNPACK_SKIP_PIXELS, 0);
+    gl.bindTexture(gl.TEXTURE_2D, this.vertexTex);
+    upload(gl, 2 ** this.shift, gl.RGB, gl.FLOAT, positions, 0, 3, this.vertices);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    // Every slot's silhouette was of the old vertices.
+    for (const slot of this.slots) slot.key = null;
+  }
+
   /** Light slot k's silhouette textures, made when first asked for. */
   silhouetteSlot(k) {
     while (this.slots.length <= k) {
