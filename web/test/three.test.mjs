@@ -396,7 +396,7 @@ test('cache: nothing moved, the decisions reused; the camera moved, each light\'
   }
 });
 
-test('memory: a caster of more polygons than the shared polygon storage holds at once (80,000 triangles, z-fail caps: five chunks) decides as its 2-triangle twin; info.gpuBytes counts umbra\'s buffers', { skip }, async () => {
+test('memory: a caster of more polygons than the shared polygon storage holds at once (80,000 triangles, z-fail caps: ten chunks) decides as its 2-triangle twin; info.gpuBytes counts umbra\'s buffers', { skip }, async () => {
   const r = await page.evaluate(async () => {
     const { THREE, UmbraShadows } = window.T;
     const run = async (segments) => {
@@ -422,8 +422,8 @@ test('memory: a caster of more polygons than the shared polygon storage holds at
   assert.ok(r.shadowed > 1000, 'the box shadows the floor');
   // The two floors' depth differs by rounding only: a pixel or two on the shadow's edge.
   assert.ok(r.differing <= r.shadowed / 200, `fine and coarse floors decide alike (${r.differing} of ${r.shadowed})`);
-  assert.equal(r.storage[0], 16384, 'the fine floor\'s sets are drawn in chunks of the largest storage (POLYGON_CHUNK)');
-  assert.ok(r.storage[1] < 16384, 'a small scene keeps a small storage');
+  assert.equal(r.storage[0], 8192, 'the fine floor\'s sets are drawn in chunks of the largest storage (POLYGON_CHUNK)');
+  assert.ok(r.storage[1] < 8192, 'a small scene keeps a small storage');
   // 160 x 120: mask 4 + depth-stencil 8 bytes a pixel at least, and the casters' textures.
   assert.ok(r.gpuBytes[1] > 160 * 120 * 12, `gpuBytes counts the targets (${r.gpuBytes[1]})`);
   assert.ok(r.gpuBytes[0] > r.gpuBytes[1] + 80000 * 48, `gpuBytes counts the fine floor's caps-data (${r.gpuBytes[0]})`);

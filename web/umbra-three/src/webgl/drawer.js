@@ -27,7 +27,7 @@
 // These are exactly VolumeFrame::far_clip_z / shadow_volume_state of the two conventions
 // (shared/depth.glsl). No three.js import: the caller (umbra-shadows.js) hands in matrices.
 import { ShadowVolumes, VolumePrograms } from './volumes.js';
-import { snapGlsl } from './vs_silhouette.js';
+import { snapGlsl, elementsGlsl, textureRows } from './vs_silhouette.js';
 import { link, GlSetupError } from './program.js';
 import { CULL_BACK, CULL_NONE } from '../sides.js';
 import depthVert from './glsl/depth.vert.glsl';
@@ -77,7 +77,7 @@ export class WebGLDrawer {
 
     const version = '#version 300 es\n';
     if (!depthVert.startsWith(version)) throw new GlSetupError('glsl/depth.vert.glsl must start with #version 300 es');
-    const vert = `${version}precision highp float;\n${snapGlsl}\n${depthVert.slice(version.length)}`;
+    const vert = `${version}precision highp float;\n${snapGlsl}\n${elementsGlsl}\n${depthVert.slice(version.length)}`;
     this.depthProgram = link(gl, 'depth pass', 'glsl/depth.vert.glsl', vert, 'glsl/depth.frag.glsl', depthFrag);
     this.maskProgram = link(gl, 'mask pass', 'glsl/depth.vert.glsl', vert, 'glsl/mask.frag.glsl', maskFrag);
     this.volumePrograms = new VolumePrograms(gl);
@@ -118,24 +118,58 @@ export class WebGLDrawer {
     return new ShadowVolumes(this.gl, this.volumePrograms, data);
   }
 
-  /** A mesh's de-indexed triangles (topology.js flatTriangles) as a vertex array. */
+  /**
+   * A mesh's de-indexed triangles (topology.js flatTriangles) as a vertex array of their
+   * positions and an RGB32F texture of their flat normals, one texel per triangle (2^shift
+   * wide, as the volumes' data textures; depth.vert.glsl).
+   */
   createMeshBuffers(tri) {
     const gl = this.gl;
     const vao = gl.createVertexArray();
     gl.bindVertexArray(vao);
-    const buffers = [];
-    for (const [loc, data] of [[0, tri.positions], [1, tri.normals]]) {
-      const b = gl.createBuffer();
-      gl.bindBuffer(gl.ARRAY_BUFFER, b);
-      // STATIC_DRAW: uploaded once per geometry version, drawn by every frame.
-      gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
-      gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
-      gl.enableVertexAttribArray(loc);
-      buffers.push(b);
-    }
+    const b = gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, b);
+    // STATIC_DRAW: uploaded once per geometry version, drawn by every frame.
+    gl.bufferData(gl.ARRAY_BUFFER, tri.positions, gl.STATIC_DRAW);
+    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
+    gl.enableVertexAttribArray(0);
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
-    return { vao, buffers, vertices: 3 * tri.triangles, bytes: tri.positions.byteLength + tri.normals.byteLength };
+    const shift = this.volumePrograms.shift;
+    const width = 2 ** shift;
+    const rows = textureRows(tri.triangles, shift);
+    const normals = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, normals);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGB32F, width, rows);
+    // NEAREST: a float texture is incomplete with filtering; texelFetch never filters.
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    const m = { vao, buffers: [b], normals, vertices: 3 * tri.triangles, bytes: tri.positions.byteLength + 12 * width * rows };
+    this.fillNormals(m, tri);
+    return m;
+  }
+
+  /** The flat normal of every triangle of `tri` (one per triangle) into mesh `m`'s normal texture. */
+  fillNormals(m, tri) {
+    const gl = this.gl;
+    const n = new Float32Array(3 * tri.triangles);
+    for (let t = 0; t < tri.triangles; t++) n.set(tri.normals.subarray(9 * t, 9 * t + 3), 3 * t);
+    const width = 2 ** this.volumePrograms.shift;
+    // Plain unpacking of a typed array (three.js sets its own per texture; resetState() after).
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.pixelStorei(gl.UNPACK_ROW_LENGTH, 0);
+    gl.pixelStorei(gl.UNPACK_SKIP_ROWS, 0);
+    gl.pixelStorei(gl.UNPACK_SKIP_PIXELS, 0);
+    gl.bindTexture(gl.TEXTURE_2D, m.normals);
+    const full = Math.floor(tri.triangles / width);
+    const rest = tri.triangles - full * width;
+    if (full > 0) gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, width, full, gl.RGB, gl.FLOAT, n, 0);
+    if (rest > 0) gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, full, rest, 1, gl.RGB, gl.FLOAT, n, 3 * full * width);
+    gl.bindTexture(gl.TEXTURE_2D, null);
   }
 
   /**
@@ -156,17 +190,17 @@ export class WebGLDrawer {
   updateMeshBuffers(m, tri) {
     const gl = this.gl;
     if (3 * tri.triangles !== m.vertices) throw new Error(`umbra-three: a posed mesh has ${tri.triangles} triangles, its buffers ${m.vertices / 3}`);
-    m.buffers.forEach((b, i) => {
-      gl.bindBuffer(gl.ARRAY_BUFFER, b);
-      gl.bufferSubData(gl.ARRAY_BUFFER, 0, i === 0 ? tri.positions : tri.normals);
-    });
+    gl.bindBuffer(gl.ARRAY_BUFFER, m.buffers[0]);
+    gl.bufferSubData(gl.ARRAY_BUFFER, 0, tri.positions);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
+    this.fillNormals(m, tri);
   }
 
   deleteMeshBuffers(m) {
     const gl = this.gl;
     gl.deleteVertexArray(m.vao);
     for (const b of m.buffers) gl.deleteBuffer(b);
+    gl.deleteTexture(m.normals);
   }
 
   /** umbra's target (depth-stencil + RGBA8 mask) of the drawing buffer's size; returns the framebuffer. */
@@ -450,10 +484,15 @@ export class WebGLDrawer {
       gl.useProgram(program.program);
       gl.uniform1f(program.u.u_snap, snap);
       gl.uniform2f(program.u.u_viewport_size, f.width, f.height);
+      // Each mesh's normals on unit 0 (u_normals; unused, and maybe inactive, in the depth pass).
+      gl.uniform1i(program.u.u_texture_shift, this.volumePrograms.shift);
+      if (program.u.u_normals) gl.uniform1i(program.u.u_normals, 0);
+      gl.activeTexture(gl.TEXTURE0);
       gl.frontFace(gl.CCW);
       for (const m of f.meshes) {
         if (m.buffers.vertices === 0) continue;
         gl.uniformMatrix4fv(program.u.u_clip_from_world, false, m.clipFromObject);
+        gl.bindTexture(gl.TEXTURE_2D, m.buffers.normals);
         perMesh?.(m);
         gl.bindVertexArray(m.buffers.vao);
         const sides = m.sides ?? Int32Array.of(0, m.buffers.vertices, CULL_NONE);
@@ -470,6 +509,7 @@ export class WebGLDrawer {
       }
       gl.disable(gl.CULL_FACE);
       gl.bindVertexArray(null);
+      gl.bindTexture(gl.TEXTURE_2D, null);
     };
     const positionUniforms = (P) => (m) => {
       gl.uniformMatrix4fv(P.u.u_world_from_object, false, m.world);

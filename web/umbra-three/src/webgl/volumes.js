@@ -42,11 +42,11 @@ function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, te
 }
 
 /**
- * Polygons one polygon pass captures at most (2^14: 2.4 MB of buffer and as much of texture);
+ * Polygons one polygon pass captures at most (2^13: 1.2 MB of buffer and as much of texture);
  * a larger set is drawn in chunks of this many (a few more draws, each still thousands of
  * polygons).
  */
-export const POLYGON_CHUNK = 1 << 14;
+export const POLYGON_CHUNK = 1 << 13;
 
 /** `texels` elements into the bound texture, from `source` (a typed array, or a byte offset
  * into the bound PIXEL_UNPACK_BUFFER) at element `first`: the full rows, then the rest. Rows
@@ -232,7 +232,7 @@ export class ShadowVolumes {
   dispose() {
     const gl = this.gl;
     for (const t of [this.vertexTex, this.recordVerticesTex, this.triangleVerticesTex, this.edgeTrianglesTex]) gl.deleteTexture(t);
-    for (const slot of this.slots) for (const t of [slot.orientation.tex, slot.recordList.tex, slot.gpuOrientation?.tex]) if (t) gl.deleteTexture(t);
+    for (const slot of this.slots) for (const t of [slot.orientation?.tex, slot.recordList?.tex, slot.gpuOrientation?.tex]) if (t) gl.deleteTexture(t);
     if (this.cull) for (const t of Object.values(this.cull)) gl.deleteTexture(t);
     this.bytes = 0;
   }
@@ -275,11 +275,11 @@ export class ShadowVolumes {
   /** Light slot k's silhouette textures, made when first asked for. */
   silhouetteSlot(k) {
     while (this.slots.length <= k) {
-      const gl = this.gl;
-      const s = this.shift;
       this.slots.push({
-        orientation: this.made(dataTexture(gl, s, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations')),
-        recordList: this.made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.records), 'silhouette records')),
+        // The wasm's silhouette: orientations (R8I) and the record list (R32I, sized to the
+        // longest list so far, grown to the next power of two), made when first used.
+        orientation: null,
+        recordList: null,
         // The GPU silhouettes' orientations (R32I, what transform feedback captures), made
         // when first used.
         gpuOrientation: null,
@@ -336,6 +336,15 @@ export class ShadowVolumes {
     }
     slot.gpu = false;
     const { orientation, records, single, triangles = null, far = null, clamped = true } = silhouette;
+    slot.orientation ??= this.made(dataTexture(gl, this.shift, gl.R8I, gl.RED_INTEGER, gl.BYTE, null, 1, this.triangles, 'triangle orientations'));
+    if (!slot.recordList || slot.recordList.texels < records.length) {
+      if (slot.recordList) {
+        gl.deleteTexture(slot.recordList.tex);
+        this.bytes -= slot.recordList.bytes;
+      }
+      const texels = Math.min(Math.max(1, this.records), 2 ** Math.ceil(Math.log2(Math.max(records.length, 256))));
+      slot.recordList = { ...this.made(dataTexture(gl, this.shift, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, texels, 'silhouette records')), texels };
+    }
     gl.bindTexture(gl.TEXTURE_2D, slot.orientation.tex);
     upload(gl, width, gl.RED_INTEGER, gl.BYTE, orientation, 0, 1, this.triangles);
     if (records.length) {
@@ -428,7 +437,8 @@ export class ShadowVolumes {
     gl.uniform1f(P.u.u_far_clip_z, farClipZ);
     this.bindTexture(UNIT_EDGE_TRIANGLES, this.edgeTrianglesTex);
     this.bindTexture(UNIT_ORIENTATION, this.slot.gpu ? this.slot.gpuOrientation.tex : this.slot.orientation.tex);
-    this.bindTexture(UNIT_RECORDS, this.slot.recordList.tex);
+    // The record list (the wasm's silhouettes only: the GPU's visit every record).
+    this.bindTexture(UNIT_RECORDS, this.slot.gpu ? null : this.slot.recordList.tex);
     // The cull's units are bound either way: WebGL refuses a draw whose active sampler's unit
     // holds a texture of another type (three.js's, say); null reads as an incomplete texture.
     this.bindTexture(UNIT_FAR, culled ? this.cull.far : null);

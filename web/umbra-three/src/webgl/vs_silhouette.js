@@ -32,7 +32,7 @@ import snapGlsl from './glsl/snap.glsl';
 import orientVert from './glsl/orient.vert.glsl';
 
 export const sources = native;
-export { snapGlsl };
+export { snapGlsl, elementsGlsl };
 
 const prelude = () => native.essl300Prelude + native.culledDefine;
 

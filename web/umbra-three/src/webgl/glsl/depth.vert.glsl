@@ -6,15 +6,18 @@
 // expression as the w = 1 vertices of the polygon pass (polygons.vert.glsl) give bit-identical
 // positions, so the mask pass's depth func EQUAL selects exactly the visible surface and the
 // sides meet the caster. The flat triangle normal (topology.js flatTriangles, f64 as the
-// native flat_normal) comes as a per-vertex attribute of the de-indexed mesh: ES 3.00 has
-// neither gl_PrimitiveID nor storage buffers. umbra_snap (snap.glsl, spliced in after
-// #version by drawer.js): the snap=N diagnostic.
+// native flat_normal) is read from the mesh's RGB32F texture of one texel per triangle, the
+// triangle gl_VertexID / 3 of the de-indexed mesh (drawArrays: gl_VertexID counts from the
+// draw's first vertex): ES 3.00 has neither gl_PrimitiveID nor storage buffers, and a texel per
+// triangle is a third of a normal per vertex. umbra_snap (snap.glsl) and umbra_texel
+// (elements.glsl), spliced in after #version by drawer.js: the snap=N diagnostic, a texel's
+// place.
 precision highp float;
 
 layout(location = 0) in vec3 a_world_pos;
-layout(location = 1) in vec3 a_normal;
 
 uniform mat4 u_clip_from_world;
+uniform highp sampler2D u_normals;
 
 out vec3 v_world_pos;
 flat out vec3 v_normal;
@@ -23,6 +26,6 @@ invariant gl_Position;
 
 void main() {
     v_world_pos = a_world_pos;
-    v_normal = a_normal;
+    v_normal = texelFetch(u_normals, umbra_texel(gl_VertexID / 3), 0).xyz;
     gl_Position = umbra_snap(u_clip_from_world * vec4(a_world_pos, 1.0));
 }
