@@ -36,8 +36,8 @@ function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, te
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
   if (data) upload(gl, width, format, type, data, 0, perTexel, texels);
   gl.bindTexture(gl.TEXTURE_2D, null);
-  // What it holds on the GPU: whole rows of texels (BYTE: 1 byte per component, else 4).
-  const bytes = width * rows * perTexel * (type === gl.BYTE || type === gl.UNSIGNED_BYTE ? 1 : 4);
+  // What it holds on the GPU: whole rows of texels (1, 2 or 4 bytes per component).
+  const bytes = width * rows * perTexel * (type === gl.BYTE || type === gl.UNSIGNED_BYTE ? 1 : type === gl.SHORT ? 2 : 4);
   return { tex, width, rows, bytes };
 }
 
@@ -187,11 +187,18 @@ export class ShadowVolumes {
     // (16 (2 + maxMult) and 48 bytes each), in 12 bytes per vertex, 8 per record and 12 per
     // triangle (glsl/polygons.vert.glsl).
     this.vertices = data.vertices;
-    const ints = (a) => new Int32Array(a.buffer, a.byteOffset, a.length);
+    // Integer data as R16I where every value fits in 16 signed bits (a caster of at most 32,767
+    // vertices or triangles: half the bytes), else R32I; the shaders' isampler2D reads either.
+    const ints = (a, largest, texels, what) => {
+      const short = largest <= 32767;
+      const view = short ? Int16Array.from(a) : new Int32Array(a.buffer, a.byteOffset, a.length);
+      return made(dataTexture(gl, s, short ? gl.R16I : gl.R32I, gl.RED_INTEGER, short ? gl.SHORT : gl.INT, view, 1, texels, what)).tex;
+    };
     this.vertexTex = made(dataTexture(gl, s, gl.RGB32F, gl.RGB, gl.FLOAT, data.positions, 3, Math.max(1, this.vertices), 'welded vertices')).tex;
-    this.recordVerticesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, ints(data.recordVertices), 1, Math.max(1, 2 * this.records), 'record vertices')).tex;
-    this.triangleVerticesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, ints(data.indices), 1, Math.max(1, 3 * this.triangles), 'triangle vertices')).tex;
-    this.edgeTrianglesTex = made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, data.edgeTriangles, 1, Math.max(1, this.records * this.maxMult), 'edge triangles')).tex;
+    this.recordVerticesTex = ints(data.recordVertices, this.vertices - 1, Math.max(1, 2 * this.records), 'record vertices');
+    this.triangleVerticesTex = ints(data.indices, this.vertices - 1, Math.max(1, 3 * this.triangles), 'triangle vertices');
+    // Edge triangles are ±(triangle + 1).
+    this.edgeTrianglesTex = ints(data.edgeTriangles, this.triangles, Math.max(1, this.records * this.maxMult), 'edge triangles');
     // The silhouette towards each light slot k (prepare(k, ...)): every triangle's orientation
     // (R8I, one per triangle) and the edge records of nonzero multiplicity (R32I, at most all),
     // and the key it was computed for (the light in this caster's space; null when culled,
