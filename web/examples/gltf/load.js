@@ -47,6 +47,8 @@ export async function loadModel(url) {
   try {
     if (format === 'gltf' || format === 'glb') {
       const gltf = await new GLTFLoader().parseAsync(bytes, folder);
+      // Its animations travel with the scene (three.js's convention: Object3D.animations).
+      gltf.scene.animations = gltf.animations;
       return gltf.scene;
     }
     if (format === 'obj') return new OBJLoader().parse(new TextDecoder().decode(bytes));

@@ -9,16 +9,23 @@
 // FrontSide, three.js's default: back faces culled, judged with `umbra verify --receivers
 // front`; default: DoubleSide) and mirror=1 (the model mirrored in x by its root's scale).
 // `scene=URL` is taken as `model=URL`
-// (a model file: this page loads no `umbra export` folder).
+// (a model file: this page loads no `umbra export` folder). A model's animations (a skinned or
+// morphed glTF) play through an AnimationMixer, every clip looping (animate=0: held at their
+// first frame); instanced parts (EXT_mesh_gpu_instancing, InstancedMesh in three.js) cast per
+// instance. Keys: M (three.js's maps and back), V (the mask view), L (a gizmo to drag the
+// first light with).
 // The camera and the first light are the ones `umbra render --scene MODEL` uses with the same
 // flags (view.js), so `umbra verify --external-mask` can judge the mask.
 // State: document.body.dataset.state (loading, ready, error) and window.umbra: { state, error,
-// frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), view, errors (meshes
+// frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), view, animations (the
+// model's clips), umbraInfo (casters, mapCasters, silhouettes, volumeCull, cpuMs, gpuBytes of
+// umbra.info after the last frame), light (the first light's position once dragged), errors (meshes
 // umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
 // shadowed, as a latin1 string), readCanvas() (a frame drawn and its red channel read back
 // the same way), redraw() }.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { TransformControls } from 'three/addons/controls/TransformControls.js';
 import { UmbraShadows } from 'umbra-three';
 import { loadModel } from './load.js';
 import { defaultView, triangleBounds, viewFor } from './view.js';
@@ -166,6 +173,26 @@ async function start() {
   }
 
   const state = { maps: params.get('maps') === '1', mask: params.get('mask') === '1' };
+  // The model's animations, every clip looping; the frame loop runs while they play.
+  const mixer = model.animations?.length ? new THREE.AnimationMixer(model) : null;
+  if (mixer) for (const clip of model.animations) mixer.clipAction(clip).play();
+  const animating = !!mixer && params.get('animate') !== '0';
+  const clock = new THREE.Clock();
+  status.animations = model.animations?.length ?? 0;
+  // L: a gizmo on the first light (a point light: moved; a directional one: its position, so
+  // its direction), drawn after umbra's frame in a scene of its own, so that umbra's depth pass
+  // never sees it; orbiting pauses while it is dragged.
+  const gizmo = new TransformControls(camera, canvas);
+  const gizmoScene = new THREE.Scene();
+  gizmoScene.add(gizmo.getHelper());
+  gizmo.addEventListener('dragging-changed', (e) => {
+    controls.enabled = !e.value;
+  });
+  gizmo.addEventListener('change', () => {
+    status.light = lights[0].position.toArray();
+    redraw();
+  });
+  state.gizmo = false;
   const mask = maskView(width, height);
   const pixel = new Uint8Array(4);
   status.errors = umbra.errors;
@@ -191,7 +218,14 @@ async function start() {
       // own shadow maps (umbra off: umbra.render is then a plain renderer.render).
       renderer.shadowMap.enabled = state.maps;
       umbra.enabled = !state.maps;
+      if (mixer) mixer.update(animating ? clock.getDelta() : 0);
       umbra.render(scene, camera);
+      if (state.gizmo) {
+        // The gizmo over the frame (its own scene: not in umbra's depth pass, not shadowed).
+        renderer.autoClear = false;
+        renderer.render(gizmoScene, camera);
+        renderer.autoClear = true;
+      }
       if (state.mask && !state.maps) {
         mask.texture.image.data.set(umbra.readMask(lights[0]));
         mask.texture.needsUpdate = true;
@@ -205,7 +239,9 @@ async function start() {
       label();
       $('time').textContent = `frame ${ms.toFixed(1)} ms${state.mask && !state.maps ? ' · mask' : ''}`;
       status.state = 'ready';
+      status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
       document.body.dataset.state = 'ready';
+      if (animating) redraw();
     } catch (e) {
       fail(e);
     }
@@ -237,7 +273,11 @@ async function start() {
   window.addEventListener('keydown', (e) => {
     if (e.key === 'm' || e.key === 'M') state.maps = !state.maps;
     else if (e.key === 'v' || e.key === 'V') state.mask = !state.mask;
-    else return;
+    else if (e.key === 'l' || e.key === 'L') {
+      state.gizmo = !state.gizmo;
+      if (state.gizmo) gizmo.attach(lights[0]);
+      else gizmo.detach();
+    } else return;
     e.preventDefault();
     redraw();
   });
