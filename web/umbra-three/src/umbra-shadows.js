@@ -554,7 +554,7 @@ export class UmbraShadows {
     // a plain mesh), so that each keeps its own silhouettes (`cache`).
     const mapCasting = this.alphaCasters === 'shadowMap';
     const mapCasters = new Set();
-    const placeMesh = (m, geometry, world, instance, cast = true) => {
+    const placeMesh = (m, geometry, world, instance) => {
       const drawn = this.buffersOf(m, geometry);
       if (!drawn) return;
       const buffers = drawn.buffers;
@@ -571,11 +571,9 @@ export class UmbraShadows {
       }
       if (cullOn && drawn.box) worldBox(drawn.box, we, bounds);
       // An alpha-tested caster goes to three.js's shadow map (render()): not umbra's.
-      if (cast && m.castShadow && mapCasting && alphaTested(m)) {
-        mapCasters.add(m);
-        return placeMesh(m, geometry, world, instance, false);
-      }
-      const caster = m.castShadow && cast ? this.casterOf(m, geometry) : null;
+      const toMap = m.castShadow && mapCasting && alphaTested(m);
+      if (toMap) mapCasters.add(m);
+      const caster = m.castShadow && !toMap ? this.casterOf(m, geometry) : null;
       const volumes = caster ? caster.volumes : null;
       if (volumes) {
         casters++;
