@@ -49,6 +49,12 @@ pub struct ViewArgs {
     /// Vertical field of view in degrees.
     #[arg(long, default_value_t = 60.0)]
     pub fov: f64,
+    /// An orthographic camera instead of the perspective one: the view's world-space height
+    /// (> 0; the width follows the image's aspect). Eye, target and up as for the perspective
+    /// camera; the eye is at infinity behind it, its near plane stays. cpu-silhouette, none
+    /// and the shadow maps draw it (GL backend).
+    #[arg(long, allow_hyphen_values = true)]
+    pub ortho: Option<String>,
     /// Image size WxH.
     #[arg(long, default_value = "1280x720")]
     pub size: String,
@@ -266,6 +272,10 @@ pub struct BenchArgs {
     /// Vertical field of view in degrees.
     #[arg(long, default_value_t = 60.0)]
     pub fov: f64,
+    /// An orthographic camera of this world-space height instead of the perspective one, as
+    /// `render --ortho`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub ortho: Option<String>,
     /// z-pass stencil counting instead of z-fail.
     #[arg(long)]
     pub zpass: bool,
@@ -328,6 +338,10 @@ pub struct ExportArgs {
     /// Suggested camera target X,Y,Z. Default: as `render`.
     #[arg(long, allow_hyphen_values = true)]
     pub target: Option<String>,
+    /// Suggested orthographic camera of this world-space height (manifest `camera.ortho_height`),
+    /// as `render --ortho`. Default: perspective.
+    #[arg(long, allow_hyphen_values = true)]
+    pub ortho: Option<String>,
     /// Largest accepted input file in bytes, after decompression.
     #[arg(long)]
     pub max_input_bytes: Option<u64>,

@@ -98,6 +98,10 @@ pub struct CameraSpec {
     pub up: [f64; 3],
     pub fov_y_degrees: f64,
     pub near: f64,
+    /// `umbra export --ortho HEIGHT`: an orthographic camera this many world units tall
+    /// (absent: perspective, `fov_y_degrees`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ortho_height: Option<f64>,
 }
 
 /// `manifest.json`; see the module documentation.
@@ -267,6 +271,7 @@ pub fn parse_manifest(file: &Path, text: &str) -> Result<Manifest, ManifestError
             up: camera.get("up")?.numbers()?,
             fov_y_degrees: camera.get("fov_y_degrees")?.f64()?,
             near: camera.get("near")?.f64()?,
+            ortho_height: camera.get("ortho_height").ok().map(|h| h.f64()).transpose()?,
         },
         buffers: Buffers {
             positions: buffer_ref(&buffers.get("positions")?)?,
@@ -439,6 +444,7 @@ pub fn build_export(view: &ViewConfig, ground: bool) -> Result<Export, CliError>
             fov_y_degrees: c.fov_y_degrees,
             // `Session::frame_params`: 1e-3 of the drawn scene's diagonal.
             near: f64::from(bounds.diagonal()).max(1e-6) * 1e-3,
+            ortho_height: c.ortho,
         },
         buffers,
     };
@@ -517,6 +523,7 @@ mod tests {
             target: None,
             up: "0,1,0".into(),
             fov: 60.0,
+            ortho: None,
             size: "64x64".into(),
             ground: true,
             zpass: false,

@@ -35,6 +35,8 @@ pub struct CameraConfig {
     pub target: [f64; 3],
     pub up: [f64; 3],
     pub fov_y_degrees: f64,
+    /// `Some(height)`: orthographic, `height` world units tall (`--ortho`).
+    pub ortho: Option<f64>,
 }
 
 /// How a scene is framed by default: interiors (the papers' scenes, any file) are seen and
@@ -86,5 +88,5 @@ pub fn default_camera(b: &Aabb, framing: Framing) -> CameraConfig {
         }
         Framing::Exterior => ([c[0] - 0.3 * e[0], c[1] + 0.25 * horizontal + 0.5 * e[1], c[2] + 0.4 * e[2]], c),
     };
-    CameraConfig { eye, target, up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0 }
+    CameraConfig { eye, target, up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, ortho: None }
 }

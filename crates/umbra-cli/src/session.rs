@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use umbra_geom::weld::{weld, WeldedMesh};
-use umbra_gl::{Camera, FrameParams, HeadlessContext, Renderer, SceneGpu};
+use umbra_gl::{Camera, FrameParams, HeadlessContext, Projection, Renderer, SceneGpu};
 
 use crate::config::ViewConfig;
 use crate::error::CliError;
@@ -57,16 +57,19 @@ impl Session {
 pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> FrameParams {
     let diagonal = bounds.map_or(1.0, |b| b.diagonal() as f64).max(1e-6);
     let c = &view.camera;
+    // The infinite far plane puts all depth precision near the near plane: keep it as far
+    // out as the scene allows.
+    let near = near_plane(diagonal);
+    let projection = match c.ortho {
+        None => Projection::Perspective,
+        // The far plane is fitted below.
+        Some(height) => Projection::Orthographic { height, far: f64::INFINITY },
+    };
+    let mut camera =
+        Camera { eye: c.eye, target: c.target, up: c.up, fov_y_degrees: c.fov_y_degrees, near, projection };
+    fit_ortho_far(&mut camera, bounds);
     FrameParams {
-        camera: Camera {
-            eye: c.eye,
-            target: c.target,
-            up: c.up,
-            fov_y_degrees: c.fov_y_degrees,
-            // The infinite far plane puts all depth precision near the near plane: keep
-            // it as far out as the scene allows.
-            near: near_plane(diagonal),
-        },
+        camera,
         width: view.width,
         height: view.height,
         lights: view.lights.clone(),
@@ -76,6 +79,27 @@ pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> 
         receivers: view.receivers,
         ..FrameParams::default()
     }
+}
+
+/// The far plane of an orthographic view of a scene with `bounds`: beyond the farthest corner
+/// of the box along the view direction by 1 % of its diagonal, so that the depth pass clips
+/// nothing of the scene (the volumes, closed beyond the box, are drawn with depth clamp and
+/// need no far plane of their own; docs/exactness.md, "Orthographic views").
+/// Re-fit whenever the eye or the target moves. A perspective camera is left as it is.
+pub fn fit_ortho_far(camera: &mut Camera, bounds: Option<umbra_geom::Aabb>) {
+    let Projection::Orthographic { height, .. } = camera.projection else { return };
+    let diagonal = bounds.map_or(1.0, |b| b.diagonal() as f64).max(1e-6);
+    let f = camera.forward();
+    let farthest = bounds.map_or(0.0, |b| {
+        (0..8)
+            .map(|i: usize| {
+                let p: [f64; 3] = std::array::from_fn(|k| f64::from(if i >> k & 1 == 0 { b.min[k] } else { b.max[k] }));
+                (0..3).map(|k| (p[k] - camera.eye[k]) * f[k]).sum::<f64>()
+            })
+            .fold(f64::MIN, f64::max)
+    });
+    let far = farthest.max(camera.near) + 0.01 * diagonal + camera.near;
+    camera.projection = Projection::Orthographic { height, far };
 }
 
 /// A near-plane distance for a scene of `diagonal` seen from `eye`: a small fraction of the

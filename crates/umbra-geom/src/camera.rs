@@ -30,6 +30,17 @@
 //! volume sides that z-fight with a surface several pixels away from where they meet it and
 //! ones that do not.
 //!
+//! Orthographic ([`Projection::Orthographic`]): parallel rays, w_clip = 1 everywhere, a FINITE
+//! far plane (a point at infinity has clip w = 0 there, so no far plane at infinity exists):
+//! ```text
+//! | 2/(h aspect) 0    0   0 |      Standard:   a = -2/(far-near), b = -(far+near)/(far-near)
+//! | 0            2/h  0   0 |      reversed-Z: a =  1/(far-near), b =  far/(far-near)
+//! | 0            0    a   b |
+//! | 0            0    0   1 |
+//! ```
+//! The depth is linear in the view distance d: (d - near)/(far - near) Standard,
+//! (far - d)/(far - near) reversed-Z.
+//!
 //! Matrices are built in f64 and uploaded as f32.
 //!
 //! Shared by every backend (moved here from umbra-gl so that umbra-wgpu uses the very same
@@ -82,7 +93,31 @@ impl DepthConvention {
 #[error("{0}")]
 pub struct CameraError(pub String);
 
-/// Eye, target, up (world space), vertical field of view in degrees, near plane distance.
+/// How view space maps to clip space: [`Camera::clip_from_view_in`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Projection {
+    /// Pinhole at the eye with the infinite far plane of the module documentation; the
+    /// vertical field of view is [`Camera::fov_y_degrees`].
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction, the eye at infinity behind the camera: a view
+    /// `height` world units tall (the width follows the image's aspect), between the near
+    /// plane ([`Camera::near`]) and a FINITE far plane at view distance `far` (> near). A
+    /// point at infinity has clip w = 0 under an orthographic matrix, so there is no far
+    /// plane at infinity: `far` must lie beyond everything drawn (umbra's CLI puts it beyond
+    /// the scene's bounds). Standard convention: z_clip = (-2 z_view - (far + near)) /
+    /// (far - near), w_clip = 1 (depth (d - near) / (far - near) at view distance d);
+    /// reversed-Z: z_clip = (z_view + far) / (far - near) (depth (far - d) / (far - near)).
+    Orthographic {
+        /// View-space height of the image (world units).
+        height: f64,
+        /// View distance of the far plane.
+        far: f64,
+    },
+}
+
+/// Eye, target, up (world space), vertical field of view in degrees, near plane distance and
+/// the [`Projection`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position (world space).
@@ -93,13 +128,23 @@ pub struct Camera {
     pub up: [f64; 3],
     /// Vertical field of view in degrees, in (0, 180).
     pub fov_y_degrees: f64,
-    /// Near plane distance (> 0); the far plane is at infinity.
+    /// Near plane distance (> 0); the far plane is at infinity (perspective) or at the
+    /// orthographic projection's `far`.
     pub near: f64,
+    /// Perspective (the default) or orthographic.
+    pub projection: Projection,
 }
 
 impl Default for Camera {
     fn default() -> Self {
-        Self { eye: [0.0, 1.0, 3.0], target: [0.0; 3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 }
+        Self {
+            eye: [0.0, 1.0, 3.0],
+            target: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov_y_degrees: 60.0,
+            near: 0.05,
+            projection: Projection::Perspective,
+        }
     }
 }
 
@@ -150,6 +195,17 @@ impl Camera {
         if self.near <= 0.0 {
             return Err(CameraError(format!("near plane {} must be > 0", self.near)));
         }
+        if let Projection::Orthographic { height, far } = self.projection {
+            if !(height.is_finite() && height > 0.0) {
+                return Err(CameraError(format!("orthographic height {height} must be a finite number > 0")));
+            }
+            if !(far.is_finite() && far > self.near) {
+                return Err(CameraError(format!(
+                    "orthographic far plane {far} must be finite and beyond the near plane {}",
+                    self.near
+                )));
+            }
+        }
         Ok(())
     }
 
@@ -158,14 +214,27 @@ impl Camera {
         DMat4::look_at_rh(self.eye.into(), self.target.into(), self.up.into())
     }
 
-    /// Infinite-far perspective in the Standard convention (see module doc); `aspect` =
-    /// width / height.
+    /// [`Camera::clip_from_view_in`] in the Standard convention; `aspect` = width / height.
     pub fn clip_from_view(&self, aspect: f64) -> DMat4 {
         self.clip_from_view_in(aspect, DepthConvention::Standard)
     }
 
-    /// Infinite-far perspective in `convention` (see module doc).
+    /// Whether the projection is orthographic (the eye at infinity, parallel rays).
+    pub fn is_orthographic(&self) -> bool {
+        matches!(self.projection, Projection::Orthographic { .. })
+    }
+
+    /// The unit view direction, from the eye towards the target (world space).
+    pub fn forward(&self) -> [f64; 3] {
+        (DVec3::from(self.target) - DVec3::from(self.eye)).normalize_or_zero().into()
+    }
+
+    /// Infinite-far perspective or orthographic ([`Projection`]) in `convention` (see module
+    /// doc).
     pub fn clip_from_view_in(&self, aspect: f64, convention: DepthConvention) -> DMat4 {
+        if let Projection::Orthographic { height, far } = self.projection {
+            return orthographic_clip_from_view(height, aspect, self.near, far, convention);
+        }
         let f = 1.0 / (0.5 * self.fov_y_degrees.to_radians()).tan();
         let n = self.near;
         let (z, w) = match convention {
@@ -205,7 +274,15 @@ impl Camera {
     ) -> Option<[f64; 3]> {
         let m = self.clip_from_world_in(width as f64 / height as f64, convention);
         let clip = m * DVec4::new(world[0], world[1], world[2], 1.0);
-        if clip.w <= 0.0 {
+        let in_front = match self.projection {
+            Projection::Perspective => clip.w > 0.0,
+            // w_clip is 1 everywhere: in front means beyond the eye's plane.
+            Projection::Orthographic { .. } => {
+                let view = self.view_from_world() * DVec4::new(world[0], world[1], world[2], 1.0);
+                view.z < 0.0
+            }
+        };
+        if !in_front {
             return None;
         }
         let ndc = clip.truncate() / clip.w;
@@ -215,6 +292,27 @@ impl Camera {
         };
         Some([(ndc.x * 0.5 + 0.5) * width as f64, (0.5 - ndc.y * 0.5) * height as f64, depth])
     }
+}
+
+/// The orthographic clip_from_view of [`Projection::Orthographic`]: x and y scaled so that the
+/// `height` x `height * aspect` view rectangle fills [-1, 1], view distance `near` at the near
+/// plane's clip z (-1 Standard, 1 reversed-Z) and `far` at the far plane's (1, 0); w_clip = 1.
+fn orthographic_clip_from_view(height: f64, aspect: f64, near: f64, far: f64, convention: DepthConvention) -> DMat4 {
+    let (sx, sy) = (2.0 / (height * aspect), 2.0 / height);
+    let span = far - near;
+    // z_clip = a z_view + b with z_view = -d.
+    let (a, b) = match convention {
+        // d = near -> -1, d = far -> 1.
+        DepthConvention::Standard => (-2.0 / span, -(far + near) / span),
+        // d = near -> 1, d = far -> 0.
+        DepthConvention::ReversedZ => (1.0 / span, far / span),
+    };
+    DMat4::from_cols(
+        DVec4::new(sx, 0.0, 0.0, 0.0),
+        DVec4::new(0.0, sy, 0.0, 0.0),
+        DVec4::new(0.0, 0.0, a, 0.0),
+        DVec4::new(0.0, 0.0, b, 1.0),
+    )
 }
 
 /// Column-major f32 copy for glUniformMatrix4fv.
@@ -309,6 +407,36 @@ mod tests {
         let s = cam.project([0.5, 0.5, 0.5], 64, 48).expect("in front");
         let r = cam.project_in([0.5, 0.5, 0.5], 64, 48, rz).expect("in front");
         assert!((s[0] - r[0]).abs() < 1e-12 && (s[1] - r[1]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn orthographic_maps_the_view_box_to_the_clip_cube_in_both_conventions() {
+        let proj = Projection::Orthographic { height: 4.0, far: 20.0 };
+        let cam = Camera { near: 0.5, projection: proj, ..Camera::look_at([0.0, 0.0, 0.0], [0.0, 0.0, -1.0]) };
+        assert!(cam.validate().is_ok() && cam.is_orthographic());
+        let (w, h) = (200, 100); // aspect 2: 8 x 4 world units
+        let s = cam.project([4.0, 2.0, -0.5], w, h).expect("in front");
+        assert!((s[0] - 200.0).abs() < 1e-9 && s[1].abs() < 1e-9 && s[2].abs() < 1e-12, "{s:?}");
+        let f = cam.project([-4.0, -2.0, -20.0], w, h).expect("in front");
+        assert!(f[0].abs() < 1e-9 && (f[1] - 100.0).abs() < 1e-9 && (f[2] - 1.0).abs() < 1e-12, "{f:?}");
+        let rz = DepthConvention::ReversedZ;
+        let n = cam.project_in([1.0, 1.0, -0.5], w, h, rz).expect("in front");
+        let m = cam.project_in([1.0, 1.0, -10.25], w, h, rz).expect("in front");
+        assert!((n[2] - 1.0).abs() < 1e-12 && (m[2] - 0.5).abs() < 1e-12, "{n:?} {m:?}");
+        // Parallel rays: x and y do not depend on the distance.
+        assert!((n[0] - m[0]).abs() < 1e-9 && (n[1] - m[1]).abs() < 1e-9);
+        assert!(cam.project([0.0, 0.0, 1.0], w, h).is_none(), "behind the eye");
+        // A direction (w = 0) has clip w = 0: no far plane at infinity.
+        let c = cam.clip_from_world(2.0) * DVec4::new(0.0, 0.0, -1.0, 0.0);
+        assert_eq!(c.w, 0.0);
+        for bad in [
+            Projection::Orthographic { height: 0.0, far: 20.0 },
+            Projection::Orthographic { height: -1.0, far: 20.0 },
+            Projection::Orthographic { height: f64::NAN, far: 20.0 },
+            Projection::Orthographic { height: 1.0, far: 0.25 },
+        ] {
+            assert!(Camera { projection: bad, ..cam }.validate().is_err(), "{bad:?}");
+        }
     }
 
     #[test]

@@ -533,6 +533,85 @@ impl ReceiverMap {
     }
 }
 
+/// Why [`clamp_beyond_box`] cannot close a volume at a finite distance.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct FiniteClampError(pub String);
+
+/// Every triangle's volume closed beyond the whole box `bounds` (the orthographic camera's
+/// finite volumes, docs/exactness.md "Orthographic views"): into `out`, every triangle of
+/// `mesh` that can cast kept, every vertex's far end FINITE and beyond every point of
+/// `bounds` inside the triangle's frustum. The bound is [`ReceiverMap::cull_and_clamp`]'s
+/// with the box's farthest corner as `R` (distance from a point light, depth along a
+/// directional light's travel): `k_v > R / d_t` for every triangle at `v`. A triangle that
+/// touches the point light (`d_t = 0`) has the light in its plane: its frustum is empty and
+/// it is dropped (orientation 0, as an edge-on triangle). `bounds` must hold every position of
+/// `mesh` and every sample. Fails when a far end does not fit in an f32.
+pub fn clamp_beyond_box(
+    mesh: &WeldedMesh,
+    light: Light,
+    bounds: Aabb,
+    out: &mut VolumeClamp,
+) -> Result<CullStats, FiniteClampError> {
+    let point = light[3] != 0.0;
+    out.light = light;
+    out.travel = travel(light);
+    let corners: Vec<[f64; 3]> = (0..8)
+        .map(|c: usize| [0, 1, 2].map(|k| f64::from(if c >> k & 1 == 0 { bounds.min[k] } else { bounds.max[k] })))
+        .collect();
+    let lo = f64x3(bounds.min);
+    let extent = norm(sub(f64x3(bounds.max), lo));
+    let l = [0, 1, 2].map(|k| f64::from(light[k]) / if point { f64::from(light[3]) } else { 1.0 });
+    let t = out.travel;
+    // Distance from the light (point) or depth along the travel from the box's min corner.
+    let value = |p: [f64; 3]| if point { norm(sub(p, l)) } else { dot(sub(p, lo), t) };
+    let r = corners.iter().map(|&c| value(c)).fold(f64::MIN, f64::max);
+    let n = mesh.triangles.len();
+    let mut ends = vec![0.0f32; n];
+    ends.par_iter_mut().zip(mesh.triangles.par_iter()).for_each(|(end, tri)| {
+        let q = tri.map(|i| f64x3(mesh.positions[i as usize]));
+        let least =
+            if point { distance_to_triangle(l, q) } else { q.iter().map(|&p| value(p)).fold(f64::MAX, f64::min) };
+        *end = if point && (least.is_nan() || least <= 0.0) { 0.0 } else { finite_far_end(r, least, point, extent) };
+    });
+    if let Some(i) = ends.iter().position(|e| !e.is_finite()) {
+        return Err(FiniteClampError(format!(
+            "triangle {i}'s shadow volume cannot be closed at a finite distance (f32) beyond the scene: \
+             it lies too close to the light for an orthographic view"
+        )));
+    }
+    out.keep.clear();
+    out.keep.extend(ends.iter().map(|&e| e > 0.0));
+    let mut far = vec![0.0f32; mesh.positions.len()];
+    let mut stats = CullStats::default();
+    for (tri, &e) in mesh.triangles.iter().zip(&ends) {
+        if e > 0.0 {
+            stats.kept += 1;
+            for &i in tri {
+                let f = &mut far[i as usize];
+                *f = f.max(e);
+            }
+        }
+    }
+    out.far = far;
+    Ok(stats)
+}
+
+/// [`far_end`] without its [`CLAMP_LIMIT`]: a finite far end whenever one fits in an f32.
+fn finite_far_end(r: f64, least: f64, point: bool, extent: f64) -> f32 {
+    let k = if point {
+        r / least * (1.0 + CLAMP_MARGIN)
+    } else {
+        (r - least) + CLAMP_MARGIN * ((r - least).abs() + r.abs() + least.abs() + extent)
+    };
+    let f = k as f32;
+    if (f as f64) < k {
+        f.next_up()
+    } else {
+        f
+    }
+}
+
 /// The far end (scale or distance, [`VolumeClamp::far`]) that encloses every sample of a
 /// triangle's frustum nearer than `r` (distance or depth) when the triangle's least value is
 /// `least`: `(r / least)(1 + CLAMP_MARGIN)` (point) or `(r - least)` plus the margin of the

@@ -4,7 +4,7 @@
 //! re-exported here. This module adds what a convention means in OpenGL terms
 //! ([`DepthConventionGl`]: depth function, glClipControl depth mode, depth format).
 
-pub use umbra_geom::camera::{to_f32_cols, Camera, CameraError, DepthConvention};
+pub use umbra_geom::camera::{to_f32_cols, Camera, CameraError, DepthConvention, Projection};
 
 /// The OpenGL enums of a [`DepthConvention`].
 pub trait DepthConventionGl {

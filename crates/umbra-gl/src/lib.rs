@@ -41,7 +41,7 @@ pub mod state;
 pub mod target;
 pub mod timing;
 
-pub use camera::{Camera, DepthConvention, DepthConventionGl};
+pub use camera::{Camera, DepthConvention, DepthConventionGl, Projection};
 pub use context::{ContextError, ContextOptions, GlApi, HeadlessContext};
 pub use error::{GlError, GlErrorLog};
 pub use extra::GlExtra;

@@ -292,6 +292,7 @@ impl Renderer {
         captured: &mut Captured,
     ) -> Result<(), GlError> {
         self.check_convention(params.depth_convention)?;
+        validate::check_projection(params, method)?;
         let saved = SavedState::capture(gl);
         let bindings = MethodBindings::capture(gl);
         let result = self.passes(gl, scene, method, params, fb, own, hook, captured);

@@ -73,8 +73,14 @@ fn auto_zpass_with_the_eye_in_shadow_equals_zfail() {
     // (render.rs: camera_inside_the_shadow_volume_is_wrong_with_zpass). Auto counts z-pass
     // from W0 when every near-pyramid ray crosses the same sphere triangles, z-fail otherwise:
     // either way the z-fail image.
-    let eye =
-        Camera { eye: [0.0, 0.3, 0.0], target: [0.8, 0.0, 0.3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let eye = Camera {
+        eye: [0.0, 0.3, 0.0],
+        target: [0.8, 0.0, 0.3],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.05,
+        ..Camera::default()
+    };
     let p = params(eye, vec![POINT_LIGHT], 320, 240);
     for method in counting_methods() {
         let (auto, _) = render(&ctx, &mesh, method, &p);
@@ -106,8 +112,14 @@ fn auto_zpass_under_a_roof_starts_from_its_winding() {
     // Under the middle of one roof triangle, the light straight above it: the whole near
     // pyramid lies in that triangle's volume (W0 = 1), so z-pass counts from a stencil
     // cleared to 1. The camera sees shadowed ground under the roof and lit ground beyond it.
-    let eye =
-        Camera { eye: [1.5, 0.5, -1.5], target: [5.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let eye = Camera {
+        eye: [1.5, 0.5, -1.5],
+        target: [5.0, 0.0, 1.0],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.05,
+        ..Camera::default()
+    };
     let p = params(eye, vec![[1.5, 6.0, -1.5, 1.0]], 320, 240);
     for method in counting_methods() {
         let (auto, zpass) = render(&ctx, &mesh, method, &p);
@@ -121,8 +133,14 @@ fn auto_zpass_under_a_roof_starts_from_its_winding() {
     }
     // Under the roof's diagonal: the two triangles' shared edge (multiplicity 0) runs through
     // the pyramid's cone, W stays 1 across it: still z-pass from 1.
-    let eye =
-        Camera { eye: [0.0, 0.5, 0.0], target: [5.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let eye = Camera {
+        eye: [0.0, 0.5, 0.0],
+        target: [5.0, 0.0, 1.0],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.05,
+        ..Camera::default()
+    };
     let p = params(eye, vec![[0.0, 6.0, 0.0, 1.0]], 320, 240);
     for method in ["cpu-silhouette", "vs-silhouette"] {
         let (auto, zpass) = render(&ctx, &mesh, method, &p);
@@ -133,8 +151,14 @@ fn auto_zpass_under_a_roof_starts_from_its_winding() {
     }
     // Under the roof's outer edge (x = 3, an open edge: multiplicity 1), the shadow boundary
     // crosses the pyramid: unknown, so z-fail.
-    let eye =
-        Camera { eye: [3.0, 0.5, 0.0], target: [6.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let eye = Camera {
+        eye: [3.0, 0.5, 0.0],
+        target: [6.0, 0.0, 1.0],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.05,
+        ..Camera::default()
+    };
     let p = params(eye, vec![[3.0, 6.0, 0.0, 1.0]], 320, 240);
     for method in ["cpu-silhouette", "vs-silhouette"] {
         let (auto, zpass) = render(&ctx, &mesh, method, &p);
@@ -152,8 +176,14 @@ fn auto_zpass_is_chosen_per_light() {
     // Under the roof's outer edge: the point light above it casts the edge's shadow boundary
     // through the pyramid (z-fail); a low directional light from +x reaches the eye past the
     // roof (clear: z-pass).
-    let eye =
-        Camera { eye: [3.0, 0.5, 0.0], target: [6.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 };
+    let eye = Camera {
+        eye: [3.0, 0.5, 0.0],
+        target: [6.0, 0.0, 1.0],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.05,
+        ..Camera::default()
+    };
     let p = params(eye, vec![[3.0, 6.0, 0.0, 1.0], [1.0, 0.3, 0.0, 0.0]], 320, 240);
     for method in counting_methods() {
         let (auto, zpass) = render(&ctx, &mesh, method, &p);

@@ -93,6 +93,7 @@ fn rayon_frame(mesh: &WeldedMesh) -> FrameParams {
         up: [0.0, 1.0, 0.0],
         fov_y_degrees: 50.0,
         near: 0.01 * r,
+        ..umbra_gl::Camera::default()
     };
     FrameParams {
         capture: Default::default(),

@@ -133,7 +133,14 @@ fn directional_light_shadows_the_ground_along_its_direction() {
 
 /// Eye on the ground beneath the sphere (inside its shadow volume), looking sideways and down.
 fn inside_shadow_camera() -> Camera {
-    Camera { eye: [0.0, 0.3, 0.0], target: [0.8, 0.0, 0.3], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.05 }
+    Camera {
+        eye: [0.0, 0.3, 0.0],
+        target: [0.8, 0.0, 0.3],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.05,
+        ..Camera::default()
+    }
 }
 
 /// Ground points seen by `inside_shadow_camera`: two in the shadow, two far outside it.

@@ -365,6 +365,7 @@ mod tests {
                 up: [0.0, 1.0, 0.0],
                 fov_y_degrees: 60.0,
                 near: 3.274343017578125,
+                ..Camera::default()
             },
         }
     }

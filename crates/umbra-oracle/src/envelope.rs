@@ -235,6 +235,11 @@ pub struct RasterView {
     /// from the eye beyond the rasterizer's precision is never the surface a pixel shows
     /// ([`crate::seen_surface`]).
     pub receivers: Receivers,
+    /// The unit view direction when the view is orthographic (`clip_from_world`'s last row
+    /// is (0, 0, 0, 1): parallel rays, the eye at infinity behind the camera), `None` for a
+    /// perspective view. The pixel's ray through a sample `s` then runs along it, and the
+    /// depth convention is told by whether clip z falls along it (reversed-Z).
+    pub orthographic_forward: Option<[f64; 3]>,
 }
 
 /// `2^(e - 23)` for the exponent `e` of `z` (the f32 spacing just above `|z|`, i.e. GL's `r`
@@ -255,6 +260,7 @@ impl RasterView {
             depth: DepthFormat::Float32,
             other_depth_pass: false,
             receivers: Receivers::Both,
+            orthographic_forward: None,
         }
     }
 
@@ -268,7 +274,12 @@ impl RasterView {
         [self.row(0, p, 1.0), self.row(1, p, 1.0), self.row(3, p, 1.0)]
     }
 
-    fn reversed(&self) -> bool {
+    /// Whether the depth is reversed-Z (window depth `z/w`) rather than standard.
+    pub(crate) fn reversed(&self) -> bool {
+        if let Some(f) = self.orthographic_forward {
+            // Orthographic: reversed-Z depth falls with distance, the standard one grows.
+            return self.row(2, f, 0.0) < 0.0;
+        }
         let m = &self.clip_from_world;
         m[2] == 0.0 && m[6] == 0.0 && m[10] == 0.0
     }

@@ -138,6 +138,7 @@ mod tests {
                 fov_y_degrees: 60.0,
                 // The scene's diagonal / 1000 (umbra-cli's near plane); it moves depths only.
                 near: 0.028967,
+                ..Camera::default()
             },
         }
     }

@@ -251,6 +251,7 @@ mod tests {
                 up: [0.0, 1.0, 0.0],
                 fov_y_degrees: 60.0,
                 near: 0.028966756820678712,
+                ..Camera::default()
             },
         }
     }

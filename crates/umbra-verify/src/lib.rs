@@ -236,6 +236,8 @@ pub fn raster_view(gl: &glow::Context, params: &FrameParams) -> RasterView {
     view.depth = depth;
     // The faces the depth pass shows: the reference judges the samples that pass drew.
     view.receivers = params.receivers;
+    // Parallel pixel rays in an orthographic view.
+    view.orthographic_forward = params.camera.is_orthographic().then(|| params.camera.forward());
     // The spec's minimum when the query returns less (it may not).
     view.subpixel_bits = u32::try_from(bits).unwrap_or(0).max(view.subpixel_bits);
     view

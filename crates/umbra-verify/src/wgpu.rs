@@ -28,6 +28,7 @@ pub fn raster_view(device: &wgpu::Device, params: &FrameParams) -> RasterView {
     let aspect = params.width as f64 / params.height.max(1) as f64;
     let clip_from_world = params.camera.clip_from_world_in(aspect, DepthConvention::ReversedZ).to_cols_array();
     let mut view = RasterView::new(clip_from_world);
+    view.orthographic_forward = params.camera.is_orthographic().then(|| params.camera.forward());
     view.depth = if Renderer::depth_format_for(device) == wgpu::TextureFormat::Depth32FloatStencil8 {
         DepthFormat::Float32
     } else {

@@ -55,6 +55,7 @@ fn frame(bounds: umbra_geom::Aabb) -> FrameParams {
         up: [0.0, 1.0, 0.0],
         fov_y_degrees: 50.0,
         near: 0.01 * d,
+        ..Camera::default()
     };
     let light = [(c[0] - 0.5 * d) as f32, (c[1] + 1.5 * d) as f32, (c[2] + 0.3 * d) as f32, 1.0];
     FrameParams { camera, width: SIZE, height: SIZE, lights: vec![light], ..FrameParams::default() }

@@ -46,6 +46,7 @@ fn needle_side_with_nan_depth_on_conference() {
         up: [0.0, 1.0, 0.0],
         fov_y_degrees: 60.0,
         near: 3.274343017578125,
+        ..Camera::default()
     };
     let params = umbra_wgpu::FrameParams {
         camera,

@@ -75,6 +75,8 @@ struct App {
     wireframe: bool,
     input: Input,
     diagonal: f64,
+    /// Centre of the mesh's box (the orthographic far plane is fitted from it).
+    centre: [f64; 3],
     frame_ms: Option<f64>,
     last_frame: Option<Instant>,
     last_title: Option<Instant>,
@@ -89,6 +91,7 @@ pub fn run(config: ViewerConfig, script: Option<Vec<Pose>>) -> Result<ViewSummar
     event_loop.set_control_flow(ControlFlow::Poll);
     let c = config.params.camera;
     let diagonal = mesh_diagonal(&config);
+    let centre = mesh_centre(&config);
     let show_mask = config.mask_view;
     let mut app = App {
         rig: CameraRig { eye: c.eye, target: c.target, up: c.up },
@@ -104,6 +107,7 @@ pub fn run(config: ViewerConfig, script: Option<Vec<Pose>>) -> Result<ViewSummar
         wireframe: false,
         input: Input::default(),
         diagonal,
+        centre,
         frame_ms: None,
         last_frame: None,
         last_title: None,
@@ -117,6 +121,24 @@ pub fn run(config: ViewerConfig, script: Option<Vec<Pose>>) -> Result<ViewSummar
     match app.error {
         Some(e) => Err(e),
         None => Ok(app.summary),
+    }
+}
+
+fn mesh_centre(config: &ViewerConfig) -> [f64; 3] {
+    let mesh = &config.mesh;
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize]) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(f64::from(p[k]));
+            hi[k] = hi[k].max(f64::from(p[k]));
+        }
+    }
+    let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+    if c.iter().all(|v| v.is_finite()) {
+        c
+    } else {
+        [0.0; 3]
     }
 }
 
@@ -292,7 +314,11 @@ impl App {
             let fov = self.config.params.camera.fov_y_degrees.to_radians();
             let height =
                 self.running.as_ref().map_or(self.config.params.height, |r| r.win.window.inner_size().height).max(1);
-            let per_pixel = 2.0 * self.rig.distance() * (0.5 * fov).tan() / f64::from(height);
+            let per_pixel = match self.config.params.camera.projection {
+                // Orthographic: every depth has the view's height across the window.
+                umbra_gl::Projection::Orthographic { height: h, .. } => h / f64::from(height),
+                umbra_gl::Projection::Perspective => 2.0 * self.rig.distance() * (0.5 * fov).tan() / f64::from(height),
+            };
             let d = (self.rig.right() * dx - self.rig.screen_up() * dy) * per_pixel;
             if let Some(l) = self.lights.get_mut(self.selected_light) {
                 *l = move_light(*l, d.to_array(), self.diagonal);
@@ -317,13 +343,15 @@ impl App {
 
     fn frame_params(&self, width: u32, height: u32) -> FrameParams {
         let c = self.config.params.camera;
-        FrameParams {
-            camera: Camera { eye: self.rig.eye, target: self.rig.target, up: self.rig.up, ..c },
-            width,
-            height,
-            lights: self.lights.clone(),
-            ..self.config.params.clone()
+        let mut camera = Camera { eye: self.rig.eye, target: self.rig.target, up: self.rig.up, ..c };
+        if let umbra_gl::Projection::Orthographic { height, .. } = camera.projection {
+            // The far plane beyond the scene wherever the rig moved the eye: every point of
+            // the scene lies within half a diagonal of its box's centre.
+            let to_centre: f64 = (0..3).map(|k| (self.centre[k] - camera.eye[k]).powi(2)).sum::<f64>().sqrt();
+            let far = (to_centre + 0.5 * self.diagonal).max(camera.near) * 1.01 + camera.near;
+            camera.projection = umbra_gl::Projection::Orthographic { height, far };
         }
+        FrameParams { camera, width, height, lights: self.lights.clone(), ..self.config.params.clone() }
     }
 
     /// Draws one frame; Ok(true) when the viewer is done (screenshot written).

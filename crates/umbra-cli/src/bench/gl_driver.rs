@@ -146,6 +146,7 @@ impl GlDriver {
     fn set_camera(&mut self, cam: Keyframe) {
         self.params.camera.eye = cam.eye;
         self.params.camera.target = cam.target;
+        crate::session::fit_ortho_far(&mut self.params.camera, self.s.scene.bounds());
     }
 }
 

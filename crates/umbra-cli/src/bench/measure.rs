@@ -37,6 +37,7 @@ pub fn bench_view(scene: &BenchScene, cameras: &[Keyframe], o: &MeasureOptions) 
             target: cameras[0].target,
             up: [0.0, 1.0, 0.0],
             fov_y_degrees: o.fov,
+            ortho: o.ortho,
         },
         lights: scene.lights.clone(),
         width: o.width,

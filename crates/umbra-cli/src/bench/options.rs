@@ -12,6 +12,8 @@ pub struct MeasureOptions {
     /// Draw a stage-timed copy of every `stage_every`-th measured round; 0 = never.
     pub stage_every: usize,
     pub fov: f64,
+    /// `--ortho HEIGHT`: an orthographic camera.
+    pub ortho: Option<f64>,
     pub zpass: bool,
     /// `--zmode auto`: z-pass where provably exact.
     pub auto_zpass: bool,
@@ -43,6 +45,7 @@ impl MeasureOptions {
             warmup: c.warmup.unwrap_or(warmup_default),
             stage_every: c.stage_every.unwrap_or(stage_every_default),
             fov: c.fov,
+            ortho: c.ortho,
             zpass: c.zpass,
             auto_zpass: c.auto_zpass,
             volume_cull: c.volume_cull,

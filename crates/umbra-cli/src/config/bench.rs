@@ -4,7 +4,7 @@ use umbra_geom::Light;
 
 use super::checked::{Checked, Listing};
 use super::parse::{
-    asks_for_list, check_fov, gl_methods, parse_backend, parse_counter, parse_light, parse_size, parse_sm,
+    asks_for_list, check_fov, gl_methods, parse_backend, parse_counter, parse_light, parse_ortho, parse_size, parse_sm,
     parse_volume_cull, parse_zmode, wgpu_methods,
 };
 use crate::args::BenchArgs;
@@ -30,6 +30,8 @@ pub struct BenchConfig {
     /// `--stage-every`; `None`: 1 for a path, the suite's own for a suite.
     pub stage_every: Option<usize>,
     pub fov: f64,
+    /// `--ortho HEIGHT`: an orthographic camera.
+    pub ortho: Option<f64>,
     pub zpass: bool,
     pub auto_zpass: bool,
     /// `--volume-cull`.
@@ -112,6 +114,10 @@ impl BenchConfig {
             }
         };
         let fov = check_fov(a.fov)?;
+        let ortho = a.ortho.as_deref().map(parse_ortho).transpose()?;
+        if ortho.is_some() && backends.contains(&Backend::Wgpu) {
+            return Err(bad("--ortho", "applies to --backend gl (the wgpu backend's volumes run to infinity)"));
+        }
         let (zpass, auto_zpass) = parse_zmode(&a.zmode, a.zpass)?;
         // `both`: every method that culls its volumes runs twice in the one interleaved
         // schedule, the second time as `NAME@cull-off` (its JSON rows: the same `method`,
@@ -151,6 +157,7 @@ impl BenchConfig {
             warmup: a.warmup,
             stage_every: a.stage_every,
             fov,
+            ortho,
             zpass,
             auto_zpass,
             volume_cull,

@@ -55,6 +55,7 @@ fn export_view_args(scene: &str, a: &ExportArgs) -> ViewArgs {
         target: a.target.clone(),
         up: "0,1,0".into(),
         fov: 60.0,
+        ortho: a.ortho.clone(),
         size: "1280x720".into(),
         ground: a.ground,
         zpass: false,

@@ -71,6 +71,17 @@ pub fn check_fov(fov: f64) -> Result<f64, CliError> {
     Ok(fov)
 }
 
+/// `--ortho HEIGHT`: a finite number > 0 (the view's world-space height).
+pub fn parse_ortho(text: &str) -> Result<f64, CliError> {
+    let err =
+        || bad("--ortho", format!("expected the view's height in world units, a finite number > 0, got {text:?}"));
+    let h: f64 = text.trim().parse().map_err(|_| err())?;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(err());
+    }
+    Ok(h)
+}
+
 /// `--zmode` (with `--zpass`, which is `--zmode zpass`) as (force z-pass, auto z-pass).
 pub fn parse_zmode(zmode: &str, zpass: bool) -> Result<(bool, bool), CliError> {
     match (zmode.trim(), zpass) {

@@ -2,7 +2,7 @@
 
 use super::checked::{Checked, Listing};
 use super::parse::{asks_for_list, gl_method, parse_backend, parse_counter, parse_sm, wgpu_methods};
-use super::view::{check_receivers, ViewConfig};
+use super::view::{check_ortho, check_receivers, ViewConfig};
 use crate::args::RenderArgs;
 use crate::backend::Backend;
 use crate::error::CliError;
@@ -38,6 +38,7 @@ impl RenderConfig {
         }
         let view = ViewConfig::from_args(&a.view)?;
         check_receivers(backend, &view)?;
+        check_ortho(backend, &view)?;
         let counter = parse_counter(&a.counter, "--counter")?;
         Ok(Checked::Run(Self { backend, method: method.to_string(), sm, view, counter, out: a.out.clone() }))
     }

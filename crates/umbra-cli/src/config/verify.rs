@@ -2,7 +2,7 @@
 
 use super::checked::{Checked, Listing};
 use super::parse::{asks_for_list, methods_for, parse_backend, parse_counter, parse_sm};
-use super::view::{check_receivers, ViewConfig};
+use super::view::{check_ortho, check_receivers, ViewConfig};
 use crate::args::VerifyArgs;
 use crate::backend::Backend;
 use crate::error::{bad, CliError};
@@ -37,6 +37,7 @@ impl VerifyConfig {
         let sm = parse_sm(&a.sm)?;
         let view = ViewConfig::from_args(&a.view)?;
         check_receivers(backend, &view)?;
+        check_ortho(backend, &view)?;
         // GL 4.5 requires at least 4 bits (its state tables); 16 is beyond any rasterizer's grid.
         if let Some(bits) = a.subpixel_bits {
             if !(4..=16).contains(&bits) {

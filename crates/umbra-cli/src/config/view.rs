@@ -4,7 +4,9 @@
 use umbra_geom::scene;
 use umbra_geom::{Aabb, Light, Mesh, Receivers};
 
-use super::parse::{check_fov, parse_light, parse_receivers, parse_size, parse_vec3, parse_volume_cull, parse_zmode};
+use super::parse::{
+    check_fov, parse_light, parse_ortho, parse_receivers, parse_size, parse_vec3, parse_volume_cull, parse_zmode,
+};
 use crate::args::ViewArgs;
 use crate::backend::Backend;
 use crate::error::{bad, CliError};
@@ -35,6 +37,7 @@ impl ViewConfig {
     pub fn from_args(a: &ViewArgs) -> Result<Self, CliError> {
         let (width, height) = parse_size(&a.size)?;
         check_fov(a.fov)?;
+        let ortho = a.ortho.as_deref().map(parse_ortho).transpose()?;
         let up = parse_vec3("--up", &a.up)?;
         if up.iter().all(|&c| c == 0.0) {
             return Err(bad("--up", "must not be zero"));
@@ -57,6 +60,7 @@ impl ViewConfig {
         let mut camera = default_camera(&bounds, framing);
         camera.up = up;
         camera.fov_y_degrees = a.fov;
+        camera.ortho = ortho;
         if let Some(e) = eye {
             camera.eye = e;
         }
@@ -88,6 +92,14 @@ impl ViewConfig {
             receivers,
         })
     }
+}
+
+/// `--ortho` is drawn by the GL backend only (the wgpu backend's volumes run to infinity).
+pub fn check_ortho(backend: Backend, view: &ViewConfig) -> Result<(), CliError> {
+    if backend == Backend::Wgpu && view.camera.ortho.is_some() {
+        return Err(bad("--ortho", "applies to --backend gl (the wgpu backend's volumes run to infinity)"));
+    }
+    Ok(())
 }
 
 /// `--receivers front` culls back faces in the GL renderer's depth pass; the wgpu backend draws

@@ -265,3 +265,49 @@ fn distance_to_triangle_matches_its_regions() {
     assert!((distance_to_triangle([2.0, 2.0, 0.0], q) - 2f64.sqrt()).abs() < 1e-12);
     // edge bc
 }
+
+/// [`clamp_beyond_box`]: every point of the box a triangle shadows lies inside its finite
+/// volume, and no far end is infinite.
+fn check_box_clamp(light: Light, seed: u64) -> usize {
+    let mut rng = Rng(seed);
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for t in 0..200u32 {
+        let c = rng.point(-10.0, 10.0);
+        for _ in 0..3 {
+            let d = rng.point(-1.5, 1.5);
+            positions.push([c[0] + d[0], c[1] + d[1], c[2] + d[2]]);
+        }
+        triangles.push([3 * t, 3 * t + 1, 3 * t + 2]);
+    }
+    let mesh = WeldedMesh { positions, triangles, source_triangle: (0..200).collect(), degenerate_triangles: 0 };
+    let bounds = Aabb { min: [-12.0; 3], max: [12.0; 3] };
+    let mut clamp = VolumeClamp::default();
+    let stats = clamp_beyond_box(&mesh, light, bounds, &mut clamp).expect("finite");
+    assert_eq!(stats.kept, 200);
+    assert!(clamp.far.iter().all(|f| f.is_finite() && *f > 0.0));
+    let mut pairs = 0;
+    // The box's corners and random points in it.
+    let corners = (0..8).map(|c: u32| [0, 1, 2].map(|k| if c >> k & 1 == 0 { -12.0f32 } else { 12.0 }));
+    let samples: Vec<[f32; 3]> = corners.chain((0..3000).map(|_| rng.point(-12.0, 12.0))).collect();
+    for p in &samples {
+        for tri in &mesh.triangles {
+            let q = tri.map(|i| f64x3(mesh.positions[i as usize]));
+            if let Some((b, a)) = shadowed_by(f64x3(*p), q, light) {
+                pairs += 1;
+                let k = tri.map(|i| clamp.far[i as usize]);
+                let end = far_parameter(b, k, light[3] != 0.0);
+                assert!(a < end, "box point {p:?} at {a} is beyond the far cap at {end} (far ends {k:?})");
+            }
+        }
+    }
+    pairs
+}
+
+#[test]
+fn volumes_clamped_beyond_the_box_are_finite_and_hold_every_point_of_the_box_they_shadow() {
+    for (light, seed) in [([0.5f32, 3.0, -1.0, 1.0], 5u64), ([20.0, 30.0, 5.0, 1.0], 6), ([0.3, 1.0, 0.2, 0.0], 8)] {
+        let pairs = check_box_clamp(light, seed);
+        assert!(pairs > 200, "the scene must exercise the check: {pairs} pairs");
+    }
+}

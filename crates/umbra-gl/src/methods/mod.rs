@@ -160,6 +160,12 @@ impl VolumeFrame<'_> {
         self.depth_convention
     }
 
+    /// Whether `clip_from_world` is orthographic: its last row is exactly (0, 0, 0, 1) (clip w
+    /// = 1 at every finite point), which no perspective matrix has.
+    pub fn is_orthographic(&self) -> bool {
+        self.clip_from_world.row(3) == glam::DVec4::new(0.0, 0.0, 0.0, 1.0)
+    }
+
     /// The clip-space z, as a multiple of clip w, of the far plane: light caps are pushed there
     /// (paper 003, Eq. 6: `z = far_clip_z * w`). Shaders get it as the uniform `u_far_clip_z`
     /// (see methods/shared/depth.glsl): 1 under [`DepthConvention::Standard`] (depth 1), 0
@@ -249,6 +255,16 @@ pub trait ShadowMethod {
     /// volumes to show as a wireframe either.
     fn fills_volumes(&self) -> bool {
         true
+    }
+
+    /// Whether the method draws orthographic views ([`umbra_geom::camera::Projection`]): false
+    /// by default, and the renderer refuses such a frame with an error naming the method. A
+    /// point at infinity has clip w = 0 under an orthographic matrix, so volumes that run to
+    /// infinity (the far plane at infinity of paper 003) cannot be drawn; a method that
+    /// answers true closes its volumes at a finite distance ([`VolumeFrame::is_orthographic`],
+    /// docs/exactness.md "Orthographic views") or draws no volumes.
+    fn orthographic(&self) -> bool {
+        false
     }
 
     /// How the lighting pass tests "lit".

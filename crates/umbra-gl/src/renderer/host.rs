@@ -5,7 +5,7 @@
 use glow::HasContext;
 use umbra_geom::{FrameParams, Light};
 
-use super::validate::{check_stencil_target, validate_shading, validate_view};
+use super::validate::{check_projection, check_stencil_target, validate_shading, validate_view};
 use super::view::PassView;
 use super::{FrameTarget, Renderer};
 use crate::error::GlError;
@@ -77,6 +77,7 @@ impl Renderer {
         let light = light.into();
         validate_view(params, &light)?;
         self.check_convention(params.depth_convention)?;
+        check_projection(params, method)?;
         let saved = SavedState::capture(gl);
         let bindings = MethodBindings::capture(gl);
         let result = self.count_on(gl, scene, method, params, light, target.framebuffer);

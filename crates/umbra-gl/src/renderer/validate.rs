@@ -5,6 +5,7 @@ use glow::HasContext;
 use umbra_geom::{FrameParams, Light};
 
 use crate::error::GlError;
+use crate::methods::ShadowMethod;
 
 /// Checks parameters before any GL call ([`FrameParams::check`]).
 pub(super) fn validate(params: &FrameParams) -> Result<(), GlError> {
@@ -15,6 +16,18 @@ pub(super) fn validate(params: &FrameParams) -> Result<(), GlError> {
 pub(super) fn validate_view(params: &FrameParams, light: &Light) -> Result<(), GlError> {
     params.check_view()?;
     umbra_geom::check_light(0, light).map_err(|e| GlError::InvalidParams(e.to_string()))
+}
+
+/// An orthographic camera only with a method that draws it ([`ShadowMethod::orthographic`]).
+pub(super) fn check_projection(params: &FrameParams, method: &dyn ShadowMethod) -> Result<(), GlError> {
+    if params.camera.is_orthographic() && !method.orthographic() {
+        return Err(GlError::InvalidParams(format!(
+            "method {} cannot draw an orthographic view (its shadow volumes run to infinity, where an \
+             orthographic camera has no far plane); cpu-silhouette, none and the shadow maps can",
+            method.name()
+        )));
+    }
+    Ok(())
 }
 
 /// Colours and shading parameters are finite.

@@ -107,6 +107,12 @@ impl Renderer {
             (false, 0)
         } else if params.zpass {
             (true, 0)
+        } else if params.camera.is_orthographic() {
+            // The eye is at infinity and the volumes are finite (ShadowMethod::orthographic):
+            // with depth clamp, z-pass counts every crossing from infinity behind the camera
+            // to the sample, where the winding is 0, so it is exact from W0 = 0 wherever the
+            // camera is (docs/exactness.md, "Orthographic views"). z-fail only when asked.
+            (params.auto_zpass && counting, 0)
         } else if params.auto_zpass && counting {
             let adjacency = method.silhouette_sides().then(|| scene.adjacency().as_ref());
             match scene.clearance().near_winding(scene.mesh(), adjacency, &view.near_pyramid, light) {
@@ -167,7 +173,10 @@ impl Renderer {
             // (the shaders read it whether or not the planes are enabled). Counting methods only:
             // paper 002's all-edges-invert (parity, StencilTest) changed on 433 of 76,800 pixels
             // of tests/render.rs's z-pass case with the clip, so it keeps its unclipped volumes.
-            let scene_clip = near_clip && zpass && counting && scene.bounds().is_some();
+            // Not for an orthographic view: its z-pass counts from infinity behind the camera,
+            // and the scene box does not hold that whole line (nor the eye, at infinity).
+            let scene_clip =
+                near_clip && zpass && counting && scene.bounds().is_some() && !params.camera.is_orthographic();
             if near_clip {
                 self.bind_scene_clip(gl, view, scene.bounds(), scene_clip)?;
             }

@@ -269,7 +269,14 @@ pub fn counting_methods() -> Vec<&'static str> {
 }
 
 pub fn default_camera() -> Camera {
-    Camera { eye: [0.0, 5.0, 8.0], target: [0.0, 0.5, 0.0], up: [0.0, 1.0, 0.0], fov_y_degrees: 60.0, near: 0.1 }
+    Camera {
+        eye: [0.0, 5.0, 8.0],
+        target: [0.0, 0.5, 0.0],
+        up: [0.0, 1.0, 0.0],
+        fov_y_degrees: 60.0,
+        near: 0.1,
+        ..Camera::default()
+    }
 }
 
 /// The stencil counts one light leaves after `method`'s volume pass (sample for sample).

@@ -41,6 +41,7 @@ pub(crate) fn fly_through(f: usize, methods: usize, centre: [f64; 3], radius: f6
         up: [0.0, 1.0, 0.0],
         fov_y_degrees: 55.0,
         near: 0.01 * radius,
+        ..Camera::default()
     };
     let light_angle = -std::f64::consts::TAU * f as f64 / 97.0;
     let point = [

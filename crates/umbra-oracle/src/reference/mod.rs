@@ -291,6 +291,22 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// Where the pixel's ray through `p` starts: the eye, or, in an orthographic view, the
+    /// point of the eye's plane behind `p` (the ray runs along the view direction). Any point
+    /// on that ray behind `p` gives the same directions and sides; a point behind the eye's
+    /// plane gets the one as far in front of it, so it still looks along the view direction.
+    /// Position margins keep the camera's own eye (the larger distance).
+    fn eye_for(&self, p: [f64; 3]) -> [f64; 3] {
+        match self.view.and_then(|v| v.orthographic_forward) {
+            None => self.eye,
+            Some(f) => {
+                let d = dot(sub(p, self.eye), f).abs();
+                let d = if d > 0.0 { d } else { 1.0 };
+                [0, 1, 2].map(|k| p[k] - d * f[k])
+            }
+        }
+    }
+
     fn vertex(&self, k: u32) -> [f64; 3] {
         to_f64(self.mesh.positions[k as usize])
     }
@@ -334,7 +350,7 @@ impl<'a> Context<'a> {
             Some(p) => (sub(p, s), dot(n, sub(p, a))),
             None => (self.towards, dot(n, self.towards)),
         };
-        let eye_side = dot(n, sub(self.eye, a));
+        let eye_side = dot(n, sub(self.eye_for(s), a));
         let ll = dot(to_light, to_light);
         let position = RasterView::position_margin(s, self.eye);
 
@@ -426,10 +442,11 @@ impl<'a> Context<'a> {
     fn lateral(&self, n: [f64; 3], nn: f64, s: [f64; 3]) -> (f64, f64, bool) {
         let Some(v) = self.view else { return (0.0, 0.0, false) };
         let half = 0.5 * self.lateral_pixels;
-        let view_dir = sub(s, self.eye);
+        let eye = self.eye_for(s);
+        let view_dir = sub(s, eye);
         let cos = dot(n, view_dir).abs() / (nn.sqrt() * norm(view_dir));
         let stretch = if cos > half { 1.0 / cos } else { 1.0 / half };
-        (half * (1.0 + stretch) * v.footprint(s, self.width, self.height), v.depth_slope(s, self.eye), cos <= half)
+        (half * (1.0 + stretch) * v.footprint(s, self.width, self.height), v.depth_slope(s, eye), cos <= half)
     }
 
     /// The envelope's radius for volume faces of a sample at `s` on triangle `tri`.
@@ -437,7 +454,7 @@ impl<'a> Context<'a> {
         let [a, b, c] = tri;
         let n = cross(sub(b, a), sub(c, a));
         let (lateral, _, _) = self.lateral(n, dot(n, n), s);
-        let depth = self.view.map_or(0.0, |v| v.depth_margin(s, self.eye));
+        let depth = self.view.map_or(0.0, |v| v.depth_margin(s, self.eye_for(s)));
         RasterView::position_margin(s, self.eye) + lateral + depth
     }
 
@@ -500,7 +517,7 @@ fn mark_near_cut(
     is_sample: impl Fn(usize) -> bool,
 ) {
     let m = &view.clip_from_world;
-    let reversed = m[2] == 0.0 && m[6] == 0.0 && m[10] == 0.0;
+    let reversed = view.reversed();
     let row = |r: usize, p: [f64; 3]| m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
     // Signed distance to the near plane in clip units (positive in front), as shared/depth.glsl.
     let near = |p: [f64; 3]| if reversed { row(3, p) - row(2, p) } else { row(3, p) + row(2, p) };

@@ -62,7 +62,7 @@ impl Context<'_> {
     fn faces_away(&self, id: u32) -> (bool, bool) {
         let tri = self.mesh.triangles[id as usize].map(|k| self.vertex(k));
         let [a, b, c] = tri;
-        let eye_side = dot(cross(sub(b, a), sub(c, a)), sub(self.eye, a));
+        let eye_side = dot(cross(sub(b, a), sub(c, a)), sub(self.eye_for(a), a));
         let uncertain = eye_side == 0.0
             || !eye_side.is_finite()
             || self.view.is_some_and(|v| v.facing_uncertain(tri, self.width, self.height));
@@ -198,12 +198,13 @@ impl Context<'_> {
         if free {
             // What lies behind the sample along its ray, and whether one of those covers every
             // point within delta of the pixel centre (else the background may show).
-            let dir = sub(s, self.eye);
+            let eye = self.eye_for(s);
+            let dir = sub(s, eye);
             let len = norm(dir);
             let far = 1.0 + (norm(sub(s, self.centre)) + self.half_diagonal) / len;
-            let end = [0, 1, 2].map(|k| self.eye[k] + far * dir[k]);
+            let end = [0, 1, 2].map(|k| eye[k] + far * dir[k]);
             let mut covered = false;
-            self.bvh.triangles_near_segment(self.eye, dir, 1.0 - radius / len, far, t, 0.0, |id, v| {
+            self.bvh.triangles_near_segment(eye, dir, 1.0 - radius / len, far, t, 0.0, |id, v| {
                 let v = v.map(to_f64);
                 if !same_surface(id) && self.may_show(id) && segment_crosses(s, end, v) {
                     candidates.push(id);
@@ -225,12 +226,13 @@ impl Context<'_> {
             // The other surface's sample: where the pixel's ray meets its plane.
             let [p, q, r] = self.mesh.triangles[id as usize].map(|k| self.vertex(k));
             let m = cross(sub(q, p), sub(r, p));
-            let ray = sub(s, self.eye);
-            let along = dot(m, sub(p, self.eye)) / dot(m, ray);
+            let eye = self.eye_for(s);
+            let ray = sub(s, eye);
+            let along = dot(m, sub(p, eye)) / dot(m, ray);
             if !(along > 0.0 && along.is_finite()) {
                 return (true, Vec::new());
             }
-            let at = [0, 1, 2].map(|k| (self.eye[k] + along * ray[k]) as f32);
+            let at = [0, 1, 2].map(|k| (eye[k] + along * ray[k]) as f32);
             let (other_class, other_parts, envelope) = self.classify(id, at);
             if other_class != class || other_parts != BandParts::NONE {
                 return (true, Vec::new());

@@ -27,7 +27,7 @@
 
 use glow::HasContext;
 use umbra_geom::clearance::scene_clip_box;
-use umbra_geom::receivers::CullStats;
+use umbra_geom::receivers::{clamp_beyond_box, CullStats};
 use umbra_geom::silhouette::{
     estimate_fill, extract_clamped, extract_indexed, has_dark_caps, IndexedVolume, ScreenClip, TriangleSlots,
     VolumeClamp,
@@ -59,6 +59,7 @@ pub const SIDES_BINDING: u32 = 1;
 const MODE_SIDES: i32 = 0;
 const MODE_LIGHT_CAPS: i32 = 1;
 const MODE_DARK_CAPS: i32 = 2;
+const MODE_NEAR_CAPS: i32 = 3;
 
 /// A buffer re-specified every frame, grown geometrically and never shrunk.
 struct StreamBuffer {
@@ -208,6 +209,11 @@ impl ShadowMethod for CpuSilhouette {
         NAME
     }
 
+    fn orthographic(&self) -> bool {
+        // Orthographic views get volumes closed beyond the scene (draw_volumes).
+        true
+    }
+
     fn stages(&self) -> &'static [&'static str] {
         &["receivers", "silhouette", "upload", "sides", "caps"]
     }
@@ -301,7 +307,15 @@ impl ShadowMethod for CpuSilhouette {
         // "Volumes clamped to their receivers").
         frame.mark(gl, "receivers");
         self.last_cull = None;
-        if frame.volume_cull {
+        // An orthographic view cannot draw a far end at infinity (clip w = 0): every volume is
+        // closed beyond the scene's box instead, whatever volume_cull says (docs/exactness.md,
+        // "Orthographic views").
+        let ortho = frame.is_orthographic();
+        if let (true, Some(bounds)) = (ortho, scene.bounds()) {
+            let stats = clamp_beyond_box(scene.mesh(), frame.light, bounds, &mut self.clamp)
+                .map_err(|e| GlError::InvalidParams(format!("cpu-silhouette: {e}")))?;
+            self.last_cull = Some(stats);
+        } else if frame.volume_cull && !ortho {
             if self.receivers.is_none() {
                 self.receivers = Some(ReceiverPass::new(gl)?);
             }
@@ -329,13 +343,18 @@ impl ShadowMethod for CpuSilhouette {
             return Err(GlError::InvalidParams("cpu-silhouette: draw_volumes before prepare".into()));
         };
         // z-pass needs no light caps (they are never in front of a visible sample) and no dark
-        // caps at infinity; a clamped volume's far caps it does need (clamp.rs).
-        let caps = !frame.zpass;
+        // caps at infinity; a clamped volume's far caps it does need (clamp.rs). An
+        // orthographic z-pass needs the light caps behind the near plane (MODE_NEAR_CAPS).
+        let caps = !frame.zpass || ortho;
         let (mesh, adjacency) = (scene.mesh(), scene.adjacency());
         self.last_clamped = false;
         if self.last_cull.is_some() {
             extract_clamped(mesh, adjacency, slots, frame.light, caps, &self.clamp, &mut self.volume);
             self.last_dark_caps = false;
+            if ortho {
+                // Finite volumes are the only ones an orthographic view can draw.
+                self.last_clamped = true;
+            }
             // Clamped only where that costs fewer fragments than the same kept triangles'
             // volumes running to infinity (silhouette/fill.rs); both give every visible sample
             // the same count.
@@ -348,8 +367,10 @@ impl ShadowMethod for CpuSilhouette {
                 width: frame.width,
                 height: frame.height,
             };
-            let fill = estimate_fill(&self.volume, &mesh.positions, frame.light, caps, &clip);
-            self.last_clamped = fill.clamped < fill.unclamped;
+            if !ortho {
+                let fill = estimate_fill(&self.volume, &mesh.positions, frame.light, caps, &clip);
+                self.last_clamped = fill.clamped < fill.unclamped;
+            }
             if !self.last_clamped {
                 for f in self.clamp.far.iter_mut().filter(|f| **f > 0.0) {
                     *f = f32::INFINITY;
@@ -409,8 +430,10 @@ impl ShadowMethod for CpuSilhouette {
                 // The scene's welded positions (12-byte vec3): the caps' indices refer to them.
                 gl.vertex_array_vertex_buffer(gpu.caps_vao, 0, Some(scene.position_buffer()), 0, 12);
                 gl.bind_vertex_array(Some(gpu.caps_vao));
-                // Light caps to the far plane, paper 003 Eq. 6 (see volume.vert.glsl).
-                gl.uniform_1_i32(gpu.u_mode.as_ref(), MODE_LIGHT_CAPS);
+                // Light caps to the far plane, paper 003 Eq. 6 (see volume.vert.glsl); under an
+                // orthographic z-pass their parts behind the near plane, at its depth.
+                let mode = if frame.zpass { MODE_NEAR_CAPS } else { MODE_LIGHT_CAPS };
+                gl.uniform_1_i32(gpu.u_mode.as_ref(), mode);
                 gl.draw_elements(glow::TRIANGLES, cap_indices, glow::UNSIGNED_INT, 0);
                 if self.last_dark_caps {
                     // Dark caps: the same indices extruded to infinity (volume.vert.glsl). They

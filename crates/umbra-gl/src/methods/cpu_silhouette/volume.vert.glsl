@@ -30,6 +30,14 @@
 // +1) and inside it when seen from its dark side (the cap's back face, +1), which the
 // two-sided lighting pass shades without diffuse or specular anyway.
 //
+// 3 NEAR CAPS (orthographic z-pass only, docs/exactness.md "Orthographic views"): the light
+//   caps' parts BEHIND the near plane, at the near plane's depth. An orthographic z-pass
+//   counts every crossing from infinity behind the camera, where the finite volumes' winding
+//   is 0, so it needs the whole closed surface there: a caster the near plane cuts away has
+//   its light cap in front of every visible sample, and it must count. The part in front of
+//   the near plane lies on a caster the depth pass drew, so it is never strictly in front of
+//   a visible sample: clipped away (gl_ClipDistance[0] = minus the near distance).
+//
 // Edge-on triangles (orientation 0) come as degenerate caps (one vertex three times): zero
 // area in both caps, no fragment.
 //
@@ -59,6 +67,7 @@ uniform vec4 u_light;
 const int MODE_SIDES = 0;
 const int MODE_LIGHT_CAPS = 1;
 const int MODE_DARK_CAPS = 2;
+const int MODE_NEAR_CAPS = 3;
 
 // Same expression as the scene vertex shader for w = 1 vertices.
 invariant gl_Position;
@@ -78,8 +87,15 @@ void main() {
         vec4 second = u_clip_from_world * side_vertices[gl_VertexID - 1];
         face_window_depth = umbra_face_depth_of_plane(umbra_window_depth_plane(first, second, clip));
     }
-    // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); the rest never.
-    UMBRA_NEAR_CLIP(u_mode == MODE_LIGHT_CAPS ? umbra_near_distance(clip) : 1.0);
+    if (u_mode == MODE_NEAR_CAPS) {
+        // The near plane's window depth: 0 standard, 1 reversed-Z (u_far_clip_z 1 or 0). With
+        // depth clamp the clipped-away rest would get it too.
+        face_window_depth = dvec3(0.0LF, 0.0LF, 1.0LF - double(u_far_clip_z));
+    }
+    // Light caps: clipped at the near plane, then pushed (shared/depth.glsl); near caps: only
+    // their part behind the near plane kept; the rest never clipped.
+    UMBRA_NEAR_CLIP(u_mode == MODE_LIGHT_CAPS ? umbra_near_distance(clip)
+                    : u_mode == MODE_NEAR_CAPS ? -umbra_near_distance(clip) : 1.0);
     if (u_mode == MODE_LIGHT_CAPS) {
         clip = umbra_push_to_far(clip); // paper 003, Eq. 6
     }

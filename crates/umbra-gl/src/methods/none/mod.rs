@@ -32,6 +32,11 @@ impl ShadowMethod for NoShadows {
         &[]
     }
 
+    fn orthographic(&self) -> bool {
+        // No volumes: nothing depends on the projection.
+        true
+    }
+
     fn prepare(&mut self, _gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
         self.prepared = Some(scene.id());
         Ok(())

@@ -372,6 +372,12 @@ impl ShadowMethod for ShadowMapCube {
         self.name
     }
 
+    fn orthographic(&self) -> bool {
+        // The maps are drawn from the light and looked up at each sample's world position:
+        // the camera's projection takes no part.
+        true
+    }
+
     fn stages(&self) -> &'static [&'static str] {
         &["shadow-map"]
     }
