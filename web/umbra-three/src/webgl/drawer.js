@@ -29,6 +29,7 @@
 import { ShadowVolumes, VolumePrograms } from './volumes.js';
 import { snapGlsl, elementsGlsl, textureRows } from './vs_silhouette.js';
 import { link, GlSetupError } from './program.js';
+import { plainUnpack } from './unpack.js';
 import { CULL_BACK, CULL_NONE } from '../sides.js';
 import depthVert from './glsl/depth.vert.glsl';
 import depthFrag from './glsl/depth.frag.glsl';
@@ -157,13 +158,7 @@ export class WebGLDrawer {
     for (let t = 0; t < tri.triangles; t++) n.set(tri.normals.subarray(9 * t, 9 * t + 3), 3 * t);
     const width = 2 ** this.volumePrograms.shift;
     // Plain unpacking of a typed array (three.js sets its own per texture; resetState() after).
-    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
-    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
-    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    gl.pixelStorei(gl.UNPACK_ROW_LENGTH, 0);
-    gl.pixelStorei(gl.UNPACK_SKIP_ROWS, 0);
-    gl.pixelStorei(gl.UNPACK_SKIP_PIXELS, 0);
+    plainUnpack(gl);
     gl.bindTexture(gl.TEXTURE_2D, m.normals);
     const full = Math.floor(tri.triangles / width);
     const rest = tri.triangles - full * width;
@@ -445,13 +440,7 @@ export class WebGLDrawer {
     // The silhouettes are uploaded from wasm memory: plain unpacking (no flip or premultiply,
     // which three.js sets per texture; tight rows; no unpack buffer). resetState() restores
     // three.js's own after the frame.
-    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
-    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
-    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    gl.pixelStorei(gl.UNPACK_ROW_LENGTH, 0);
-    gl.pixelStorei(gl.UNPACK_SKIP_ROWS, 0);
-    gl.pixelStorei(gl.UNPACK_SKIP_PIXELS, 0);
+    plainUnpack(gl);
     // Reversed-Z: clip z in [0, w].
     if (rz) this.clipControl.clipControlEXT(this.clipControl.LOWER_LEFT_EXT, this.clipControl.ZERO_TO_ONE_EXT);
     const nearer = rz ? gl.GREATER : gl.LESS;

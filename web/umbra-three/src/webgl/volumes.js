@@ -10,6 +10,7 @@
 // holds, per light, the far end of every welded vertex and the list of its kept triangles of
 // nonzero orientation.
 import { link, GlSetupError } from './program.js';
+import { plainUnpack } from './unpack.js';
 import {
   polygonsVertexSource, fanVertexSource, fanFragmentSource, volumeFragmentSource, orientVertexSource,
   POLYGON_VARYINGS, FAN_VERTICES, polygonsPerInstance, textureShift, textureRows,
@@ -281,13 +282,7 @@ export class ShadowVolumes {
    */
   setVertices(positions) {
     const gl = this.gl;
-    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
-    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
-    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    gl.pixelStorei(gl.UNPACK_ROW_LENGTH, 0);
-    gl.pixelStorei(gl.UNPACK_SKIP_ROWS, 0);
-    gl.pixelStorei(gl.UNPACK_SKIP_PIXELS, 0);
+    plainUnpack(gl);
     gl.bindTexture(gl.TEXTURE_2D, this.vertexTex);
     upload(gl, 2 ** this.shift, gl.RGB, gl.FLOAT, positions, 0, 3, this.vertices);
     gl.bindTexture(gl.TEXTURE_2D, null);
