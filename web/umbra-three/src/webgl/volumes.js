@@ -78,12 +78,6 @@ const UNIT_RECORD_VERTICES = 6;
 const UNIT_TRIANGLE_VERTICES = 7;
 const UNIT_KEPT = 8;
 
-/** Integer uniforms of program `p` set once (useProgram leaves `p` in use). */
-function setConstants(gl, p, values) {
-  gl.useProgram(p.program);
-  for (const [name, v] of Object.entries(values)) if (p.u[name]) gl.uniform1i(p.u[name], v);
-}
-
 /**
  * The two volume programs, linked once per context, and the storage of the polygons between
  * them, all shared by every caster: one set (a caster's sides, light caps or dark caps) is
@@ -97,13 +91,6 @@ export class VolumePrograms {
     this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
     this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'glsl/fan.frag.glsl', fanFragmentSource());
-    // What never changes is set once (a program keeps its uniforms): the texture width and
-    // every sampler's unit.
-    setConstants(gl, this.polygons, {
-      u_texture_shift: this.shift, u_vertices: UNIT_VERTICES, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION,
-      u_records: UNIT_RECORDS, u_far: UNIT_FAR, u_record_vertices: UNIT_RECORD_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES, u_kept: UNIT_KEPT,
-    });
-    setConstants(gl, this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
     // The GPU silhouettes' orientation pass, linked when first used (silhouettes: 'gpu').
     this.orient = null;
     this.orientBuffer = null;
@@ -137,10 +124,7 @@ export class VolumePrograms {
   /** The orientation pass and a capture buffer for `triangles` ints (grown as needed). */
   orientation(triangles) {
     const gl = this.gl;
-    if (!this.orient) {
-      this.orient = link(gl, 'orientation pass', 'glsl/orient.vert.glsl', orientVertexSource(), 'vs_silhouette/volume.frag.glsl', volumeFragmentSource(), ['v_orientation']);
-      setConstants(gl, this.orient, { u_texture_shift: this.shift, u_vertices: UNIT_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES });
-    }
+    this.orient ??= link(gl, 'orientation pass', 'glsl/orient.vert.glsl', orientVertexSource(), 'vs_silhouette/volume.frag.glsl', volumeFragmentSource(), ['v_orientation']);
     if (this.orientCapacity < triangles) {
       if (this.orientBuffer) gl.deleteBuffer(this.orientBuffer);
       this.orientCapacity = 2 ** Math.ceil(Math.log2(Math.max(triangles, 1024)));
@@ -268,11 +252,11 @@ export class ShadowVolumes {
     for (const [name, v] of Object.entries(values)) if (p.u[name]) gl.uniform1i(p.u[name], v);
   }
 
-  /** `tex` on texture unit `unit`, which stays the active one (callers go back to 0 when done). */
   bindTexture(unit, tex) {
     const gl = this.gl;
     gl.activeTexture(gl.TEXTURE0 + unit);
     gl.bindTexture(gl.TEXTURE_2D, tex);
+    gl.activeTexture(gl.TEXTURE0);
   }
 
   /**
@@ -400,7 +384,7 @@ export class ShadowVolumes {
     const width = 2 ** this.shift;
     slot.gpuOrientation ??= this.made(dataTexture(gl, this.shift, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, this.triangles, 'GPU orientations'));
     const { program: O, buffer } = this.programs.orientation(this.triangles);
-    gl.useProgram(O.program);
+    this.setUniforms(O, { u_texture_shift: this.shift, u_vertices: UNIT_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES });
     gl.uniform4fv(O.u.u_light, light);
     this.bindTexture(UNIT_VERTICES, this.vertexTex);
     this.bindTexture(UNIT_TRIANGLE_VERTICES, this.triangleVerticesTex);
@@ -421,7 +405,7 @@ export class ShadowVolumes {
     upload(gl, width, gl.RED_INTEGER, gl.INT, 0, 0, 1, this.triangles);
     gl.bindTexture(gl.TEXTURE_2D, null);
     gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
-    for (const unit of [UNIT_TRIANGLE_VERTICES, UNIT_VERTICES]) this.bindTexture(unit, null);
+    for (const unit of [UNIT_VERTICES, UNIT_TRIANGLE_VERTICES]) this.bindTexture(unit, null);
   }
 
   /**
@@ -442,7 +426,9 @@ export class ShadowVolumes {
     const P = this.polygons;
     const culled = this.culled;
     this.setUniforms(P, {
-      u_max_mult: this.maxMult,
+      u_texture_shift: this.shift, u_max_mult: this.maxMult,
+      u_vertices: UNIT_VERTICES, u_edge_triangles: UNIT_EDGE_TRIANGLES, u_orientation: UNIT_ORIENTATION, u_records: UNIT_RECORDS,
+      u_far: UNIT_FAR, u_record_vertices: UNIT_RECORD_VERTICES, u_triangle_vertices: UNIT_TRIANGLE_VERTICES, u_kept: UNIT_KEPT,
       u_culled: culled ? 1 : 0,
       u_all_records: this.slot.gpu ? 1 : 0,
       // A far cap all at infinity is the dark cap: only where the unclamped volume draws it.
@@ -459,10 +445,9 @@ export class ShadowVolumes {
     // holds a texture of another type (three.js's, say); null reads as an incomplete texture.
     this.bindTexture(UNIT_FAR, culled ? this.cull.far : null);
     this.bindTexture(UNIT_KEPT, culled ? this.cull.kept : null);
-    // The geometry, read by every set.
+    // The geometry's indices, read by every set (its vertices: bound in each, below).
     this.bindTexture(UNIT_RECORD_VERTICES, this.recordVerticesTex);
     this.bindTexture(UNIT_TRIANGLE_VERTICES, this.triangleVerticesTex);
-    this.bindTexture(UNIT_VERTICES, this.vertexTex);
     gl.bindVertexArray(this.emptyVao);
     // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
     // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
@@ -477,6 +462,9 @@ export class ShadowVolumes {
         // first), captured from the buffer's start.
         gl.useProgram(P.program);
         gl.uniform1i(P.u.u_mode, mode);
+        // Bound again each chunk: the copy below binds the polygon texture on the active
+        // unit, 0, the vertices' unit.
+        this.bindTexture(UNIT_VERTICES, this.vertexTex);
         gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, this.feedback);
         gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, storage.buffer);
         gl.enable(gl.RASTERIZER_DISCARD);
@@ -487,15 +475,17 @@ export class ShadowVolumes {
         // WebGL forbids a buffer bound for transform feedback and for another use at once.
         gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
         gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
-        // The polygons into their texture (a copy on the GPU side), on the fan pass's unit.
+        // The polygons into their texture (a copy on the GPU side).
         gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, storage.buffer);
-        this.bindTexture(UNIT_POLYGONS, storage.tex);
+        gl.bindTexture(gl.TEXTURE_2D, storage.tex);
         upload(gl, 2 ** this.shift, gl.RGBA, gl.FLOAT, 0, 0, 4, POLYGON_TEXELS * n);
+        gl.bindTexture(gl.TEXTURE_2D, null);
         gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
         tick?.('volumes.polygons');
         // Fan pass: the polygons into the stencil, each range of `fans` cut to the chunk and
         // counted from its start.
-        gl.useProgram(this.fan.program);
+        this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
+        this.bindTexture(UNIT_POLYGONS, storage.tex);
         gl.uniform1f(this.fan.u.u_far_clip_z, farClipZ);
         gl.uniform1f(this.fan.u.u_snap, snap);
         gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
@@ -530,8 +520,8 @@ export class ShadowVolumes {
       // A directional light's dark cap has zero area: none.
       if (light[3] !== 0) set(2, this.triangles, all);
     }
-    // The units left unbound, as the other draws expect them, and unit 0 active again.
-    for (const unit of [UNIT_FAR, UNIT_RECORD_VERTICES, UNIT_TRIANGLE_VERTICES, UNIT_KEPT, UNIT_POLYGONS, UNIT_VERTICES]) this.bindTexture(unit, null);
+    // The units left unbound, as the other draws expect them.
+    for (const unit of [UNIT_FAR, UNIT_RECORD_VERTICES, UNIT_TRIANGLE_VERTICES, UNIT_KEPT, UNIT_VERTICES]) this.bindTexture(unit, null);
     gl.bindVertexArray(null);
   }
 }
