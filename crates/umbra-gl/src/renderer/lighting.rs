@@ -139,7 +139,7 @@ impl Renderer {
             gl.use_program(Some(program));
             gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &view.clip_f32);
             gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
-            gl.uniform_3_f32_slice(p.u_eye.as_ref(), &view.eye.map(|v| v as f32));
+            gl.uniform_4_f32_slice(p.u_eye.as_ref(), &view.shading_eye);
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, NORMALS_BINDING, Some(scene.normal_buffer()));
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }
@@ -267,7 +267,7 @@ impl Renderer {
             gl.uniform_matrix_4_f32_slice(p.u_clip_from_world.as_ref(), false, &view.clip_f32);
             gl.uniform_4_f32_slice(p.u_light.as_ref(), &light);
             gl.uniform_3_f32_slice(p.u_light_color.as_ref(), &params.light_color);
-            gl.uniform_3_f32_slice(p.u_eye.as_ref(), &view.eye.map(|v| v as f32));
+            gl.uniform_4_f32_slice(p.u_eye.as_ref(), &view.shading_eye);
             gl.uniform_3_f32_slice(p.u_albedo.as_ref(), &params.albedo);
             gl.uniform_1_f32(p.u_specular.as_ref(), params.specular);
             gl.uniform_1_f32(p.u_shininess.as_ref(), params.shininess);

@@ -21,6 +21,9 @@ pub(super) struct PassView {
     /// The eye and the near-plane corners the auto z-pass test uses (per frame, any light).
     pub(super) near_pyramid: Vec<[f64; 3]>,
     pub(super) eye: [f64; 3],
+    /// The lighting pass's `u_eye`: the eye (w = 1), or the unit direction towards it (w = 0)
+    /// when the camera is orthographic.
+    pub(super) shading_eye: [f32; 4],
     pub(super) convention: DepthConvention,
     /// The framebuffer drawn into (None = default framebuffer).
     pub(super) fb: Option<glow::Framebuffer>,
@@ -72,6 +75,13 @@ impl PassView {
             world_from_clip,
             clip_from_world,
             eye: params.camera.eye,
+            shading_eye: if params.camera.is_orthographic() {
+                let f = params.camera.forward();
+                [-f[0] as f32, -f[1] as f32, -f[2] as f32, 0.0]
+            } else {
+                let e = params.camera.eye;
+                [e[0] as f32, e[1] as f32, e[2] as f32, 1.0]
+            },
             convention,
             fb,
             width: params.width as i32,

@@ -27,7 +27,9 @@ layout(std430, binding = 0) readonly buffer TriangleNormals {
 
 uniform vec4 u_light;
 uniform vec3 u_light_color;
-uniform vec3 u_eye;
+// The eye (w = 1), or the direction towards it (w = 0) in an orthographic view: the eye at
+// infinity behind the camera, every view vector the same.
+uniform vec4 u_eye;
 uniform vec3 u_albedo;
 uniform float u_specular;
 uniform float u_shininess;
@@ -61,7 +63,7 @@ void main() {
     if (!gl_FrontFacing) {
         n = -n;
     }
-    vec3 v = normalize(u_eye - v_world_pos);
+    vec3 v = normalize(u_eye.xyz - v_world_pos * u_eye.w);
     vec3 l = normalize(u_light.xyz - v_world_pos * u_light.w);
     float n_dot_l = dot(n, l);
     // The seen side faces the light (a zero-area triangle has n = 0 and never does), and the
