@@ -179,3 +179,36 @@ fn ortho_external_mask_is_judged_in_the_orthographic_view() {
     let outside = v[1]["mismatches_outside_band"].as_u64().unwrap();
     assert!(outside > 500 && outside <= v[1]["shadowed_reference"].as_u64().unwrap(), "{v}");
 }
+
+/// A real mask judged in the orthographic view: `umbra view --ortho --mask` (under
+/// `xvfb-run`) writes the window's shadow mask, `verify --method none --external-mask` judges
+/// it: 0 samples outside the band, and the window and the headless verify agree on the view.
+#[test]
+fn ortho_window_mask_judged_by_verify_is_exact() {
+    if !std::process::Command::new("xvfb-run").arg("--help").output().is_ok_and(|o| o.status.success()) {
+        eprintln!("SKIPPED: xvfb-run not installed (apt-get install xvfb); umbra view needs a display");
+        return;
+    }
+    let dir = tmp_dir("ortho");
+    let (script, mask) = (dir.join("pose.path"), dir.join("window-mask.png"));
+    std::fs::write(&script, "eye 6 5 7 target 0 0.5 0\n").unwrap();
+    let _ = std::fs::remove_file(&mask);
+    let view = ["--size", "160x120", "--ortho", "8", "--eye=6,5,7", "--target=0,0.5,0"];
+    let o = std::process::Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_umbra"), "view", "default"])
+        .args(view)
+        .args(["--mask", "--script", script.to_str().unwrap(), "--screenshot", mask.to_str().unwrap()])
+        .output()
+        .expect("xvfb-run");
+    assert!(o.status.success(), "umbra view: {}", stderr(&o));
+    let mut args = vec!["verify", "--json", "--method", "none", "--external-mask", mask.to_str().unwrap()];
+    args.extend(view);
+    let o = umbra(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v = json(&o);
+    let r = &v[1];
+    assert_eq!(r["mismatches_outside_band"], 0, "{v}");
+    assert!(r["shadowed_reference"].as_u64().unwrap() > 500, "the view has shadows: {v}");
+    // `none` itself misses them: the mask's decisions are the window's, not the samples'.
+    assert!(v[0]["mismatches_outside_band"].as_u64().unwrap() > 500, "{v}");
+}

@@ -536,7 +536,14 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
                     MouseScrollDelta::PixelDelta(p) => p.y / 50.0,
                 };
-                self.rig.zoom(steps, 1e-3 * self.diagonal);
+                if let umbra_gl::Projection::Orthographic { height, far } = self.config.params.camera.projection {
+                    // Orthographic: moving the eye changes nothing seen; the wheel scales the
+                    // view's height instead, by 10 % per step (kept finite and > 0).
+                    let height = (height * 0.9f64.powf(steps)).clamp(1e-6 * self.diagonal, 1e6 * self.diagonal);
+                    self.config.params.camera.projection = umbra_gl::Projection::Orthographic { height, far };
+                } else {
+                    self.rig.zoom(steps, 1e-3 * self.diagonal);
+                }
             }
             WindowEvent::KeyboardInput { event, .. } => {
                 if let PhysicalKey::Code(code) = event.physical_key {
