@@ -323,7 +323,9 @@ pub fn to_f32_cols(m: &DMat4) -> [f32; 16] {
 /// The eye and the corners of the near-plane rectangle (pushed 2 % outwards from its centre),
 /// world space: the points whose hull with the light must be clear for z-pass
 /// ([`crate::clearance`]). `world_from_clip` is the inverse of the frame's `clip_from_world`
-/// in `convention`.
+/// in `convention`. Perspective cameras only: an orthographic camera's eye is at infinity, and
+/// its z-pass counts from there with the finite volumes' winding 0 (docs/exactness.md,
+/// "Orthographic views"), so the renderer takes no near pyramid for it.
 pub fn near_pyramid_points(world_from_clip: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
     // Near plane in NDC: z = -1 (standard, [-1, 1] depth), z = 1 (reversed-Z, ZERO_TO_ONE).
     let z = match convention {
