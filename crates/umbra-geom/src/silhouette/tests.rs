@@ -184,6 +184,38 @@ fn assert_closed(v: &IndexedVolume, positions: &[[f32; 3]], caps: bool) {
 /// [`extract_clamped`] with every triangle kept and every far end at infinity is
 /// [`extract_indexed`]; with triangles dropped and finite far ends it is a closed surface
 /// whose sides are the silhouette of the kept triangles.
+/// The orthographic views' volumes (`receivers::clamp_beyond_box`): every far end finite, every
+/// volume closed, the far caps those of every cap-drawing triangle.
+#[test]
+fn volumes_closed_beyond_the_box_are_finite_and_closed() {
+    let mut checked = 0;
+    for mesh in reference_inputs() {
+        let w = weld(&mesh);
+        let Some(bounds) = mesh.bounds() else { continue };
+        let adj = EdgeAdjacency::build(&w);
+        let slots = TriangleSlots::build(&w, &adj).expect("the adjacency of the mesh");
+        for light in reference_lights(&w) {
+            let mut clamp = VolumeClamp::default();
+            if crate::receivers::clamp_beyond_box(&w, light, bounds, &mut clamp).is_err() {
+                continue;
+            }
+            let mut volume = IndexedVolume::default();
+            extract_clamped(&w, &adj, &slots, light, true, &clamp, &mut volume);
+            assert!(volume.sides.iter().chain(&volume.far_caps).all(|v| v[3] == 1.0), "finite far ends");
+            let capped = w
+                .triangles
+                .iter()
+                .zip(&clamp.keep)
+                .filter(|&(&t, &k)| k && triangle_orientation(&w.positions, t, light) != 0)
+                .count();
+            assert_eq!(volume.far_caps.len(), 3 * capped);
+            assert_closed(&volume, &w.positions, true);
+            checked += usize::from(!volume.far_caps.is_empty());
+        }
+    }
+    assert!(checked > 5, "the inputs must exercise the check: {checked} volumes with far caps");
+}
+
 #[test]
 fn extract_clamped_is_extract_indexed_unclamped_and_closed_when_clamped() {
     for mesh in reference_inputs() {
