@@ -26,8 +26,8 @@
 //   depth 1, LESS, u_far_clip_z = 1; its depth steps grow with the square of the distance.
 // These are exactly VolumeFrame::far_clip_z / shadow_volume_state of the two conventions
 // (shared/depth.glsl). No three.js import: the caller (umbra-shadows.js) hands in matrices.
-import { ShadowVolumes, VolumePrograms } from './volumes.js';
-import { snapGlsl, elementsGlsl, textureRows } from './vs_silhouette.js';
+import { ShadowVolumes, VolumePrograms, dataTexture, upload } from './volumes.js';
+import { snapGlsl, elementsGlsl } from './vs_silhouette.js';
 import { link, GlSetupError } from './program.js';
 import { plainUnpack } from './unpack.js';
 import { CULL_BACK, CULL_NONE } from '../sides.js';
@@ -42,6 +42,13 @@ export { GlSetupError };
 
 /** Lights one mask target holds: one per RGBA8 channel. */
 export const MAX_LIGHTS = 4;
+
+/** The flat normal of every triangle of `tri` (flatTriangles: the same one on its 3 vertices), one x y z each. */
+function triangleNormals(tri) {
+  const n = new Float32Array(3 * tri.triangles);
+  for (let t = 0; t < tri.triangles; t++) n.set(tri.normals.subarray(9 * t, 9 * t + 3), 3 * t);
+  return n;
+}
 
 export class WebGLDrawer {
   /**
@@ -136,35 +143,10 @@ export class WebGLDrawer {
     gl.enableVertexAttribArray(0);
     gl.bindVertexArray(null);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
-    const shift = this.volumePrograms.shift;
-    const width = 2 ** shift;
-    const rows = textureRows(tri.triangles, shift);
-    const normals = gl.createTexture();
-    gl.bindTexture(gl.TEXTURE_2D, normals);
-    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGB32F, width, rows);
-    // NEAREST: a float texture is incomplete with filtering; texelFetch never filters.
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-    gl.bindTexture(gl.TEXTURE_2D, null);
-    const m = { vao, buffers: [b], normals, vertices: 3 * tri.triangles, bytes: tri.positions.byteLength + 12 * width * rows };
-    this.fillNormals(m, tri);
-    return m;
-  }
-
-  /** The flat normal of every triangle of `tri` (one per triangle) into mesh `m`'s normal texture. */
-  fillNormals(m, tri) {
-    const gl = this.gl;
-    const n = new Float32Array(3 * tri.triangles);
-    for (let t = 0; t < tri.triangles; t++) n.set(tri.normals.subarray(9 * t, 9 * t + 3), 3 * t);
-    const width = 2 ** this.volumePrograms.shift;
-    // Plain unpacking of a typed array (three.js sets its own per texture; resetState() after).
+    // The flat normals: volumes.js's data texture, one RGB32F texel per triangle.
     plainUnpack(gl);
-    gl.bindTexture(gl.TEXTURE_2D, m.normals);
-    const full = Math.floor(tri.triangles / width);
-    const rest = tri.triangles - full * width;
-    if (full > 0) gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, width, full, gl.RGB, gl.FLOAT, n, 0);
-    if (rest > 0) gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, full, rest, 1, gl.RGB, gl.FLOAT, n, 3 * full * width);
-    gl.bindTexture(gl.TEXTURE_2D, null);
+    const normals = dataTexture(gl, this.volumePrograms.shift, gl.RGB32F, gl.RGB, gl.FLOAT, triangleNormals(tri), 3, Math.max(1, tri.triangles), 'flat normals');
+    return { vao, buffers: [b], normals: normals.tex, vertices: 3 * tri.triangles, bytes: tri.positions.byteLength + normals.bytes };
   }
 
   /**
@@ -188,7 +170,10 @@ export class WebGLDrawer {
     gl.bindBuffer(gl.ARRAY_BUFFER, m.buffers[0]);
     gl.bufferSubData(gl.ARRAY_BUFFER, 0, tri.positions);
     gl.bindBuffer(gl.ARRAY_BUFFER, null);
-    this.fillNormals(m, tri);
+    plainUnpack(gl);
+    gl.bindTexture(gl.TEXTURE_2D, m.normals);
+    upload(gl, 2 ** this.volumePrograms.shift, gl.RGB, gl.FLOAT, triangleNormals(tri), 0, 3, tri.triangles);
+    gl.bindTexture(gl.TEXTURE_2D, null);
   }
 
   deleteMeshBuffers(m) {

@@ -23,7 +23,7 @@ const POLYGON_TEXELS = POLYGON_VARYINGS.length;
  * An immutable texture of `texels` elements of `perTexel` components, 2^shift texels wide,
  * element i at (i mod width, i / width), filled from `data` (a typed array) when given.
  */
-function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, texels, what) {
+export function dataTexture(gl, shift, internalFormat, format, type, data, perTexel, texels, what) {
   const width = 2 ** shift;
   const rows = textureRows(texels, shift);
   const max = gl.getParameter(gl.MAX_TEXTURE_SIZE);
@@ -52,7 +52,7 @@ export const POLYGON_CHUNK = 1 << 13;
 /** `texels` elements into the bound texture, from `source` (a typed array, or a byte offset
  * into the bound PIXEL_UNPACK_BUFFER) at element `first`: the full rows, then the rest. Rows
  * are 2^11 texels or more wide: every row starts aligned whatever UNPACK_ALIGNMENT is. */
-function upload(gl, width, format, type, source, first, perTexel, texels) {
+export function upload(gl, width, format, type, source, first, perTexel, texels) {
   const full = Math.floor(texels / width);
   const rest = texels - full * width;
   const fromBuffer = typeof source === 'number';
