@@ -6,8 +6,10 @@
 //   drawn and the good caster still shadows;
 // * the GL state umbra touches is restored: after an umbra frame, three.js draws another scene
 //   exactly as a fresh renderer does (also with three.js's reversedDepthBuffer); a scene
-//   without casters, umbra.enabled = false, an OrthographicCamera (refused with an entry in
-//   umbra.errors) and a plain renderer.render() after an umbra frame give three.js's own image;
+//   without casters, umbra.enabled = false, a camera that is neither a PerspectiveCamera nor an
+//   OrthographicCamera (refused with an entry in umbra.errors) and a plain renderer.render()
+//   after an umbra frame give three.js's own image; an OrthographicCamera is shadowed
+//   (web/test/ortho.test.mjs judges its masks);
 //   three.js's shadow maps stay off inside umbra's frame and the user's setting comes back;
 // * the user's renderer with stencil on or off and antialias on or off: the same decision,
 //   and the shading follows it;
@@ -165,7 +167,7 @@ test('bad meshes: an error naming each, once; never an exception; the frame draw
   assert.ok(r.drawn > 160 * 120 / 2, `the frame is drawn: ${r.drawn} pixels`);
 });
 
-test('state restored: three.js draws after an umbra frame as a fresh renderer does; no casters, enabled = false and an OrthographicCamera give three.js\'s own image', { skip }, async () => {
+test('state restored: three.js draws after an umbra frame as a fresh renderer does; no casters, enabled = false and a plain Camera give three.js\'s own image; an OrthographicCamera is shadowed', { skip }, async () => {
   const r = await page.evaluate(async () => {
     const { THREE, UmbraShadows } = window.T;
     const renderer = makeRenderer();
@@ -199,7 +201,8 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     fresh.render(d.scene, d.camera);
     const disabled = differing(pixels(renderer), pixels(fresh));
     umbra.enabled = true;
-    // An OrthographicCamera: refused, drawn by three.js.
+    // An OrthographicCamera: shadowed. A plain Camera with its projection: refused, drawn by
+    // three.js.
     const ortho = new THREE.OrthographicCamera(-5, 5, 4, -4, 0.1, 100);
     ortho.position.set(0, 4, 6);
     ortho.lookAt(0, 0, 0);
@@ -209,7 +212,14 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     } catch (e) {
       threw = String(e);
     }
-    fresh.render(d.scene, ortho);
+    const orthoShadowed = zeros(umbra.readMask(a.light));
+    const plain = new THREE.Camera();
+    plain.position.copy(ortho.position);
+    plain.quaternion.copy(ortho.quaternion);
+    plain.projectionMatrix.copy(ortho.projectionMatrix);
+    plain.projectionMatrixInverse.copy(ortho.projectionMatrixInverse);
+    umbra.render(a.scene, plain);
+    fresh.render(d.scene, plain);
     const orthographic = differing(pixels(renderer), pixels(fresh));
     // A plain renderer.render() of the shadowed scene right after an umbra frame: three.js's own image.
     umbra.render(a.scene, a.camera);
@@ -241,7 +251,7 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
     fresh.render(d.scene, d.camera);
     const disposed = differing(pixels(renderer), pixels(fresh));
     const glError = renderer.getContext().getError();
-    return { shadowed, afterUmbra, noCasters, disabled, orthographic, plainAfter, mapsOn, mapsRestored, reversed, reversedShadowed, disposed, glError,  threw, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
+    return { shadowed, afterUmbra, noCasters, disabled, orthographic, plainAfter, mapsOn, mapsRestored, reversed, reversedShadowed, disposed, glError, threw, orthoShadowed, errors: umbra.errors.map((e) => `${e.mesh}: ${e.message}`) };
   });
   console.log(JSON.stringify(r));
   assert.ok(r.shadowed > 200, 'the umbra frame had a shadow');
@@ -249,8 +259,10 @@ test('state restored: three.js draws after an umbra frame as a fresh renderer do
   assert.equal(r.noCasters, 0, 'no casters: not three.js\'s own image');
   assert.equal(r.disabled, 0, 'enabled = false: not three.js\'s own image');
   assert.equal(r.threw, null);
-  assert.equal(r.orthographic, 0, 'OrthographicCamera: not three.js\'s own image');
-  assert.ok(r.errors.some((e) => /OrthographicCamera: umbra-three draws shadows for a PerspectiveCamera only/.test(e)), r.errors.join('\n'));
+  assert.ok(r.orthoShadowed > 200, `an OrthographicCamera's frame has a shadow: ${r.orthoShadowed}`);
+  assert.equal(r.orthographic, 0, 'a plain Camera: not three.js\'s own image');
+  assert.ok(r.errors.some((e) => /Camera: umbra-three draws shadows for a PerspectiveCamera or an OrthographicCamera only/.test(e)), r.errors.join('\n'));
+  assert.ok(!r.errors.some((e) => /OrthographicCamera/.test(e.split(': ')[1] ?? '')), `the OrthographicCamera is not refused: ${r.errors.join('\n')}`);
   assert.equal(r.plainAfter, 0, 'renderer.render() after an umbra frame: not three.js\'s own image');
   assert.equal(r.mapsOn, 0, 'shadowMap.enabled = true changed umbra\'s frame');
   assert.equal(r.mapsRestored, true, 'shadowMap.enabled is the user\'s again');

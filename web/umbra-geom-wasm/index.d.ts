@@ -48,6 +48,14 @@ export interface Caster {
    * vertex's far end; null when nothing was culled (no map, a matrix that is not affine).
    */
   cull(receivers: Receivers, place: CullPlace, light: Float32Array | ArrayLike<number>): CullResult | null;
+  /**
+   * Every volume of the caster closed at finite far ends beyond the world box `bounds` (an
+   * orthographic view: umbra_geom::receivers::clamp_beyond_box), with the silhouette of the
+   * kept triangles towards `light` (the caster's space): as cull()'s result, `clamped` true and
+   * every kept vertex's far end finite. null when a matrix is not affine or a light not finite;
+   * throws UmbraGeomError when a far end does not fit in an f32. Views valid until the next call.
+   */
+  clampBeyondBox(place: BoxPlace, light: Float32Array | ArrayLike<number>): CullResult | null;
   /** Its handle in the module (0 once freed). */
   readonly handle: number;
   /** The welded vertices A, B of every edge record (2 per record, sides-data's order). */
@@ -56,6 +64,16 @@ export interface Caster {
   readonly vertices: number;
   /** Frees the module memory it holds (nearWinding and silhouette then throw). */
   free(): void;
+}
+
+/** Where a caster is, for clampBeyondBox(): column-major f64 matrices, the world box and light. */
+export interface BoxPlace {
+  worldFromObject: ArrayLike<number>;
+  objectFromWorld: ArrayLike<number>;
+  /** min x y z, max x y z (world space): holds every visible sample and every caster vertex. */
+  bounds: ArrayLike<number>;
+  /** The light in world space (x y z w; w = 0 directional). */
+  lightWorld: ArrayLike<number>;
 }
 
 /** Where a caster is, for cull(): column-major f64 matrices and the viewport. */

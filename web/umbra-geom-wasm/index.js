@@ -91,7 +91,8 @@ export async function loadUmbraGeom(source) {
     return scratch.points;
   };
   const scratchBlock = (key, Type, values) => {
-    // 'matrices': the cull's 53 f64 (crates/umbra-wasm/src/ffi.rs CULL_PARAMS).
+    // 'matrices': the cull's 53 f64 or the box clamp's 42 (crates/umbra-wasm/src/ffi.rs CULL_PARAMS,
+    // CLAMP_BOX_PARAMS).
     if (!scratch[key]) scratch[key] = alloc(key === 'matrices' ? 512 : 32);
     new Type(w.memory.buffer, scratch[key], values.length).set(values);
     return scratch[key];
@@ -247,6 +248,24 @@ export async function loadUmbraGeom(source) {
         const s = silhouetteViews(n);
         const memory = w.memory.buffer;
         s.clamped = w.umbra_caster_clamped(live) !== 0;
+        s.kept = u(w.umbra_caster_cull_kept(live));
+        s.triangles = new Int32Array(memory, u(w.umbra_caster_kept_ptr(live)), u(w.umbra_caster_kept_len(live)));
+        s.far = new Float32Array(memory, u(w.umbra_caster_far_ptr(live)), u(w.umbra_caster_far_len(live)));
+        return s;
+      },
+      // Every volume closed at finite far ends beyond the world box (an orthographic view;
+      // crates/umbra-wasm/src/ffi.rs umbra_caster_clamp_box), its silhouette towards `l`.
+      clampBeyondBox({ worldFromObject, objectFromWorld, bounds, lightWorld }, l) {
+        if (!live) throw new UmbraGeomError('umbra-wasm: clampBeyondBox after free()');
+        const params = [...worldFromObject, ...objectFromWorld, ...bounds, ...lightWorld];
+        const m = scratchBlock('matrices', Float64Array, params);
+        new Float32Array(w.memory.buffer, light, 4).set(l);
+        const n = w.umbra_caster_clamp_box(live, m, params.length, light);
+        if (n === -2) throw new UmbraGeomError('a shadow volume cannot be closed at a finite distance (f32) beyond the scene: a triangle lies too close to the light for an orthographic view');
+        if (n < 0) return null;
+        const s = silhouetteViews(n);
+        const memory = w.memory.buffer;
+        s.clamped = true;
         s.kept = u(w.umbra_caster_cull_kept(live));
         s.triangles = new Int32Array(memory, u(w.umbra_caster_kept_ptr(live)), u(w.umbra_caster_kept_len(live)));
         s.far = new Float32Array(memory, u(w.umbra_caster_far_ptr(live)), u(w.umbra_caster_far_len(live)));

@@ -55,6 +55,12 @@ pub struct ViewArgs {
     /// and the shadow maps draw it (GL backend).
     #[arg(long, allow_hyphen_values = true)]
     pub ortho: Option<String>,
+    /// With `--ortho`: the view distance of the far plane (finite, beyond the near plane)
+    /// instead of the one fitted just beyond the scene's box. For judging a mask drawn with
+    /// that far plane (`--external-mask`: umbra-three's `info.ortho.far`), whose depth steps
+    /// follow it.
+    #[arg(long, allow_hyphen_values = true)]
+    pub ortho_far: Option<String>,
     /// Image size WxH.
     #[arg(long, default_value = "1280x720")]
     pub size: String,

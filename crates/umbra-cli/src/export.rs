@@ -524,6 +524,7 @@ mod tests {
             up: "0,1,0".into(),
             fov: 60.0,
             ortho: None,
+            ortho_far: None,
             size: "64x64".into(),
             ground: true,
             zpass: false,

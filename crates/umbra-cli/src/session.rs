@@ -68,6 +68,10 @@ pub fn frame_params_for(view: &ViewConfig, bounds: Option<umbra_geom::Aabb>) -> 
     let mut camera =
         Camera { eye: c.eye, target: c.target, up: c.up, fov_y_degrees: c.fov_y_degrees, near, projection };
     fit_ortho_far(&mut camera, bounds);
+    // `--ortho-far`: the far plane another renderer drew with (its depth steps), as given.
+    if let (Projection::Orthographic { height, .. }, Some(far)) = (camera.projection, view.ortho_far) {
+        camera.projection = Projection::Orthographic { height, far };
+    }
     FrameParams {
         camera,
         width: view.width,

@@ -322,6 +322,54 @@ impl CasterCull {
             // cull goes on without whole regions (keeping fewer triangles is still exact).
             self.slots = TriangleSlots::build(mesh, adjacency).ok();
         }
+        let identity = self.update_world(mesh, world_from_object);
+        let culled = match (&self.world, identity) {
+            (Some(w), false) => &w.mesh,
+            _ => mesh,
+        };
+        let light = receivers.light();
+        let regions = self.slots.as_ref().map(|s| (adjacency, s));
+        self.stats = map.cull_and_clamp(culled, light, regions, &mut self.clamp);
+        self.far_vertices(mesh, object_from_world, light, light_object);
+        Some(&self.clamp.keep)
+    }
+
+    /// Closes every volume of the caster `mesh` beyond the world box `bounds`, for an
+    /// orthographic view ([`umbra_geom::receivers::clamp_beyond_box`], docs/exactness.md
+    /// "Orthographic views": no far end at infinity, every far end finite and beyond every
+    /// point of `bounds` in its triangle's frustum). `world_from_object`, `object_from_world`
+    /// and `light_object` as for [`CasterCull::cull`]; `light_world` the world light the box
+    /// test runs with (`light_object` moved into world space). `bounds` must hold every
+    /// visible sample and every position of the caster in world space. Returns the kept flags
+    /// (every triangle that can cast; a triangle the point light lies in the plane of is
+    /// dropped), `Ok(None)` when the matrices are not affine and finite or a light is not
+    /// finite, or the error of a far end that does not fit in an f32. The far vertices
+    /// ([`CasterCull::far`]) are then all finite (w = 1) where kept.
+    pub fn clamp_beyond_box(
+        &mut self,
+        mesh: &WeldedMesh,
+        world_from_object: &[f64; 16],
+        object_from_world: &[f64; 16],
+        bounds: Aabb,
+        light_world: Light,
+        light_object: Light,
+    ) -> Result<Option<&[bool]>, umbra_geom::receivers::FiniteClampError> {
+        if !affine(world_from_object) || !affine(object_from_world) || !finite(&light_object) || !finite(&light_world) {
+            return Ok(None);
+        }
+        let identity = self.update_world(mesh, world_from_object);
+        let world = match (&self.world, identity) {
+            (Some(w), false) => &w.mesh,
+            _ => mesh,
+        };
+        self.stats = umbra_geom::receivers::clamp_beyond_box(world, light_world, bounds, &mut self.clamp)?;
+        self.far_vertices(mesh, object_from_world, light_world, light_object);
+        Ok(Some(&self.clamp.keep))
+    }
+
+    /// Keeps the world copy of `mesh` for `world_from_object` (made when the matrix changed);
+    /// returns whether the matrix is the identity (no copy: the world mesh is `mesh`).
+    fn update_world(&mut self, mesh: &WeldedMesh, world_from_object: &[f64; 16]) -> bool {
         let identity = *world_from_object == IDENTITY;
         if !identity && self.world.as_ref().is_none_or(|w| w.matrix != *world_from_object) {
             let positions = mesh
@@ -332,14 +380,12 @@ impl CasterCull {
             let world = WeldedMesh { positions, ..mesh.clone() };
             self.world = Some(WorldCopy { matrix: *world_from_object, mesh: world });
         }
-        let culled = match (&self.world, identity) {
-            (Some(w), false) => &w.mesh,
-            _ => mesh,
-        };
-        let light = receivers.light();
-        let regions = self.slots.as_ref().map(|s| (adjacency, s));
-        self.stats = map.cull_and_clamp(culled, light, regions, &mut self.clamp);
-        // The far vertices, in the caster's space.
+        identity
+    }
+
+    /// The far vertices of the last clamp (`self.clamp`, made with the world light `light`),
+    /// in the caster's space: module documentation.
+    fn far_vertices(&mut self, mesh: &WeldedMesh, object_from_world: &[f64; 16], light: Light, light_object: Light) {
         let lo = light_object.map(f64::from);
         let t = self.clamp.travel;
         let m = object_from_world;
@@ -362,7 +408,6 @@ impl CasterCull {
                 [c[0], c[1], c[2], 1.0]
             }
         }));
-        Some(&self.clamp.keep)
     }
 
     /// Keeps the clamp of the last [`CasterCull::cull`] where its volume costs less on `screen`

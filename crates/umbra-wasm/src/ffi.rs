@@ -383,6 +383,65 @@ pub unsafe extern "C" fn umbra_caster_cull(
     i32::try_from(n).unwrap_or(-1)
 }
 
+/// Floats of [`umbra_caster_clamp_box`]'s parameters.
+pub const CLAMP_BOX_PARAMS: usize = 42;
+
+/// [`crate::CasterCull::clamp_beyond_box`] (an orthographic view: every volume closed at finite
+/// far ends beyond the world box), then [`crate::Silhouette::compute`] of the kept triangles
+/// towards `light` (4 f32, the geometry's own space, as its volumes are drawn). `params`:
+/// [`CLAMP_BOX_PARAMS`] f64, the caster's world matrix and its inverse (column-major, 16
+/// each), the world box (min x y z, max x y z) and the world light (x y z w). Returns how many
+/// records have a nonzero multiplicity (the accessors of [`umbra_caster_cull`] then read this
+/// silhouette, its kept triangles and far vertices, [`umbra_caster_clamped`] 1), -1 when the
+/// matrices are not affine and finite, a light is not finite or the parameters are of another
+/// length, -2 when a far end does not fit in an f32 (a triangle too close to the light).
+///
+/// # Safety
+/// `c` is a live handle of [`umbra_result_caster`]; `params` points to `params_len` f64 and
+/// `light` to 4 f32.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_caster_clamp_box(
+    c: *mut Caster,
+    params: *const f64,
+    params_len: usize,
+    light: *const f32,
+) -> i32 {
+    // SAFETY: guaranteed by the caller.
+    let (c, p, light) = unsafe { (&mut *c, slice(params, params_len), slice(light, 4)) };
+    let (Ok(light), CLAMP_BOX_PARAMS) = (<[f32; 4]>::try_from(light), p.len()) else { return -1 };
+    let matrix = |at: usize| -> [f64; 16] { std::array::from_fn(|i| p[at + i]) };
+    let (world, inverse) = (matrix(0), matrix(16));
+    // Rounded outwards to f32: the box must hold every sample.
+    let down = |x: f64| {
+        let f = x as f32;
+        if f64::from(f) > x {
+            f.next_down()
+        } else {
+            f
+        }
+    };
+    let up = |x: f64| {
+        let f = x as f32;
+        if f64::from(f) < x {
+            f.next_up()
+        } else {
+            f
+        }
+    };
+    let bounds =
+        umbra_geom::Aabb { min: [down(p[32]), down(p[33]), down(p[34])], max: [up(p[35]), up(p[36]), up(p[37])] };
+    let light_world: [f32; 4] = [p[38] as f32, p[39] as f32, p[40] as f32, p[41] as f32];
+    let Caster { clearance, silhouette, cull, clamped, .. } = c;
+    let keep = match cull.clamp_beyond_box(clearance.mesh(), &world, &inverse, bounds, light_world, light) {
+        Ok(Some(keep)) => keep,
+        Ok(None) => return -1,
+        Err(_) => return -2,
+    };
+    let n = silhouette.compute(light, Some(keep));
+    *clamped = true;
+    i32::try_from(n).unwrap_or(-1)
+}
+
 /// Whether the last [`umbra_caster_cull`] kept its volume clamped (1; its far caps are then
 /// drawn in both counts) or put every far end at infinity (0: no far caps under z-pass).
 ///

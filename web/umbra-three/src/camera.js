@@ -49,6 +49,21 @@ export function infinitePerspectiveReversedZ(fovYDegrees, aspect, near) {
   return [f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, 0, -1, 0, 0, near, 0];
 }
 
+/**
+ * Orthographic clip_from_view (umbra_geom::camera orthographic_clip_from_view): the x and y
+ * rows of `p` (a three.js OrthographicCamera's projectionMatrix.elements, column-major: its
+ * left, right, top, bottom, zoom and view offset, what three.js draws with), the depth row
+ * linear in the view distance d with view distance `near` at the near plane's clip z and
+ * `far` at the far plane's: (d - near) / (far - near) standard, (far - d) / (far - near)
+ * reversed-Z; w_clip = 1. A finite far plane: a point at infinity has clip w = 0 here.
+ */
+export function orthographicProjection(p, near, far, reversedZ) {
+  const span = far - near;
+  // z_clip = a z_view + b with z_view = -d.
+  const [a, b] = reversedZ ? [1 / span, far / span] : [-2 / span, -(far + near) / span];
+  return [p[0], p[1], 0, 0, p[4], p[5], 0, 0, p[8], p[9], a, 0, p[12], p[13], b, 1];
+}
+
 /** clip_from_world in the standard or the reversed-Z convention (f64 product, f32 upload). */
 export function clipFromWorld(cam, aspect, reversedZ = false) {
   const p = (reversedZ ? infinitePerspectiveReversedZ : infinitePerspective)(cam.fov_y_degrees, aspect, cam.near);

@@ -23,7 +23,7 @@ import { gatherLights, lightSlots } from './lights.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
 import { sidesOf } from './sides.js';
-import { infiniteProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
+import { infiniteProjection, orthographicProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
 
@@ -218,7 +218,10 @@ export class UmbraShadows {
     this.info = {
       lights: 0, casters: 0, mapCasters: [], triangles: 0, prepareMs: 0, cpuMs: 0, reused: false, gpuBytes: 0, passes: {}, zpass: [],
       volumeCull: this.drawer.volumeCull, volumeCullMessage: this.drawer.volumeCullMessage, receiverScatter: this.drawer.receiverScatter, silhouettes: this.silhouettes, volumes: [],
+      ortho: null,
     };
+    // The last orthographic frame's { near, far } (info.ortho of a reused frame).
+    this.lastOrtho = null;
   }
 
   /** The renderer's name (WEBGL_debug_renderer_info) and its SUBPIXEL_BITS, for tests. */
@@ -513,14 +516,21 @@ export class UmbraShadows {
     for (const m of meshes) for (const mat of Array.isArray(m.material) ? m.material : [m.material]) patchMaterial(mat, this.uniforms, this.patched);
     this.info.lights = lights.length;
     if (lights.length === 0) return false;
-    if (!camera.isPerspectiveCamera) {
-      this.report(camera.name || camera.uuid, `${camera.type}: umbra-three draws shadows for a PerspectiveCamera only (its infinite far plane); the frame is drawn without them`);
+    // An OrthographicCamera: every volume closed at finite far ends beyond the drawn meshes'
+    // world box (a point at infinity has clip w = 0 under an orthographic projection, so no
+    // volume may reach it), counted z-fail, drawn with a projection whose finite far plane lies
+    // beyond every far end (orthoFrame(); docs/web.md, "Orthographic cameras").
+    const ortho = !!camera.isOrthographicCamera;
+    if (!camera.isPerspectiveCamera && !ortho) {
+      this.report(camera.name || camera.uuid, `${camera.type}: umbra-three draws shadows for a PerspectiveCamera or an OrthographicCamera only; the frame is drawn without them`);
       return false;
     }
 
     const size = this.renderer.getDrawingBufferSize(new Vector2());
     const reversed = this.drawer.reversedZ;
-    const projection = infiniteProjection(camera.getEffectiveFOV(), camera.aspect, camera.near, reversed);
+    // Orthographic: the projection needs the far plane, known once every volume is closed
+    // (orthoFrame); each mesh's clip-from-object matrix is made there.
+    const projection = ortho ? null : infiniteProjection(camera.getEffectiveFOV(), camera.aspect, camera.near, reversed);
     const view = camera.matrixWorldInverse.elements;
     const lightWorld = lights.map((l) => {
       const p = new Vector3().setFromMatrixPosition(l.matrixWorld);
@@ -532,8 +542,9 @@ export class UmbraShadows {
     const inverse = new Matrix4();
     // The z-pass test's points (the eye and the near-plane corners), world space.
     const eye = new Vector3().setFromMatrixPosition(camera.matrixWorld);
-    const worldFromClip = new Matrix4().fromArray(mul(projection, view)).invert().elements;
-    const pyramid = this.options.zpass === false ? null : nearPyramidPoints(worldFromClip, [eye.x, eye.y, eye.z], reversed);
+    // Orthographic: no near pyramid (the eye is at infinity); every light is counted z-fail.
+    const worldFromClip = ortho ? null : new Matrix4().fromArray(mul(projection, view)).invert().elements;
+    const pyramid = this.options.zpass === false || ortho ? null : nearPyramidPoints(worldFromClip, [eye.x, eye.y, eye.z], reversed);
     const tests = [];
     const frameMeshes = [];
     let casters = 0;
@@ -554,6 +565,12 @@ export class UmbraShadows {
     // a plain mesh), so that each keeps its own silhouettes (`cache`).
     const mapCasting = this.alphaCasters === 'shadowMap';
     const mapCasters = new Set();
+    // Orthographic: every drawn mesh's f64 world matrix (its clip matrix is made in orthoFrame),
+    // and every caster with what its volumes are closed by; a posed caster (its rest pose is
+    // what the wasm holds) refuses the frame.
+    const orthoMeshes = [];
+    const orthoCasters = [];
+    let orthoPosed = null;
     const placeMesh = (m, geometry, world, instance) => {
       const drawn = this.buffersOf(m, geometry);
       if (!drawn) return;
@@ -569,7 +586,12 @@ export class UmbraShadows {
         this.drawer.updateMeshBuffers(buffers, flatTriangles(pose, geometry.index ? geometry.index.array.subarray(0, geometry.index.count) : null));
         affineWorlds = false;
       }
-      if (cullOn && drawn.box) worldBox(drawn.box, we, bounds);
+      if ((cullOn || ortho) && drawn.box) worldBox(drawn.box, we, bounds);
+      // Orthographic: a posed mesh's samples lie on its pose, which the box must hold too.
+      if (ortho && pose) {
+        const posedBox = boxOf(pose);
+        if (posedBox) worldBox(posedBox, we, bounds);
+      }
       // An alpha-tested caster goes to three.js's shadow map (render()): not umbra's.
       const toMap = m.castShadow && mapCasting && alphaTested(m);
       if (toMap) mapCasters.add(m);
@@ -596,7 +618,7 @@ export class UmbraShadows {
         });
       }
       const worldFromObject = world.elements.slice();
-      const clip = clipFromObject(projection, view, world.elements);
+      const clip = ortho ? null : clipFromObject(projection, view, world.elements);
       // What the wasm's cull reads: the caster's world matrix and its inverse (its samples are
       // in world space), and where its volume is drawn (clamped only where that covers fewer
       // pixels).
@@ -610,7 +632,15 @@ export class UmbraShadows {
       // light's four f32 object-space coordinates, what the wasm orients the triangles by).
       const index = instance === null ? null : typeof instance === 'number' ? instance : Number(instance.slice(1));
       const instanceSlot = index !== null && index < INSTANCE_SLOTS ? MAX_LIGHTS * (1 + index) : null;
+      // Orthographic: the volumes closed beyond the box, computed in orthoFrame (per light k).
+      const closed = [];
+      if (ortho) {
+        orthoMeshes.push(worldFromObject);
+        if (caster && pose) orthoPosed = meshName(m);
+        if (caster) orthoCasters.push({ caster, worldFromObject, objectFromWorld: e.slice(), objectLights, closed });
+      }
       const silhouette = (k) => {
+        if (ortho) return closed[k];
         const w = caster.wasm.caster;
         const v = drawnVolumes[k];
         if (culledLights[k]) {
@@ -689,13 +719,23 @@ export class UmbraShadows {
     // their slots in three.js's uniforms) and the same meshes with the same buffers, volumes,
     // matrices and lights in their space. Every pass below reads only those, so the mask target
     // holds this frame's decisions already: no pass, no z-pass test, no silhouette.
+    if (ortho && (orthoPosed !== null || !affineWorlds)) {
+      const why = orthoPosed !== null ? `the skinned or morphed caster ${orthoPosed} (its volumes are closed from the rest pose the wasm holds)` : 'a mesh with a projective world matrix (its volumes are closed in world space)';
+      this.report(camera.name || camera.uuid, `OrthographicCamera: umbra-three cannot close the volumes of ${why}; the frame is drawn without shadows`);
+      return false;
+    }
+    // The frame's projection: the perspective one, or the orthographic one's inputs (its x and
+    // y rows and near plane: its far plane follows from the rest of the key).
+    const pm = camera.projectionMatrix.elements;
     const frame = {
       key: [size.x, size.y, reversed, this.options.snap || 0, this.options.zpass !== false, this.options.volumeClamp ?? 'auto', cullOn,
-        projection.slice(), view.slice(), lights, lights.map((l) => [slots.get(l).kind, slots.get(l).index]), lightWorld],
+        ortho ? ['ortho', pm[0], pm[1], pm[4], pm[5], pm[8], pm[9], pm[12], pm[13], camera.near] : projection.slice(),
+        view.slice(), lights, lights.map((l) => [slots.get(l).kind, slots.get(l).index]), lightWorld],
       meshes: frameMeshes,
     };
     if (this.cache && sameFrame(this.lastFrame, frame) && this.drawer.maskTexture) {
       this.info.reused = true;
+      this.info.ortho = ortho ? this.lastOrtho : null;
       this.info.passes = {};
       this.mask.sourceTexture = this.drawer.maskTexture;
       this.setSelects(slots, this.channels);
@@ -726,7 +766,7 @@ export class UmbraShadows {
     // The map is made of world positions (x y z of the world matrix times the object point):
     // a projective world matrix anywhere in the frame would misplace its samples, so such a
     // frame is drawn unculled.
-    if (cullOn && affineWorlds && bounds.every(Number.isFinite)) {
+    if (cullOn && !ortho && affineWorlds && bounds.every(Number.isFinite)) {
       const box = Float32Array.from(bounds);
       while (this.receivers.length < lights.length) this.receivers.push(this.topology.geom.receivers());
       cull = {
@@ -747,7 +787,18 @@ export class UmbraShadows {
         },
       };
     }
-    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: frameMeshes, lights: lights.length, zpass, cull });
+    let drawn = frameMeshes;
+    this.info.ortho = null;
+    if (ortho) {
+      // Every caster's volumes closed beyond the box, then the projection whose far plane lies
+      // beyond them all, and each mesh's clip matrix with it (the frame's entries keep null, so
+      // that the next frame compares their inputs).
+      const o = this.orthoFrame(camera, view, reversed, bounds, lightWorld, orthoCasters, drawnVolumes);
+      drawn = frameMeshes.map((m, i) => ({ ...m, clipFromObject: clipFromObject(o.projection, view, orthoMeshes[i]) }));
+      this.info.ortho = { near: camera.near, far: o.far };
+      this.lastOrtho = this.info.ortho;
+    }
+    this.drawer.frame({ width: size.x, height: size.y, snap: this.options.snap || 0, timing, meshes: drawn, lights: lights.length, zpass, cull });
     cpu.passes = performance.now() - tc;
     this.info.passes = timing || {};
     this.info.zpass = zpass;
@@ -761,6 +812,55 @@ export class UmbraShadows {
     this.lastFrame = this.cache ? frame : null;
     this.info.gpuBytes = this.gpuBytes();
     return true;
+  }
+
+  /**
+   * An orthographic frame's volumes and projection. Every caster's volume towards every light
+   * is closed at finite far ends beyond the world box `bounds` of the drawn meshes (the wasm's
+   * clampBeyondBox: umbra_geom::receivers::clamp_beyond_box in world space, the far ends moved
+   * into the caster's space; docs/exactness.md, "Orthographic views"), its silhouette copied
+   * into `closed[k]` of the caster's entry for the drawer. The far plane lies beyond the
+   * farthest of the box's corners and of every far end along the view direction (view
+   * distance), so that neither the depth pass nor a volume is cut by it: beyond it by 1 % of
+   * the box's diagonal, plus |near|, plus 2^-10 of that distance (far more than the f32
+   * roundings of the far ends and of the GPU's clip z). Returns { projection, far }.
+   */
+  orthoFrame(camera, view, reversed, bounds, lightWorld, casters, drawnVolumes) {
+    const near = camera.near;
+    // View distance d = -z_view: row 2 of the view matrix (column-major), negated.
+    const row = (m) => [0, 1, 2, 3].map((j) => view[2] * m[4 * j] + view[6] * m[4 * j + 1] + view[10] * m[4 * j + 2] + view[14] * m[4 * j + 3]);
+    let farthest = -Infinity;
+    for (let c = 0; c < 8; c++) {
+      const p = [0, 1, 2].map((a) => bounds[(c >> a) & 1 ? 3 + a : a]);
+      farthest = Math.max(farthest, -(view[2] * p[0] + view[6] * p[1] + view[10] * p[2] + view[14]));
+    }
+    for (const { caster, worldFromObject, objectFromWorld, objectLights, closed } of casters) {
+      const r = row(worldFromObject);
+      closed.length = 0;
+      lightWorld.forEach((l, k) => {
+        const s = caster.wasm.caster.clampBeyondBox({ worldFromObject, objectFromWorld, bounds, lightWorld: l }, objectLights[k]);
+        if (!s) throw new Error('a caster\'s volumes could not be closed beyond the box (a matrix that is not affine, or a light that is not finite)');
+        const far = s.far;
+        for (let i = 0; i < far.length; i += 4) {
+          // w = 0: a vertex of no kept triangle (never drawn); every other far end is finite.
+          if (far[i + 3] !== 0) farthest = Math.max(farthest, -(r[0] * far[i] + r[1] * far[i + 1] + r[2] * far[i + 2] + r[3]));
+        }
+        const v = drawnVolumes[k];
+        v.triangles += s.kept;
+        v.edges += s.records.length;
+        v.clamped++;
+        // Copies: the views are the wasm's memory, valid until its next call.
+        closed.push({
+          silhouette: { orientation: s.orientation.slice(), records: s.records.slice(), single: s.single, triangles: s.triangles.slice(), far: far.slice(), clamped: true },
+          key: null,
+          slot: k,
+        });
+      });
+    }
+    const diagonal = Math.max(Math.hypot(bounds[3] - bounds[0], bounds[4] - bounds[1], bounds[5] - bounds[2]), 1e-6);
+    const beyond = Math.max(farthest, near);
+    const far = beyond + 0.01 * diagonal + Math.abs(near) + Math.abs(beyond) * 2 ** -10;
+    return { projection: orthographicProjection(camera.projectionMatrix.elements, near, far, reversed), far };
   }
 
   /** Bytes of umbra's GPU buffers and textures now: every live caster's and mesh's, and the drawer's targets. */

@@ -47,6 +47,7 @@ pub fn bench_view(scene: &BenchScene, cameras: &[Keyframe], o: &MeasureOptions) 
         volume_cull: o.volume_cull,
         // Benchmarks draw both faces, as the papers' methods do.
         receivers: umbra_geom::Receivers::Both,
+        ortho_far: None,
     })
 }
 

@@ -56,6 +56,7 @@ fn export_view_args(scene: &str, a: &ExportArgs) -> ViewArgs {
         up: "0,1,0".into(),
         fov: 60.0,
         ortho: a.ortho.clone(),
+        ortho_far: None,
         size: "1280x720".into(),
         ground: a.ground,
         zpass: false,

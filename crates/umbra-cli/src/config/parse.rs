@@ -82,6 +82,17 @@ pub fn parse_ortho(text: &str) -> Result<f64, CliError> {
     Ok(h)
 }
 
+/// `--ortho-far DISTANCE`: a finite number (the far plane's view distance; whether it lies
+/// beyond the near plane is checked with the camera).
+pub fn parse_ortho_far(text: &str) -> Result<f64, CliError> {
+    let err = || bad("--ortho-far", format!("expected the far plane's view distance, a finite number, got {text:?}"));
+    let far: f64 = text.trim().parse().map_err(|_| err())?;
+    if !far.is_finite() {
+        return Err(err());
+    }
+    Ok(far)
+}
+
 /// `--zmode` (with `--zpass`, which is `--zmode zpass`) as (force z-pass, auto z-pass).
 pub fn parse_zmode(zmode: &str, zpass: bool) -> Result<(bool, bool), CliError> {
     match (zmode.trim(), zpass) {

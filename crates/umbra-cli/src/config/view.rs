@@ -5,7 +5,8 @@ use umbra_geom::scene;
 use umbra_geom::{Aabb, Light, Mesh, Receivers};
 
 use super::parse::{
-    check_fov, parse_light, parse_ortho, parse_receivers, parse_size, parse_vec3, parse_volume_cull, parse_zmode,
+    check_fov, parse_light, parse_ortho, parse_ortho_far, parse_receivers, parse_size, parse_vec3, parse_volume_cull,
+    parse_zmode,
 };
 use crate::args::ViewArgs;
 use crate::backend::Backend;
@@ -29,6 +30,8 @@ pub struct ViewConfig {
     pub volume_cull: bool,
     /// Which faces a pixel can show (`--receivers`, default both).
     pub receivers: Receivers,
+    /// `--ortho-far`: the orthographic far plane's view distance, in place of the fitted one.
+    pub ortho_far: Option<f64>,
 }
 
 impl ViewConfig {
@@ -38,6 +41,10 @@ impl ViewConfig {
         let (width, height) = parse_size(&a.size)?;
         check_fov(a.fov)?;
         let ortho = a.ortho.as_deref().map(parse_ortho).transpose()?;
+        let ortho_far = a.ortho_far.as_deref().map(parse_ortho_far).transpose()?;
+        if ortho_far.is_some() && ortho.is_none() {
+            return Err(bad("--ortho-far", "applies to an orthographic view (--ortho HEIGHT)"));
+        }
         let up = parse_vec3("--up", &a.up)?;
         if up.iter().all(|&c| c == 0.0) {
             return Err(bad("--up", "must not be zero"));
@@ -90,6 +97,7 @@ impl ViewConfig {
             auto_zpass,
             volume_cull,
             receivers,
+            ortho_far,
         })
     }
 }

@@ -211,12 +211,7 @@ export class ShadowVolumes {
     // The receiver cull's textures (with `cull`): per light every vertex's far end and the
     // kept triangles.
     this.cull = null;
-    if (data.cull) {
-      this.cull = {
-        far: made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, Math.max(1, this.vertices), 'far vertices')).tex,
-        kept: made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.triangles), 'kept triangles')).tex,
-      };
-    }
+    if (data.cull) this.cull = this.cullTextures();
     // Whether the current light's silhouette is culled (prepare()) and clamped (finite far
     // ends), and its kept triangles.
     this.culled = false;
@@ -229,6 +224,20 @@ export class ShadowVolumes {
 
     this.polygons = programs.polygons;
     this.fan = programs.fan;
+  }
+
+  /**
+   * The textures of a culled or clamped silhouette: every welded vertex's far end (RGBA32F)
+   * and the kept triangles (R32I). Made with the caster under `volumeCull`, else when a frame
+   * first draws such a silhouette (an orthographic view's volumes closed beyond the box).
+   */
+  cullTextures() {
+    const gl = this.gl;
+    const s = this.shift;
+    return {
+      far: this.made(dataTexture(gl, s, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, Math.max(1, this.vertices), 'far vertices')).tex,
+      kept: this.made(dataTexture(gl, s, gl.R32I, gl.RED_INTEGER, gl.INT, null, 1, Math.max(1, this.triangles), 'kept triangles')).tex,
+    };
   }
 
   /** Bytes of this caster's own textures (its data, every light slot's silhouette, the cull's). */
@@ -353,6 +362,7 @@ export class ShadowVolumes {
       gl.bindTexture(gl.TEXTURE_2D, slot.recordList.tex);
       upload(gl, width, gl.RED_INTEGER, gl.INT, records, 0, 1, records.length);
     }
+    if (far && triangles && !this.cull) this.cull = this.cullTextures();
     this.culled = !!(far && triangles && this.cull);
     this.clamped = this.culled && clamped;
     this.keptTriangles = 0;
