@@ -11,6 +11,9 @@
 //   matrix of negative determinant), judged with `--receivers front`. The page's view is
 //   umbra's (test/gltf-view.test.mjs), so no camera flag is passed to either side.
 // * The M key switches to three.js's shadow maps and back; the label says which.
+// * The O key switches to an orthographic camera and back (`ortho=1` starts with it); its mask
+//   (SwiftShader) judged by `umbra verify --method none --ortho H --ortho-far F
+//   --external-mask` with the page's height and far plane: 0 samples outside the band.
 // * A missing model and an unknown format: an error page naming the file, never a blank page.
 //
 // Needs the package built (node build-wasm.mjs; node umbra-three/build.mjs), `npm ci` in web/,
@@ -18,6 +21,7 @@
 // target/release/umbra) and /usr/bin/chromium (skipped with a message when absent).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
@@ -171,6 +175,41 @@ test('M switches to three.js shadow maps and back, the label says which', { skip
       assert.equal(now.state, 'ready');
       assert.equal(now.mode, expected);
       assert.match(now.label, expected === 'maps' ? /three\.js shadow maps/ : /umbra/);
+    }
+  } finally {
+    await page.close();
+  }
+});
+
+test('O switches to an orthographic camera and back (ortho=1 starts with it): its mask has 0 samples outside the band (umbra verify --ortho --ortho-far)', { skip }, async () => {
+  const { page, status, logs } = await openViewer(contexts.swiftshader, `${base}?size=${W}x${H}&mask=1&ortho=1`, 300_000);
+  try {
+    assert.equal(status.state, 'ready', `${status.error}\n${logs.join('\n')}`);
+    const shown = () => page.evaluate(() => ({ projection: window.umbra.projection, ortho: window.umbra.ortho, height: window.umbra.orthoHeight, frames: window.umbra.frames, label: document.getElementById('mode').textContent, errors: window.umbra.errors.map((e) => `${e.mesh}: ${e.message}`) }));
+    const o = await shown();
+    assert.equal(o.projection, 'orthographic');
+    assert.match(o.label, /orthographic/);
+    assert.deepEqual(o.errors, [], 'nothing refused');
+    assert.ok(o.ortho && o.ortho.far > o.ortho.near, `umbra drew it orthographic: ${JSON.stringify(o.ortho)}`);
+    const bytes = Buffer.from(await page.evaluate(() => window.umbra.readMask()), 'latin1');
+    const rgba = new Uint8Array(W * H * 4);
+    for (let i = 0; i < W * H; i++) rgba.set([bytes[i], bytes[i], bytes[i], 255], 4 * i);
+    const png = path.join(tmp, 'swiftshader-ortho.png');
+    await writeFile(png, encodePng(W, H, rgba));
+    const shadowed = bytes.filter((v) => v === 0).length;
+    assert.ok(shadowed > 100 && W * H - shadowed > 100, `shadowed ${shadowed} of ${W * H}`);
+    // The example's default view and light are umbra's for the file: only the projection is named.
+    const args = ['verify', '--scene', MODEL, '--method', 'none', '--size', `${W}x${H}`, '--ortho', String(o.height), '--ortho-far', String(o.ortho.far),
+      '--subpixel-bits', String(status.subpixelBits), '--external-mask', png, '--json', '--explain', '20'];
+    const r = spawnSync(umbra, args, { encoding: 'utf8' });
+    assert.ok(r.status === 0 || r.status === 1, `umbra ${args.join(' ')}: exit ${r.status}: ${r.stderr}`);
+    const row = JSON.parse(r.stdout).find((x) => x.method === png);
+    console.log(JSON.stringify({ ortho: o.ortho, height: o.height, samples: row.samples, band: row.band_samples, outside: row.mismatches_outside_band }));
+    assert.equal(row.mismatches_outside_band, 0, r.stderr.split('\n').filter((l) => l.startsWith(png)).join('\n'));
+    for (const expected of ['perspective', 'orthographic']) {
+      await page.keyboard.press('o');
+      await page.waitForFunction((p) => window.umbra.projection === p && window.umbra.state === 'ready', expected, { timeout: 120_000 });
+      await page.waitForFunction((p) => (window.umbra.ortho === null) === (p === 'perspective'), expected, { timeout: 120_000 });
     }
   } finally {
     await page.close();

@@ -57,6 +57,12 @@ export interface UmbraInfo {
   receiverScatter: 'gpu' | 'cpu' | null;
   /** Per light of the last frame: what its shadow volumes drew. */
   volumes: UmbraVolumes[];
+  /**
+   * An OrthographicCamera's frame: the view distances of the near plane (the camera's) and of
+   * the far plane umbra's own passes used (beyond every volume's far ends and the drawn meshes'
+   * box; `umbra verify --ortho-far` judges a mask with it); null for a PerspectiveCamera.
+   */
+  ortho: { near: number; far: number } | null;
 }
 
 /** What one light's shadow volumes drew in the last frame, summed over its casters. */

@@ -7,17 +7,22 @@
 // target=X,Y,Z, up=X,Y,Z, fov=DEGREES, light=X,Y,Z[,W] (W = 0: directional, coming from
 // X,Y,Z), maps=1 (start with three.js's shadow maps), side=front (every material
 // FrontSide, three.js's default: back faces culled, judged with `umbra verify --receivers
-// front`; default: DoubleSide) and mirror=1 (the model mirrored in x by its root's scale).
+// front`; default: DoubleSide), mirror=1 (the model mirrored in x by its root's scale) and
+// ortho=1 (start with the orthographic camera).
 // `scene=URL` is taken as `model=URL`
 // (a model file: this page loads no `umbra export` folder). A model's animations (a skinned or
 // morphed glTF) play through an AnimationMixer, every clip looping (animate=0: held at their
 // first frame); instanced parts (EXT_mesh_gpu_instancing, InstancedMesh in three.js) cast per
 // instance. Keys: M (three.js's maps and back), V (the mask view), L (a gizmo to drag the
-// first light with).
+// first light with), O (an orthographic camera and back: the same eye and target, the height
+// the perspective view has at the target).
 // The camera and the first light are the ones `umbra render --scene MODEL` uses with the same
 // flags (view.js), so `umbra verify --external-mask` can judge the mask.
 // State: document.body.dataset.state (loading, ready, error) and window.umbra: { state, error,
-// frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), view, animations (the
+// frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), projection ('perspective'
+// or 'orthographic'), orthoHeight (the orthographic view's height, `umbra verify --ortho`),
+// ortho (umbra.info.ortho: the orthographic frame's near and far planes, or null), view,
+// animations (the
 // model's clips), umbraInfo (casters, mapCasters, silhouettes, volumeCull, cpuMs, gpuBytes of
 // umbra.info after the last frame), light (the first light's position once dragged), errors (meshes
 // umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
@@ -157,7 +162,7 @@ async function start() {
   const bounds = triangleBounds(model);
   const view = viewFor(model, params);
   status.view = view;
-  const camera = new THREE.PerspectiveCamera(view.fov, width / height, view.near, Math.max(view.near * 1e6, 1));
+  let camera = new THREE.PerspectiveCamera(view.fov, width / height, view.near, Math.max(view.near * 1e6, 1));
   camera.up.set(...view.up);
   // Orbit controls first: their constructor moves the camera (update()); the view set below
   // then stays exactly umbra's until the user drags.
@@ -165,6 +170,31 @@ async function start() {
   camera.position.set(...view.eye);
   camera.lookAt(...view.target);
   camera.updateMatrixWorld(true);
+  // O: an OrthographicCamera in its place (umbra-three closes every volume beyond the model's
+  // box there), as tall as the perspective view is at the target, with its eye, target, up and
+  // near plane; the orbit controls and the gizmo follow whichever is drawn.
+  const perspective = camera;
+  const orthographic = new THREE.OrthographicCamera(-1, 1, 1, -1, view.near, camera.far);
+  orthographic.up.copy(camera.up);
+  const useCamera = (ortho) => {
+    const from = ortho ? perspective : orthographic;
+    const to = ortho ? orthographic : perspective;
+    to.position.copy(from.position);
+    to.quaternion.copy(from.quaternion);
+    if (ortho) {
+      const tall = 2 * perspective.position.distanceTo(controls.target) * Math.tan((perspective.fov * Math.PI) / 360);
+      const aspect = width / height;
+      Object.assign(orthographic, { left: -0.5 * tall * aspect, right: 0.5 * tall * aspect, top: 0.5 * tall, bottom: -0.5 * tall, zoom: 1 });
+    }
+    to.updateProjectionMatrix();
+    to.updateMatrixWorld(true);
+    camera = to;
+    controls.object = to;
+    gizmo.camera = to;
+    status.projection = ortho ? 'orthographic' : 'perspective';
+    status.orthoHeight = ortho ? (orthographic.top - orthographic.bottom) / orthographic.zoom : null;
+  };
+  status.projection = 'perspective';
   const lights = makeLights(view, bounds);
   scene.add(new THREE.HemisphereLight(0xc8d4ff, 0x403830, 0.35));
   for (const l of lights) {
@@ -204,7 +234,7 @@ async function start() {
   };
   const label = () => {
     status.mode = state.maps ? 'maps' : 'umbra';
-    $('mode').textContent = state.maps ? 'three.js shadow maps (2048)' : 'umbra: exact shadows';
+    $('mode').textContent = `${state.maps ? 'three.js shadow maps (2048)' : 'umbra: exact shadows'}${camera.isOrthographicCamera ? ' · orthographic' : ''}`;
     const refused = umbra.errors.length ? ` · ${umbra.errors.length} mesh(es) refused: ${umbra.errors.map((e) => `${e.mesh}: ${e.message}`).join('; ')}` : '';
     $('info').textContent = `${url}: ${meshes} meshes, ${triangles} triangles · ${status.renderer}${refused}`;
   };
@@ -239,6 +269,7 @@ async function start() {
       label();
       $('time').textContent = `frame ${ms.toFixed(1)} ms${state.mask && !state.maps ? ' · mask' : ''}`;
       status.state = 'ready';
+      status.ortho = umbra.info.ortho;
       status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
       document.body.dataset.state = 'ready';
       if (animating) redraw();
@@ -270,9 +301,11 @@ async function start() {
 
   controls.target.set(...view.target);
   controls.addEventListener('change', redraw);
+  if (params.get('ortho') === '1') useCamera(true);
   window.addEventListener('keydown', (e) => {
     if (e.key === 'm' || e.key === 'M') state.maps = !state.maps;
     else if (e.key === 'v' || e.key === 'V') state.mask = !state.mask;
+    else if (e.key === 'o' || e.key === 'O') useCamera(!camera.isOrthographicCamera);
     else if (e.key === 'l' || e.key === 'L') {
       state.gizmo = !state.gizmo;
       if (state.gizmo) gizmo.attach(lights[0]);
