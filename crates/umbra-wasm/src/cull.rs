@@ -724,4 +724,49 @@ mod tests {
         assert!(keep.iter().all(|&k| k));
         assert!(cull.far().iter().all(|v| v[3] == 0.0));
     }
+
+    /// An orthographic view's volumes: every kept far end finite, and the same volume whether
+    /// the caster is drawn in world space or moved there by its world matrix (the box test in
+    /// world space, the far ends moved back into the caster's space).
+    #[test]
+    fn clamp_beyond_box_gives_finite_far_ends_in_the_casters_space() {
+        let (mesh, _, _) = scene();
+        let b = bounds(&mesh);
+        let mut c = CasterCull::default();
+        for light in [[0.3, 3.0, 0.4, 1.0], [0.2, 1.0, 0.3, 0.0]] {
+            let keep =
+                c.clamp_beyond_box(&mesh, &IDENTITY, &IDENTITY, b, light, light).expect("finite").expect("affine");
+            assert!(keep.iter().all(|&k| k), "no triangle lies in a plane of the light");
+            let here = c.far().to_vec();
+            assert!(here.iter().all(|f| f[3] == 1.0 && f.iter().all(|x| x.is_finite())), "{here:?}");
+            // The caster moved by t: the same far ends in its space, up to the roundings.
+            let t = [2.0, 0.5, -1.0];
+            let mut world = IDENTITY;
+            let mut inverse = IDENTITY;
+            for i in 0..3 {
+                world[12 + i] = t[i];
+                inverse[12 + i] = -t[i];
+            }
+            let moved =
+                Aabb { min: [0, 1, 2].map(|i| b.min[i] + t[i] as f32), max: [0, 1, 2].map(|i| b.max[i] + t[i] as f32) };
+            let lw = if light[3] == 0.0 {
+                light
+            } else {
+                [0, 1, 2, 3].map(|i| light[i] + if i < 3 { t[i] as f32 } else { 0.0 })
+            };
+            c.clamp_beyond_box(&mesh, &world, &inverse, moved, lw, light).expect("finite").expect("affine");
+            for (a, f) in here.iter().zip(c.far()) {
+                for i in 0..4 {
+                    assert!((a[i] - f[i]).abs() <= 1e-4 * (1.0 + a[i].abs()), "{a:?} against {f:?}");
+                }
+            }
+        }
+        // A matrix that is not affine: nothing closed.
+        let mut projective = IDENTITY;
+        projective[3] = 0.5;
+        assert!(c
+            .clamp_beyond_box(&mesh, &projective, &IDENTITY, b, [0.3, 3.0, 0.4, 1.0], [0.3, 3.0, 0.4, 1.0])
+            .expect("ok")
+            .is_none());
+    }
 }
