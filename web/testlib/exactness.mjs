@@ -19,7 +19,17 @@ export const IMPLEMENTATIONS = {
   swiftshader: ['--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
   // ANGLE on the system's EGL (Mesa llvmpipe here, the native renderer's rasteriser).
   egl: ['--use-angle=gl-egl', '--ignore-gpu-blocklist'],
+  // WebGPU on SwiftShader's Vulkan (headless; needs a http://127.0.0.1 page): umbra-three's
+  // WebGPU path (test/webgpu.test.mjs).
+  webgpu: ['--enable-unsafe-webgpu', '--enable-features=Vulkan', '--use-vulkan=swiftshader', '--use-webgpu-adapter=swiftshader', '--disable-vulkan-surface'],
 };
+
+/**
+ * The sub-pixel precision of WebGPU on SwiftShader, for the band: WebGPU reports none, and
+ * SwiftShader's Vulkan device rasterizes with 4 bits (its subPixelPrecisionBits,
+ * vk::SUBPIXEL_PRECISION_BITS), the SUBPIXEL_BITS its WebGL 2 context reports through ANGLE.
+ */
+export const WEBGPU_SUBPIXEL_BITS = 4;
 
 /** Launches Chromium at `executablePath` with implementation `name` and a fresh profile under `tmp`. */
 export async function launch(executablePath, name, tmp) {

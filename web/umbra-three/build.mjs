@@ -13,6 +13,10 @@
 // any of them cannot be found, so the browser's arithmetic can never drift from the native
 // method's. The package's own programs are in src/webgl/glsl/ (docs/web.md).
 //
+// The WebGPU entry (dist/webgpu.js, `umbra-three/webgpu`) takes its WGSL the same way: the
+// virtual module `umbra:wgsl` is umbra-wgpu's own shader files (crates/umbra-wgpu/src/shaders/:
+// volume, multiplicity, orientation, cs_sides, cs_draw, transform, resolve), read at build time.
+//
 // Usage: node build.mjs [--outdir DIR]   (needs ../umbra-geom-wasm/umbra_wasm.wasm: node ../build-wasm.mjs)
 import * as esbuild from 'esbuild';
 import { readFile, mkdir, copyFile, access } from 'node:fs/promises';
@@ -21,6 +25,40 @@ import path from 'node:path';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const methods = path.join(here, '..', '..', 'crates', 'umbra-gl', 'src', 'methods');
+const wgslDir = path.join(here, '..', '..', 'crates', 'umbra-wgpu', 'src', 'shaders');
+
+/** umbra-wgpu's WGSL files the WebGPU drawer uses, by the name src/webgpu/passes.js reads. */
+export const WGSL_FILES = {
+  volume: 'volume.wgsl',
+  multiplicity: 'multiplicity.wgsl',
+  orientation: 'orientation.wgsl',
+  csSides: 'cs_sides.wgsl',
+  csDraw: 'cs_draw.wgsl',
+  transform: 'transform.wgsl',
+  resolve: 'resolve.wgsl',
+};
+
+/** esbuild plugin: the virtual module `umbra:wgsl` (umbra-wgpu's shader text, by name). */
+export const wgslPlugin = {
+  name: 'umbra-wgsl',
+  setup(build) {
+    build.onResolve({ filter: /^umbra:wgsl$/ }, (args) => ({ path: args.path, namespace: 'umbra-wgsl' }));
+    build.onLoad({ filter: /.*/, namespace: 'umbra-wgsl' }, async () => {
+      const out = {};
+      const files = [];
+      for (const [k, f] of Object.entries(WGSL_FILES)) {
+        const file = path.join(wgslDir, f);
+        files.push(file);
+        try {
+          out[k] = await readFile(file, 'utf8');
+        } catch (e) {
+          throw new Error(`${file}: ${e.message} (umbra-three's WebGPU path reads umbra-wgpu's shaders at build time)`);
+        }
+      }
+      return { contents: `export default ${JSON.stringify(out)};`, loader: 'js', watchFiles: files };
+    });
+  },
+};
 export const WASM = path.join(here, '..', 'umbra-geom-wasm', 'umbra_wasm.wasm');
 
 /** Rust string literal body -> text (only the escapes mod.rs uses). */
@@ -74,8 +112,8 @@ export const sourceOptions = {
   bundle: true,
   format: 'esm',
   target: 'es2020',
-  plugins: [vsSilhouettePlugin],
-  loader: { '.glsl': 'text' },
+  plugins: [vsSilhouettePlugin, wgslPlugin],
+  loader: { '.glsl': 'text', '.wgsl': 'text' },
   logLevel: 'warning',
 };
 
@@ -96,6 +134,13 @@ export async function buildPackage(dir = path.join(here, 'dist')) {
     entryPoints: [path.join(here, 'src', 'index.js')],
     outfile: path.join(dir, 'index.js'),
     external: ['three'],
+  });
+  // The WebGPU entry: three.js's WebGPU build and TSL stay imports (the user's import map or bundler).
+  await esbuild.build({
+    ...sourceOptions,
+    entryPoints: [path.join(here, 'src', 'webgpu', 'index.js')],
+    outfile: path.join(dir, 'webgpu.js'),
+    external: ['three', 'three/webgpu', 'three/tsl'],
   });
   await copyWasm(dir);
   return dir;

@@ -1,0 +1,244 @@
+// umbra-three's WebGPU path (`umbra-three/webgpu`) in three.js's WebGPURenderer, in Debian's
+// Chromium with WebGPU on SwiftShader (headless, a http://127.0.0.1 page; flags in
+// testlib/exactness.mjs IMPLEMENTATIONS.webgpu). three.js renders into a RenderTarget (the
+// canvas cannot present headless here). Judged by the oracle: the page writes the drawn
+// triangles out in world space (the matrices hold only 0, +-1, +-0.5 and dyadic offsets, so
+// every world position is exact in f32), reads each light's mask back with readMaskAsync, and
+// `umbra verify --external-mask` judges it with the page's view: 0 samples outside the band,
+// for a point and a directional light, with the eye outside and inside a shadow volume, a
+// mirrored caster and an instanced one. Also: the shadow reaches three.js's node materials
+// through the light's shadow node (a shadowed floor pixel is darker than a lit one).
+//
+// Needs: /usr/bin/chromium with a WebGPU adapter, the wasm module (node build-wasm.mjs) and
+// the umbra binary (cargo build --release -p umbra-cli, or UMBRA_BIN); skipped with a message
+// when one is absent. Run: cd web && node --test test/webgpu.test.mjs
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { existsSync } from 'node:fs';
+import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { createServer, listen } from '../serve.mjs';
+import { buildPackage } from '../umbra-three/build.mjs';
+import { launch, judge, WEBGPU_SUBPIXEL_BITS } from '../testlib/exactness.mjs';
+import { encodePng } from '../testlib/png.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const webDir = path.join(here, '..');
+const repo = path.join(webDir, '..');
+const CHROMIUM = process.env.UMBRA_CHROMIUM || '/usr/bin/chromium';
+const WASM = path.join(webDir, 'umbra-geom-wasm', 'umbra_wasm.wasm');
+const umbraBin = [process.env.UMBRA_BIN, process.env.CARGO_TARGET_DIR && path.join(process.env.CARGO_TARGET_DIR, 'release', 'umbra'), path.join(repo, 'target', 'release', 'umbra')]
+  .find((c) => c && existsSync(c));
+let skip = !existsSync(CHROMIUM) ? `${CHROMIUM} is absent (apt-get install chromium): WebGPU test skipped`
+  : !existsSync(WASM) ? `${WASM} is absent (node build-wasm.mjs): WebGPU test skipped`
+    : !umbraBin ? 'no umbra binary (cargo build --release -p umbra-cli, or UMBRA_BIN): WebGPU test skipped' : false;
+if (skip) console.log(`SKIP: ${skip}`);
+
+const W = 320;
+const H = 240;
+const PAGE = `<!doctype html>
+<html><head><meta charset="utf-8">
+<script type="importmap">
+{ "imports": { "three": "/three/build/three.webgpu.js", "three/webgpu": "/three/build/three.webgpu.js", "three/tsl": "/three/build/three.tsl.js", "umbra-three/webgpu": "/umbra-three/webgpu.js" } }
+</script></head>
+<body></body></html>
+`;
+
+let tmp, server, base, ctx, page;
+
+before(async () => {
+  if (skip) return;
+  tmp = await mkdtemp(path.join(tmpdir(), 'umbra-webgpu-'));
+  const dist = await buildPackage(path.join(tmp, 'umbra-three'));
+  const root = path.join(tmp, 'root');
+  await mkdir(root);
+  await writeFile(path.join(root, 'index.html'), PAGE);
+  server = createServer([['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]]);
+  base = await listen(server, 0);
+  ctx = await launch(CHROMIUM, 'webgpu', tmp);
+  page = await ctx.newPage();
+  page.on('pageerror', (e) => console.log(`page error: ${e}`));
+  await page.goto(base);
+  const adapter = await page.evaluate(async () => {
+    const a = navigator.gpu && await navigator.gpu.requestAdapter();
+    return a ? `${a.info.vendor} ${a.info.architecture}` : null;
+  });
+  if (!adapter) {
+    skip = 'this Chromium gives no WebGPU adapter: WebGPU test skipped';
+    console.log(`SKIP: ${skip}`);
+    return;
+  }
+  console.log(`WebGPU adapter: ${adapter}`);
+  await page.evaluate(([w, h]) => {
+    window.makeWorld = async (options) => {
+      const THREE = await import('three/webgpu');
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      const renderer = new THREE.WebGPURenderer({ antialias: false });
+      renderer.setPixelRatio(1);
+      renderer.setSize(w, h, false);
+      renderer.shadowMap.enabled = true;
+      const umbra = await UmbraShadows.create(renderer, options);
+      const target = new THREE.RenderTarget(w, h);
+      renderer.setRenderTarget(target);
+      const scene = new THREE.Scene();
+      const mat = () => new THREE.MeshStandardNodeMaterial({ color: 0xcccccc, side: THREE.DoubleSide, roughness: 1, metalness: 0 });
+      const meshes = [];
+      const add = (m) => {
+        m.castShadow = true;
+        m.receiveShadow = true;
+        scene.add(m);
+        meshes.push(m);
+        return m;
+      };
+      add(new THREE.Mesh(new THREE.PlaneGeometry(10, 10).rotateX(-Math.PI / 2), mat())).name = 'floor';
+      // Matrices of 0, +-1, +-0.5 and dyadic offsets: the world positions are exact.
+      const m4 = (r0, r1, r2, t) => new THREE.Matrix4().set(...r0, t[0], ...r1, t[1], ...r2, t[2], 0, 0, 0, 1);
+      const box = add(new THREE.Mesh(new THREE.BoxGeometry(1, 1, 1), mat()));
+      box.name = 'box';
+      box.position.set(-1.5, 1, 0);
+      // Mirrored (determinant -1): its winding turns, its shadow must not.
+      const mirrored = add(new THREE.Mesh(new THREE.ConeGeometry(0.5, 1.5, 12), mat()));
+      mirrored.name = 'mirrored';
+      mirrored.matrixAutoUpdate = false;
+      mirrored.matrix.copy(m4([-1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, -1]));
+      const boxes = add(new THREE.InstancedMesh(new THREE.TorusGeometry(0.5, 0.125, 6, 12), mat(), 2));
+      boxes.name = 'instances';
+      boxes.setMatrixAt(0, m4([1, 0, 0], [0, 0, -1], [0, 1, 0], [1, 0.25, 1.5]));
+      boxes.setMatrixAt(1, m4([0, 0, 0.5], [0, 0.5, 0], [-0.5, 0, 0], [-1, 1.5, 2]));
+      const point = new THREE.PointLight(0xffffff, 12, 0, 0);
+      point.position.set(0.5, 4.5, 1);
+      point.castShadow = true;
+      const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+      sun.position.set(3, 4, 2);
+      sun.castShadow = true;
+      scene.add(point, sun, sun.target, new THREE.AmbientLight(0xffffff, 0.2));
+      scene.updateMatrixWorld(true);
+
+      // Every drawn triangle in world space (what umbra verify judges): f64 then f32.
+      const world = () => {
+        const pos = [];
+        const addGeometry = (geometry, m) => {
+          const p = geometry.attributes.position;
+          const idx = geometry.index;
+          const n = idx ? idx.count : p.count;
+          const e = m.elements;
+          for (let k = 0; k < n; k++) {
+            const i = idx ? idx.getX(k) : k;
+            const v = [p.getX(i), p.getY(i), p.getZ(i)];
+            for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
+          }
+        };
+        const m = new THREE.Matrix4();
+        for (const mesh of meshes) {
+          if (!mesh.visible) continue;
+          if (mesh.isInstancedMesh) for (let i = 0; i < mesh.count; i++) addGeometry(mesh.geometry, mesh.getMatrixAt(i, m).premultiply(mesh.matrixWorld));
+          else addGeometry(mesh.geometry, mesh.matrixWorld);
+        }
+        const lines = [];
+        for (let i = 0; i < pos.length; i += 3) lines.push(`v ${pos[i]} ${pos[i + 1]} ${pos[i + 2]}`);
+        for (let t = 0; t < pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
+        // umbra's near plane for a mesh file (crates/umbra-cli/src/session.rs): 1e-3 of the f32
+        // diagonal of the triangles' bounds.
+        const f = Math.fround;
+        const lo = [Infinity, Infinity, Infinity];
+        const hi = [-Infinity, -Infinity, -Infinity];
+        for (let i = 0; i < pos.length; i++) {
+          lo[i % 3] = Math.min(lo[i % 3], pos[i]);
+          hi[i % 3] = Math.max(hi[i % 3], pos[i]);
+        }
+        const d = [0, 1, 2].map((a) => f(hi[a] - lo[a]));
+        const diagonal = f(Math.sqrt(f(f(f(d[0] * d[0]) + f(d[1] * d[1])) + f(d[2] * d[2]))));
+        return { obj: `${lines.join('\n')}\n`, near: Math.max(diagonal, 1e-6) * 1e-3, triangles: pos.length / 9 };
+      };
+      const camera = new THREE.PerspectiveCamera(50, w / h, 0.1, 100);
+      const latin1 = (a) => {
+        let s = '';
+        for (let i = 0; i < a.length; i += 8192) s += String.fromCharCode.apply(null, a.subarray(i, i + 8192));
+        return s;
+      };
+      const frame = async () => {
+        const out = world();
+        camera.near = out.near;
+        camera.updateProjectionMatrix();
+        umbra.render(scene, camera);
+        const masks = [latin1(await umbra.readMaskAsync(point)), latin1(await umbra.readMaskAsync(sun))];
+        const colour = await renderer.readRenderTargetPixelsAsync(target, 0, 0, w, h);
+        return { ...out, masks, colour: latin1(colour), errors: umbra.errors.slice(), info: { ...umbra.info } };
+      };
+      window.T = { THREE, umbra, scene, camera, point, sun, meshes, box, frame };
+    };
+  }, [W, H]);
+});
+
+after(async () => {
+  if (ctx) await ctx.close();
+  if (server) await new Promise((r) => server.close(r));
+  if (tmp) await rm(tmp, { recursive: true, force: true });
+});
+
+/** The page's frame from `eye`, each light's mask judged by `umbra verify --external-mask`. */
+async function judged(name, eye) {
+  const f = await page.evaluate(async (e) => {
+    window.T.camera.position.set(...e);
+    window.T.camera.lookAt(0, 0, 0);
+    window.T.camera.updateMatrixWorld();
+    return window.T.frame();
+  }, eye);
+  const obj = path.join(tmp, `${name}.obj`);
+  await writeFile(obj, f.obj);
+  const lights = await page.evaluate(() => [[...window.T.point.position.toArray()], [...window.T.sun.position.toArray(), 0]]);
+  const rows = [];
+  for (let k = 0; k < 2; k++) {
+    const gray = Buffer.from(f.masks[k], 'latin1');
+    const rgba = new Uint8Array(4 * W * H);
+    for (let i = 0; i < gray.length; i++) rgba.set([gray[i], gray[i], gray[i], 255], 4 * i);
+    const png = path.join(tmp, `${name}-${k}.png`);
+    await writeFile(png, encodePng(W, H, rgba));
+    const extra = ['--eye', eye.join(','), '--target', '0,0,0', '--fov', '50', '--light', lights[k].join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)];
+    const r = judge(umbraBin, { scene: obj, size: `${W}x${H}`, maskPng: png, extra, explain: 20 });
+    let dark = 0;
+    for (let i = 0; i < gray.length; i++) dark += gray[i] === 0;
+    rows.push({ ...r, dark });
+  }
+  return { rows, frame: f };
+}
+
+test('WebGPURenderer: a point and a directional light, a mirrored and an instanced caster, the eye outside and inside a shadow: every mask 0 samples outside the band, and the node materials receive it', async (t) => {
+  if (skip) return t.skip(skip);
+  await page.evaluate(() => window.makeWorld({}));
+  // The second view: the eye under the box, inside its shadow volumes.
+  for (const [name, eye] of [['outside', [0, 5, 7]], ['inside', [-1.5, 0.25, 0.25]]]) {
+    const { rows, frame } = await judged(name, eye);
+    console.log(JSON.stringify({ name, rows: rows.map((r) => ({ outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, dark: r.dark })), info: frame.info, errors: frame.errors }));
+    assert.deepEqual(frame.errors, [], 'no mesh refused');
+    assert.equal(frame.info.casters, 5, 'floor, box, mirrored cone and two instances cast');
+    rows.forEach((r, k) => {
+      assert.equal(r.browser.mismatches_outside_band, 0, `${name}, light ${k}: 0 outside the band: ${r.explained.join('; ')}`);
+      assert.ok(r.browser.shadowed_reference > 500, `${name}, light ${k}: the casters shadow something`);
+    });
+    if (name === 'outside') {
+      // The decision reaches three.js's shading: among floor pixels both lights light, the
+      // darkest and the brightest differ by more than the ambient term alone would allow.
+      const colour = Buffer.from(frame.colour, 'latin1');
+      const [m0, m1] = frame.masks.map((s) => Buffer.from(s, 'latin1'));
+      let shadowedSum = 0;
+      let shadowedN = 0;
+      let litSum = 0;
+      let litN = 0;
+      for (let i = 0; i < W * H; i++) {
+        const g = colour[4 * i + 1];
+        if (m0[i] === 0 && m1[i] === 0) {
+          shadowedSum += g;
+          shadowedN++;
+        } else if (m0[i] === 255 && m1[i] === 255) {
+          litSum += g;
+          litN++;
+        }
+      }
+      assert.ok(shadowedN > 100 && litN > 100, `both kinds of pixel are seen (${shadowedN} shadowed by both, ${litN} lit by both)`);
+      assert.ok(shadowedSum / shadowedN < 0.5 * (litSum / litN), `pixels both lights leave shadowed are darker (${(shadowedSum / shadowedN).toFixed(1)}) than those both light (${(litSum / litN).toFixed(1)})`);
+    }
+  }
+});

@@ -1,0 +1,360 @@
+// The WebGPU drawer of umbra-three: native cs-silhouette (paper 001, compute-shader
+// silhouettes; crates/umbra-wgpu/src/methods/cs_silhouette.rs) on three.js's own GPUDevice,
+// from umbra-wgpu's WGSL files themselves (the virtual module `umbra:wgsl`, read from
+// crates/umbra-wgpu/src/shaders/ by build.mjs: a shader fixed natively is fixed here).
+//
+// Per frame, in one command encoder submitted before three.js draws:
+//   1. depth pass: every drawn triangle (world space, world.js) into umbra's own
+//      depth-stencil target with the native vertex stage (resolve.wgsl vs_resolve:
+//      clip_from_world * (p, 1), invariant), reversed-Z with an infinite far plane;
+//   2. per light: the command words reset, then three compute passes over the casters
+//      (transform.wgsl: every vertex to clip space, as itself and extruded; orientation.wgsl
+//      orient_and_caps: every triangle's orientation once, its caps compacted; cs_sides.wgsl:
+//      every edge record's multiplicity, its quads compacted), then one render pass: the
+//      stencil cleared to 0, sides and caps drawn with two indirect draws (cs_draw.wgsl) and
+//      z-fail counting, and the decision written into the light's mask (mask.wgsl: white where
+//      the count is 0, lit; the mask was cleared to black, shadowed).
+// Every light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity, light
+// caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
+// passes use at a time (clip positions, orientations, caps, quads, commands) are shared by the
+// lights: the queue runs one light's passes after the other's.
+import WGSL from 'umbra:wgsl';
+import MASK from './wgsl/mask.wgsl';
+
+/** Bytes of one light's uniform slot (UmbraLight in volume.wgsl, padded to 256: the largest uniform offset alignment WebGPU allows). */
+export const LIGHT_SLOT_BYTES = 256;
+/** Bytes of UmbraLight as volume.wgsl declares it. */
+const LIGHT_BYTES = 224;
+/** Invocations per workgroup of every compute entry point (@workgroup_size(256)). */
+const GROUP = 256;
+/** Most workgroups along one dispatch dimension (WebGPU's maxComputeWorkgroupsPerDimension default). */
+const MAX_GROUPS = 65535;
+
+const ENABLE = 'enable clip_distances;\n';
+
+/** Device features the drawer needs, with why. */
+export const REQUIRED_FEATURES = {
+  // The volumes' clip distances: the near-plane cut of light caps (volume.wgsl).
+  'clip-distances': 'the near-plane clip of light caps (volume.wgsl clip_distances)',
+  // Nothing of a volume may be clipped at the far plane: vertices at infinity land on it.
+  'depth-clip-control': 'unclipped depth for the volumes (their vertices at infinity lie on the far plane)',
+};
+
+/** The [x, y] workgroups that cover `n` invocations (volume.wgsl umbra_item's 2D grid). */
+export function dispatchSize(n) {
+  const groups = Math.max(1, Math.ceil(n / GROUP));
+  const x = Math.min(groups, MAX_GROUPS);
+  return [x, Math.ceil(groups / x)];
+}
+
+const U = GPUBufferUsage;
+
+export class WebGPUVolumes {
+  /**
+   * `device`: three.js's GPUDevice (renderer.backend.device); `depthFormat`: the
+   * depth-stencil format of umbra's target (depth32float-stencil8 where the device has it).
+   * Throws, naming the feature, when the device lacks one the passes need.
+   */
+  constructor(device, depthFormat) {
+    for (const [f, why] of Object.entries(REQUIRED_FEATURES)) {
+      if (!device.features.has(f)) throw new Error(`the GPUDevice has no '${f}' feature (needed for ${why})`);
+    }
+    this.device = device;
+    this.depthFormat = depthFormat;
+    this.maskFormat = 'r8unorm';
+    const module = (label, parts) => device.createShaderModule({ label: `umbra ${label}`, code: ENABLE + parts.join('\n') });
+    const transform = module('transform', [WGSL.volume, WGSL.transform]);
+    const orient = module('orientation', [WGSL.volume, WGSL.multiplicity, WGSL.orientation]);
+    const sides = module('sides', [WGSL.volume, WGSL.csSides]);
+    const draw = module('draw', [WGSL.volume, WGSL.csDraw]);
+    const depth = module('depth', [WGSL.volume, WGSL.resolve]);
+    const mask = device.createShaderModule({ label: 'umbra mask', code: MASK });
+
+    const C = GPUShaderStage.COMPUTE;
+    const V = GPUShaderStage.VERTEX;
+    const F = GPUShaderStage.FRAGMENT;
+    this.lightLayout = device.createBindGroupLayout({
+      label: 'umbra light slot',
+      entries: [{ binding: 0, visibility: C | V | F, buffer: { type: 'uniform', hasDynamicOffset: true, minBindingSize: LIGHT_BYTES } }],
+    });
+    // Group 1 of each stage: its storage buffers, read-only or written (the WGSL's declarations).
+    const group = (label, visibility, kinds) => device.createBindGroupLayout({
+      label: `umbra ${label}`,
+      entries: kinds.map((k, i) => ({ binding: i, visibility, buffer: { type: k === 'w' ? 'storage' : 'read-only-storage' } })),
+    });
+    this.transformLayout = group('transform', C, ['r', 'w']);
+    this.orientLayout = group('orientation', C, ['r', 'r', 'w', 'w', 'w']);
+    this.sidesLayout = group('sides', C, ['r', 'r', 'r', 'w', 'w']);
+    this.drawLayout = group('draw', V, ['r', 'r', 'r']);
+    const layout = (g1) => device.createPipelineLayout({ bindGroupLayouts: g1 ? [this.lightLayout, g1] : [this.lightLayout] });
+    const compute = (m, entryPoint, g1) => device.createComputePipeline({ label: `umbra ${entryPoint}`, layout: layout(g1), compute: { module: m, entryPoint } });
+    this.transformPipeline = compute(transform, 'transform', this.transformLayout);
+    this.orientPipeline = compute(orient, 'orient_and_caps', this.orientLayout);
+    this.sidesPipeline = compute(sides, 'sides', this.sidesLayout);
+
+    // The depth pass: the native scene vertex stage, depth only.
+    this.depthPipeline = device.createRenderPipeline({
+      label: 'umbra depth',
+      layout: layout(null),
+      vertex: { module: depth, entryPoint: 'vs_resolve', buffers: [{ arrayStride: 12, attributes: [{ shaderLocation: 0, offset: 0, format: 'float32x3' }] }] },
+      // Reason: both faces are surfaces a pixel can show (triangle soups are two-sided; the
+      // oracle judges the nearest triangle, `umbra verify --receivers both`).
+      primitive: { topology: 'triangle-list', cullMode: 'none' },
+      depthStencil: {
+        format: depthFormat,
+        depthWriteEnabled: true,
+        // Reason: reversed-Z, nearer is greater (cleared to 0, the far plane).
+        depthCompare: 'greater',
+      },
+    });
+
+    // The counting pipelines (the twin of umbra-wgpu's Common::counting_pipeline, z-fail).
+    const counting = (depthFailOp) => ({ compare: 'always', failOp: 'keep', depthFailOp, passOp: 'keep' });
+    const volume = (entryPoint) => device.createRenderPipeline({
+      label: `umbra ${entryPoint}`,
+      layout: layout(this.drawLayout),
+      vertex: { module: draw, entryPoint },
+      // Reason: the volume pass only counts; the mask attachment is written by the mask pass alone.
+      fragment: { module: draw, entryPoint: 'fs_volume', targets: [{ format: this.maskFormat, writeMask: 0 }] },
+      primitive: {
+        topology: 'triangle-list',
+        // Reason: volume triangles are counter-clockwise seen from outside the volume.
+        frontFace: 'ccw',
+        // Reason: both faces are counted with different ops in one pass (two-sided stencil).
+        cullMode: 'none',
+        // Reason: vertices at infinity land exactly on the far plane; nothing of a volume may
+        // be clipped there, or the count misses faces.
+        unclippedDepth: true,
+      },
+      depthStencil: {
+        format: depthFormat,
+        // Reason: the volumes are invisible; the depth of the scene stays for the next light.
+        depthWriteEnabled: false,
+        // Reason: strictly nearer (reversed-Z GREATER): a light cap pushed to the far plane
+        // (depth 0) fails at every sample, background included, and z-fail counts it everywhere.
+        depthCompare: 'greater',
+        // z-fail: faces behind the sample; a back face +1 (the ray leaves a volume after the
+        // sample), a front face -1. Wrapping: the count is exact modulo 256.
+        stencilFront: counting('decrement-wrap'),
+        stencilBack: counting('increment-wrap'),
+        stencilReadMask: 0xff,
+        stencilWriteMask: 0xff,
+        // Reason: an offset would move volume faces against the scene's depth.
+        depthBias: 0,
+      },
+    });
+    this.sidesDraw = volume('vs_sides');
+    this.capsDraw = volume('vs_caps');
+
+    // The decision: one triangle over the viewport, white where the count is the start (0).
+    this.maskPipeline = device.createRenderPipeline({
+      label: 'umbra mask',
+      layout: device.createPipelineLayout({ bindGroupLayouts: [] }),
+      vertex: { module: mask, entryPoint: 'vs_mask' },
+      fragment: { module: mask, entryPoint: 'fs_mask', targets: [{ format: this.maskFormat }] },
+      primitive: { topology: 'triangle-list', cullMode: 'none' },
+      depthStencil: {
+        format: depthFormat,
+        depthWriteEnabled: false,
+        // Reason: every pixel is decided, background included (lit: no volume counts there).
+        depthCompare: 'always',
+        stencilFront: { compare: 'equal', failOp: 'keep', depthFailOp: 'keep', passOp: 'keep' },
+        stencilBack: { compare: 'equal', failOp: 'keep', depthFailOp: 'keep', passOp: 'keep' },
+        stencilReadMask: 0xff,
+        // Reason: the count is read, not changed.
+        stencilWriteMask: 0,
+      },
+    });
+
+    // {0 vertices, 1 instance, 0, 0}: what each indirect command is reset to before its compute pass.
+    this.commandTemplate = this.buffer('umbra command template', 16, U.COPY_SRC, new Uint32Array([0, 1, 0, 0]));
+    this.sidesCommand = this.buffer('umbra sides command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
+    this.capsCommand = this.buffer('umbra caps command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
+    this.uniforms = null;
+    this.lightSlots = 0;
+    this.scene = null;
+    this.target = null;
+  }
+
+  /** A buffer of at least 16 bytes (WebGPU binds no empty buffer), filled with `data` if given. */
+  buffer(label, bytes, usage, data = null) {
+    const size = Math.max(16, Math.ceil(bytes / 4) * 4);
+    const b = this.device.createBuffer({ label, size, usage, mappedAtCreation: !!data });
+    if (data) {
+      new Uint8Array(b.getMappedRange()).set(new Uint8Array(data.buffer, data.byteOffset, data.byteLength));
+      b.unmap();
+    }
+    return b;
+  }
+
+  /** Bytes of umbra's own GPU buffers and textures now. */
+  get gpuBytes() {
+    let n = 32 + 16;
+    if (this.scene) n += this.scene.bytes;
+    if (this.uniforms) n += this.uniforms.size;
+    if (this.target) n += this.target.bytes;
+    return n;
+  }
+
+  /** Uploads the frame's merged geometry (world.js mergeParts) and makes the buffers sized to it. */
+  setScene(merged) {
+    this.disposeScene();
+    const S = U.STORAGE;
+    const s = {
+      positions: this.buffer('umbra positions', 4 * merged.positions.length, U.VERTEX | S, merged.positions),
+      indices: this.buffer('umbra indices', 4 * merged.indices.length, U.INDEX | S, merged.indices),
+      records: this.buffer('umbra edge records', 4 * merged.records.length, S, merged.records),
+      slots: this.buffer('umbra slots', 4 * merged.slots.length, S, merged.slots),
+      clip: this.buffer('umbra clip positions', 32 * merged.casterVertices, S),
+      orientation: this.buffer('umbra orientations', 4 * merged.casterTriangles, S),
+      caps: this.buffer('umbra caps', 12 * merged.casterTriangles, S),
+      // Σ|m| <= Σk: at most one quad per slot.
+      quads: this.buffer('umbra quads', 8 * merged.slots.length, S),
+      indexCount: merged.indices.length,
+      vertices: merged.casterVertices,
+      triangles: merged.casterTriangles,
+      recordCount: merged.records.length / 4,
+    };
+    s.bytes = [s.positions, s.indices, s.records, s.slots, s.clip, s.orientation, s.caps, s.quads].reduce((a, b) => a + b.size, 0);
+    const bind = (layout, buffers) => this.device.createBindGroup({ layout, entries: buffers.map((buffer, binding) => ({ binding, resource: { buffer } })) });
+    s.transformGroup = bind(this.transformLayout, [s.positions, s.clip]);
+    s.orientGroup = bind(this.orientLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps]);
+    s.sidesGroup = bind(this.sidesLayout, [s.records, s.slots, s.orientation, this.sidesCommand, s.quads]);
+    s.drawGroup = bind(this.drawLayout, [s.clip, s.quads, s.caps]);
+    this.scene = s;
+  }
+
+  disposeScene() {
+    if (!this.scene) return;
+    for (const k of ['positions', 'indices', 'records', 'slots', 'clip', 'orientation', 'caps', 'quads']) this.scene[k].destroy();
+    this.scene = null;
+  }
+
+  /** umbra's depth-stencil target at `width` x `height` (made again when the size changes). */
+  setSize(width, height) {
+    if (this.target && this.target.width === width && this.target.height === height) return;
+    if (this.target) this.target.texture.destroy();
+    const texture = this.device.createTexture({ label: 'umbra depth-stencil', size: [width, height], format: this.depthFormat, usage: GPUTextureUsage.RENDER_ATTACHMENT });
+    this.target = { width, height, texture, view: texture.createView(), bytes: width * height * (this.depthFormat === 'depth32float-stencil8' ? 5 : 4) };
+  }
+
+  /** Room for `n` light slots in the uniform buffer. */
+  ensureLights(n) {
+    if (this.uniforms && this.lightSlots >= n) return;
+    if (this.uniforms) this.uniforms.destroy();
+    this.lightSlots = Math.max(4, n);
+    this.uniforms = this.buffer('umbra light slots', LIGHT_SLOT_BYTES * this.lightSlots, U.UNIFORM | U.COPY_DST);
+    this.lightGroup = this.device.createBindGroup({ layout: this.lightLayout, entries: [{ binding: 0, resource: { buffer: this.uniforms, size: LIGHT_BYTES } }] });
+  }
+
+  /**
+   * Draws the frame: `clipFromWorld` (Float32Array(16), column-major, reversed-Z, infinite far
+   * plane), `lights` ([x, y, z, w] world space: w 1 point, 0 directional from xyz) and their
+   * masks (GPUTexture views, r8unorm, the target's size).
+   */
+  draw(clipFromWorld, lights, masks) {
+    const s = this.scene;
+    this.ensureLights(lights.length);
+    const slots = new ArrayBuffer(LIGHT_SLOT_BYTES * Math.max(1, lights.length));
+    lights.forEach((light, k) => {
+      const f = new Float32Array(slots, k * LIGHT_SLOT_BYTES, LIGHT_BYTES / 4);
+      const u = new Uint32Array(slots, k * LIGHT_SLOT_BYTES, LIGHT_BYTES / 4);
+      f.set(clipFromWorld, 0);
+      f.set(light, 16);
+      // scene_planes (20..43) unused: z-fail, scene_clip 0; far_clip_z 0 (reversed-Z).
+      f[44] = 0;
+      u[45] = 0;
+      // A directional light's dark cap has zero area (all its points at infinity coincide).
+      u[46] = light[3] === 0 ? 3 : 6;
+      u[47] = s ? s.triangles : 0;
+      u[48] = s ? s.recordCount : 0;
+      u[49] = 0;
+      u[50] = s ? s.vertices : 0;
+    });
+    this.device.queue.writeBuffer(this.uniforms, 0, slots);
+    const t = this.target;
+    const encoder = this.device.createCommandEncoder({ label: 'umbra frame' });
+    const depth = encoder.beginRenderPass({
+      label: 'umbra depth',
+      colorAttachments: [],
+      depthStencilAttachment: { view: t.view, depthClearValue: 0, depthLoadOp: 'clear', depthStoreOp: 'store', stencilClearValue: 0, stencilLoadOp: 'clear', stencilStoreOp: 'store' },
+    });
+    if (s && s.indexCount > 0) {
+      depth.setPipeline(this.depthPipeline);
+      // Slot 0: every slot holds the same clip_from_world.
+      depth.setBindGroup(0, this.lightGroup, [0]);
+      depth.setVertexBuffer(0, s.positions);
+      depth.setIndexBuffer(s.indices, 'uint32');
+      depth.drawIndexed(s.indexCount);
+    }
+    depth.end();
+    const casting = s && s.triangles > 0;
+    lights.forEach((_, k) => {
+      const offset = [k * LIGHT_SLOT_BYTES];
+      if (casting) {
+        encoder.copyBufferToBuffer(this.commandTemplate, 0, this.sidesCommand, 0, 16);
+        encoder.copyBufferToBuffer(this.commandTemplate, 0, this.capsCommand, 0, 16);
+        const pass = encoder.beginComputePass({ label: `umbra light ${k} silhouettes` });
+        pass.setBindGroup(0, this.lightGroup, offset);
+        pass.setPipeline(this.transformPipeline);
+        pass.setBindGroup(1, s.transformGroup);
+        pass.dispatchWorkgroups(...dispatchSize(s.vertices));
+        pass.setPipeline(this.orientPipeline);
+        pass.setBindGroup(1, s.orientGroup);
+        pass.dispatchWorkgroups(...dispatchSize(s.triangles));
+        if (s.recordCount > 0) {
+          pass.setPipeline(this.sidesPipeline);
+          pass.setBindGroup(1, s.sidesGroup);
+          pass.dispatchWorkgroups(...dispatchSize(s.recordCount));
+        }
+        pass.end();
+      }
+      const pass = encoder.beginRenderPass({
+        label: `umbra light ${k} volumes`,
+        // Cleared to 0, shadowed: the mask pass writes the lit pixels.
+        colorAttachments: [{ view: masks[k], clearValue: { r: 0, g: 0, b: 0, a: 0 }, loadOp: 'clear', storeOp: 'store' }],
+        // The scene's depth kept; the count starts at 0 for every light (z-fail's start).
+        depthStencilAttachment: { view: t.view, depthLoadOp: 'load', depthStoreOp: 'store', stencilClearValue: 0, stencilLoadOp: 'clear', stencilStoreOp: 'discard' },
+      });
+      if (casting) {
+        pass.setBindGroup(0, this.lightGroup, offset);
+        pass.setBindGroup(1, s.drawGroup);
+        pass.setPipeline(this.sidesDraw);
+        pass.drawIndirect(this.sidesCommand, 0);
+        pass.setPipeline(this.capsDraw);
+        pass.drawIndirect(this.capsCommand, 0);
+      }
+      pass.setPipeline(this.maskPipeline);
+      pass.setStencilReference(0);
+      pass.draw(3);
+      pass.end();
+    });
+    this.device.queue.submit([encoder.finish()]);
+  }
+
+  /** Light mask `texture` (r8unorm GPUTexture, the target's size) as rows top-down, 255 lit / 0 shadowed. */
+  async readMask(texture) {
+    const { width, height } = texture;
+    const bytesPerRow = Math.ceil(width / 256) * 256;
+    const buffer = this.device.createBuffer({ label: 'umbra mask read-back', size: bytesPerRow * height, usage: U.COPY_DST | U.MAP_READ });
+    const encoder = this.device.createCommandEncoder();
+    encoder.copyTextureToBuffer({ texture }, { buffer, bytesPerRow }, [width, height]);
+    this.device.queue.submit([encoder.finish()]);
+    await buffer.mapAsync(GPUMapMode.READ);
+    const rows = new Uint8Array(buffer.getMappedRange());
+    const out = new Uint8Array(width * height);
+    for (let y = 0; y < height; y++) out.set(rows.subarray(y * bytesPerRow, y * bytesPerRow + width), y * width);
+    buffer.unmap();
+    buffer.destroy();
+    return out;
+  }
+
+  dispose() {
+    this.disposeScene();
+    if (this.target) this.target.texture.destroy();
+    if (this.uniforms) this.uniforms.destroy();
+    for (const b of [this.commandTemplate, this.sidesCommand, this.capsCommand]) b.destroy();
+    this.target = null;
+    this.uniforms = null;
+  }
+}

@@ -1,0 +1,296 @@
+// UmbraShadows for three.js's WebGPURenderer (`umbra-three/webgpu`): exact shadows from
+// umbra's compute-shader silhouettes (native cs-silhouette, umbra-wgpu's WGSL) on the
+// renderer's own GPUDevice. Each frame, in place of renderer.render(scene, camera):
+//   1. the scene's shadow-casting lights and drawn meshes are gathered; each caster's
+//      topology is prepared once per geometry version (topology.js, wasm), and the frame's
+//      triangles are moved to world space and merged (world.js) when a mesh, its matrix or
+//      its geometry changed;
+//   2. webgpu/passes.js draws umbra's depth pass and, per light, the silhouettes and the
+//      z-fail count into umbra's own depth-stencil target, and the decision into the light's
+//      mask (a three.js RenderTarget, r8unorm, 255 lit / 0 shadowed);
+//   3. renderer.render(scene, camera): each light's shadow is its shadow node
+//      (light.shadow.shadowNode, set here), which reads the mask at the fragment's pixel, so
+//      every lit node material and a user's TSL receive umbra's decision.
+// Nothing thrown inside render(): a refused mesh or light is an entry in `errors` (and
+// onError), and three.js draws the frame all the same.
+import { NearestFilter, RedFormat, RenderTarget, UnsignedByteType, Vector2, Vector3 } from 'three/webgpu';
+import { screenUV, texture } from 'three/tsl';
+import { Topology, TopologyError, meshName, positionArray } from '../topology.js';
+import { gatherLights } from '../lights.js';
+import { infinitePerspectiveReversedZ, mul } from '../camera.js';
+import { WebGPUVolumes } from './passes.js';
+import { casterRecords, mergeParts, worldPositions } from './world.js';
+
+/** Whether an object's world matrix is affine (its fourth row 0 0 0 1). */
+function affine(e) {
+  return e[3] === 0 && e[7] === 0 && e[11] === 0 && e[15] === 1;
+}
+
+/** A geometry's index as Uint32Array (or 0 .. count-1 without one), checked against its vertex count. */
+function indicesOf(geometry, vertices, name) {
+  const index = geometry.index;
+  if (!index) {
+    const n = vertices - (vertices % 3);
+    const out = new Uint32Array(n);
+    for (let i = 0; i < n; i++) out[i] = i;
+    return out;
+  }
+  const n = index.count - (index.count % 3);
+  const out = new Uint32Array(n);
+  for (let i = 0; i < n; i++) {
+    const v = index.getX(i);
+    if (!(v >= 0 && v < vertices)) throw new TopologyError(`${name}: index ${i} is ${v}, but the geometry has ${vertices} vertices`);
+    out[i] = v;
+  }
+  return out;
+}
+
+/** Whether every value is finite. */
+function finite(a) {
+  for (let i = 0; i < a.length; i++) if (!Number.isFinite(a[i])) return false;
+  return true;
+}
+
+export class UmbraShadows {
+  /**
+   * Prepares umbra for `renderer` (a three.js WebGPURenderer): awaits its init, loads the
+   * wasm (options.wasm: a URL, Response, bytes or Module of umbra_wasm.wasm; default beside
+   * this module). Throws when the renderer runs on its WebGL 2 backend (no WebGPU adapter:
+   * use `UmbraShadows` of 'umbra-three' with a WebGLRenderer there) or its GPUDevice lacks a
+   * feature the passes need.
+   */
+  static async create(renderer, options = {}) {
+    if (!renderer?.isWebGPURenderer) throw new Error('umbra-three/webgpu: expected a three.js WebGPURenderer (from three/webgpu); for a WebGLRenderer use UmbraShadows from \'umbra-three\'');
+    await renderer.init();
+    if (!renderer.backend?.isWebGPUBackend || !renderer.backend.device) {
+      throw new Error('umbra-three/webgpu: the WebGPURenderer runs on its WebGL 2 backend (this browser gave no WebGPU adapter); umbra\'s WebGPU path needs compute shaders. Use a WebGLRenderer and UmbraShadows from \'umbra-three\' there');
+    }
+    const topology = await Topology.load(options.wasm);
+    return new UmbraShadows(renderer, topology, options);
+  }
+
+  constructor(renderer, topology, options = {}) {
+    this.renderer = renderer;
+    this.topology = topology;
+    this.options = options;
+    const device = renderer.backend.device;
+    // depth32float-stencil8: the depth precision the band is computed for (f32 depth).
+    const depthFormat = device.features.has('depth32float-stencil8') ? 'depth32float-stencil8' : 'depth24plus-stencil8';
+    try {
+      this.volumes = new WebGPUVolumes(device, depthFormat);
+    } catch (e) {
+      throw new Error(`umbra-three/webgpu: WebGPU set-up failed: ${e.message}`);
+    }
+    this.enabled = true;
+    this.disposed = false;
+    this.errors = [];
+    this.onError = null;
+    this.reported = new Set();
+    this.prepared = new WeakMap(); // geometry -> { key, caster: {positions, indices, records, slots} | receiver: {...} | error }
+    this.parts = new Map(); // mesh uuid + instance -> { key, part }
+    this.lastKey = null;
+    this.masks = new Map(); // light -> { target: RenderTarget, node }
+    this.info = {
+      backend: 'webgpu', silhouettes: 'compute', lights: 0, casters: 0, triangles: 0, casterTriangles: 0, records: 0,
+      zpass: [], prepareMs: 0, cpuMs: 0, gpuBytes: 0, depthFormat,
+    };
+  }
+
+  /** The depth-stencil format of umbra's depth pass. */
+  get depthFormat() {
+    return this.volumes.depthFormat;
+  }
+
+  report(object, message) {
+    if (message.startsWith(`${object}: `)) message = message.slice(object.length + 2);
+    const key = `${object}\u0000${message}`;
+    if (this.reported.has(key)) return;
+    this.reported.add(key);
+    const err = { mesh: object, message };
+    this.errors.push(err);
+    if (typeof this.onError === 'function') {
+      try {
+        this.onError(err);
+      } catch {
+        // The user's callback may not break the render loop either.
+      }
+    }
+  }
+
+  /** The shadow node of `light`: its mask read at the fragment's pixel (1 lit, 0 shadowed). */
+  maskOf(light, width, height) {
+    let m = this.masks.get(light);
+    if (!m) {
+      const target = new RenderTarget(width, height, { format: RedFormat, type: UnsignedByteType, depthBuffer: false, generateMipmaps: false, minFilter: NearestFilter, magFilter: NearestFilter });
+      // The decision of the pixel being shaded: screenUV is the fragment's pixel centre over the
+      // frame's size, which is the mask's, so nearest filtering reads exactly its texel.
+      const node = texture(target.texture, screenUV).r;
+      m = { target, node, width, height };
+      this.masks.set(light, m);
+      light.shadow.shadowNode = node;
+    } else if (m.width !== width || m.height !== height) {
+      m.target.setSize(width, height);
+      m.width = width;
+      m.height = height;
+    }
+    this.renderer.initRenderTarget(m.target);
+    return m;
+  }
+
+  /** The prepared data of a mesh's geometry (caster or not), cached per geometry version; throws TopologyError. */
+  prepare(mesh, geometry, caster) {
+    const pos = geometry.attributes.position;
+    const key = `${caster}:${pos?.version}:${pos?.count}:${geometry.index?.version}:${geometry.index?.count}`;
+    const cached = this.prepared.get(geometry);
+    if (cached && cached.key === key) {
+      if (cached.error) throw cached.error;
+      return cached;
+    }
+    const name = meshName(mesh);
+    let entry;
+    try {
+      if (!pos || !pos.count) throw new TopologyError(`${name}: the geometry has no position attribute`);
+      if (caster) {
+        const t0 = performance.now();
+        const p = this.topology.prepare(geometry, name);
+        p.caster.free();
+        const { records, slots } = casterRecords(p.recordVertices, p.edgeTriangles, p.maxMult);
+        entry = { key, positions: p.positions, indices: p.indices, records, slots };
+        this.info.prepareMs += performance.now() - t0;
+      } else {
+        const positions = positionArray(pos);
+        if (!finite(positions)) throw new TopologyError(`${name}: a position is not finite`);
+        entry = { key, positions, indices: indicesOf(geometry, pos.count, name) };
+      }
+    } catch (e) {
+      if (!(e instanceof TopologyError)) throw e;
+      this.prepared.set(geometry, { key, error: e });
+      throw e;
+    }
+    this.prepared.set(geometry, entry);
+    return entry;
+  }
+
+  /** The frame's world-space parts, casters first, and the key that says whether they changed. */
+  gather(scene, camera) {
+    const casters = [];
+    const others = [];
+    const keys = [];
+    scene.traverseVisible((o) => {
+      if (!o.isMesh || !o.layers.test(camera.layers)) return;
+      const name = meshName(o);
+      if (o.isBatchedMesh || o.isSkinnedMesh || o.morphTargetInfluences?.some((w) => w !== 0)) {
+        this.report(name, `${o.isBatchedMesh ? 'BatchedMesh' : o.isSkinnedMesh ? 'SkinnedMesh' : 'a morphed mesh'}: not drawn by umbra's WebGPU path yet; it casts no umbra shadow and is not in umbra's depth pass`);
+        return;
+      }
+      const matrices = [];
+      if (o.isInstancedMesh) {
+        const m = new o.matrixWorld.constructor();
+        for (let i = 0; i < o.count; i++) matrices.push(o.getMatrixAt(i, m).premultiply(o.matrixWorld).elements.slice());
+      } else {
+        matrices.push(o.matrixWorld.elements);
+      }
+      let data;
+      try {
+        data = this.prepare(o, o.geometry, !!o.castShadow);
+      } catch (e) {
+        this.report(name, e.message);
+        return;
+      }
+      matrices.forEach((e, i) => {
+        if (!affine(e)) {
+          this.report(name, 'a projective world matrix: umbra closes volumes in world space; the mesh is left out');
+          return;
+        }
+        const key = `${o.uuid}:${i}`;
+        const partKey = `${data.key}|${Array.prototype.join.call(e, ',')}|${o.castShadow}`;
+        let p = this.parts.get(key);
+        if (!p || p.key !== partKey || p.data !== data) {
+          const part = { positions: worldPositions(data.positions, e), indices: data.indices };
+          if (data.records) {
+            part.records = data.records;
+            part.slots = data.slots;
+          }
+          p = { key: partKey, data, part };
+          this.parts.set(key, p);
+        }
+        p.frame = this.frame;
+        keys.push(key, partKey);
+        (data.records ? casters : others).push(p.part);
+      });
+    });
+    for (const [k, p] of this.parts) if (p.frame !== this.frame) this.parts.delete(k);
+    return { parts: [...casters, ...others], key: keys.join(';'), casters: casters.length };
+  }
+
+  /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */
+  render(scene, camera) {
+    const t0 = performance.now();
+    this.frame = (this.frame ?? 0) + 1;
+    try {
+      if (this.enabled && !this.disposed) this.drawShadows(scene, camera);
+    } catch (e) {
+      this.report(camera.name || camera.uuid, `the frame failed: ${e.message}`);
+    }
+    this.info.cpuMs = performance.now() - t0;
+    this.renderer.render(scene, camera);
+  }
+
+  drawShadows(scene, camera) {
+    if (!camera.isPerspectiveCamera) {
+      this.report(camera.name || camera.uuid, `${camera.type}: umbra's WebGPU path draws shadows for a PerspectiveCamera only; the frame is drawn without them`);
+      return;
+    }
+    if (scene.matrixWorldAutoUpdate === true) scene.updateMatrixWorld();
+    if (camera.parent === null && camera.matrixWorldAutoUpdate === true) camera.updateMatrixWorld();
+    const target = this.renderer.getRenderTarget();
+    const size = target ? new Vector2(target.width, target.height) : this.renderer.getDrawingBufferSize(new Vector2());
+    const lights = gatherLights(scene, camera).filter((l) => l.castShadow && (l.isPointLight || l.isSpotLight || l.isDirectionalLight));
+    const { parts, key, casters } = this.gather(scene, camera);
+    if (key !== this.lastKey) {
+      const merged = mergeParts(parts);
+      this.volumes.setScene(merged);
+      this.lastKey = key;
+      this.info.triangles = merged.triangles;
+      this.info.casterTriangles = merged.casterTriangles;
+      this.info.records = merged.records.length / 4;
+    }
+    this.volumes.setSize(size.x, size.y);
+    const lightWorld = lights.map((l) => {
+      const p = new Vector3().setFromMatrixPosition(l.matrixWorld);
+      if (!l.isDirectionalLight) return [p.x, p.y, p.z, 1];
+      // Directional: w = 0, xyz towards the light (from its target to its position).
+      const t = new Vector3().setFromMatrixPosition(l.target.matrixWorld);
+      return [p.x - t.x, p.y - t.y, p.z - t.z, 0];
+    });
+    const masks = lights.map((l) => this.maskOf(l, size.x, size.y));
+    const views = masks.map((m) => this.renderer.backend.get(m.target.texture).texture.createView());
+    // umbra's camera: the camera's fov, aspect and near, an infinite far plane, reversed-Z
+    // (WebGPU's depth range is [0, 1]: depth near / d, exactly 0 at infinity).
+    const projection = infinitePerspectiveReversedZ(camera.getEffectiveFOV(), camera.aspect, camera.near);
+    const clipFromWorld = new Float32Array(mul(projection, camera.matrixWorldInverse.elements));
+    this.volumes.draw(clipFromWorld, lightWorld, views);
+    this.info.lights = lights.length;
+    this.info.casters = casters;
+    this.info.zpass = lights.map(() => false);
+    this.info.gpuBytes = this.volumes.gpuBytes + masks.reduce((a, m) => a + m.width * m.height, 0);
+  }
+
+  /** Light `light`'s decision of the last frame: rows top-down, 255 lit / 0 shadowed (Uint8Array). */
+  async readMaskAsync(light) {
+    const m = this.masks.get(light);
+    if (!m) throw new Error('umbra-three/webgpu: readMaskAsync: that light has no mask (it did not cast a shadow in the last frame)');
+    return this.volumes.readMask(this.renderer.backend.get(m.target.texture).texture);
+  }
+
+  dispose() {
+    if (this.disposed) return;
+    this.disposed = true;
+    for (const [light, m] of this.masks) {
+      if (light.shadow.shadowNode === m.node) light.shadow.shadowNode = undefined;
+      m.target.dispose();
+    }
+    this.masks.clear();
+    this.volumes.dispose();
+  }
+}
