@@ -15,7 +15,8 @@
 // Query: model=URL (.obj .gltf .glb .ply, optionally .gz), size=WxH.
 // window.bench: { ready, error, triangles, renderer, first(mode) -> ms (that mode's set-up
 // and first frame: for bvh the BVH build, for umbra the module's loading and the scene's
-// preprocessing), frame(mode) -> ms, passes(n) -> umbra's pass breakdown averaged over n frames
+// preprocessing), frame(mode) -> ms, split(mode) -> { cpu, frame } (the render call's
+// main-thread ms, then the frame's until the readPixels), passes(n) -> umbra's pass breakdown averaged over n frames
 // (umbra.timing on), info(mode), view(eye, target) }. A frame is made synchronous with a
 // readPixels of 1 pixel.
 import * as THREE from 'three';
@@ -157,6 +158,19 @@ async function start() {
     return performance.now() - t0;
   };
   bench.frame = (mode) => timed(mode);
+  // One frame, split (run.mjs --webgpu): the main-thread ms of the row's render call (no GPU
+  // sync inside the span), then the frame's ms until a 1-pixel readPixels returned.
+  bench.split = (mode) => {
+    const t0 = performance.now();
+    draw(mode);
+    const cpu = performance.now() - t0;
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+    const frame = performance.now() - t0;
+    const err = gl.getError();
+    if (err !== gl.NO_ERROR) throw new Error(`${mode}: GL error 0x${err.toString(16)}`);
+    if (instance(mode)?.errors.length) throw new Error(`umbra refused meshes: ${JSON.stringify(instance(mode).errors.slice(0, 3))}`);
+    return { cpu, frame, umbraCpu: instance(mode) ? instance(mode).info.cpuMs : null };
+  };
   bench.passes = (n, mode = 'umbra') => {
     const u = instance(mode);
     u.timing = true;

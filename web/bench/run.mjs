@@ -12,10 +12,13 @@
 //   node bench/run.mjs [--scenes A,B] [--sizes 1280x720,640x360] [--frames 3] [--warmup 1]
 //                      [--passes 1] [--modes none,map1024,map2048,bvh,umbra]
 //                      [--impl swiftshader|egl] [--out FILE.json] [--shots DIR]
+//                      [--flythrough N | --orbit N [--move-light]] [--webgpu] [--dist DIR]
 //   --scenes  mesh files (default: the three shared scenes in UMBRA_SCENES, default
 //             ../shared/scenes beside the repository)
 //   --out     the results as JSON (default: print only); the markdown table goes to stdout
 //   --shots   a PNG of every row per scene and size, to check what was drawn
+//   --dist DIR  serve the package from DIR (a `node umbra-three/build.mjs --outdir DIR` of
+//             another tree, e.g. a commit's) instead of umbra-three/dist
 //   --flythrough N  instead of the default view, N views along the scene's fly-through
 //             (bench/<scene>.flythrough, the keyframes of `umbra bench --flythrough`,
 //             interpolated with its uniform Catmull-Rom spline; the light stays umbra's
@@ -31,6 +34,21 @@
 // cache: false (every frame drawn in full); umbracache and umbracachenocull (the package's
 // defaults, cache on, with volumeCull on / off) and umbragpu (unculled, silhouettes: 'gpu':
 // a GPU's defaults) for the orbit.
+//   --webgpu  instead: the WebGPU comparison (bench/webgpu-run.mjs, bench/webgpu.html): on one
+//             WebGPU adapter (SwiftShader; testlib/exactness.mjs IMPLEMENTATIONS.webgpu, a
+//             http://127.0.0.1 page), three.js's WebGPURenderer with no shadows (gpunone), with
+//             its 2048 PointLight map (gpumap2048) and 2048 DirectionalLight map (gpudir2048),
+//             and umbra-three/webgpu with the point light (gpuumbra) and the directional one
+//             (gpuumbradir); beside them, in a second Chromium with the --impl flags, the WebGL
+//             2 rows none, map2048 and umbra for reference. Default --modes: all eight. Each
+//             frame timed twice: the GPU frame (WebGPU: from the render call to the queue's
+//             onSubmittedWorkDone; WebGL: to a 1-pixel readPixels) and the main thread's ms in
+//             the render call; medians, ratios against the 2048 map of the same light; with
+//             --passes 1, one more frame per view and WebGPU row with a timestamp query around
+//             every pass (umbra's depth, compute and volume passes, three.js's shadow and main
+//             passes). With --flythrough N along the fly-through as above, else --warmup and
+//             --frames rounds of the default view. No --orbit.
+//             node bench/run.mjs --webgpu --flythrough 4 --sizes 640x360,1280x720 --out r.json
 // Needs /usr/bin/chromium (or UMBRA_CHROMIUM), `npm ci` in web/ and the package built.
 import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
 import { existsSync } from 'node:fs';
@@ -53,13 +71,16 @@ const sizes = arg('--sizes', '1280x720,640x360').split(',');
 const frames = Number(arg('--frames', '3'));
 const warmup = Number(arg('--warmup', '1'));
 const passFrames = Number(arg('--passes', '1'));
-const modes = arg('--modes', 'none,map1024,map2048,bvh,umbra').split(',');
+const webgpu = process.argv.includes('--webgpu');
+const { GPU_LABELS, DEFAULT_MODES: WEBGPU_MODES, runWebGPU } = await import('./webgpu-run.mjs');
+const modes = arg('--modes', webgpu ? WEBGPU_MODES.join(',') : 'none,map1024,map2048,bvh,umbra').split(',');
 const flyViews = Number(arg('--flythrough', '0'));
 const orbitFrames = Number(arg('--orbit', '0'));
 const moveLight = process.argv.includes('--move-light');
 const impl = arg('--impl', 'swiftshader');
 const outFile = arg('--out', null);
 const shots = arg('--shots', null);
+const dist = arg('--dist', null) && path.resolve(arg('--dist', null));
 const LABELS = { umbragpu: 'umbra-three (cache), unculled, GPU silhouettes', umbracache: 'umbra-three (cache)', umbracachenocull: 'umbra-three (cache), volumeCull off', none: 'three.js, no shadows', map1024: 'PointLight shadow 1024', map2048: 'PointLight shadow 2048', bvh: 'three-mesh-bvh shadow rays', umbra: 'umbra-three', umbranocull: 'umbra-three, volumeCull off', umbraclamp: 'umbra-three, always clamped', umbranoclamp: 'umbra-three, never clamped', umbramrt: 'umbra-three, positions from the depth pass' };
 const UMBRA_ROWS = ['umbra', 'umbranocull', 'umbraclamp', 'umbranoclamp', 'umbramrt', 'umbracache', 'umbracachenocull', 'umbragpu'];
 
@@ -94,8 +115,18 @@ function interpolate(keys, frames) {
     return { eye: cr(k0.eye, k1.eye, k2.eye, k3.eye, u), target: cr(k0.target, k1.target, k2.target, k3.target, u) };
   });
 }
-for (const m of modes) if (!LABELS[m]) throw new Error(`--modes: unknown row ${m} (${Object.keys(LABELS).join(', ')})`);
+for (const m of modes) {
+  if (GPU_LABELS[m] && !webgpu) throw new Error(`--modes: row ${m} is a WebGPU row: it needs --webgpu`);
+  if (!LABELS[m] && !GPU_LABELS[m]) throw new Error(`--modes: unknown row ${m} (${[...Object.keys(LABELS), ...Object.keys(GPU_LABELS)].join(', ')})`);
+}
 for (const s of scenes) if (!existsSync(s)) throw new Error(`${s}: no such scene file`);
+
+if (webgpu) {
+  // The WebGPU comparison (bench/webgpu-run.mjs): its own pages, browsers and tables.
+  if (orbitFrames > 0) throw new Error('--webgpu: --orbit is not supported; use --flythrough N or the default view');
+  await runWebGPU({ dist, scenes, sizes, modes, flyViews, frames, warmup, passFrames, shots, outFile, impl, flythrough, interpolate, repo, webDir, LABELS, fmt: (ms) => (ms >= 100 ? ms.toFixed(0) : ms.toFixed(1)).replace(/\B(?=(\d{3})+(?!\d))/g, ',') });
+  process.exit(0);
+}
 
 /** Mean and nearest-rank p95 of `ms`. */
 function summary(ms) {
@@ -106,6 +137,7 @@ function summary(ms) {
 const tmp = await mkdtemp(path.join(os.tmpdir(), 'umbra-bench-three-'));
 const mounts = [['/', webDir]];
 scenes.forEach((s, i) => mounts.push([`/scene${i}/`, path.dirname(s)]));
+if (dist) mounts.push(['/umbra-three/dist/', dist]);
 const server = createServer(mounts);
 const base = await listen(server);
 const browser = await launch(process.env.UMBRA_CHROMIUM || '/usr/bin/chromium', impl, tmp);
