@@ -8,7 +8,14 @@
 // X,Y,Z), maps=1 (start with three.js's shadow maps), side=front (every material
 // FrontSide, three.js's default: back faces culled, judged with `umbra verify --receivers
 // front`; default: DoubleSide), mirror=1 (the model mirrored in x by its root's scale) and
-// ortho=1 (start with the orthographic camera).
+// ortho=1 (start with the orthographic camera), renderer=webgpu (three.js's WebGPURenderer
+// and umbra-three/webgpu instead of WebGLRenderer and umbra-three; the import map in
+// index.html follows it) and offscreen=1 (WebGPU only: every frame drawn into a RenderTarget
+// and copied to the canvas through the CPU, for headless Chromium, which cannot present a
+// WebGPU canvas).
+// On WebGPU the orthographic camera (O, ortho=1) is refused with a warning and the view stays
+// perspective, and skinned, morphed and batched meshes are named in umbra.errors (umbra's
+// WebGPU path does not draw them yet); the warning box on the page says so.
 // `scene=URL` is taken as `model=URL`
 // (a model file: this page loads no `umbra export` folder). A model's animations (a skinned or
 // morphed glTF) play through an AnimationMixer, every clip looping (animate=0: held at their
@@ -19,26 +26,43 @@
 // The camera and the first light are the ones `umbra render --scene MODEL` uses with the same
 // flags (view.js), so `umbra verify --external-mask` can judge the mask.
 // State: document.body.dataset.state (loading, ready, error) and window.umbra: { state, error,
-// frameMs, frames, renderer, subpixelBits, mode ('umbra' or 'maps'), projection ('perspective'
+// frameMs, frames, backend ('webgl' or 'webgpu'), renderer (the GL renderer string, or the
+// WebGPU adapter), subpixelBits (WebGL's SUBPIXEL_BITS; null on WebGPU, which reports none),
+// warnings (what the page refused, also shown on the page), mode ('umbra' or 'maps'), projection ('perspective'
 // or 'orthographic'), orthoHeight (the orthographic view's height, `umbra verify --ortho`),
 // ortho (umbra.info.ortho: the orthographic frame's near and far planes, or null), view,
 // animations (the
 // model's clips), umbraInfo (casters, mapCasters, silhouettes, volumeCull, cpuMs, gpuBytes of
 // umbra.info after the last frame), light (the first light's position once dragged), errors (meshes
 // umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
-// shadowed, as a latin1 string), readCanvas() (a frame drawn and its red channel read back
-// the same way), redraw() }.
+// shadowed, as a latin1 string; on WebGPU a Promise of it), readMaskAsync() (a Promise of it on
+// both), readCanvas() (a frame drawn and its red channel read back the same way; on WebGPU a
+// Promise, and only with offscreen=1), redraw() }.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
-import { UmbraShadows } from 'umbra-three';
 import { loadModel } from './load.js';
 import { defaultView, triangleBounds, viewFor } from './view.js';
 
 const params = new URLSearchParams(location.search);
 const $ = (id) => document.getElementById(id);
-const status = { state: 'loading', frames: 0, mode: 'umbra' };
+const status = { state: 'loading', frames: 0, mode: 'umbra', warnings: [] };
 window.umbra = status;
+const backend = params.get('renderer') ?? 'webgl';
+status.backend = backend;
+
+/** A warning on the page and in window.umbra.warnings (once each). */
+function warn(text) {
+  if (status.warnings.includes(text)) return;
+  status.warnings.push(text);
+  showWarnings();
+}
+
+function showWarnings(extra = []) {
+  const lines = [...status.warnings, ...extra];
+  $('warning').textContent = lines.join('\n');
+  $('warning').classList.toggle('shown', lines.length > 0);
+}
 
 function fail(e) {
   const text = `${e.name === 'ModelError' ? 'The model could not be loaded' : 'Error'}:\n${e.message}`;
@@ -114,23 +138,73 @@ function maskView(width, height) {
   return { scene, camera: new THREE.Camera(), texture };
 }
 
+/** The same on WebGPU: a QuadMesh whose node material reads the mask (TSL). */
+function maskViewWebGPU(width, height, tsl) {
+  const texture = new THREE.DataTexture(new Uint8Array(width * height), width, height, THREE.RedFormat);
+  texture.minFilter = THREE.NearestFilter;
+  texture.magFilter = THREE.NearestFilter;
+  const material = new THREE.MeshBasicNodeMaterial();
+  // WebGPU's conventions (three.js's QuadMesh and texture rows): v = 0 is the top row, which is
+  // readMask's first row, so no flip.
+  const { texture: sample, uv, vec4 } = tsl;
+  material.colorNode = vec4(sample(texture, uv()).rrr, 1);
+  return { quad: new THREE.QuadMesh(material), texture };
+}
+
 async function start() {
   const canvas = $('canvas');
   const [width, height] = canvasSize(canvas);
+  if (backend !== 'webgl' && backend !== 'webgpu') throw new Error(`URL parameter renderer=${backend}: expected webgl (the default) or webgpu`);
+  const webgpu = backend === 'webgpu';
+  const offscreen = webgpu && params.get('offscreen') === '1';
   // Antialias off: one sample per pixel, as `umbra render`'s mask; no stencil asked for (the
   // package brings its own depth-stencil target).
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
-  renderer.setPixelRatio(1);
-  renderer.setSize(width, height, false);
-  renderer.shadowMap.enabled = false;
-  renderer.shadowMap.type = THREE.PCFShadowMap;
-  const gl = renderer.getContext();
-  const dbg = gl.getExtension('WEBGL_debug_renderer_info');
-  status.renderer = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
-  // The rasteriser's sub-pixel precision: `umbra verify --subpixel-bits` judges with it.
-  status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
-
-  const umbra = await UmbraShadows.create(renderer);
+  let renderer;
+  let umbra;
+  let gl = null;
+  let target = null;
+  let tsl = null;
+  if (webgpu) {
+    if (!THREE.WebGPURenderer) throw new Error('renderer=webgpu: the import map did not load three.js\'s WebGPU build (three.webgpu.js)');
+    tsl = await import('three/tsl');
+    const { UmbraShadows } = await import('umbra-three/webgpu');
+    // offscreen=1: the renderer draws into a RenderTarget and never touches #canvas, which
+    // shows each frame through a 2D context.
+    renderer = new THREE.WebGPURenderer(offscreen ? { antialias: false } : { canvas, antialias: false });
+    renderer.setPixelRatio(1);
+    renderer.setSize(width, height, false);
+    // umbra-three/webgpu's decision reaches the materials as each light's shadow node, which
+    // three.js builds only with its shadow map on.
+    renderer.shadowMap.enabled = true;
+    renderer.shadowMap.type = THREE.PCFShadowMap;
+    try {
+      umbra = await UmbraShadows.create(renderer);
+    } catch (e) {
+      throw new Error(`renderer=webgpu: ${e.message}\n(Without WebGPU, leave renderer out: the WebGL 2 path.)`);
+    }
+    const info = renderer.backend.device.adapterInfo || {};
+    status.renderer = `WebGPU: ${[info.vendor, info.architecture, info.description].filter(Boolean).join(' ') || 'adapter'}`;
+    status.subpixelBits = null;
+    if (offscreen) {
+      target = new THREE.RenderTarget(width, height);
+      // The canvas's colour encoding, so the copy looks as a presented frame does.
+      target.texture.colorSpace = THREE.SRGBColorSpace;
+      renderer.setRenderTarget(target);
+    }
+  } else {
+    const { UmbraShadows } = await import('umbra-three');
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
+    renderer.setPixelRatio(1);
+    renderer.setSize(width, height, false);
+    renderer.shadowMap.enabled = false;
+    renderer.shadowMap.type = THREE.PCFShadowMap;
+    gl = renderer.getContext();
+    const dbg = gl.getExtension('WEBGL_debug_renderer_info');
+    status.renderer = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+    // The rasteriser's sub-pixel precision: `umbra verify --subpixel-bits` judges with it.
+    status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
+    umbra = await UmbraShadows.create(renderer);
+  }
   umbra.onError = (err) => console.warn(`umbra: ${err.mesh}: ${err.message}`);
 
   const url = params.get('model') || params.get('scene') || 'scene.gltf';
@@ -177,6 +251,10 @@ async function start() {
   const orthographic = new THREE.OrthographicCamera(-1, 1, 1, -1, view.near, camera.far);
   orthographic.up.copy(camera.up);
   const useCamera = (ortho) => {
+    if (ortho && webgpu) {
+      warn('O / ortho=1: the orthographic camera is not drawn by umbra-three/webgpu yet (PerspectiveCamera only); the view stays perspective. The WebGL 2 path (no renderer=webgpu) has it.');
+      return;
+    }
     const from = ortho ? perspective : orthographic;
     const to = ortho ? orthographic : perspective;
     to.position.copy(from.position);
@@ -201,6 +279,16 @@ async function start() {
     scene.add(l);
     if (l.isDirectionalLight) scene.add(l.target);
   }
+  // On WebGPU, umbra's lights read umbra's decision as their shadow node, and three.js keeps a
+  // light's shadow node once built: M switches to a twin of each light (no shadow node of
+  // umbra's: three.js's own shadow map) instead, the other set hidden.
+  const mapLights = webgpu ? lights.map((l) => {
+    const twin = l.clone();
+    if (l.isDirectionalLight) twin.target = l.target;
+    twin.visible = false;
+    scene.add(twin);
+    return twin;
+  }) : null;
 
   const state = { maps: params.get('maps') === '1', mask: params.get('mask') === '1' };
   // The model's animations, every clip looping; the frame loop runs while they play.
@@ -223,18 +311,20 @@ async function start() {
     redraw();
   });
   state.gizmo = false;
-  const mask = maskView(width, height);
+  const mask = webgpu ? maskViewWebGPU(width, height, tsl) : maskView(width, height);
   const pixel = new Uint8Array(4);
   status.errors = umbra.errors;
-  status.readMask = () => {
-    const m = umbra.readMask(lights[0]);
+  const latin1 = (m) => {
     let s = '';
     for (let i = 0; i < m.length; i += 8192) s += String.fromCharCode.apply(null, m.subarray(i, i + 8192));
     return s;
   };
+  status.readMask = webgpu ? async () => latin1(await umbra.readMaskAsync(lights[0])) : () => latin1(umbra.readMask(lights[0]));
+  status.readMaskAsync = async () => status.readMask();
   const label = () => {
     status.mode = state.maps ? 'maps' : 'umbra';
-    $('mode').textContent = `${state.maps ? 'three.js shadow maps (2048)' : 'umbra: exact shadows'}${camera.isOrthographicCamera ? ' · orthographic' : ''}`;
+    $('mode').textContent = `${state.maps ? 'three.js shadow maps (2048)' : 'umbra: exact shadows'}${camera.isOrthographicCamera ? ' · orthographic' : ''}${webgpu ? ' · WebGPU' : ''}`;
+    if (webgpu) showWarnings(umbra.errors.map((e) => `umbra-three/webgpu: ${e.mesh}: ${e.message}`));
     const refused = umbra.errors.length ? ` · ${umbra.errors.length} mesh(es) refused: ${umbra.errors.map((e) => `${e.mesh}: ${e.message}`).join('; ')}` : '';
     $('info').textContent = `${url}: ${meshes} meshes, ${triangles} triangles · ${status.renderer}${refused}`;
   };
@@ -263,30 +353,77 @@ async function start() {
       }
       // Synchronise: a readPixels waits for the whole frame.
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
-      const ms = performance.now() - t0;
-      status.frames += 1;
-      status.frameMs = ms;
-      label();
-      $('time').textContent = `frame ${ms.toFixed(1)} ms${state.mask && !state.maps ? ' · mask' : ''}`;
-      status.state = 'ready';
-      status.ortho = umbra.info.ortho;
-      status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
-      document.body.dataset.state = 'ready';
-      if (animating) redraw();
+      done(t0);
     } catch (e) {
       fail(e);
     }
   };
+  const done = (t0) => {
+    const ms = performance.now() - t0;
+    status.frames += 1;
+    status.frameMs = ms;
+    label();
+    $('time').textContent = `frame ${ms.toFixed(1)} ms${state.mask && !state.maps ? ' · mask' : ''}`;
+    status.state = 'ready';
+    status.ortho = umbra.info.ortho ?? null;
+    status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
+    if (webgpu) Object.assign(status.umbraInfo, { backend: umbra.info.backend, lights: umbra.info.lights, triangles: umbra.info.triangles });
+    document.body.dataset.state = 'ready';
+    if (animating) redraw();
+  };
+  // WebGPU: a frame awaits its reads (the mask view's mask, the offscreen copy), so frames are
+  // chained, one at a time.
+  const canvas2d = offscreen ? canvas.getContext('2d') : null;
+  let running = Promise.resolve();
+  const frameWebGPU = async () => {
+    pending = false;
+    try {
+      const t0 = performance.now();
+      // umbra's lights (umbra's shadow nodes) or their twins (three.js's shadow maps).
+      umbra.enabled = !state.maps;
+      lights.forEach((l, i) => {
+        l.visible = !state.maps;
+        mapLights[i].visible = state.maps;
+        mapLights[i].position.copy(l.position);
+      });
+      if (mixer) mixer.update(animating ? clock.getDelta() : 0);
+      umbra.render(scene, camera);
+      if (state.gizmo) {
+        renderer.autoClear = false;
+        renderer.render(gizmoScene, camera);
+        renderer.autoClear = true;
+      }
+      if (state.mask && !state.maps) {
+        mask.texture.image.data.set(await umbra.readMaskAsync(lights[0]));
+        mask.texture.needsUpdate = true;
+        mask.quad.render(renderer);
+      }
+      if (offscreen) {
+        const rgba = await renderer.readRenderTargetPixelsAsync(target, 0, 0, width, height);
+        canvas2d.putImageData(new ImageData(new Uint8ClampedArray(rgba.buffer, rgba.byteOffset, rgba.byteLength), width, height), 0, 0);
+      } else {
+        await renderer.backend.device.queue.onSubmittedWorkDone();
+      }
+      done(t0);
+    } catch (e) {
+      fail(e);
+    }
+  };
+  const runFrame = () => {
+    running = running.then(frameWebGPU);
+    return running;
+  };
   const redraw = () => {
     if (!pending) {
       pending = true;
-      requestAnimationFrame(frame);
+      requestAnimationFrame(webgpu ? runFrame : frame);
     }
   };
   status.redraw = redraw;
   // A frame drawn now and the canvas read back in the same task (before the drawing buffer is
   // presented): its red channel, rows top-down, as a latin1 string (the tests' view of mask=1).
   status.readCanvas = () => {
+    if (webgpu) return readCanvasWebGPU();
     frame();
     const rgba = new Uint8Array(width * height * 4);
     gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
@@ -297,6 +434,15 @@ async function start() {
       s += String.fromCharCode.apply(null, row);
     }
     return s;
+  };
+  // WebGPU (offscreen=1): a frame drawn, then the canvas's red channel, rows top-down.
+  const readCanvasWebGPU = async () => {
+    if (!offscreen) throw new Error('readCanvas on WebGPU needs offscreen=1 (a WebGPU canvas cannot be read back)');
+    await runFrame();
+    const rgba = canvas2d.getImageData(0, 0, width, height).data;
+    const red = new Uint8Array(width * height);
+    for (let i = 0; i < red.length; i++) red[i] = rgba[4 * i];
+    return latin1(red);
   };
 
   controls.target.set(...view.target);
