@@ -49,6 +49,7 @@ function groupPasses(passes) {
     if (p.label === 'umbra depth') g['umbra depth'] += p.ms;
     else if (/^umbra light \d+ silhouettes$/.test(p.label)) g['umbra compute'] += p.ms;
     else if (/^umbra light \d+ volumes$/.test(p.label)) g['umbra volumes + mask'] += p.ms;
+    else if (p.label.startsWith('umbra')) g['umbra, other passes'] = (g['umbra, other passes'] || 0) + p.ms;
   }
   three.forEach((p, i) => {
     g[i === three.length - 1 ? 'three.js main pass' : 'three.js shadow maps'] += p.ms;
@@ -160,8 +161,8 @@ export async function runWebGPU(o) {
         }
         run.summary = Object.fromEntries(modes.map((m) => [m, { frame: stats(run.samples[m].map((x) => x.frame)), cpu: stats(run.samples[m].map((x) => x.cpu)) }]));
         run.passSummary = Object.fromEntries(gpuModes.filter((m) => run.passes[m].length).map((m) => {
-          const keys = Object.keys(run.passes[m][0].groups);
-          const mean = (f) => run.passes[m].reduce((a, x) => a + f(x), 0) / run.passes[m].length;
+          const keys = [...new Set(run.passes[m].flatMap((x) => Object.keys(x.groups)))];
+          const mean = (f) => run.passes[m].reduce((a, x) => a + (f(x) || 0), 0) / run.passes[m].length;
           return [m, { ...Object.fromEntries(keys.map((k) => [k, mean((x) => x.groups[k])])), 'frame (wall)': mean((x) => x.gpu) }];
         }));
         run.memory = {};
@@ -208,7 +209,8 @@ function markdown(r, modes, label, fmt) {
   }
   const withPasses = r.runs.filter((run) => Object.keys(run.passSummary || {}).length);
   if (withPasses.length) {
-    const keys = ['umbra depth', 'umbra compute', 'umbra volumes + mask', 'three.js shadow maps', 'three.js main pass', 'passes in all', 'frame (wall)'];
+    const other = withPasses.some((run) => Object.values(run.passSummary).some((x) => x['umbra, other passes']));
+    const keys = ['umbra depth', 'umbra compute', 'umbra volumes + mask', ...(other ? ['umbra, other passes'] : []), 'three.js shadow maps', 'three.js main pass', 'passes in all', 'frame (wall)'];
     lines.push('Where the WebGPU frame goes: GPU ms per pass group (timestamp queries, one more frame per view, mean over the views):', '');
     lines.push(`| scene | size | row | ${keys.join(' | ')} |`, `| --- | --- | --- |${keys.map(() => ' ---: |').join('')}`);
     for (const run of withPasses) for (const m of gpuModes) if (run.passSummary[m]) lines.push(`| ${run.scene} | ${run.size} | ${label(m)} | ${keys.map((k) => (run.passSummary[m][k] ? fmt(run.passSummary[m][k]) : '-')).join(' | ')} |`);
