@@ -14,8 +14,9 @@
 // when one is absent. Run: cd web && node --test test/webgpu.test.mjs
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
 import { existsSync } from 'node:fs';
-import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';
+import { mkdtemp, mkdir, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -36,12 +37,16 @@ let skip = !existsSync(CHROMIUM) ? `${CHROMIUM} is absent (apt-get install chrom
     : !umbraBin ? 'no umbra binary (cargo build --release -p umbra-cli, or UMBRA_BIN): WebGPU test skipped' : false;
 if (skip) console.log(`SKIP: ${skip}`);
 
+const SCENES_DIR = process.env.UMBRA_SCENES || path.join(repo, '..', 'shared', 'scenes');
+const SHARED = ['crytek-sponza.obj.gz', 'conference.obj.gz', 'sibenik.obj.gz'];
+const sharedSkip = () => skip || (SHARED.every((s) => existsSync(path.join(SCENES_DIR, s))) ? false : `the shared scenes are absent from ${SCENES_DIR} (UMBRA_SCENES): shared-scene WebGPU test skipped`);
+
 const W = 320;
 const H = 240;
 const PAGE = `<!doctype html>
 <html><head><meta charset="utf-8">
 <script type="importmap">
-{ "imports": { "three": "/three/build/three.webgpu.js", "three/webgpu": "/three/build/three.webgpu.js", "three/tsl": "/three/build/three.tsl.js", "umbra-three/webgpu": "/umbra-three/webgpu.js" } }
+{ "imports": { "three": "/three/build/three.webgpu.js", "three/webgpu": "/three/build/three.webgpu.js", "three/tsl": "/three/build/three.tsl.js", "three/addons/": "/three/examples/jsm/", "umbra-three/webgpu": "/umbra-three/webgpu.js" } }
 </script></head>
 <body></body></html>
 `;
@@ -55,7 +60,9 @@ before(async () => {
   const root = path.join(tmp, 'root');
   await mkdir(root);
   await writeFile(path.join(root, 'index.html'), PAGE);
-  server = createServer([['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]]);
+  const mounts = [['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]];
+  if (existsSync(SCENES_DIR)) mounts.push(['/scenes/', SCENES_DIR]);
+  server = createServer(mounts);
   base = await listen(server, 0);
   ctx = await launch(CHROMIUM, 'webgpu', tmp);
   page = await ctx.newPage();
@@ -169,6 +176,57 @@ before(async () => {
       };
       window.T = { THREE, umbra, scene, camera, point, sun, meshes, box, frame };
     };
+    // A shared scene through OBJLoader (gzip), drawn at w x h from `view` ({ eye, target, up,
+    // fov, near }) with a point and a directional light; returns each light's mask (latin1) and
+    // the frame's info.
+    window.sharedFrame = async (url, w, h, view, pointAt, sunFrom) => {
+      const THREE = await import('three/webgpu');
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      const { OBJLoader } = await import('three/addons/loaders/OBJLoader.js');
+      const text = await new Response((await fetch(url)).body.pipeThrough(new DecompressionStream('gzip'))).text();
+      const object = new OBJLoader().parse(text);
+      const mat = new THREE.MeshStandardNodeMaterial({ color: 0xcccccc, side: THREE.DoubleSide });
+      object.traverse((o) => {
+        if (!o.isMesh) return;
+        o.material = mat;
+        o.castShadow = true;
+        o.receiveShadow = true;
+      });
+      const renderer = new THREE.WebGPURenderer({ antialias: false });
+      renderer.setPixelRatio(1);
+      renderer.setSize(w, h, false);
+      renderer.shadowMap.enabled = true;
+      const umbra = await UmbraShadows.create(renderer);
+      const target = new THREE.RenderTarget(w, h);
+      renderer.setRenderTarget(target);
+      const scene = new THREE.Scene();
+      scene.add(object);
+      const point = new THREE.PointLight(0xffffff, 8, 0, 0);
+      point.position.fromArray(pointAt);
+      point.castShadow = true;
+      const sun = new THREE.DirectionalLight(0xffffff, 1);
+      sun.position.fromArray(sunFrom);
+      sun.castShadow = true;
+      scene.add(point, sun, sun.target);
+      const camera = new THREE.PerspectiveCamera(view.fov, w / h, view.near, 1000);
+      camera.position.fromArray(view.eye);
+      camera.up.fromArray(view.up);
+      camera.lookAt(...view.target);
+      scene.updateMatrixWorld(true);
+      umbra.render(scene, camera);
+      const latin1 = (a) => {
+        let s = '';
+        for (let i = 0; i < a.length; i += 8192) s += String.fromCharCode.apply(null, a.subarray(i, i + 8192));
+        return s;
+      };
+      const masks = [latin1(await umbra.readMaskAsync(point)), latin1(await umbra.readMaskAsync(sun))];
+      const info = { ...umbra.info };
+      const errors = umbra.errors.slice();
+      umbra.dispose();
+      target.dispose();
+      renderer.dispose();
+      return { masks, info, errors };
+    };
   }, [W, H]);
 });
 
@@ -241,4 +299,46 @@ test('WebGPURenderer: a point and a directional light, a mirrored and an instanc
       assert.ok(shadowedSum / shadowedN < 0.5 * (litSum / litN), `pixels both lights leave shadowed are darker (${(shadowedSum / shadowedN).toFixed(1)}) than those both light (${(litSum / litN).toFixed(1)})`);
     }
   }
+});
+
+// A known defect, so `todo` (reported, not failing the run): on the shared scenes the WebGPU
+// masks still have samples outside the band (docs/web.md, "On WebGPU"), which the WebGL 2 path
+// on the same SwiftShader does not.
+test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at 640x360 and 1280x720, a point and a directional light (Sibenik\'s eye inside 4 volumes): every mask 0 samples outside the band', { timeout: 1_800_000, todo: 'samples outside the band on the shared scenes (docs/web.md, "On WebGPU")' }, async (t) => {
+  const why = sharedSkip();
+  if (why) {
+    console.log(`SKIP: ${why}`);
+    return t.skip(why);
+  }
+  const sun = [0.3, 1, 0.2];
+  const outside = [];
+  for (const s of SHARED) {
+    const scene = path.join(SCENES_DIR, s);
+    // The scene's default view and light, as `umbra export` writes them (the view verify judges by default).
+    const dir = path.join(tmp, `export-${s}`);
+    execFileSync(umbraBin, ['export', scene, '--out', dir], { stdio: ['ignore', 'ignore', 'inherit'] });
+    const { camera, light } = JSON.parse(await readFile(path.join(dir, 'manifest.json'), 'utf8'));
+    await rm(dir, { recursive: true, force: true });
+    const view = { eye: camera.eye, target: camera.target, up: camera.up, fov: camera.fov_y_degrees, near: camera.near };
+    for (const [w, h] of [[640, 360], [1280, 720]]) {
+      const f = await page.evaluate(([url, ww, hh, v, p, d]) => window.sharedFrame(url, ww, hh, v, p, d), [`/scenes/${s}`, w, h, view, light.slice(0, 3), sun]);
+      assert.deepEqual(f.errors, [], `${s}: no mesh refused`);
+      for (const [k, l] of [[0, light.slice(0, 3)], [1, [...sun, 0]]]) {
+        const gray = Buffer.from(f.masks[k], 'latin1');
+        const rgba = new Uint8Array(4 * w * h);
+        for (let i = 0; i < gray.length; i++) rgba.set([gray[i], gray[i], gray[i], 255], 4 * i);
+        // UMBRA_DIFF_DIR: keep the masks and the diff images there (for --explain by hand).
+        const png = path.join(process.env.UMBRA_DIFF_DIR || tmp, `${s}-${w}-${k}.mask.png`);
+        await writeFile(png, encodePng(w, h, rgba));
+        const extra = ['--eye', view.eye.join(','), '--target', view.target.join(','), '--up', view.up.join(','), '--fov', String(view.fov), '--light', l.join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)];
+        const r = judge(umbraBin, { scene, size: `${w}x${h}`, maskPng: png, extra, explain: 20, diff: process.env.UMBRA_DIFF_DIR ? path.join(process.env.UMBRA_DIFF_DIR, `${s}-${w}-${k}.png`) : null });
+        console.log(JSON.stringify({ scene: s, size: `${w}x${h}`, light: k ? 'directional' : 'point', outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, triangles: f.info.triangles, cpuMs: f.info.cpuMs }));
+        // The sun reaches into Sponza's atrium only (Conference and Sibenik are closed rooms).
+        if (k === 0 || s === 'crytek-sponza.obj.gz') assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, `${s} ${w}x${h} light ${k}: shadow and light in view`);
+        if (r.browser.mismatches_outside_band !== 0) outside.push(`${s} ${w}x${h} light ${k}: ${r.browser.mismatches_outside_band} (${r.explained.slice(0, 3).join('; ')})`);
+      }
+    }
+  }
+  // Every row judged before the verdict, so that the log has them all.
+  assert.deepEqual(outside, [], 'samples outside the band');
 });

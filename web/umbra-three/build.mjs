@@ -15,7 +15,7 @@
 //
 // The WebGPU entry (dist/webgpu.js, `umbra-three/webgpu`) takes its WGSL the same way: the
 // virtual module `umbra:wgsl` is umbra-wgpu's own shader files (crates/umbra-wgpu/src/shaders/:
-// volume, multiplicity, orientation, cs_sides, cs_draw, transform, resolve), read at build time.
+// volume, multiplicity, orientation, cs_sides, transform, resolve), read at build time.
 //
 // Usage: node build.mjs [--outdir DIR]   (needs ../umbra-geom-wasm/umbra_wasm.wasm: node ../build-wasm.mjs)
 import * as esbuild from 'esbuild';
@@ -33,7 +33,6 @@ export const WGSL_FILES = {
   multiplicity: 'multiplicity.wgsl',
   orientation: 'orientation.wgsl',
   csSides: 'cs_sides.wgsl',
-  csDraw: 'cs_draw.wgsl',
   transform: 'transform.wgsl',
   resolve: 'resolve.wgsl',
 };

@@ -10,16 +10,23 @@
 //   2. per light: the command words reset, then three compute passes over the casters
 //      (transform.wgsl: every vertex to clip space, as itself and extruded; orientation.wgsl
 //      orient_and_caps: every triangle's orientation once, its caps compacted; cs_sides.wgsl:
-//      every edge record's multiplicity, its quads compacted), then one render pass: the
-//      stencil cleared to 0, sides and caps drawn with two indirect draws (cs_draw.wgsl) and
-//      z-fail counting, and the decision written into the light's mask (mask.wgsl: white where
-//      the count is 0, lit; the mask was cleared to black, shadowed).
+//      every edge record's multiplicity, its quads compacted) and umbra-three's own classify
+//      pass (wgsl/classify.wgsl: each side, light cap and dark cap inside the viewport, outside
+//      it, or crossing its border), then one render pass: the stencil cleared to 0, the
+//      polygons drawn with two indirect draws under z-fail counting (wgsl/fan.wgsl: the inside
+//      ones as they are, the crossing ones clipped in the vertex stage to just inside the
+//      viewport and the near plane, so that SwiftShader's clipper never cracks a volume;
+//      wgsl/polygon.wgsl says why), and the decision written into the light's mask (mask.wgsl:
+//      white where the count is 0, lit; the mask was cleared to black, shadowed).
 // Every light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity, light
 // caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
 // passes use at a time (clip positions, orientations, caps, quads, commands) are shared by the
 // lights: the queue runs one light's passes after the other's.
 import WGSL from 'umbra:wgsl';
 import MASK from './wgsl/mask.wgsl';
+import POLYGON from './wgsl/polygon.wgsl';
+import CLASSIFY from './wgsl/classify.wgsl';
+import FAN from './wgsl/fan.wgsl';
 
 /** Bytes of one light's uniform slot (UmbraLight in volume.wgsl, padded to 256: the largest uniform offset alignment WebGPU allows). */
 export const LIGHT_SLOT_BYTES = 256;
@@ -66,7 +73,8 @@ export class WebGPUVolumes {
     const transform = module('transform', [WGSL.volume, WGSL.transform]);
     const orient = module('orientation', [WGSL.volume, WGSL.multiplicity, WGSL.orientation]);
     const sides = module('sides', [WGSL.volume, WGSL.csSides]);
-    const draw = module('draw', [WGSL.volume, WGSL.csDraw]);
+    const classify = module('classify', [WGSL.volume, POLYGON, CLASSIFY]);
+    const fan = module('fan', [WGSL.volume, POLYGON, FAN]);
     const depth = module('depth', [WGSL.volume, WGSL.resolve]);
     const mask = device.createShaderModule({ label: 'umbra mask', code: MASK });
 
@@ -85,12 +93,15 @@ export class WebGPUVolumes {
     this.transformLayout = group('transform', C, ['r', 'w']);
     this.orientLayout = group('orientation', C, ['r', 'r', 'w', 'w', 'w']);
     this.sidesLayout = group('sides', C, ['r', 'r', 'r', 'w', 'w']);
-    this.drawLayout = group('draw', V, ['r', 'r', 'r']);
-    const layout = (g1) => device.createPipelineLayout({ bindGroupLayouts: g1 ? [this.lightLayout, g1] : [this.lightLayout] });
-    const compute = (m, entryPoint, g1) => device.createComputePipeline({ label: `umbra ${entryPoint}`, layout: layout(g1), compute: { module: m, entryPoint } });
+    this.classifyLayout = group('classify', C, ['r', 'r', 'r', 'r', 'r', 'w', 'w']);
+    this.classifyUniformLayout = device.createBindGroupLayout({ label: 'umbra classify uniform', entries: [{ binding: 0, visibility: C, buffer: { type: 'uniform' } }] });
+    this.fanLayout = group('fan', V, ['r', 'r', 'r', 'r']);
+    const layout = (g1, g2) => device.createPipelineLayout({ bindGroupLayouts: [this.lightLayout, g1, g2].filter(Boolean) });
+    const compute = (m, entryPoint, g1, g2) => device.createComputePipeline({ label: `umbra ${entryPoint}`, layout: layout(g1, g2), compute: { module: m, entryPoint } });
     this.transformPipeline = compute(transform, 'transform', this.transformLayout);
     this.orientPipeline = compute(orient, 'orient_and_caps', this.orientLayout);
     this.sidesPipeline = compute(sides, 'sides', this.sidesLayout);
+    this.classifyPipeline = compute(classify, 'classify_polygons', this.classifyLayout, this.classifyUniformLayout);
 
     // The depth pass: the native scene vertex stage, depth only.
     this.depthPipeline = device.createRenderPipeline({
@@ -112,18 +123,20 @@ export class WebGPUVolumes {
     const counting = (depthFailOp) => ({ compare: 'always', failOp: 'keep', depthFailOp, passOp: 'keep' });
     const volume = (entryPoint) => device.createRenderPipeline({
       label: `umbra ${entryPoint}`,
-      layout: layout(this.drawLayout),
-      vertex: { module: draw, entryPoint },
-      // Reason: the volume pass only counts; the mask attachment is written by the mask pass alone.
-      fragment: { module: draw, entryPoint: 'fs_volume', targets: [{ format: this.maskFormat, writeMask: 0 }] },
+      layout: layout(this.fanLayout),
+      vertex: { module: fan, entryPoint },
+      // Reason: the volume pass only counts; the mask attachment is written by the mask pass
+      // alone. The fragment stage keeps each fragment's depth within its triangle's corners.
+      fragment: { module: fan, entryPoint: 'fs_fan', targets: [{ format: this.maskFormat, writeMask: 0 }] },
       primitive: {
         topology: 'triangle-list',
         // Reason: volume triangles are counter-clockwise seen from outside the volume.
         frontFace: 'ccw',
         // Reason: both faces are counted with different ops in one pass (two-sided stencil).
         cullMode: 'none',
-        // Reason: vertices at infinity land exactly on the far plane; nothing of a volume may
-        // be clipped there, or the count misses faces.
+        // Reason: nothing of a volume may be clipped by the far or the near plane (the fan's
+        // vertices lie inside the viewport's x and y planes, but a side may reach in front of
+        // the near plane, and light caps lie on the far plane); depth is clamped instead.
         unclippedDepth: true,
       },
       depthStencil: {
@@ -143,8 +156,8 @@ export class WebGPUVolumes {
         depthBias: 0,
       },
     });
-    this.sidesDraw = volume('vs_sides');
-    this.capsDraw = volume('vs_caps');
+    this.insideDraw = volume('vs_inside');
+    this.crossingDraw = volume('vs_crossing');
 
     // The decision: one triangle over the viewport, white where the count is the start (0).
     this.maskPipeline = device.createRenderPipeline({
@@ -170,6 +183,8 @@ export class WebGPUVolumes {
     this.commandTemplate = this.buffer('umbra command template', 16, U.COPY_SRC, new Uint32Array([0, 1, 0, 0]));
     this.sidesCommand = this.buffer('umbra sides command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
     this.capsCommand = this.buffer('umbra caps command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
+    // The classify pass's two draws: [0] inside polygons, [1] crossing ones.
+    this.fanCommands = this.buffer('umbra fan commands', 32, U.STORAGE | U.INDIRECT | U.COPY_DST);
     this.uniforms = null;
     this.lightSlots = 0;
     this.scene = null;
@@ -189,7 +204,7 @@ export class WebGPUVolumes {
 
   /** Bytes of umbra's own GPU buffers and textures now. */
   get gpuBytes() {
-    let n = 32 + 16;
+    let n = 16 + 32 + 32;
     if (this.scene) n += this.scene.bytes;
     if (this.uniforms) n += this.uniforms.size;
     if (this.target) n += this.target.bytes;
@@ -210,23 +225,37 @@ export class WebGPUVolumes {
       caps: this.buffer('umbra caps', 12 * merged.casterTriangles, S),
       // Σ|m| <= Σk: at most one quad per slot.
       quads: this.buffer('umbra quads', 8 * merged.slots.length, S),
+      // The classify pass's lists: at most every side quad, light cap and dark cap, each; the
+      // crossing list starts at a 256-byte boundary (a storage binding's offset alignment).
+      polygons: merged.slots.length + 2 * merged.casterTriangles,
       indexCount: merged.indices.length,
       vertices: merged.casterVertices,
       triangles: merged.casterTriangles,
       recordCount: merged.records.length / 4,
     };
-    s.bytes = [s.positions, s.indices, s.records, s.slots, s.clip, s.orientation, s.caps, s.quads].reduce((a, b) => a + b.size, 0);
+    s.crossingFirst = Math.max(64, Math.ceil(s.polygons / 64) * 64);
+    s.lists = this.buffer('umbra polygon lists', 4 * 2 * s.crossingFirst, S);
+    s.classifyUniform = this.buffer('umbra classify uniform', 16, U.UNIFORM, new Uint32Array([s.crossingFirst, 0, 0, 0]));
+    s.bytes = [s.positions, s.indices, s.records, s.slots, s.clip, s.orientation, s.caps, s.quads, s.lists, s.classifyUniform].reduce((a, b) => a + b.size, 0);
     const bind = (layout, buffers) => this.device.createBindGroup({ layout, entries: buffers.map((buffer, binding) => ({ binding, resource: { buffer } })) });
     s.transformGroup = bind(this.transformLayout, [s.positions, s.clip]);
     s.orientGroup = bind(this.orientLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps]);
     s.sidesGroup = bind(this.sidesLayout, [s.records, s.slots, s.orientation, this.sidesCommand, s.quads]);
-    s.drawGroup = bind(this.drawLayout, [s.clip, s.quads, s.caps]);
+    s.classifyGroup = bind(this.classifyLayout, [s.clip, s.quads, s.caps, this.sidesCommand, this.capsCommand, this.fanCommands, s.lists]);
+    s.classifyUniformGroup = bind(this.classifyUniformLayout, [s.classifyUniform]);
+    const fanGroup = (offset) => this.device.createBindGroup({
+      layout: this.fanLayout,
+      entries: [s.clip, s.quads, s.caps].map((buffer, binding) => ({ binding, resource: { buffer } }))
+        .concat([{ binding: 3, resource: { buffer: s.lists, offset: 4 * offset, size: 4 * s.crossingFirst } }]),
+    });
+    s.insideGroup = fanGroup(0);
+    s.crossingGroup = fanGroup(s.crossingFirst);
     this.scene = s;
   }
 
   disposeScene() {
     if (!this.scene) return;
-    for (const k of ['positions', 'indices', 'records', 'slots', 'clip', 'orientation', 'caps', 'quads']) this.scene[k].destroy();
+    for (const k of ['positions', 'indices', 'records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform']) this.scene[k].destroy();
     this.scene = null;
   }
 
@@ -294,6 +323,8 @@ export class WebGPUVolumes {
       if (casting) {
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.sidesCommand, 0, 16);
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.capsCommand, 0, 16);
+        encoder.copyBufferToBuffer(this.commandTemplate, 0, this.fanCommands, 0, 16);
+        encoder.copyBufferToBuffer(this.commandTemplate, 0, this.fanCommands, 16, 16);
         const pass = encoder.beginComputePass({ label: `umbra light ${k} silhouettes` });
         pass.setBindGroup(0, this.lightGroup, offset);
         pass.setPipeline(this.transformPipeline);
@@ -307,6 +338,11 @@ export class WebGPUVolumes {
           pass.setBindGroup(1, s.sidesGroup);
           pass.dispatchWorkgroups(...dispatchSize(s.recordCount));
         }
+        // Over every polygon there may be; each invocation past the compacted counts returns.
+        pass.setPipeline(this.classifyPipeline);
+        pass.setBindGroup(1, s.classifyGroup);
+        pass.setBindGroup(2, s.classifyUniformGroup);
+        pass.dispatchWorkgroups(...dispatchSize(s.polygons));
         pass.end();
       }
       const pass = encoder.beginRenderPass({
@@ -318,11 +354,12 @@ export class WebGPUVolumes {
       });
       if (casting) {
         pass.setBindGroup(0, this.lightGroup, offset);
-        pass.setBindGroup(1, s.drawGroup);
-        pass.setPipeline(this.sidesDraw);
-        pass.drawIndirect(this.sidesCommand, 0);
-        pass.setPipeline(this.capsDraw);
-        pass.drawIndirect(this.capsCommand, 0);
+        pass.setPipeline(this.insideDraw);
+        pass.setBindGroup(1, s.insideGroup);
+        pass.drawIndirect(this.fanCommands, 0);
+        pass.setPipeline(this.crossingDraw);
+        pass.setBindGroup(1, s.crossingGroup);
+        pass.drawIndirect(this.fanCommands, 16);
       }
       pass.setPipeline(this.maskPipeline);
       pass.setStencilReference(0);
@@ -353,7 +390,7 @@ export class WebGPUVolumes {
     this.disposeScene();
     if (this.target) this.target.texture.destroy();
     if (this.uniforms) this.uniforms.destroy();
-    for (const b of [this.commandTemplate, this.sidesCommand, this.capsCommand]) b.destroy();
+    for (const b of [this.commandTemplate, this.sidesCommand, this.capsCommand, this.fanCommands]) b.destroy();
     this.target = null;
     this.uniforms = null;
   }
