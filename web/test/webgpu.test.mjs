@@ -299,6 +299,25 @@ test('WebGPURenderer: a point and a directional light, a mirrored and an instanc
       assert.ok(shadowedSum / shadowedN < 0.5 * (litSum / litN), `pixels both lights leave shadowed are darker (${(shadowedSum / shadowedN).toFixed(1)}) than those both light (${(litSum / litN).toFixed(1)})`);
     }
   }
+  // A frame umbra does not draw (disabled; an OrthographicCamera, refused with an entry in
+  // `errors`) is shaded unshadowed: the masks the shadow nodes read are cleared to lit.
+  const off = await page.evaluate(async () => {
+    const { THREE, umbra, scene, camera, point } = window.T;
+    const lit = async () => (await umbra.readMaskAsync(point)).every((v) => v === 255);
+    umbra.enabled = false;
+    umbra.render(scene, camera);
+    const disabled = await lit();
+    umbra.enabled = true;
+    umbra.render(scene, camera);
+    const drawn = await lit();
+    const ortho = new THREE.OrthographicCamera(-4, 4, 3, -3, 0.1, 100);
+    ortho.name = 'ortho';
+    ortho.position.set(0, 5, 7);
+    ortho.lookAt(0, 0, 0);
+    umbra.render(scene, ortho);
+    return { disabled, drawn, refused: await lit(), errors: umbra.errors.map((e) => e.mesh), texture: umbra.maskTexture(point)?.isTexture === true };
+  });
+  assert.deepEqual(off, { disabled: true, drawn: false, refused: true, errors: ['ortho'], texture: true });
 });
 
 // A known defect, so `todo` (reported, not failing the run): on the shared scenes the WebGPU

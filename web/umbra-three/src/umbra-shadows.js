@@ -160,6 +160,9 @@ export class UmbraShadows {
    *   silhouettes of a light that stayed put, a frame's decisions when nothing moved)
    */
   static async create(renderer, options = {}) {
+    if (renderer?.isWebGPURenderer) {
+      throw new Error("umbra-three: a WebGPURenderer: import UmbraShadows from 'umbra-three/webgpu' for it (this entry draws into a WebGLRenderer)");
+    }
     const gl = renderer?.getContext?.();
     if (!gl || typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext)) {
       throw new Error('umbra-three: the renderer has no WebGL 2 context (umbra needs WebGL 2: transform feedback, integer and float textures)');

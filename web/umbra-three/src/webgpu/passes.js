@@ -369,6 +369,13 @@ export class WebGPUVolumes {
     this.device.queue.submit([encoder.finish()]);
   }
 
+  /** Clears every mask view to lit (a frame umbra did not draw). */
+  clearMasks(views) {
+    const encoder = this.device.createCommandEncoder({ label: 'umbra masks cleared' });
+    for (const view of views) encoder.beginRenderPass({ colorAttachments: [{ view, clearValue: { r: 1, g: 1, b: 1, a: 1 }, loadOp: 'clear', storeOp: 'store' }] }).end();
+    this.device.queue.submit([encoder.finish()]);
+  }
+
   /** Light mask `texture` (r8unorm GPUTexture, the target's size) as rows top-down, 255 lit / 0 shadowed. */
   async readMask(texture) {
     const { width, height } = texture;

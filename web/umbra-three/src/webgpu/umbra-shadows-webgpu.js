@@ -227,19 +227,43 @@ export class UmbraShadows {
   render(scene, camera) {
     const t0 = performance.now();
     this.frame = (this.frame ?? 0) + 1;
+    let drawn = false;
     try {
-      if (this.enabled && !this.disposed) this.drawShadows(scene, camera);
+      if (this.enabled && !this.disposed) drawn = this.drawShadows(scene, camera);
     } catch (e) {
       this.report(camera.name || camera.uuid, `the frame failed: ${e.message}`);
     }
+    // A frame umbra did not draw (disabled, refused or failed) is shaded unshadowed: a light's
+    // shadow node stays in three.js's built materials, so its mask is cleared to lit rather
+    // than left with an older frame's decisions.
+    if (!drawn && !this.disposed) this.clearMasks();
     this.info.cpuMs = performance.now() - t0;
     this.renderer.render(scene, camera);
+  }
+
+  /** Every light's mask cleared to lit (255). */
+  clearMasks() {
+    const views = [];
+    for (const m of this.masks.values()) {
+      const t = this.renderer.backend.get(m.target.texture).texture;
+      if (t) views.push(t.createView());
+    }
+    if (views.length) this.volumes.clearMasks(views);
+  }
+
+  /**
+   * Light `light`'s mask as a three.js Texture (r8unorm, the frame's size; 1 lit, 0 shadowed;
+   * sample it at `screenUV` with nearest filtering), or null before the light cast a shadow:
+   * what its shadow node reads, for a user's own TSL (a debug view, another effect).
+   */
+  maskTexture(light) {
+    return this.masks.get(light)?.target.texture ?? null;
   }
 
   drawShadows(scene, camera) {
     if (!camera.isPerspectiveCamera) {
       this.report(camera.name || camera.uuid, `${camera.type}: umbra's WebGPU path draws shadows for a PerspectiveCamera only; the frame is drawn without them`);
-      return;
+      return false;
     }
     if (scene.matrixWorldAutoUpdate === true) scene.updateMatrixWorld();
     if (camera.parent === null && camera.matrixWorldAutoUpdate === true) camera.updateMatrixWorld();
@@ -274,6 +298,7 @@ export class UmbraShadows {
     this.info.casters = casters;
     this.info.zpass = lights.map(() => false);
     this.info.gpuBytes = this.volumes.gpuBytes + masks.reduce((a, m) => a + m.width * m.height, 0);
+    return true;
   }
 
   /** Light `light`'s decision of the last frame: rows top-down, 255 lit / 0 shadowed (Uint8Array). */
