@@ -86,7 +86,7 @@ after(async () => {
   if (tmp) await rm(tmp, { recursive: true, force: true });
 });
 
-/** Opens the example with `query` at W x H, mask view; returns the page's status and its first light's mask as a PNG file. */
+/** Opens the example with `query` at W x H, mask view; returns the page's status, its first light's mask as a PNG file and the page's umbraInfo. */
 async function maskOf(ctx, query, name) {
   const { page, status, logs } = await openViewer(ctx, `${base}?size=${W}x${H}&mask=1&${query}`, 300_000);
   try {
@@ -105,7 +105,9 @@ async function maskOf(ctx, query, name) {
     assert.equal(differ, 0, 'pixels where the mask view differs from readMask');
     const shadowed = bytes.filter((v) => v === 0).length;
     const lit = bytes.filter((v) => v === 255).length;
-    return { status, png, shadowed, lit };
+    // What umbra.info said after the last frame (count, cull, silhouettes per light).
+    const info = await page.evaluate(() => window.umbra.umbraInfo);
+    return { status, png, shadowed, lit, info };
   } finally {
     await page.close();
   }
@@ -118,25 +120,46 @@ const CASES = [
   // FrontSide materials (three.js's default): three.js culls back faces; judged on the samples
   // of a depth pass that culls them too (`--receivers front`). Also mirrored in x (a world
   // matrix of negative determinant, where three.js turns glFrontFace to CW): culling the wrong
-  // face would show the insides of the closed box and knot. (The OBJ, whose box is wound
-  // inwards, is left out: there the eye looks through the box's near wall onto the inside of a
-  // far wall in the shadow of its top, a caster in front of the sample: not exact yet,
-  // docs/web.md "FrontSide".)
+  // face would show the insides of the closed box and knot.
   { name: 'default FrontSide', query: 'side=front', scene: () => MODEL, flags: ['--receivers', 'front'] },
   { name: 'default FrontSide mirrored', query: 'side=front&mirror=1', scene: () => mirroredModelFile, flags: ['--receivers', 'front'] },
+  // The OBJ's box is wound inwards: under FrontSide the eye looks through the box's near wall
+  // (culled) onto the inside of its far wall, in the shadow of its top; the near wall is a
+  // caster in front of the sample, whose light cap is counted at its true depth there
+  // (docs/web.md "FrontSide"). Both counts (zpass=0: z-fail), with the volumes culled to their
+  // receivers (SwiftShader's and llvmpipe's default) and not (cull=0), and with the GPU's
+  // silhouettes (unculled only): `expect` is what umbra.info must say of the first light.
+  ...[
+    ['', { zpass: true, culled: true }],
+    ['&zpass=0', { zpass: false, culled: true }],
+    ['&cull=0', { zpass: true, culled: false }],
+    ['&cull=0&zpass=0', { zpass: false, culled: false }],
+    ['&cull=0&silhouettes=gpu', { zpass: true, culled: false, silhouettes: 'gpu' }],
+    ['&cull=0&zpass=0&silhouettes=gpu', { zpass: false, culled: false, silhouettes: 'gpu' }],
+  ].map(([q, expect]) => ({
+    name: `obj FrontSide${q.replaceAll('&', ' ')}`, query: `model=/models/canopy.obj&light=0.5,3,1.5&side=front${q}`, scene: () => objFile,
+    flags: ['--light', '0.5,3,1.5', '--receivers', 'front'], expect,
+  })),
 ];
 
 for (const impl of ['swiftshader', 'egl']) {
   for (const c of CASES) {
     test(`${impl}: ${c.name}: the example's mask has 0 samples outside the band`, { skip }, async (t) => {
       if (impl === 'egl' && !(await eglIsLlvmpipe())) return t.skip('ANGLE/EGL is not Mesa llvmpipe here');
-      const m = await maskOf(contexts[impl], c.query, `${impl}-${c.name}`);
+      const m = await maskOf(contexts[impl], c.query, `${impl}-${c.name.replaceAll(' ', '_')}`);
+      if (c.expect) {
+        const info = m.info;
+        assert.equal(info.zpass[0] !== null, c.expect.zpass, `z-pass asked ${c.expect.zpass}, info.zpass ${JSON.stringify(info.zpass)}`);
+        assert.equal(info.volumes[0].culled, c.expect.culled, `culled asked ${c.expect.culled}: ${JSON.stringify(info.volumes)}`);
+        if (c.expect.silhouettes) assert.equal(info.silhouettes, c.expect.silhouettes);
+      }
       // A mask with both decisions in it: a test that can fail both ways.
       assert.ok(m.shadowed > 100 && m.lit > 100, `shadowed ${m.shadowed}, lit ${m.lit}`);
       assert.equal(m.shadowed + m.lit, W * H, 'every pixel is 0 or 255');
       const bits = Number.isInteger(m.status.subpixelBits) && m.status.subpixelBits >= 4 ? ['--subpixel-bits', String(m.status.subpixelBits)] : [];
       const r = judge(umbra, { scene: c.scene(), size: `${W}x${H}`, maskPng: m.png, extra: [...c.flags, ...bits], explain: 20 });
       assert.ok(r.browser, `no row for the mask: ${r.stderr}`);
+      console.log(`${impl}: ${c.name}: ${JSON.stringify(r.browser)}`);
       assert.equal(r.browser.mismatches_outside_band, 0, `${r.falseShadow} false shadow, ${r.falseLight} false light:\n${r.explained.join('\n')}`);
     });
   }

@@ -13,9 +13,10 @@ import * as THREE from 'three';
 import { WebGLLights } from 'three/src/renderers/webgl/WebGLLights.js';
 import { gatherLights, lightSlots } from '../umbra-three/src/lights.js';
 import { Topology, TopologyError, flatTriangles, positionArray } from '../umbra-three/src/topology.js';
+import { triangleNormals } from '../umbra-three/src/webgpu/world.js';
 import { patchedLightsChunk, patchMaterial, createUniforms, isReceiverMaterial } from '../umbra-three/src/materials.js';
 import { clipFromObject, infiniteProjection, mul } from '../umbra-three/src/camera.js';
-import { sidesOf, CULL_NONE, CULL_BACK, CULL_FRONT } from '../umbra-three/src/sides.js';
+import { sidesOf, culledCapRanges, weldedTriangleCounts, CULL_NONE, CULL_BACK, CULL_FRONT } from '../umbra-three/src/sides.js';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const WASM = path.join(here, '..', 'umbra-geom-wasm', 'umbra_wasm.wasm');
@@ -193,4 +194,46 @@ test('sides: the ranges three.js draws and how each culls (FrontSide back faces,
   g.addGroup(3, Infinity, 1);
   g.addGroup(0, 3, 0);
   assert.deepEqual(Array.from(sidesOf([sides[2], sides[1]], g, 9)), [3, 6, CULL_FRONT, 0, 3, CULL_NONE]);
+});
+
+test('true-depth caps: the one-sided ranges in the caster\'s welded triangles; the welding\'s dropped triangles counted as umbra-geom drops them', { skip: noWasm }, async () => {
+  // 6 triangles over 7 vertices: triangle 1 has two vertices at one position (0 and 3), 3
+  // at +0 and -0 (welded as one), triangle 4 repeats one index; 0, 2 and 5 are kept.
+  const positions = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, -0, 0, 0, 1, 1, 0, 2, 2, 2]);
+  const index = new Uint32Array([0, 1, 2, 0, 3, 1, 1, 5, 2, 0, 4, 2, 5, 5, 6, 2, 5, 6]);
+  const before = weldedTriangleCounts(positions, index);
+  assert.deepEqual(Array.from(before), [0, 1, 1, 2, 2, 2, 3]);
+  const topo = await Topology.load(await readFile(WASM));
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  g.setIndex(Array.from(index));
+  const p = topo.prepare(g, 'degenerate');
+  p.caster.free();
+  assert.equal(p.degenerate, 3);
+  assert.equal(p.triangles, before[6]);
+  // Welded triangle before[t] is input triangle t (where kept): the same three positions.
+  for (const t of [0, 2, 5]) {
+    for (let c = 0; c < 3; c++) {
+      const w = p.indices[3 * before[t] + c];
+      assert.deepEqual(Array.from(p.positions.subarray(3 * w, 3 * w + 3)), Array.from(positions.subarray(3 * index[3 * t + c], 3 * index[3 * t + c] + 3)), `triangle ${t}, corner ${c}`);
+    }
+  }
+  // The ranges: DoubleSide ones left out, FrontSide keeps back faces' caps (keepFront 0),
+  // BackSide front faces' (1); adjacent ranges of one cull joined; input triangles mapped to
+  // the welded ones (empty ranges dropped).
+  assert.deepEqual(Array.from(culledCapRanges(Int32Array.of(0, 18, CULL_NONE), before)), []);
+  assert.deepEqual(Array.from(culledCapRanges(Int32Array.of(0, 18, CULL_BACK), null)), [0, 6, 0]);
+  assert.deepEqual(Array.from(culledCapRanges(Int32Array.of(0, 6, CULL_BACK, 6, 6, CULL_BACK, 12, 6, CULL_FRONT), before)), [0, 2, 0, 2, 3, 1]);
+  assert.deepEqual(Array.from(culledCapRanges(Int32Array.of(3, 3, CULL_FRONT, 9, 6, CULL_NONE, 15, 3, CULL_BACK), before)), [2, 3, 0]);
+});
+
+test('webgpu world.js triangleNormals: the flat normal per triangle as topology.js flatTriangles gives it (umbra_geom::flat_normal), w 0, zero for a zero-area triangle', () => {
+  const positions = new Float32Array([0, 0, 0, 1, 0, 0, 0, 0, -1, 0.1, 0.2, 0.3, 2, 2, 2, 4, 4, 4]);
+  const indices = new Uint32Array([0, 1, 2, 2, 1, 0, 3, 1, 2, 0, 4, 5]);
+  const n = triangleNormals(positions, indices);
+  assert.equal(n.length, 16);
+  const flat = flatTriangles(positions, indices).normals;
+  for (let t = 0; t < 4; t++) assert.deepEqual([...n.subarray(4 * t, 4 * t + 4)], [...flat.subarray(9 * t, 9 * t + 3), 0], `triangle ${t}`);
+  assert.deepEqual(Array.from(n.subarray(0, 4), (x) => x + 0), [0, 1, 0, 0]); // -0 + 0 is 0
+  assert.deepEqual([...n.subarray(12, 16)], [0, 0, 0, 0]);
 });

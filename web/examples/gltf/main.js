@@ -8,7 +8,9 @@
 // X,Y,Z), maps=1 (start with three.js's shadow maps), side=front (every material
 // FrontSide, three.js's default: back faces culled, judged with `umbra verify --receivers
 // front`; default: DoubleSide), mirror=1 (the model mirrored in x by its root's scale) and
-// ortho=1 (start with the orthographic camera), renderer=webgpu (three.js's WebGPURenderer
+// ortho=1 (start with the orthographic camera), zpass=0, cull=0 and silhouettes=gpu|wasm
+// (WebGL 2: the package's options zpass: false, volumeCull: false and silhouettes, as the
+// viewer's parameters), renderer=webgpu (three.js's WebGPURenderer
 // and umbra-three/webgpu instead of WebGLRenderer and umbra-three; the import map in
 // index.html follows it) and offscreen=1 (WebGPU only: every frame drawn into a RenderTarget
 // and copied to the canvas through the CPU, for headless Chromium, which cannot present a
@@ -32,7 +34,7 @@
 // or 'orthographic'), orthoHeight (the orthographic view's height, `umbra verify --ortho`),
 // ortho (umbra.info.ortho: the orthographic frame's near and far planes, or null), view,
 // animations (the
-// model's clips), umbraInfo (casters, mapCasters, silhouettes, volumeCull, cpuMs, gpuBytes of
+// model's clips), umbraInfo (casters, mapCasters, silhouettes, volumeCull, zpass, volumes, cpuMs, gpuBytes of
 // umbra.info after the last frame), light (the first light's position once dragged), errors (meshes
 // umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
 // shadowed, as a latin1 string; on WebGPU a Promise of it), readMaskAsync() (a Promise of it on
@@ -203,7 +205,13 @@ async function start() {
     status.renderer = dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
     // The rasteriser's sub-pixel precision: `umbra verify --subpixel-bits` judges with it.
     status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
-    umbra = await UmbraShadows.create(renderer);
+    // zpass=0, cull=0, silhouettes=gpu|wasm: the package's options `zpass: false`,
+    // `volumeCull: false` and `silhouettes` (the viewer's parameters), for the tests.
+    umbra = await UmbraShadows.create(renderer, {
+      zpass: params.get('zpass') !== '0',
+      volumeCull: params.get('cull') === '0' ? false : 'auto',
+      silhouettes: params.get('silhouettes') || 'auto',
+    });
   }
   umbra.onError = (err) => console.warn(`umbra: ${err.mesh}: ${err.message}`);
 
@@ -366,7 +374,7 @@ async function start() {
     $('time').textContent = `frame ${ms.toFixed(1)} ms${state.mask && !state.maps ? ' · mask' : ''}`;
     status.state = 'ready';
     status.ortho = umbra.info.ortho ?? null;
-    status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
+    status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, zpass: umbra.info.zpass, volumes: umbra.info.volumes, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
     if (webgpu) Object.assign(status.umbraInfo, { backend: umbra.info.backend, lights: umbra.info.lights, triangles: umbra.info.triangles });
     document.body.dataset.state = 'ready';
     if (animating) redraw();

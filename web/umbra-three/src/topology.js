@@ -117,6 +117,9 @@ export class Topology {
       maxMult: p.maxMult,
       records: p.counts.sidesDataRecords,
       triangles: p.counts.triangles,
+      // Input triangles the welding dropped (degenerate): the welded triangles are the others,
+      // in input order (sides.js weldedTriangleCounts).
+      degenerate: p.counts.degenerateTriangles,
       vertices: p.counts.vertices,
       positions: p.positions,
       indices: p.indices,

@@ -22,7 +22,7 @@ import { Topology, TopologyError, flatTriangles, geometryPositions, meshName, po
 import { gatherLights, lightSlots } from './lights.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
-import { sidesOf } from './sides.js';
+import { sidesOf, culledCapRanges, weldedTriangleCounts } from './sides.js';
 import { infiniteProjection, orthographicProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
@@ -349,6 +349,9 @@ export class UmbraShadows {
           c.wasm = { caster: data.caster, dispose: () => data.caster.free() };
           // The welded rest positions (a posed mesh's welded vertices start from them).
           c.welded = data.positions;
+          // Input triangles the welding dropped (weldedBefore() maps the others).
+          c.degenerate = data.degenerate;
+          c.weldedBefore = null;
           this.owned.add(c.wasm);
         } else {
           data.caster?.free();
@@ -361,6 +364,17 @@ export class UmbraShadows {
     }
     if (c.error) this.report(meshName(mesh), c.error);
     return c.volumes ? c : null;
+  }
+
+  /**
+   * For caster `c` of `geometry` (casterOf), its welded triangle count before every input
+   * triangle (sides.js weldedTriangleCounts), or null where the welding dropped none (the
+   * identity); computed once per prepared geometry.
+   */
+  weldedBefore(c, geometry) {
+    if (!c.degenerate) return null;
+    c.weldedBefore ??= weldedTriangleCounts(geometryPositions(geometry, ''), geometry.index ? geometry.index.array.subarray(0, geometry.index.count) : null);
+    return c.weldedBefore;
   }
 
   /** The z-pass test of the union of `tests`' casters (one space), built once per set of geometry versions. */
@@ -675,6 +689,8 @@ export class UmbraShadows {
         v.edges += u.records.length;
         return { silhouette: u, key, slot };
       };
+      // The ranges three.js draws and the faces its materials cull there (sides.js).
+      const sides = sidesOf(m.material, geometry, buffers.vertices);
       frameMeshes.push({
         buffers,
         volumes: caster ? caster.volumes : null,
@@ -684,8 +700,10 @@ export class UmbraShadows {
         flip: world.determinant() < 0 ? -1 : 1,
         // A posed mesh's frame is never the last one's (its pose is read every frame).
         pose: pose ? this.frameCount : -1,
-        // The ranges three.js draws and the faces its materials cull there (sides.js).
-        sides: sidesOf(m.material, geometry, buffers.vertices),
+        sides,
+        // A caster's triangles of one-sided materials, whose light caps the drawer also counts
+        // at their true depth (empty for DoubleSide: nothing more drawn).
+        trueCaps: caster ? culledCapRanges(sides, this.weldedBefore(caster, geometry)) : null,
         lights: objectLights,
         silhouette: caster ? silhouette : null,
       });

@@ -381,7 +381,9 @@ export class WebGLDrawer {
    *   casters' silhouettes };
    *   mesh.world: its world-from-object matrix (f32), for the position pass;
    *   mesh.sides: the vertex ranges three.js draws and how it culls each (sides.js sidesOf;
-   *   absent: every vertex, no culling)
+   *   absent: every vertex, no culling);
+   *   mesh.trueCaps: a caster's triangles of one-sided materials (sides.js culledCapRanges;
+   *   absent or empty: none), whose light caps are also counted at their true depth
    */
   frame(f) {
     const gl = this.gl;
@@ -596,7 +598,26 @@ export class WebGLDrawer {
           // Nothing of a volume may be clipped (state.rs): depth clamp when available (the
           // volume program clips to the viewport, and light caps to the near plane, itself).
           if (this.depthClamp) gl.enable(this.depthClamp.DEPTH_CLAMP_EXT);
-          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height], caps: !zpass, tick });
+          // A caster whose material culls a face (FrontSide, BackSide; m.trueCaps, sides.js
+          // culledCapRanges) may lie in front of the sample the depth pass shows through its
+          // culled face, where its light cap pushed to the far plane (Eq. 6) counts as if it
+          // lay behind: so those faces' light caps are also drawn at their true depth, the
+          // same polygons, and counted where they lie strictly in front of the sample
+          // (docs/web.md, "FrontSide: the surface three.js shows").
+          const trueCaps = m.trueCaps?.length ? {
+            ranges: m.trueCaps,
+            count: () => {
+              // Depth pass (strictly nearer): front faces +1, back faces -1, wrapping; depth
+              // fail (the cap behind the sample, or the pushed cap's own samples): kept.
+              // Under z-fail this undoes the pushed cap's count (its facing is the true cap's:
+              // the push keeps x, y and w) where the cap lies in front of the sample; under
+              // z-pass it is the crossing the count needs (the pushed caps are never drawn
+              // there) and the state set above already.
+              gl.stencilOpSeparate(gl.FRONT, gl.KEEP, gl.KEEP, gl.INCR_WRAP);
+              gl.stencilOpSeparate(gl.BACK, gl.KEEP, gl.KEEP, gl.DECR_WRAP);
+            },
+          } : null;
+          m.volumes.draw({ clipFromWorld: m.clipFromObject, light, farClipZ: rz ? 0.0 : 1.0, snap, viewport: [f.width, f.height], caps: !zpass, tick, trueCaps });
           if (this.depthClamp) gl.disable(this.depthClamp.DEPTH_CLAMP_EXT);
           // GL's default winding again for the passes after.
           gl.frontFace(gl.CCW);

@@ -91,6 +91,10 @@ export class VolumePrograms {
     this.shift = textureShift(gl.getParameter(gl.MAX_TEXTURE_SIZE));
     this.polygons = link(gl, 'polygon pass', 'glsl/polygons.vert.glsl', polygonsVertexSource(), 'vs_silhouette/volume.frag.glsl', frag, POLYGON_VARYINGS);
     this.fan = link(gl, 'fan pass', 'glsl/fan.vert.glsl', fanVertexSource(), 'glsl/fan.frag.glsl', fanFragmentSource());
+    // The fan pass of the true-depth light caps of one-sided casters (UMBRA_CULLED_FACES),
+    // linked when a frame first has such a caster (culledFan()): a scene of DoubleSide
+    // materials never links it.
+    this.fanCulled = null;
     // The GPU silhouettes' orientation pass, linked when first used (silhouettes: 'gpu').
     this.orient = null;
     this.orientBuffer = null;
@@ -119,6 +123,12 @@ export class VolumePrograms {
     const tex = dataTexture(gl, this.shift, gl.RGBA32F, gl.RGBA, gl.FLOAT, null, 4, POLYGON_TEXELS * capacity, 'volume polygons');
     this.storage = { buffer, tex: tex.tex, capacity, bytes: 16 * POLYGON_TEXELS * capacity + tex.bytes };
     return this.storage;
+  }
+
+  /** The fan program of the true-depth light caps (fan.frag.glsl with UMBRA_CULLED_FACES), linked when first asked for. */
+  culledFan() {
+    this.fanCulled ??= link(this.gl, 'fan pass (culled faces)', 'glsl/fan.vert.glsl', fanVertexSource(true), 'glsl/fan.frag.glsl', fanFragmentSource(true));
+    return this.fanCulled;
   }
 
   /** The orientation pass and a capture buffer for `triangles` ints (grown as needed). */
@@ -150,7 +160,7 @@ export class VolumePrograms {
   }
 
   dispose() {
-    for (const p of [this.polygons, this.fan]) this.gl.deleteProgram(p.program);
+    for (const p of [this.polygons, this.fan, this.fanCulled]) if (p) this.gl.deleteProgram(p.program);
     this.deleteStorage();
     if (this.orient) this.gl.deleteProgram(this.orient.program);
     if (this.orientBuffer) this.gl.deleteBuffer(this.orientBuffer);
@@ -430,8 +440,14 @@ export class ShadowVolumes {
    * the same light (its slot). A culled silhouette (prepare()) draws its sides to the far ends and its
    * far caps in both counts (a clamped far cap may lie in front of a sample), the light caps
    * of its kept triangles under z-fail. `tick(name)`, when given, is called after each polygon and fan pass (timing).
+   * `trueCaps` (a caster with a one-sided material): { ranges, count }: after the volume, the
+   * light caps at their true depth (polygons.vert.glsl u_mode 3) of the triangles of each
+   * range, an Int32Array of [first, end, keepFront] triples (this caster's triangles; keepFront
+   * 1 where the depth pass culls front faces, 0 back faces), drawn by the culled-faces fan pass
+   * (fan.frag.glsl: only the faces the depth pass culls) after `count()`, the drawer's counting
+   * state for them; a culled silhouette's kept triangles only, as its light caps.
    */
-  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport, caps = true, tick = null }) {
+  draw({ clipFromWorld, light, farClipZ, snap = 0, viewport, caps = true, tick = null, trueCaps = null }) {
     const gl = this.gl;
     const P = this.polygons;
     const culled = this.culled;
@@ -459,12 +475,13 @@ export class ShadowVolumes {
     this.bindTexture(UNIT_RECORD_VERTICES, this.recordVerticesTex);
     this.bindTexture(UNIT_TRIANGLE_VERTICES, this.triangleVerticesTex);
     gl.bindVertexArray(this.emptyVao);
-    // One set of polygons: the polygon pass over `count`, then a fan pass per [first, end,
-    // repeat] range of `fans` (repeat: the potential copies each polygon there is drawn with).
-    const set = (mode, count, fans) => {
+    // One set of polygons: the polygon pass over points `start` ..< `count`, then a fan pass
+    // (program `fan`) per [first, end, repeat] range of `fans` (repeat: the potential copies
+    // each polygon there is drawn with).
+    const set = (mode, count, fans, start = 0, fan = this.fan) => {
       // In chunks of at most POLYGON_CHUNK polygons (the shared storage's most), each drawn
       // whole before the next is captured over it.
-      for (let c0 = 0; c0 < count; c0 += POLYGON_CHUNK) {
+      for (let c0 = start; c0 < count; c0 += POLYGON_CHUNK) {
         const n = Math.min(POLYGON_CHUNK, count - c0);
         const storage = this.programs.polygonStorage(n);
         // Polygon pass: one point per record, its polygon captured; nothing rasterised. The
@@ -494,20 +511,20 @@ export class ShadowVolumes {
         tick?.('volumes.polygons');
         // Fan pass: the polygons into the stencil, each range of `fans` cut to the chunk and
         // counted from its start.
-        this.setUniforms(this.fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
+        this.setUniforms(fan, { u_texture_shift: this.shift, u_polygons: UNIT_POLYGONS });
         this.bindTexture(UNIT_POLYGONS, storage.tex);
-        gl.uniform1f(this.fan.u.u_far_clip_z, farClipZ);
-        gl.uniform1f(this.fan.u.u_snap, snap);
-        gl.uniform2f(this.fan.u.u_viewport_size, viewport[0], viewport[1]);
+        gl.uniform1f(fan.u.u_far_clip_z, farClipZ);
+        gl.uniform1f(fan.u.u_snap, snap);
+        gl.uniform2f(fan.u.u_viewport_size, viewport[0], viewport[1]);
         for (const [from, to, repeat] of fans) {
           const first = Math.max(from, c0) - c0;
           const end = Math.min(to, c0 + n) - c0;
           if (end <= first) continue;
           const per = polygonsPerInstance(repeat);
-          gl.uniform1i(this.fan.u.u_first, first);
-          gl.uniform1i(this.fan.u.u_count, end);
-          gl.uniform1i(this.fan.u.u_repeat, repeat);
-          gl.uniform1i(this.fan.u.u_per_instance, per);
+          gl.uniform1i(fan.u.u_first, first);
+          gl.uniform1i(fan.u.u_count, end);
+          gl.uniform1i(fan.u.u_repeat, repeat);
+          gl.uniform1i(fan.u.u_per_instance, per);
           gl.drawArraysInstanced(gl.TRIANGLES, 0, per * repeat * FAN_VERTICES, Math.ceil((end - first) / per));
         }
         tick?.('volumes.fans');
@@ -529,6 +546,23 @@ export class ShadowVolumes {
       set(1, this.triangles, all);
       // A directional light's dark cap has zero area: none.
       if (light[3] !== 0) set(2, this.triangles, all);
+    }
+    if (trueCaps && trueCaps.ranges.length) {
+      // The light caps at their true depth (docs/web.md, "FrontSide"), under the counting
+      // state the drawer sets for them; per one-sided range, the faces its material culls.
+      trueCaps.count();
+      const fan = this.programs.culledFan();
+      for (let i = 0; i < trueCaps.ranges.length; i += 3) {
+        const [first, end, keepFront] = trueCaps.ranges.subarray(i, i + 3);
+        gl.useProgram(P.program);
+        gl.uniform2i(P.u.u_range, first, end);
+        gl.useProgram(fan.program);
+        gl.uniform1i(fan.u.u_keep_front, keepFront);
+        // Culled: the kept triangles (those of the range pass the polygon pass's u_range);
+        // else the range's own triangles.
+        if (culled) set(3, this.keptTriangles, [[0, this.keptTriangles, 1]], 0, fan);
+        else set(3, end, [[first, end, 1]], first, fan);
+      }
     }
     // The units left unbound, as the other draws expect them.
     for (const unit of [UNIT_FAR, UNIT_RECORD_VERTICES, UNIT_TRIANGLE_VERTICES, UNIT_KEPT, UNIT_VERTICES]) this.bindTexture(unit, null);

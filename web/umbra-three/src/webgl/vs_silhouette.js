@@ -40,8 +40,12 @@ export function polygonsVertexSource() {
   return `${prelude()}${native.multiplicity}\n${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${polygonsVert}`;
 }
 
-export function fanVertexSource() {
-  return `${prelude()}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
+/** `UMBRA_CULLED_FACES` defined: the fan pass of the true-depth light caps (polygons.vert.glsl
+ * u_mode 3), which counts only the faces a depth pass culls (fan.frag.glsl). */
+const culledFaces = (yes) => (yes ? '#define UMBRA_CULLED_FACES\n' : '');
+
+export function fanVertexSource(culled = false) {
+  return `${prelude()}${culledFaces(culled)}${native.depth}\n${elementsGlsl}\n${clipGlsl}\n${snapGlsl}\n${fanVert}`;
 }
 
 /** The orientation pass of the GPU silhouettes (glsl/orient.vert.glsl). */
@@ -56,8 +60,8 @@ export function volumeFragmentSource() {
 
 /** The fan pass's fragment shader (colour writes off: stencil only; each fragment's depth kept
  * within its triangle's corners). */
-export function fanFragmentSource() {
-  return `${prelude()}${fanFrag}`;
+export function fanFragmentSource(culled = false) {
+  return `${prelude()}${culledFaces(culled)}${fanFrag}`;
 }
 
 /** The polygon pass's outputs, in the order they are captured (9 vec4 per polygon). */

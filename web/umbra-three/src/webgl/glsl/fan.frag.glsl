@@ -19,11 +19,30 @@
 // (smallest, largest) window depth of the triangle's corners, slightly widened (fan.vert.glsl).
 flat in vec2 v_depth_range;
 
+#ifdef UMBRA_CULLED_FACES
+// The true-depth light caps of one-sided casters (drawer.js, polygons.vert.glsl u_mode 3):
+// only the fragments of triangles whose face on screen is the one the depth pass culls count.
+// The cap is wound to face the light, so the triangle's own facing is gl_FrontFacing, reversed
+// where its orientation is -1. u_keep_front: 1 where the depth pass culls front faces
+// (BackSide), 0 where it culls back faces (FrontSide), in the volume pass's winding (glFrontFace
+// CW for a mirroring matrix: the material's front is the caster's outward face either way).
+// So a triangle the depth pass draws never counts here, the visible sample's own triangle
+// included: its true-depth cap, at the sample's own depth, never meets the strict depth test.
+uniform int u_keep_front;
+flat in float v_orientation;
+#endif
+
 // The wide counter's output of the native fragment shader (vs_silhouette/volume.frag.glsl);
 // ignored here: the colour write mask is off.
 layout(location = 0) out float o_count;
 
 void main() {
+#ifdef UMBRA_CULLED_FACES
+    bool triangle_front = gl_FrontFacing == (v_orientation > 0.0);
+    if (triangle_front != (u_keep_front != 0)) {
+        discard;
+    }
+#endif
     o_count = gl_FrontFacing ? 1.0 : -1.0;
     float z = gl_FragCoord.z;
     // NaN fails the first comparison and takes the range's smaller end.

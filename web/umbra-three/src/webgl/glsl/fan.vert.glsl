@@ -24,6 +24,12 @@ const int UMBRA_FAN = 3 * (UMBRA_CLIP_MAX - 2);
 // rasteriser's own rounding of a corner's depth (viewport transform) is never clamped.
 flat out vec2 v_depth_range;
 
+#ifdef UMBRA_CULLED_FACES
+// The true-depth light caps of the faces a depth pass culls (polygons.vert.glsl u_mode 3): the
+// sign of the polygon's repeat, its triangle's orientation towards the light, for fan.frag.glsl.
+flat out float v_orientation;
+#endif
+
 float umbra_window_depth(vec4 clip) {
     float z = clip.z / clip.w;
     // u_far_clip_z (shared/depth.glsl): 0 with reversed-Z (clip control ZERO_TO_ONE, depth
@@ -42,12 +48,18 @@ void main() {
     int corner = k - 3 * f;
     gl_Position = UMBRA_CULLED;
     v_depth_range = vec2(0.0);
+#ifdef UMBRA_CULLED_FACES
+    v_orientation = 0.0;
+#endif
     if (polygon >= u_count) {
         return;
     }
     vec4 info = texelFetch(u_polygons, umbra_texel(9 * polygon + 8), 0);
     int n = int(info.x);
     int repeat = abs(int(info.y));
+#ifdef UMBRA_CULLED_FACES
+    v_orientation = info.y;
+#endif
     if (copy >= repeat || f + 2 >= n) {
         return; // Alg. 1, line 7: useless copy; or past the polygon's fan
     }

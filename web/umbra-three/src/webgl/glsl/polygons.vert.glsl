@@ -53,6 +53,16 @@
 // infinity is left out where the unclamped volume has no dark cap (u_skip_infinite: z-pass,
 // or a directional light, whose points at infinity coincide).
 //
+// u_mode 3: the light cap of triangle `gl_VertexID` (u_culled: of u_kept[gl_VertexID]) at its
+// TRUE depth: the polygon of u_mode 1 (the same vertices, wound to face the light, cut by the
+// viewport planes and last by the near plane by the same clip), not pushed to the far plane,
+// and only for triangles in [u_range.x, u_range.y) (the range of a one-sided material; n = 0
+// elsewhere). Its signed repeat is the triangle's orientation (+-1; the fan pass draws |repeat|
+// copies), so that the fan pass can tell the triangle's own facing on screen from the cap's
+// (gl_FrontFacing, reversed where the orientation is -1). drawer.js counts these caps where
+// they lie in front of the sample, for the faces its depth pass culls (docs/web.md,
+// "FrontSide: the surface three.js shows").
+//
 // Out: the polygon's vertices v_p0 .. v_p7 (clip space, as drawn) and v_info = (vertex
 // count, signed repeat), 36 floats: 9 RGBA32F texels per polygon once copied to a texture.
 
@@ -71,6 +81,7 @@ uniform highp sampler2D u_far;
 uniform highp isampler2D u_record_vertices;
 uniform highp isampler2D u_triangle_vertices;
 uniform highp isampler2D u_kept;
+uniform ivec2 u_range;
 
 // w = 1 vertices must be bit for bit where the scene's vertex shader puts the same point
 // (same expression, invariant), so the sides meet the caster and a light cap keeps the
@@ -145,8 +156,12 @@ void main() {
         }
     } else {
         int o = umbra_orientation_of(record);
+        if (u_mode == 3 && (record < u_range.x || record >= u_range.y)) {
+            o = 0; // not of the one-sided range drawn: no polygon
+        }
         if (o != 0) {
-            repeat = 1;
+            // u_mode 3: the orientation's sign rides on the repeat (fan.vert.glsl).
+            repeat = u_mode == 3 ? o : 1;
             n = 3;
             int v0 = texelFetch(u_triangle_vertices, umbra_texel(3 * record), 0).r;
             int v1 = texelFetch(u_triangle_vertices, umbra_texel(3 * record + 1), 0).r;
@@ -171,7 +186,7 @@ void main() {
                 f1 = f2;
                 f2 = g;
             }
-            if (u_mode == 1) {
+            if (u_mode == 1 || u_mode == 3) {
                 // Cut by the near plane last (plane 4), so that its cuts by the viewport
                 // planes on the edges it shares with the sides are theirs.
                 planes = 5;
