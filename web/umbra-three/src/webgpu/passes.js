@@ -5,8 +5,9 @@
 //
 // Per frame, in one command encoder submitted before three.js draws:
 //   1. depth pass: every drawn triangle (world space, world.js) into umbra's own
-//      depth-stencil target with the native vertex stage (resolve.wgsl vs_resolve:
-//      clip_from_world * (p, 1), invariant), reversed-Z with an infinite far plane;
+//      depth-stencil target (wgsl/surface.wgsl vs_surface: clip_from_world * (p, 1),
+//      invariant, the expression of the native vertex stages), reversed-Z with an infinite
+//      far plane;
 //   2. per light: the command words reset, then three compute passes over the casters
 //      (transform.wgsl: every vertex to clip space, as itself and extruded; orientation.wgsl
 //      orient_and_caps: every triangle's orientation once, its caps compacted; cs_sides.wgsl:
@@ -17,16 +18,20 @@
 //      ones as they are, the crossing ones clipped in the vertex stage to just inside the
 //      viewport and the near plane, so that SwiftShader's clipper never cracks a volume;
 //      wgsl/polygon.wgsl says why), and the decision written into the light's mask (mask.wgsl:
-//      white where the count is 0, lit; the mask was cleared to black, shadowed).
+//      white where the count is 0, lit; the mask was cleared to black, shadowed), then the
+//      seen side's facing on the depth pass's surface where the count is 0 (surface.wgsl
+//      fs_facing: lit = count 0 AND the seen side faces the light, native umbra's decision).
 // Every light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity, light
 // caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
 // passes use at a time (clip positions, orientations, caps, quads, commands) are shared by the
 // lights: the queue runs one light's passes after the other's.
 import WGSL from 'umbra:wgsl';
 import MASK from './wgsl/mask.wgsl';
+import SURFACE from './wgsl/surface.wgsl';
 import POLYGON from './wgsl/polygon.wgsl';
 import CLASSIFY from './wgsl/classify.wgsl';
 import FAN from './wgsl/fan.wgsl';
+import { triangleNormals } from './world.js';
 
 /** Bytes of one light's uniform slot (UmbraLight in volume.wgsl, padded to 256: the largest uniform offset alignment WebGPU allows). */
 export const LIGHT_SLOT_BYTES = 256;
@@ -75,7 +80,8 @@ export class WebGPUVolumes {
     const sides = module('sides', [WGSL.volume, WGSL.csSides]);
     const classify = module('classify', [WGSL.volume, POLYGON, CLASSIFY]);
     const fan = module('fan', [WGSL.volume, POLYGON, FAN]);
-    const depth = module('depth', [WGSL.volume, WGSL.resolve]);
+    // The depth and the facing pass: one vertex stage (vs_surface), the same positions and depths.
+    const surface = module('surface', [WGSL.volume, SURFACE]);
     const mask = device.createShaderModule({ label: 'umbra mask', code: MASK });
 
     const C = GPUShaderStage.COMPUTE;
@@ -96,6 +102,7 @@ export class WebGPUVolumes {
     this.classifyLayout = group('classify', C, ['r', 'r', 'r', 'r', 'r', 'w', 'w']);
     this.classifyUniformLayout = device.createBindGroupLayout({ label: 'umbra classify uniform', entries: [{ binding: 0, visibility: C, buffer: { type: 'uniform' } }] });
     this.fanLayout = group('fan', V, ['r', 'r', 'r', 'r']);
+    this.surfaceLayout = group('surface', V | F, ['r', 'r', 'r']);
     const layout = (g1, g2) => device.createPipelineLayout({ bindGroupLayouts: [this.lightLayout, g1, g2].filter(Boolean) });
     const compute = (m, entryPoint, g1, g2) => device.createComputePipeline({ label: `umbra ${entryPoint}`, layout: layout(g1, g2), compute: { module: m, entryPoint } });
     this.transformPipeline = compute(transform, 'transform', this.transformLayout);
@@ -103,11 +110,14 @@ export class WebGPUVolumes {
     this.sidesPipeline = compute(sides, 'sides', this.sidesLayout);
     this.classifyPipeline = compute(classify, 'classify_polygons', this.classifyLayout, this.classifyUniformLayout);
 
-    // The depth pass: the native scene vertex stage, depth only.
+    // The depth pass: depth only. Reason for vs_surface (vertices pulled from storage, a
+    // non-indexed draw) rather than resolve.wgsl's vs_resolve: the facing pass needs each
+    // fragment's triangle, and must see bit for bit this pass's depths (depth EQUAL), so both
+    // run one vertex stage.
     this.depthPipeline = device.createRenderPipeline({
       label: 'umbra depth',
-      layout: layout(null),
-      vertex: { module: depth, entryPoint: 'vs_resolve', buffers: [{ arrayStride: 12, attributes: [{ shaderLocation: 0, offset: 0, format: 'float32x3' }] }] },
+      layout: layout(this.surfaceLayout),
+      vertex: { module: surface, entryPoint: 'vs_surface' },
       // Reason: both faces are surfaces a pixel can show (triangle soups are two-sided; the
       // oracle judges the nearest triangle, `umbra verify --receivers both`).
       primitive: { topology: 'triangle-list', cullMode: 'none' },
@@ -179,6 +189,31 @@ export class WebGPUVolumes {
       },
     });
 
+    // The facing pass: after the mask pass, every drawn triangle again on the depth pass's
+    // surface, where the count is 0, writing 1 where the seen side faces the light and 0 where
+    // it faces away (surface.wgsl fs_facing says why). Of coplanar triangles at one depth the
+    // last drawn decides, as in the WebGL path's mask pass.
+    const equalZero = { compare: 'equal', failOp: 'keep', depthFailOp: 'keep', passOp: 'keep' };
+    this.facingPipeline = device.createRenderPipeline({
+      label: 'umbra facing',
+      layout: layout(this.surfaceLayout),
+      vertex: { module: surface, entryPoint: 'vs_surface' },
+      fragment: { module: surface, entryPoint: 'fs_facing', targets: [{ format: this.maskFormat }] },
+      // Reason: the depth pass's primitive state (the same coverage and depths; both faces).
+      primitive: { topology: 'triangle-list', cullMode: 'none', frontFace: 'ccw' },
+      depthStencil: {
+        format: depthFormat,
+        depthWriteEnabled: false,
+        // Reason: exactly the depth pass's visible surface (the same vertex stage and state).
+        depthCompare: 'equal',
+        // Reason: only where the count is 0; elsewhere the mask stays shadowed.
+        stencilFront: equalZero,
+        stencilBack: equalZero,
+        stencilReadMask: 0xff,
+        stencilWriteMask: 0,
+      },
+    });
+
     // {0 vertices, 1 instance, 0, 0}: what each indirect command is reset to before its compute pass.
     this.commandTemplate = this.buffer('umbra command template', 16, U.COPY_SRC, new Uint32Array([0, 1, 0, 0]));
     this.sidesCommand = this.buffer('umbra sides command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
@@ -216,8 +251,10 @@ export class WebGPUVolumes {
     this.disposeScene();
     const S = U.STORAGE;
     const s = {
-      positions: this.buffer('umbra positions', 4 * merged.positions.length, U.VERTEX | S, merged.positions),
-      indices: this.buffer('umbra indices', 4 * merged.indices.length, U.INDEX | S, merged.indices),
+      positions: this.buffer('umbra positions', 4 * merged.positions.length, S, merged.positions),
+      indices: this.buffer('umbra indices', 4 * merged.indices.length, S, merged.indices),
+      // The facing pass's flat normals (world.js triangleNormals), over every drawn triangle.
+      normals: this.buffer('umbra normals', 4 * 4 * merged.triangles, S, triangleNormals(merged.positions, merged.indices)),
       records: this.buffer('umbra edge records', 4 * merged.records.length, S, merged.records),
       slots: this.buffer('umbra slots', 4 * merged.slots.length, S, merged.slots),
       clip: this.buffer('umbra clip positions', 32 * merged.casterVertices, S),
@@ -236,9 +273,10 @@ export class WebGPUVolumes {
     s.crossingFirst = Math.max(64, Math.ceil(s.polygons / 64) * 64);
     s.lists = this.buffer('umbra polygon lists', 4 * 2 * s.crossingFirst, S);
     s.classifyUniform = this.buffer('umbra classify uniform', 16, U.UNIFORM, new Uint32Array([s.crossingFirst, 0, 0, 0]));
-    s.bytes = [s.positions, s.indices, s.records, s.slots, s.clip, s.orientation, s.caps, s.quads, s.lists, s.classifyUniform].reduce((a, b) => a + b.size, 0);
+    s.bytes = [s.positions, s.indices, s.normals, s.records, s.slots, s.clip, s.orientation, s.caps, s.quads, s.lists, s.classifyUniform].reduce((a, b) => a + b.size, 0);
     const bind = (layout, buffers) => this.device.createBindGroup({ layout, entries: buffers.map((buffer, binding) => ({ binding, resource: { buffer } })) });
     s.transformGroup = bind(this.transformLayout, [s.positions, s.clip]);
+    s.surfaceGroup = bind(this.surfaceLayout, [s.positions, s.indices, s.normals]);
     s.orientGroup = bind(this.orientLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps]);
     s.sidesGroup = bind(this.sidesLayout, [s.records, s.slots, s.orientation, this.sidesCommand, s.quads]);
     s.classifyGroup = bind(this.classifyLayout, [s.clip, s.quads, s.caps, this.sidesCommand, this.capsCommand, this.fanCommands, s.lists]);
@@ -255,7 +293,7 @@ export class WebGPUVolumes {
 
   disposeScene() {
     if (!this.scene) return;
-    for (const k of ['positions', 'indices', 'records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform']) this.scene[k].destroy();
+    for (const k of ['positions', 'indices', 'normals', 'records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform']) this.scene[k].destroy();
     this.scene = null;
   }
 
@@ -312,9 +350,8 @@ export class WebGPUVolumes {
       depth.setPipeline(this.depthPipeline);
       // Slot 0: every slot holds the same clip_from_world.
       depth.setBindGroup(0, this.lightGroup, [0]);
-      depth.setVertexBuffer(0, s.positions);
-      depth.setIndexBuffer(s.indices, 'uint32');
-      depth.drawIndexed(s.indexCount);
+      depth.setBindGroup(1, s.surfaceGroup);
+      depth.draw(s.indexCount);
     }
     depth.end();
     const casting = s && s.triangles > 0;
@@ -364,6 +401,12 @@ export class WebGPUVolumes {
       pass.setPipeline(this.maskPipeline);
       pass.setStencilReference(0);
       pass.draw(3);
+      if (s && s.indexCount > 0) {
+        pass.setPipeline(this.facingPipeline);
+        pass.setBindGroup(0, this.lightGroup, offset);
+        pass.setBindGroup(1, s.surfaceGroup);
+        pass.draw(s.indexCount);
+      }
       pass.end();
     });
     this.device.queue.submit([encoder.finish()]);
