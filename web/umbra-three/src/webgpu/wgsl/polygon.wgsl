@@ -55,7 +55,10 @@ fn umbra_polygon(id: u32) -> UmbraPolygon {
     var p: UmbraPolygon;
     let kind = id & 3u;
     let index = id >> 2u;
-    p.planes = 5u;
+    // Sides and dark caps: the viewport's 4 planes (a quad gains at most one vertex per plane:
+    // 8 at most); their parts nearer than the near plane are depth-clamped, and lie in front
+    // of every sample, where z-fail never counts.
+    p.planes = 4u;
     p.push = false;
     if kind == 0u {
         let xy = quads[index];
@@ -64,11 +67,10 @@ fn umbra_polygon(id: u32) -> UmbraPolygon {
         // The fan's apex is the edge's end that comes later in a fixed order of clip positions,
         // whichever way the quad runs (the sign of its multiplicity) and whichever caster it
         // belongs to: every quad on one edge is then split along the same diagonal (apex to the
-        // other end at infinity), so quads that cancel (opposite signs on one edge: a split
-        // record, coincident edges of two casters) cover the same pixels even where the quad
-        // is a needle seen edge-on, whose two diagonals round differently (Crytek Sponza, 640 x
-        // 360: a line of false light along such a needle with the diagonal following the sign;
-        // the WebGL path's polygons.vert.glsl fans from B for the same reason).
+        // other end at infinity), so quads meant to cancel (opposite signs on one edge: a split
+        // record, coincident edges of two casters) cover exactly the same pixels, also where
+        // the quad is a needle seen edge-on and its two diagonals round differently (the
+        // WebGL path's polygons.vert.glsl fans from the record's B for the same reason).
         if umbra_later(x, y) {
             p.v[0] = x;
             p.v[1] = clip[2u * xy.x + 1u];
