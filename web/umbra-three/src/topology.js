@@ -52,6 +52,25 @@ export function geometryPositions(geometry, name) {
 }
 
 /**
+ * The unit normal of triangle (a, b, c), given as offsets of its vertices' x in `p` (x y z per
+ * vertex): umbra_geom::flat_normal (crates/umbra-geom/src/mesh.rs) in f64, counter-clockwise =
+ * front, [0, 0, 0] for a zero-area triangle. Rounded to f32 by the caller's array.
+ */
+export function flatNormal(p, a, b, c) {
+  const ux = p[b] - p[a];
+  const uy = p[b + 1] - p[a + 1];
+  const uz = p[b + 2] - p[a + 2];
+  const wx = p[c] - p[a];
+  const wy = p[c + 1] - p[a + 1];
+  const wz = p[c + 2] - p[a + 2];
+  const nx = uy * wz - uz * wy;
+  const ny = uz * wx - ux * wz;
+  const nz = ux * wy - uy * wx;
+  const len = Math.sqrt(nx * nx + ny * ny + nz * nz);
+  return len > 0 && Number.isFinite(len) ? [nx / len, ny / len, nz / len] : [0, 0, 0];
+}
+
+/**
  * The triangles of `positions` (x y z per vertex) and `index` (or none: every three vertices),
  * de-indexed, with each triangle's flat normal on its three vertices: umbra_geom::flat_normal
  * (crates/umbra-geom/src/mesh.rs) in f64, rounded to f32, zero for a zero-area triangle.
@@ -67,11 +86,7 @@ export function flatTriangles(positions, index) {
     const v = index ? [index[3 * i], index[3 * i + 1], index[3 * i + 2]] : [3 * i, 3 * i + 1, 3 * i + 2];
     if (!v.every((x) => x < vertices)) continue;
     const [a, b, c] = v.map((x) => [positions[3 * x], positions[3 * x + 1], positions[3 * x + 2]]);
-    const u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    const w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    const n = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]];
-    const len = Math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    const unit = len > 0 && Number.isFinite(len) ? n.map((x) => x / len) : [0, 0, 0];
+    const unit = flatNormal(positions, 3 * v[0], 3 * v[1], 3 * v[2]);
     for (let k = 0; k < 3; k++) {
       pos.set([a, b, c][k], 9 * t + 3 * k);
       nrm.set(unit, 9 * t + 3 * k);

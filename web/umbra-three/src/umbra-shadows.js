@@ -20,6 +20,7 @@
 import { ExternalTexture, Matrix4, Vector2, Vector3 } from 'three';
 import { Topology, TopologyError, flatTriangles, geometryPositions, meshName, positionArray } from './topology.js';
 import { gatherLights, lightSlots } from './lights.js';
+import { reportOnce } from './report.js';
 import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
 import { sidesOf, culledCapRanges, weldedTriangleCounts } from './sides.js';
@@ -242,20 +243,7 @@ export class UmbraShadows {
   }
 
   report(object, message) {
-    // The entry names the object; its message need not repeat it.
-    if (message.startsWith(`${object}: `)) message = message.slice(object.length + 2);
-    const key = `${object}\u0000${message}`;
-    if (this.reported.has(key)) return;
-    this.reported.add(key);
-    const err = { mesh: object, message };
-    this.errors.push(err);
-    if (typeof this.onError === 'function') {
-      try {
-        this.onError(err);
-      } catch {
-        // The user's callback may not break the render loop either.
-      }
-    }
+    reportOnce(this, object, message);
   }
 
   /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */

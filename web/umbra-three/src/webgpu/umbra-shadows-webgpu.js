@@ -19,6 +19,7 @@ import { Topology, TopologyError, meshName, positionArray } from '../topology.js
 import { gatherLights } from '../lights.js';
 import { infinitePerspectiveReversedZ, mul } from '../camera.js';
 import { WebGPUVolumes } from './passes.js';
+import { reportOnce } from '../report.js';
 import { casterRecords, mergeParts, worldPositions } from './world.js';
 
 /** Whether an object's world matrix is affine (its fourth row 0 0 0 1). */
@@ -102,19 +103,7 @@ export class UmbraShadows {
   }
 
   report(object, message) {
-    if (message.startsWith(`${object}: `)) message = message.slice(object.length + 2);
-    const key = `${object}\u0000${message}`;
-    if (this.reported.has(key)) return;
-    this.reported.add(key);
-    const err = { mesh: object, message };
-    this.errors.push(err);
-    if (typeof this.onError === 'function') {
-      try {
-        this.onError(err);
-      } catch {
-        // The user's callback may not break the render loop either.
-      }
-    }
+    reportOnce(this, object, message);
   }
 
   /** The shadow node of `light`: its mask read at the fragment's pixel (1 lit, 0 shadowed). */

@@ -11,6 +11,7 @@
 // the stencil counts). The positions are rounded to f32 once, here, from three.js's f64
 // matrix: the same expression the tests write out for `umbra verify` (worldPositions).
 // No three.js import: plain arrays, testable under node --test.
+import { flatNormal } from '../topology.js';
 
 /**
  * `local` (x y z per vertex, f32) moved by the column-major 4x4 `e` (three.js
@@ -124,25 +125,8 @@ export function mergeParts(parts) {
  * counter-clockwise = front. What the facing pass reads (wgsl/surface.wgsl).
  */
 export function triangleNormals(positions, indices, into = new Float32Array(4 * Math.floor(indices.length / 3))) {
-  const p = positions;
   for (let t = 0; 3 * t + 2 < indices.length; t++) {
-    const a = 3 * indices[3 * t];
-    const b = 3 * indices[3 * t + 1];
-    const c = 3 * indices[3 * t + 2];
-    const ux = p[b] - p[a];
-    const uy = p[b + 1] - p[a + 1];
-    const uz = p[b + 2] - p[a + 2];
-    const wx = p[c] - p[a];
-    const wy = p[c + 1] - p[a + 1];
-    const wz = p[c + 2] - p[a + 2];
-    const nx = uy * wz - uz * wy;
-    const ny = uz * wx - ux * wz;
-    const nz = ux * wy - uy * wx;
-    const len = Math.sqrt(nx * nx + ny * ny + nz * nz);
-    const ok = len > 0 && Number.isFinite(len);
-    into[4 * t] = ok ? nx / len : 0;
-    into[4 * t + 1] = ok ? ny / len : 0;
-    into[4 * t + 2] = ok ? nz / len : 0;
+    into.set(flatNormal(positions, 3 * indices[3 * t], 3 * indices[3 * t + 1], 3 * indices[3 * t + 2]), 4 * t);
     into[4 * t + 3] = 0;
   }
   return into;
