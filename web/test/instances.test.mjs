@@ -55,7 +55,7 @@ before(async () => {
   const root = path.join(tmp, 'root');
   await mkdir(root);
   await writeFile(path.join(root, 'index.html'), PAGE);
-  server = createServer([['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]]);
+  server = createServer([['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist], ['/testlib/', path.join(webDir, 'testlib')]]);
   base = await listen(server, 0);
   ctx = await launch(CHROMIUM, 'swiftshader', tmp);
   page = await ctx.newPage();
@@ -115,21 +115,10 @@ before(async () => {
       // Every drawn instance's triangles in world space (what umbra verify judges), f64 then f32.
       // Meshes the tests add (skinned, morphed), baked in their pose.
       const extra = [];
+      const { addWorldTriangles, meshFileNear, trianglesObj } = await import('/testlib/page-world.js');
       const world = () => {
         const pos = [];
-        // `posedBy`: a skinned or morphed mesh, read in its pose (getVertexPosition, f64).
-        const add = (geometry, m, range = null, posedBy = null) => {
-          const p = geometry.attributes.position;
-          const idx = geometry.index;
-          const first = range ? range.indexStart : 0;
-          const n = range ? range.indexCount : idx ? idx.count : p.count;
-          const e = m.elements;
-          for (let k = first; k < first + n; k++) {
-            const i = idx ? idx.getX(k) : k;
-            const v = posedBy ? posedBy.getVertexPosition(i, new THREE.Vector3()).toArray() : [p.getX(i), p.getY(i), p.getZ(i)];
-            for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
-          }
-        };
+        const add = (geometry, m, range = null, posedBy = null) => addWorldTriangles(pos, geometry, m.elements, range, posedBy);
         const m = new THREE.Matrix4();
         add(floor.geometry, floor.matrixWorld);
         for (let i = 0; i < boxes.count; i++) add(boxes.geometry, boxes.getMatrixAt(i, m).premultiply(boxes.matrixWorld));
@@ -137,22 +126,9 @@ before(async () => {
           if (!batch.getVisibleAt(id)) continue;
           add(batch.geometry, batch.getMatrixAt(id, m).premultiply(batch.matrixWorld), batch.getGeometryRangeAt(batch.getGeometryIdAt(id)));
         }
+        // Skinned and morphed meshes the tests add, in their pose.
         for (const x of extra) add(x.geometry, x.matrixWorld, null, x);
-        const lines = [];
-        for (let i = 0; i < pos.length; i += 3) lines.push(`v ${pos[i]} ${pos[i + 1]} ${pos[i + 2]}`);
-        for (let t = 0; t < pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
-        // umbra's near plane for a mesh file (crates/umbra-cli/src/session.rs; examples/gltf/view.js):
-        // 1e-3 of the f32 diagonal of the triangles' bounds.
-        const f = Math.fround;
-        const lo = [Infinity, Infinity, Infinity];
-        const hi = [-Infinity, -Infinity, -Infinity];
-        for (let i = 0; i < pos.length; i++) {
-          lo[i % 3] = Math.min(lo[i % 3], pos[i]);
-          hi[i % 3] = Math.max(hi[i % 3], pos[i]);
-        }
-        const e = [0, 1, 2].map((a) => f(hi[a] - lo[a]));
-        const diagonal = f(Math.sqrt(f(f(f(e[0] * e[0]) + f(e[1] * e[1])) + f(e[2] * e[2]))));
-        return { obj: `${lines.join('\n')}\n`, near: Math.max(diagonal, 1e-6) * 1e-3, triangles: pos.length / 9 };
+        return { obj: trianglesObj(pos), near: meshFileNear(pos), triangles: pos.length / 9 };
       };
       const camera = new THREE.PerspectiveCamera(50, w / h, 0.1, 100);
       camera.position.set(0, 5, 7);

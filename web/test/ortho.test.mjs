@@ -68,7 +68,7 @@ before(async () => {
   const root = path.join(tmp, 'root');
   await mkdir(root);
   await writeFile(path.join(root, 'index.html'), PAGE);
-  const mounts = [['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]];
+  const mounts = [['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist], ['/testlib/', path.join(webDir, 'testlib')]];
   if (!skipSponza) mounts.push(['/scenes/', SCENES_DIR]);
   server = createServer(mounts);
   base = await listen(server, 0);
@@ -144,29 +144,11 @@ async function pageOn(impl) {
 
       // Every mesh's triangles in world space (f64 then f32), and umbra's near plane for a mesh
       // file (crates/umbra-cli/src/session.rs): 1e-3 of the f32 diagonal of their bounds.
+      const { addWorldTriangles, meshFileNear, trianglesObj } = await import('/testlib/page-world.js');
       const world = () => {
         const pos = [];
-        for (const m of meshes) {
-          const p = m.geometry.attributes.position;
-          const idx = m.geometry.index;
-          const n = idx ? idx.count : p.count;
-          const e = m.matrixWorld.elements;
-          for (let k = 0; k < n; k++) {
-            const i = idx ? idx.getX(k) : k;
-            const v = [p.getX(i), p.getY(i), p.getZ(i)];
-            for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
-          }
-        }
-        const f = Math.fround;
-        const lo = [Infinity, Infinity, Infinity];
-        const hi = [-Infinity, -Infinity, -Infinity];
-        for (let i = 0; i < pos.length; i++) {
-          lo[i % 3] = Math.min(lo[i % 3], pos[i]);
-          hi[i % 3] = Math.max(hi[i % 3], pos[i]);
-        }
-        const d = [0, 1, 2].map((a) => f(hi[a] - lo[a]));
-        const diagonal = f(Math.sqrt(f(f(f(d[0] * d[0]) + f(d[1] * d[1])) + f(d[2] * d[2]))));
-        return { pos, near: Math.max(diagonal, 1e-6) * 1e-3 };
+        for (const m of meshes) addWorldTriangles(pos, m.geometry, m.matrixWorld.elements);
+        return { pos, near: meshFileNear(pos) };
       };
       const out = world();
       const aspect = view.w / view.h;
@@ -190,12 +172,7 @@ async function pageOn(impl) {
           lights: [[...point.position.toArray(), 1], [...directional.position.toArray(), 0]],
         };
       };
-      const obj = () => {
-        const lines = [];
-        for (let i = 0; i < out.pos.length; i += 3) lines.push(`v ${out.pos[i]} ${out.pos[i + 1]} ${out.pos[i + 2]}`);
-        for (let t = 0; t < out.pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
-        return `${lines.join('\n')}\n`;
-      };
+      const obj = () => trianglesObj(out.pos);
       window.T = { THREE, umbra, scene, camera, frame, obj };
     };
   });

@@ -60,7 +60,7 @@ before(async () => {
   const root = path.join(tmp, 'root');
   await mkdir(root);
   await writeFile(path.join(root, 'index.html'), PAGE);
-  const mounts = [['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist]];
+  const mounts = [['/', root], ['/three/', path.join(webDir, 'node_modules', 'three')], ['/umbra-three/', dist], ['/testlib/', path.join(webDir, 'testlib')]];
   if (existsSync(SCENES_DIR)) mounts.push(['/scenes/', SCENES_DIR]);
   server = createServer(mounts);
   base = await listen(server, 0);
@@ -124,40 +124,17 @@ before(async () => {
       scene.updateMatrixWorld(true);
 
       // Every drawn triangle in world space (what umbra verify judges): f64 then f32.
+      const { addWorldTriangles, meshFileNear, trianglesObj } = await import('/testlib/page-world.js');
       const world = () => {
         const pos = [];
-        const addGeometry = (geometry, m) => {
-          const p = geometry.attributes.position;
-          const idx = geometry.index;
-          const n = idx ? idx.count : p.count;
-          const e = m.elements;
-          for (let k = 0; k < n; k++) {
-            const i = idx ? idx.getX(k) : k;
-            const v = [p.getX(i), p.getY(i), p.getZ(i)];
-            for (let r = 0; r < 3; r++) pos.push(Math.fround(e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r]));
-          }
-        };
+        const addGeometry = (geometry, m) => addWorldTriangles(pos, geometry, m.elements);
         const m = new THREE.Matrix4();
         for (const mesh of meshes) {
           if (!mesh.visible) continue;
           if (mesh.isInstancedMesh) for (let i = 0; i < mesh.count; i++) addGeometry(mesh.geometry, mesh.getMatrixAt(i, m).premultiply(mesh.matrixWorld));
           else addGeometry(mesh.geometry, mesh.matrixWorld);
         }
-        const lines = [];
-        for (let i = 0; i < pos.length; i += 3) lines.push(`v ${pos[i]} ${pos[i + 1]} ${pos[i + 2]}`);
-        for (let t = 0; t < pos.length / 9; t++) lines.push(`f ${3 * t + 1} ${3 * t + 2} ${3 * t + 3}`);
-        // umbra's near plane for a mesh file (crates/umbra-cli/src/session.rs): 1e-3 of the f32
-        // diagonal of the triangles' bounds.
-        const f = Math.fround;
-        const lo = [Infinity, Infinity, Infinity];
-        const hi = [-Infinity, -Infinity, -Infinity];
-        for (let i = 0; i < pos.length; i++) {
-          lo[i % 3] = Math.min(lo[i % 3], pos[i]);
-          hi[i % 3] = Math.max(hi[i % 3], pos[i]);
-        }
-        const d = [0, 1, 2].map((a) => f(hi[a] - lo[a]));
-        const diagonal = f(Math.sqrt(f(f(f(d[0] * d[0]) + f(d[1] * d[1])) + f(d[2] * d[2]))));
-        return { obj: `${lines.join('\n')}\n`, near: Math.max(diagonal, 1e-6) * 1e-3, triangles: pos.length / 9 };
+        return { obj: trianglesObj(pos), near: meshFileNear(pos), triangles: pos.length / 9 };
       };
       const camera = new THREE.PerspectiveCamera(50, w / h, 0.1, 100);
       const latin1 = (a) => {
