@@ -222,3 +222,39 @@ fn bench_interleaves_gl_and_wgpu_in_one_run() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("expected gl, wgpu or gl,wgpu"), "{}", stderr(&o));
 }
+
+/// `bench --backend wgpu --volume-cull both`: cpu-silhouette runs culled and as
+/// `cpu-silhouette@cull-off` in one schedule; both rows report `volume_triangles` and
+/// `volume_edges` (no `volume_fragments`: no pipeline statistics are asked of the device), the
+/// culled row has the `receivers` stage. `verify --backend wgpu` is exact both ways.
+#[test]
+fn volume_cull_on_wgpu_both_ways() {
+    if !adapter() {
+        return;
+    }
+    let mut args = vec!["bench", "--backend", "wgpu", "--json", "--methods", "cpu-silhouette", "--frames", "1"];
+    args.extend(["--warmup", "0", "--stage-every", "1", "--volume-cull", "both", "--size", "96x64"]);
+    let o = umbra(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = json(&o);
+    let rows = rows.as_array().expect("array");
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    let (on, off) = (&rows[0], &rows[1]);
+    assert_eq!((on["volume_cull"].as_bool(), off["volume_cull"].as_bool()), (Some(true), Some(false)), "{rows:?}");
+    for row in [on, off] {
+        assert_eq!(row["method"], "cpu-silhouette", "{row}");
+        assert!(row["volume_triangles"].as_f64().unwrap_or(0.0) > 0.0, "{row}");
+        assert!(row["volume_edges"].as_f64().unwrap_or(0.0) > 0.0, "{row}");
+        assert!(row.get("volume_fragments").is_none_or(|v| v.is_null()), "{row}");
+    }
+    assert!(on["stages"].get("receivers").is_some(), "{on}");
+    assert!(off["stages"].get("receivers").is_none(), "{off}");
+    for cull in ["on", "off"] {
+        let mut args =
+            vec!["verify", "--backend", "wgpu", "--method", "cpu-silhouette", "--json", "--volume-cull", cull];
+        args.extend(["--size", "96x64"]);
+        let o = umbra(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(json(&o)[0]["mismatches_outside_band"], 0, "--volume-cull {cull}");
+    }
+}

@@ -345,6 +345,18 @@ pub fn near_pyramid_points(world_from_clip: &DMat4, eye: [f64; 3], convention: D
     points
 }
 
+/// Where a z-pass count may start: [`near_pyramid_points`] with the corners pushed 2 % farther
+/// from the eye, so that their hull holds the eye's whole near pyramid with room for rounding.
+/// A receiver cull raises the receiver map over this hull (`ReceiverMap::raise_hull`), so that
+/// no clamped volume ends inside it (docs/exactness.md, "Volumes clamped to their receivers").
+pub fn zpass_start_points(world_from_clip: &DMat4, eye: [f64; 3], convention: DepthConvention) -> Vec<[f64; 3]> {
+    let mut points = near_pyramid_points(world_from_clip, eye, convention);
+    for p in points.iter_mut().skip(1) {
+        *p = std::array::from_fn(|a| eye[a] + 1.02 * (p[a] - eye[a]));
+    }
+    points
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -215,11 +215,22 @@ fn run_wgpu(case: &Case, welded: &Arc<umbra_geom::WeldedMesh>, failures: &mut Ve
     let mut tsv = String::from(
         "method\tsamples\tshadowed_reference\tmismatches\tband_samples\tband_mismatches\tmismatches_outside_band\n",
     );
+    // As on GL: a method that culls its volumes runs culled (the default), then unculled.
+    let mut runs: Vec<(&str, bool)> = Vec::new();
     for &name in umbra_wgpu::method_names() {
+        runs.push((name, true));
+        if renderer.volumes(device, name).is_ok_and(|v| v.culls_volumes()) {
+            runs.push((name, false));
+        }
+    }
+    for (name, cull) in runs {
         let mut volumes = renderer.volumes(device, name).unwrap_or_else(|e| panic!("{} / wgpu {name}: {e}", case.name));
+        let params = umbra_wgpu::FrameParams { volume_cull: cull, ..params.clone() };
         let report =
             umbra_verify::wgpu::verify_method(device, queue, &mut renderer, &scene, &mut volumes, &params, &view)
-                .unwrap_or_else(|e| panic!("{} / wgpu {name}: {e}", case.name));
+                .unwrap_or_else(|e| panic!("{} / wgpu {name} (volume cull {cull}): {e}", case.name));
+        let label = if cull { name.to_string() } else { format!("{name}:volume-cull-off") };
+        let name = label.as_str();
         let m = report.metrics;
         println!(
             "{:<28} wgpu {:<19} samples {:>6} shadowed {:>6} band {:>5} band-mis {:>4} outside-band {:>4}",

@@ -66,6 +66,7 @@ pub mod error;
 pub mod image;
 pub mod methods;
 mod readback;
+mod receivers;
 pub mod renderer;
 pub mod scene;
 mod view;

@@ -188,7 +188,9 @@ impl Renderer {
 
     /// [`Renderer::draw_frame`] with a GPU timestamp at every stage boundary, waited for:
     /// (stage, ms) summed over lights, in first-seen order — "prepare" (every light's compute
-    /// work and shadow-map passes), "depth+ambient", "volumes", "lighting". `None` when the
+    /// work and shadow-map passes), "depth+ambient", "volumes", "lighting"; with volumes culled
+    /// against the receivers, "depth+ambient", "receivers" (every light's receiver map, its
+    /// read-back and the CPU's cull and extraction, the GPU idle meanwhile), "prepare". `None` when the
     /// device has no timestamp queries inside encoders.
     pub fn draw_frame_timed(
         &mut self,
@@ -205,7 +207,8 @@ impl Renderer {
         let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
         validate(&params)?;
         let view = View::from_camera(&params.camera, params.width, params.height)?;
-        let stamps = 3 + 2 * params.lights.len() as u32;
+        // prepare or receivers + prepare, depth+ambient, per light volumes and lighting, end.
+        let stamps = 4 + 2 * params.lights.len() as u32;
         let set = device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("umbra stage timestamps"),
             ty: wgpu::QueryType::Timestamp,

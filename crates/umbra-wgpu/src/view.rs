@@ -86,4 +86,12 @@ pub struct VolumeFrame<'a> {
     pub lights: &'a [Light],
     /// How the volumes count.
     pub zmode: ZMode,
+    /// The scene's depth as the caller drew it, already submitted, for the methods that cull
+    /// and clamp their volumes against the visible samples (`cpu-silhouette`,
+    /// [`ShadowVolumes::culls_volumes`](crate::ShadowVolumes::culls_volumes)); `None` draws
+    /// every volume unculled. The texture needs `RENDER_ATTACHMENT | TEXTURE_BINDING`, one
+    /// sample, and the device `PRIMITIVE_INDEX`. Culling costs a scene draw, a submission and
+    /// a wait per light: the CPU needs each light's receiver map before it can extract the
+    /// volume (docs/exactness.md, "Volumes clamped to their receivers").
+    pub receivers: Option<&'a wgpu::Texture>,
 }

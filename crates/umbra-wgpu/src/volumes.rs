@@ -119,6 +119,19 @@ impl ShadowVolumes {
         matches!(self.method.kind(), MethodKind::Counting { .. })
     }
 
+    /// Whether the method culls and clamps its volumes against the receivers when
+    /// [`VolumeFrame::receivers`] gives it the caller's depth (`cpu-silhouette`).
+    pub fn culls_volumes(&self) -> bool {
+        self.method.culls_volumes()
+    }
+
+    /// What light `light`'s volume drew in the last [`ShadowVolumes::prepare`]: triangles kept,
+    /// silhouette edges, whether culled and clamped. `None` for methods that decide their
+    /// volume on the GPU.
+    pub fn drawn_volume(&self, light: usize) -> Option<crate::methods::DrawnVolume> {
+        self.method.drawn_volume(light)
+    }
+
     /// Bytes of GPU memory the method holds (buffers, textures), light slots included.
     pub fn gpu_bytes(&self) -> u64 {
         self.method.gpu_bytes()
@@ -144,7 +157,7 @@ impl ShadowVolumes {
         scene: &SceneGpu,
         frame: &VolumeFrame<'_>,
     ) -> Result<&[LightPlan], WgpuError> {
-        let VolumeFrame { view, lights, zmode } = *frame;
+        let VolumeFrame { view, lights, zmode, receivers } = *frame;
         for (i, l) in lights.iter().enumerate() {
             umbra_geom::check_light(i, l)?;
         }
@@ -184,7 +197,8 @@ impl ShadowVolumes {
                     first_dark_cap: 0,
                     pad2: [0; 2],
                 };
-                let light_frame = crate::methods::LightFrame { slot, plan, data };
+                let receivers = receivers.filter(|_| self.method.culls_volumes());
+                let light_frame = crate::methods::LightFrame { view, receivers, slot, plan, data };
                 self.method.prepare_light(device, queue, encoder, scene, &self.common, &light_frame)?;
                 self.plans.push(plan);
             }

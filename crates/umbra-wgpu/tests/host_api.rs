@@ -154,3 +154,31 @@ fn multisampled_host_with_depth24_shadows_where_the_light_says() {
     let (under, away) = (pixel([0.0, 0.0, 0.0]), pixel([0.0, 0.0, 3.0]));
     assert!(away > under + 100, "lit ground {away} vs shadowed ground {under}");
 }
+
+/// A receiver cull asked against a depth the scatter cannot read as a texture is refused with
+/// the reason (the usage it lacks), not drawn unculled in silence.
+#[test]
+fn culling_against_a_depth_without_texture_binding_is_refused() {
+    let Some(gpu) = gpu() else { return };
+    let scene = SceneGpu::upload(&gpu.device, sphere_over_ground()).expect("upload");
+    let renderer = Renderer::new(&gpu.device).expect("renderer");
+    let mut volumes = renderer.volumes(&gpu.device, "cpu-silhouette").expect("method");
+    assert!(volumes.culls_volumes());
+    let depth = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("host depth, attachment only"),
+        size: wgpu::Extent3d { width: W, height: H, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: Renderer::depth_format_for(&gpu.device),
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let view = View::from_camera(&default_camera(), W, H).expect("view");
+    let lights = [[0.0, 5.0, 0.0, 1.0]];
+    let frame =
+        umbra_wgpu::VolumeFrame { view: &view, lights: &lights, zmode: Default::default(), receivers: Some(&depth) };
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let err = volumes.prepare(&gpu.device, &gpu.queue, &mut encoder, &scene, &frame).expect_err("refused");
+    assert!(err.to_string().contains("TEXTURE_BINDING"), "{err}");
+}

@@ -47,9 +47,11 @@ struct Rendered {
     gpu_bytes: u64,
 }
 
-/// One frame with `method`, z-fail or z-pass as `p` says (auto z-pass off: the caps are drawn).
+/// One frame with `method`, z-fail or z-pass as `p` says (auto z-pass off: the caps are drawn),
+/// volumes unculled: a cull keeps the visible samples' counts only, and these tests compare
+/// every pixel's count with cpu-silhouette's whole volume.
 fn render(gpu: &HeadlessGpu, mesh: &Arc<WeldedMesh>, method: &str, p: &FrameParams) -> Rendered {
-    let p = &FrameParams { auto_zpass: false, ..p.clone() };
+    let p = &FrameParams { auto_zpass: false, volume_cull: false, ..p.clone() };
     let scene = SceneGpu::upload(&gpu.device, mesh.clone()).expect("upload");
     let mut renderer = Renderer::new(&gpu.device).expect("renderer");
     let mut volumes = renderer.volumes(&gpu.device, method).expect("method");

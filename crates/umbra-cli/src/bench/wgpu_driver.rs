@@ -8,8 +8,9 @@ use umbra_wgpu::ShadowVolumes;
 use super::driver::Driver;
 use super::flythrough::Keyframe;
 use super::options::MeasureOptions;
+use super::stats::VolumeCounts;
 use crate::backend::Backend;
-use crate::config::ViewConfig;
+use crate::config::{ViewConfig, CULL_OFF};
 use crate::error::CliError;
 use crate::wgpu_backend::{check_counter, WgpuSession};
 
@@ -21,6 +22,8 @@ pub struct WgpuDriver {
     session: WgpuSession,
     params: umbra_wgpu::FrameParams,
     instances: Vec<ShadowVolumes>,
+    /// Per instance: its volumes culled (`--volume-cull`; false for `NAME@cull-off`).
+    cull: Vec<bool>,
 }
 
 impl WgpuDriver {
@@ -28,8 +31,17 @@ impl WgpuDriver {
         let session = WgpuSession::new(view)?;
         let params = session.frame_params(view);
         check_counter(o.counter, &session.welded, &params.lights)?;
-        let instances = methods.iter().map(|m| session.volumes(m, &o.sm, "--methods")).collect::<Result<_, _>>()?;
-        Ok(Self { session, params, instances })
+        let mut instances = Vec::new();
+        let mut cull = Vec::new();
+        for m in methods {
+            let (name, off) = match m.strip_suffix(CULL_OFF) {
+                Some(name) => (name, true),
+                None => (m.as_str(), false),
+            };
+            instances.push(session.volumes(name, &o.sm, "--methods")?);
+            cull.push(o.volume_cull && !off);
+        }
+        Ok(Self { session, params, instances, cull })
     }
 }
 
@@ -55,8 +67,7 @@ impl Driver for WgpuDriver {
     }
 
     fn frame(&mut self, method: usize, cam: Keyframe) -> Result<f64, String> {
-        self.params.camera.eye = cam.eye;
-        self.params.camera.target = cam.target;
+        self.set_camera(method, cam);
         let s = &mut self.session;
         let (device, queue) = (&s.gpu.device, &s.gpu.queue);
         let wait =
@@ -73,13 +84,33 @@ impl Driver for WgpuDriver {
     }
 
     fn stages(&mut self, method: usize, cam: Keyframe) -> Result<Vec<(String, f64)>, String> {
-        self.params.camera.eye = cam.eye;
-        self.params.camera.target = cam.target;
+        self.set_camera(method, cam);
         let s = &mut self.session;
         let (device, queue) = (&s.gpu.device, &s.gpu.queue);
         let timed = s.renderer.draw_frame_timed(device, queue, &s.scene, &mut self.instances[method], &self.params);
         // Without timestamp queries: no stages (frame times only).
         Ok(timed.map_err(|e| e.to_string())?.unwrap_or_default())
+    }
+
+    fn volume_counts(&mut self, method: usize, cam: Keyframe) -> Result<Option<VolumeCounts>, String> {
+        if !self.instances[method].culls_volumes() {
+            // Only cpu-silhouette knows its volume on the CPU; the others report nothing.
+            return Ok(None);
+        }
+        self.set_camera(method, cam);
+        let s = &mut self.session;
+        let (device, queue) = (&s.gpu.device, &s.gpu.queue);
+        let v = &mut self.instances[method];
+        s.renderer.draw_frame(device, queue, &s.scene, v, &self.params).map_err(|e| e.to_string())?;
+        device.poll(umbra_wgpu::wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
+        let drawn = (0..self.params.lights.len())
+            .try_fold((0, 0), |(t, e), i| v.drawn_volume(i).map(|d| (t + d.triangles, e + d.edges)));
+        // Fragments: wgpu's pipeline statistics are not asked of the device (absent).
+        Ok(Some(VolumeCounts { fragments: None, query: None, drawn }))
+    }
+
+    fn volume_cull(&self, method: usize) -> bool {
+        self.cull[method] && self.instances[method].culls_volumes()
     }
 
     fn zpass_lights(&self, method: usize) -> usize {
@@ -92,5 +123,14 @@ impl Driver for WgpuDriver {
 
     fn scene_figures(&self, method: usize) -> Vec<(&'static str, f64)> {
         self.instances[method].scene_figures()
+    }
+}
+
+impl WgpuDriver {
+    /// Method `method`'s frame at `cam`, culled as `--volume-cull` and its name say.
+    fn set_camera(&mut self, method: usize, cam: Keyframe) {
+        self.params.camera.eye = cam.eye;
+        self.params.camera.target = cam.target;
+        self.params.volume_cull = self.cull[method];
     }
 }

@@ -128,13 +128,11 @@ impl BenchConfig {
                 bad("--volume-cull", format!("expected on, off or both, got {:?}", a.volume_cull.trim()))
             })?;
         if both {
-            if backends.contains(&Backend::Wgpu) {
-                return Err(bad("--volume-cull", "both: the wgpu backend culls no volumes (--backend gl)"));
-            }
             if let BenchMode::Path { methods, .. } = &mut mode {
                 *methods = methods
                     .iter()
                     .flat_map(|m| {
+                        // cpu-silhouette is the method that culls, on GL and on wgpu alike.
                         let culls = umbra_gl::create_method(m).is_ok_and(|x| x.culls_volumes());
                         std::iter::once(m.clone()).chain(culls.then(|| format!("{m}{CULL_OFF}")))
                     })

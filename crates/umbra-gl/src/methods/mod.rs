@@ -324,18 +324,7 @@ pub trait ShadowMethod {
 }
 
 /// What one light's volume pass drew ([`ShadowMethod::drawn_volume`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct DrawnVolume {
-    /// Caster triangles not dropped by the receiver cull (all of them when not culled).
-    pub triangles: u64,
-    /// Silhouette edges drawn, each counted with its multiplicity `|m|` (the side quads).
-    pub edges: u64,
-    /// Whether the volume was culled against the light's receivers.
-    pub culled: bool,
-    /// Whether its sides ended at the receivers (closed by far caps) rather than at infinity:
-    /// the method's choice, where it estimates fewer fragments.
-    pub clamped: bool,
-}
+pub use umbra_geom::silhouette::DrawnVolume;
 
 /// A method name the registry does not know.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

@@ -284,11 +284,10 @@ impl HostRenderer {
             let data = [l[0], l[1], l[2], l[3], 0.7, 0.68, 0.62, 1.0];
             queue.write_buffer(&self.lights, i as u64 * SLOT, bytemuck::cast_slice(&data));
         }
-        // umbra: every light's compute work, before the passes.
-        let plans = self
-            .volumes
-            .prepare(device, queue, encoder, scene, &VolumeFrame { view, lights, zmode: ZMode::default() })?
-            .to_vec();
+        // umbra: every light's compute work, before the passes. No receiver cull: it needs the
+        // depth drawn and submitted first, and a single-sample depth (this host multisamples).
+        let frame = VolumeFrame { view, lights, zmode: ZMode::default(), receivers: None };
+        let plans = self.volumes.prepare(device, queue, encoder, scene, &frame)?.to_vec();
         self.depth_texture(device, size.0, size.1);
         let depth = self.depth.as_ref().expect("made above").0.create_view(&Default::default());
         let msaa = self.msaa.as_ref().map(|t| t.create_view(&Default::default()));

@@ -15,12 +15,28 @@
 //! umbra-gl draws the caps from the mesh's positions with 12 bytes of indices per cap and
 //! relies on GLSL's `invariant`; WGSL has no such guarantee, so wgpu pays 48 (directional) or
 //! 96 (point light) bytes per cap.
+//!
+//! Given the caller's depth ([`crate::VolumeFrame::receivers`]), each light's volume is culled
+//! and clamped against its receivers as umbra-gl's is (CC shadow volumes, Lloyd et al. EGSR
+//! 2004; docs/exactness.md, "Volumes clamped to their receivers"): the visible samples are
+//! scattered into the light's receiver map on the GPU (`receivers.rs`), read back, and
+//! [`ReceiverMap::cull_and_clamp`](umbra_geom::receivers::ReceiverMap::cull_and_clamp) keeps
+//! the triangles whose frusta may hold a visible sample and ends each vertex's volume beyond
+//! the farthest of them; [`extract_kept`] extracts the kept triangles' silhouette, clamped
+//! where that costs fewer fragments. The far caps that close it are drawn with the sides'
+//! vertex shader, after the light caps (no dark caps: a far cap at infinity is one).
 
-use umbra_geom::silhouette::{extract_indexed, IndexedVolume, VolumeGeometry};
+use umbra_geom::camera::{zpass_start_points, DepthConvention};
+use umbra_geom::clearance::scene_clip_box;
+use umbra_geom::receivers::ReceiverMap;
+use umbra_geom::silhouette::{
+    extract_indexed, extract_kept, DrawnVolume, IndexedVolume, ScreenClip, VolumeClamp, VolumeGeometry,
+};
 
 use crate::common::{Common, LightPlan};
 use crate::error::WgpuError;
 use crate::methods::method::{LightFrame, Method, MethodKind};
+use crate::receivers::ReceiverPass;
 use crate::scene::{check_size, SceneGpu, SceneId};
 
 /// Registry name.
@@ -67,6 +83,8 @@ struct PerLight {
     vertices: Vec<[f32; 4]>,
     buffer: StreamBuffer,
     count: u32,
+    /// What the last frame's volume drew.
+    drawn: DrawnVolume,
 }
 
 /// See the module documentation.
@@ -75,6 +93,10 @@ pub struct CpuSilhouette {
     pipelines: [wgpu::RenderPipeline; 2],
     prepared: Option<SceneId>,
     lights: Vec<PerLight>,
+    /// The receiver map pass (made on the first culled frame, for the caller's depth format).
+    receivers: Option<ReceiverPass>,
+    /// The last culled light's kept triangles and far ends (reused across lights).
+    clamp: VolumeClamp,
 }
 
 impl CpuSilhouette {
@@ -101,7 +123,7 @@ impl CpuSilhouette {
                 wgpu::FrontFace::Ccw,
             )
         });
-        Self { pipelines, prepared: None, lights: Vec::new() }
+        Self { pipelines, prepared: None, lights: Vec::new(), receivers: None, clamp: VolumeClamp::default() }
     }
 }
 
@@ -133,7 +155,7 @@ impl Method for CpuSilhouette {
         _encoder: &mut wgpu::CommandEncoder,
         scene: &SceneGpu,
         common: &Common,
-        frame: &LightFrame,
+        frame: &LightFrame<'_>,
     ) -> Result<(), WgpuError> {
         while self.lights.len() <= frame.slot {
             self.lights.push(PerLight {
@@ -142,19 +164,72 @@ impl Method for CpuSilhouette {
                 vertices: Vec::new(),
                 buffer: StreamBuffer { buffer: None },
                 count: 0,
+                drawn: DrawnVolume::default(),
             });
         }
         let light = frame.data.light;
+        let zpass = frame.plan.zpass;
+        let caps = !zpass;
+        let (mesh, adjacency, slots) = (scene.mesh(), scene.adjacency(), scene.slots()?);
+        // The receiver map, and from it the triangles kept and their far ends.
+        let mut culled = None;
+        if let (Some(depth), Some(bounds)) = (frame.receivers, scene.bounds()) {
+            if self.receivers.as_ref().is_none_or(|r| r.format() != depth.format()) {
+                self.receivers = Some(ReceiverPass::new(device, depth.format()));
+            }
+            let pass = self.receivers.as_ref().expect("made above");
+            let mut map: ReceiverMap = pass.build(device, queue, scene, frame.view, light, bounds, depth)?;
+            // z-pass starts every count at the eye's near rectangle with the eye's winding: the
+            // near pyramid's cells are raised to its farthest point, so no count inside it
+            // changes (clamp.rs). Where the map cannot bound it, this light is drawn unculled.
+            let view = frame.view;
+            let near_ok = !zpass
+                || map.raise_hull(&zpass_start_points(&view.world_from_clip, view.eye, DepthConvention::ReversedZ));
+            if near_ok {
+                // Whole regions of one orientation: a cut through a surface the light sees as
+                // one piece would hang a new side from it (silhouette/regions.rs).
+                let regions = Some((adjacency.as_ref(), slots.as_ref()));
+                let stats = map.cull_and_clamp(mesh, light, regions, &mut self.clamp);
+                let clip = ScreenClip {
+                    clip_from_world: view.clip_from_world(),
+                    world_planes: if zpass { scene_clip_box(bounds, view.eye).to_vec() } else { Vec::new() },
+                    width: depth.width(),
+                    height: depth.height(),
+                };
+                culled = Some((stats, clip));
+            }
+        }
         let l = &mut self.lights[frame.slot];
-        let caps = !frame.plan.zpass;
-        extract_indexed(scene.mesh(), scene.adjacency(), scene.slots()?, light, caps, &mut l.indexed);
-        l.indexed.expand_into(&scene.mesh().positions, light, &mut l.expanded);
+        let (clamped, triangles) = match culled {
+            Some((stats, clip)) => {
+                let fill = Some(&clip);
+                let clamped = extract_kept(mesh, adjacency, slots, light, caps, &mut self.clamp, fill, &mut l.indexed);
+                (Some(clamped), stats.kept)
+            }
+            None => {
+                extract_indexed(mesh, adjacency, slots, light, caps, &mut l.indexed);
+                (None, mesh.triangles.len())
+            }
+        };
+        l.indexed.expand_into(&mesh.positions, light, &mut l.expanded);
         l.vertices.clear();
         l.vertices.extend_from_slice(&l.expanded.sides);
         l.vertices.extend_from_slice(&l.expanded.light_caps);
-        l.vertices.extend_from_slice(&l.expanded.dark_caps);
+        if clamped.is_some() {
+            // A culled volume is closed by its far caps (at infinity where unclamped), never by
+            // the dark caps of every triangle.
+            l.vertices.extend_from_slice(&l.indexed.far_caps);
+        } else {
+            l.vertices.extend_from_slice(&l.expanded.dark_caps);
+        }
         l.buffer.write(device, queue, bytemuck::cast_slice(&l.vertices))?;
         l.count = l.vertices.len() as u32;
+        l.drawn = DrawnVolume {
+            triangles: triangles as u64,
+            edges: (l.expanded.sides.len() / 6) as u64,
+            culled: clamped.is_some(),
+            clamped: clamped.unwrap_or(false),
+        };
         let mut data = frame.data;
         data.first_light_cap = l.expanded.sides.len() as u32;
         data.first_dark_cap = data.first_light_cap + l.expanded.light_caps.len() as u32;
@@ -175,6 +250,15 @@ impl Method for CpuSilhouette {
     }
 
     fn gpu_bytes(&self) -> u64 {
-        self.lights.iter().map(|l| l.buffer.bytes()).sum()
+        self.lights.iter().map(|l| l.buffer.bytes()).sum::<u64>()
+            + self.receivers.as_ref().map_or(0, ReceiverPass::gpu_bytes)
+    }
+
+    fn culls_volumes(&self) -> bool {
+        true
+    }
+
+    fn drawn_volume(&self, slot: usize) -> Option<DrawnVolume> {
+        self.lights.get(slot).map(|l| l.drawn)
     }
 }

@@ -9,6 +9,9 @@
 use crate::common::{Common, LightPlan, LightSlot};
 use crate::error::WgpuError;
 use crate::scene::{SceneGpu, SceneId};
+use crate::view::View;
+
+pub use umbra_geom::silhouette::DrawnVolume;
 
 /// What a method's draw leaves in the stencil.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,7 +29,12 @@ pub enum MethodKind {
 }
 
 /// One light of one frame, as a method sees it.
-pub(crate) struct LightFrame {
+pub(crate) struct LightFrame<'a> {
+    /// The frame's camera.
+    pub view: &'a View,
+    /// The caller's submitted depth, where the volumes are to be culled against it
+    /// ([`crate::VolumeFrame::receivers`]).
+    pub receivers: Option<&'a wgpu::Texture>,
     /// Index of the light (its uniform slot and output buffers).
     pub slot: usize,
     /// How it counts.
@@ -54,7 +62,7 @@ pub(crate) trait Method {
         encoder: &mut wgpu::CommandEncoder,
         scene: &SceneGpu,
         common: &Common,
-        frame: &LightFrame,
+        frame: &LightFrame<'_>,
     ) -> Result<(), WgpuError>;
     /// Draws light `slot`'s volumes (or resolve) into the caller's pass.
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, common: &Common, slot: usize, plan: LightPlan);
@@ -65,6 +73,16 @@ pub(crate) trait Method {
     /// the CPU knows.
     fn copy_counts(&self, _encoder: &mut wgpu::CommandEncoder, _slot: usize, _readback: &wgpu::Buffer) -> bool {
         false
+    }
+    /// Whether the method culls and clamps its volumes against the receivers when the frame
+    /// gives it the caller's depth ([`crate::VolumeFrame::receivers`]); false by default.
+    fn culls_volumes(&self) -> bool {
+        false
+    }
+    /// What light `slot`'s volume of the last frame drew (culled or not); `None` for methods
+    /// that do not know it on the CPU.
+    fn drawn_volume(&self, _slot: usize) -> Option<DrawnVolume> {
+        None
     }
     /// Figures of the per-scene preprocessing, `(key, value)`, for `bench --json` (ray-bvh's
     /// BVH); none by default.

@@ -15,7 +15,7 @@ pub mod shadow_map;
 mod transform;
 pub mod vs_silhouette;
 
-pub use method::MethodKind;
+pub use method::{DrawnVolume, MethodKind};
 pub(crate) use method::{LightFrame, Method};
 
 /// Every method of the wgpu backend, in a stable order (umbra-gl's names).

@@ -106,15 +106,18 @@ impl Renderer {
                 labels.push(label);
             }
         };
-        stamp(&mut encoder, "prepare");
-
-        // ---- Every light's compute work, before any pass.
-        let frame = VolumeFrame {
-            view,
-            lights: &params.lights,
-            zmode: ZMode { zpass: params.zpass, auto_zpass: params.auto_zpass },
-        };
-        let plans = volumes.prepare(device, queue, &mut encoder, scene, &frame)?.to_vec();
+        // Volumes culled against the receivers need the scene's depth first (the receiver
+        // maps are built from it and read back before the volumes are extracted): then the
+        // depth pass is submitted on its own, and every light's work follows it.
+        let cull = params.volume_cull && volumes.culls_volumes();
+        let zmode = ZMode { zpass: params.zpass, auto_zpass: params.auto_zpass };
+        let mut plans = Vec::new();
+        if !cull {
+            // ---- Every light's compute work, before any pass.
+            stamp(&mut encoder, "prepare");
+            let frame = VolumeFrame { view, lights: &params.lights, zmode, receivers: None };
+            plans = volumes.prepare(device, queue, &mut encoder, scene, &frame)?.to_vec();
+        }
 
         // ---- Pass 1: depth + ambient (+ world position, triangle id).
         stamp(&mut encoder, "depth+ambient");
@@ -155,6 +158,19 @@ impl Renderer {
             pass.set_pipeline(&self.pipelines.depth[capture_samples as usize]);
             pass.set_bind_group(0, &frame_group, &[]);
             draw_scene(&mut pass);
+        }
+        if cull {
+            // ---- Every light's receiver map (its own submission and read-back) and cull,
+            // then its uploads: after the depth, before any volume.
+            stamp(&mut encoder, "receivers");
+            queue.submit([std::mem::replace(
+                &mut encoder,
+                device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("umbra frame volumes") }),
+            )
+            .finish()]);
+            stamp(&mut encoder, "prepare");
+            let frame = VolumeFrame { view, lights: &params.lights, zmode, receivers: Some(&target.depth) };
+            plans = volumes.prepare(device, queue, &mut encoder, scene, &frame)?.to_vec();
         }
 
         let mut stencil = Vec::new();

@@ -37,13 +37,17 @@ pub fn default_camera() -> Camera {
     Camera { near: 0.01, ..Camera::look_at([4.0, 5.0, 6.0], [0.0, 0.5, 0.0]) }
 }
 
-/// Frame parameters capturing everything (samples, stencil and lit mask of every light).
+/// Frame parameters capturing everything (samples, stencil and lit mask of every light), with
+/// the volumes unculled: the tests compare every pixel's stencil between frames, and a cull
+/// against the receivers keeps the visible samples' counts only (its exactness is judged by
+/// umbra-verify's `wgpu_volume_cull.rs` and torture suite).
 pub fn params(camera: Camera, lights: Vec<[f32; 4]>, width: u32, height: u32) -> FrameParams {
     FrameParams {
         camera,
         width,
         height,
         lights,
+        volume_cull: false,
         capture: CaptureFlags {
             world_pos: true,
             triangle_id: true,

@@ -29,8 +29,7 @@ use glow::HasContext;
 use umbra_geom::clearance::scene_clip_box;
 use umbra_geom::receivers::{clamp_beyond_box, CullStats};
 use umbra_geom::silhouette::{
-    estimate_fill, extract_clamped, extract_indexed, has_dark_caps, IndexedVolume, ScreenClip, TriangleSlots,
-    VolumeClamp,
+    extract_indexed, extract_kept, has_dark_caps, IndexedVolume, ScreenClip, TriangleSlots, VolumeClamp,
 };
 
 use crate::error::GlError;
@@ -132,17 +131,9 @@ pub struct CpuSilhouette {
     triangles: usize,
 }
 
-/// The eye and its near rectangle in world space, enlarged (as the renderer's auto z-pass
-/// test takes them, [`umbra_geom::camera::near_pyramid_points`], then 2 % farther from the eye):
-/// their hull holds every point where a z-pass count starts.
+/// Where a z-pass count may start ([`umbra_geom::camera::zpass_start_points`]).
 fn near_pyramid(frame: &VolumeFrame<'_>) -> Vec<[f64; 3]> {
-    let world_from_clip = frame.clip_from_world.inverse();
-    let mut points = umbra_geom::camera::near_pyramid_points(&world_from_clip, frame.eye, frame.depth_convention());
-    let eye = frame.eye;
-    for p in points.iter_mut().skip(1) {
-        *p = std::array::from_fn(|a| eye[a] + 1.02 * (p[a] - eye[a]));
-    }
-    points
+    umbra_geom::camera::zpass_start_points(&frame.clip_from_world.inverse(), frame.eye, frame.depth_convention())
 }
 
 /// The bytes of plain-old-data arrays of `u32` or `f32` (no padding, every byte initialised).
@@ -349,15 +340,10 @@ impl ShadowMethod for CpuSilhouette {
         let (mesh, adjacency) = (scene.mesh(), scene.adjacency());
         self.last_clamped = false;
         if self.last_cull.is_some() {
-            extract_clamped(mesh, adjacency, slots, frame.light, caps, &self.clamp, &mut self.volume);
             self.last_dark_caps = false;
-            if ortho {
-                // Finite volumes are the only ones an orthographic view can draw.
-                self.last_clamped = true;
-            }
             // Clamped only where that costs fewer fragments than the same kept triangles'
-            // volumes running to infinity (silhouette/fill.rs); both give every visible sample
-            // the same count.
+            // volumes running to infinity (silhouette/kept.rs); both give every visible sample
+            // the same count. Finite volumes are the only ones an orthographic view can draw.
             let clip = ScreenClip {
                 clip_from_world: frame.clip_from_world,
                 world_planes: match (frame.zpass, scene.bounds()) {
@@ -367,16 +353,9 @@ impl ShadowMethod for CpuSilhouette {
                 width: frame.width,
                 height: frame.height,
             };
-            if !ortho {
-                let fill = estimate_fill(&self.volume, &mesh.positions, frame.light, caps, &clip);
-                self.last_clamped = fill.clamped < fill.unclamped;
-            }
-            if !self.last_clamped {
-                for f in self.clamp.far.iter_mut().filter(|f| **f > 0.0) {
-                    *f = f32::INFINITY;
-                }
-                extract_clamped(mesh, adjacency, slots, frame.light, caps, &self.clamp, &mut self.volume);
-            }
+            let fill = (!ortho).then_some(&clip);
+            self.last_clamped =
+                extract_kept(mesh, adjacency, slots, frame.light, caps, &mut self.clamp, fill, &mut self.volume);
         } else {
             extract_indexed(mesh, adjacency, slots, frame.light, caps, &mut self.volume);
             self.last_dark_caps = caps && has_dark_caps(frame.light);

@@ -1,0 +1,142 @@
+//! umbra-wgpu's `cpu-silhouette` with its volumes culled and clamped against the receivers
+//! (docs/exactness.md, "Volumes clamped to their receivers"), judged by the ray-traced
+//! reference: exact culled and unculled, z-pass and z-fail, point and directional lights, and
+//! the cull really drops the triangles no visible sample lies behind (a cull that silently
+//! kept everything would pass every exactness check). The torture suite runs every case both
+//! ways too (torture.rs, `run_wgpu`).
+
+mod common;
+
+use std::sync::Arc;
+
+use common::for_each_shared_scene_default_view;
+use umbra_geom::camera::Camera;
+use umbra_geom::scene::{cuboid, ground_plane};
+use umbra_geom::weld::weld;
+use umbra_geom::{Light, Mesh};
+
+fn gpu() -> Option<umbra_wgpu::HeadlessGpu> {
+    match umbra_wgpu::HeadlessGpu::new() {
+        Ok(g) => Some(g),
+        Err(e @ umbra_wgpu::WgpuError::NoAdapter { .. }) => {
+            eprintln!("SKIPPED: {e}");
+            None
+        }
+        Err(e) => panic!("wgpu device: {e}"),
+    }
+}
+
+/// What one run decided: samples outside the band, and per light the volume drawn.
+struct Run {
+    outside_band: u64,
+    shadowed: u64,
+    drawn: Vec<umbra_wgpu::methods::DrawnVolume>,
+}
+
+/// `cpu-silhouette` on `mesh` with `params`, culled or not, against the reference.
+fn run(gpu: &umbra_wgpu::HeadlessGpu, mesh: &Mesh, params: &umbra_wgpu::FrameParams) -> [Run; 2] {
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let scene = umbra_wgpu::SceneGpu::upload(device, Arc::new(weld(mesh))).expect("upload");
+    let mut renderer = umbra_wgpu::Renderer::new(device).expect("renderer");
+    let view = umbra_verify::wgpu::view_reference(device, queue, &mut renderer, &scene, params).expect("reference");
+    [true, false].map(|cull| {
+        let mut volumes = renderer.volumes(device, "cpu-silhouette").expect("method");
+        assert!(volumes.culls_volumes());
+        let p = umbra_wgpu::FrameParams { volume_cull: cull, ..params.clone() };
+        let report = umbra_verify::wgpu::verify_method(device, queue, &mut renderer, &scene, &mut volumes, &p, &view)
+            .unwrap_or_else(|e| panic!("volume cull {cull}: {e}"));
+        let drawn =
+            (0..params.lights.len()).map(|i| volumes.drawn_volume(i).expect("cpu-silhouette reports")).collect();
+        Run { outside_band: report.metrics.mismatches_outside_band, shadowed: report.metrics.shadowed_reference, drawn }
+    })
+}
+
+/// A floor with a box in view and a second box far behind the camera, whose shadow falls where
+/// the camera does not look: the cull must drop the second box and keep the first.
+fn two_boxes() -> (Mesh, Camera) {
+    let mut m = ground_plane([0.0, 0.0, 0.0], 40.0);
+    m.append(&cuboid([0.0, 1.0, 0.0], [0.6, 1.0, 0.6]));
+    m.append(&cuboid([20.0, 1.0, -30.0], [0.6, 1.0, 0.6]));
+    let camera = Camera { eye: [4.0, 5.0, -6.0], target: [0.0, 0.0, 0.5], near: 0.05, ..Camera::default() };
+    (m, camera)
+}
+
+#[test]
+fn culled_volumes_are_exact_and_drop_what_no_visible_sample_lies_behind() {
+    let Some(gpu) = gpu() else { return };
+    let (mesh, camera) = two_boxes();
+    let triangles = weld(&mesh).triangles.len() as u64;
+    let lights: [Light; 2] = [[1.5, 6.0, -1.0, 1.0], [0.4, 1.0, -0.3, 0.0]];
+    for light in lights {
+        // Automatic z-pass (the eye is outside every volume: z-pass) and forced z-fail.
+        for auto_zpass in [true, false] {
+            let params = umbra_wgpu::FrameParams {
+                camera,
+                width: 240,
+                height: 180,
+                lights: vec![light],
+                auto_zpass,
+                ..umbra_wgpu::FrameParams::default()
+            };
+            let [culled, unculled] = run(&gpu, &mesh, &params);
+            let what = format!("light {light:?}, auto z-pass {auto_zpass}");
+            assert!(culled.shadowed > 0, "{what}: the reference has no shadow to test");
+            assert_eq!(culled.outside_band, 0, "{what}: culled");
+            assert_eq!(unculled.outside_band, 0, "{what}: unculled");
+            let (c, u) = (culled.drawn[0], unculled.drawn[0]);
+            assert!(c.culled && !u.culled, "{what}: {c:?} / {u:?}");
+            assert_eq!(u.triangles, triangles, "{what}: unculled keeps every triangle");
+            // The far box's 12 triangles at least, and the floor's which face away from nothing
+            // in view, go; the near box stays (its shadow is in view).
+            assert!(c.triangles + 12 <= triangles && c.triangles >= 12, "{what}: kept {} of {triangles}", c.triangles);
+        }
+    }
+}
+
+/// The eye inside the near box's shadow volume: z-fail, a clamped volume around the eye.
+#[test]
+fn eye_inside_a_culled_volume_is_exact() {
+    let Some(gpu) = gpu() else { return };
+    let (mesh, _) = two_boxes();
+    let camera = Camera { eye: [-0.3, 0.5, 1.2], target: [-1.5, 0.0, 4.0], near: 0.01, ..Camera::default() };
+    let params = umbra_wgpu::FrameParams {
+        camera,
+        width: 240,
+        height: 180,
+        lights: vec![[0.5, 4.0, -1.5, 1.0]],
+        ..umbra_wgpu::FrameParams::default()
+    };
+    let [culled, unculled] = run(&gpu, &mesh, &params);
+    assert!(culled.shadowed > 0, "the reference has no shadow to test");
+    assert_eq!(culled.outside_band, 0, "culled");
+    assert_eq!(unculled.outside_band, 0, "unculled");
+    assert!(culled.drawn[0].culled);
+}
+
+/// The shared scenes' default views at 320 x 180, point and directional light: exact culled,
+/// and the cull keeps fewer triangles than the scene has.
+#[test]
+fn shared_scenes_culled_are_exact() {
+    let Some(gpu) = gpu() else { return };
+    for_each_shared_scene_default_view(|file, mesh, camera, light| {
+        let triangles = weld(mesh).triangles.len() as u64;
+        for light in [light, [0.3, 1.0, 0.2, 0.0]] {
+            let params = umbra_wgpu::FrameParams {
+                camera,
+                width: 320,
+                height: 180,
+                lights: vec![light],
+                ..umbra_wgpu::FrameParams::default()
+            };
+            let [culled, unculled] = run(&gpu, mesh, &params);
+            let d = culled.drawn[0];
+            println!(
+                "{file} light {light:?}: kept {} of {triangles} triangles, {} edges (unculled {}), clamped {}",
+                d.triangles, d.edges, unculled.drawn[0].edges, d.clamped
+            );
+            assert_eq!(culled.outside_band, 0, "{file}, light {light:?}: culled");
+            assert_eq!(unculled.outside_band, 0, "{file}, light {light:?}: unculled");
+            assert!(d.culled && d.triangles < triangles, "{file}, light {light:?}: {d:?} of {triangles}");
+        }
+    });
+}
