@@ -93,6 +93,38 @@ fn culled_volumes_are_exact_and_drop_what_no_visible_sample_lies_behind() {
     }
 }
 
+/// A device without `SHADER_EARLY_DEPTH_TEST` (as Metal and DX12 are): the scatter's own depth
+/// test is then the only one, and the cull is as exact and drops the same far box.
+#[test]
+fn culled_without_early_depth_tests_is_exact() {
+    let Some(gpu) = gpu() else { return };
+    let features = gpu.adapter.features()
+        & (umbra_wgpu::device::frame_features() | umbra_wgpu::wgpu::Features::DEPTH32FLOAT_STENCIL8);
+    let descriptor = umbra_wgpu::wgpu::DeviceDescriptor {
+        required_features: features,
+        required_limits: gpu.adapter.limits(),
+        ..Default::default()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&descriptor)).expect("device");
+    assert!(!device.features().contains(umbra_wgpu::wgpu::Features::SHADER_EARLY_DEPTH_TEST));
+    let gpu = umbra_wgpu::HeadlessGpu { device, queue, ..gpu };
+    let (mesh, camera) = two_boxes();
+    let triangles = weld(&mesh).triangles.len() as u64;
+    for light in [[1.5, 6.0, -1.0, 1.0], [0.4, 1.0, -0.3, 0.0]] {
+        let params = umbra_wgpu::FrameParams {
+            camera,
+            width: 240,
+            height: 180,
+            lights: vec![light],
+            ..umbra_wgpu::FrameParams::default()
+        };
+        let [culled, unculled] = run(&gpu, &mesh, &params);
+        assert_eq!((culled.outside_band, unculled.outside_band), (0, 0), "light {light:?}");
+        let c = culled.drawn[0];
+        assert!(c.culled && c.triangles + 12 <= triangles, "light {light:?}: {c:?}");
+    }
+}
+
 /// The eye inside the near box's shadow volume: z-fail, a clamped volume around the eye.
 #[test]
 fn eye_inside_a_culled_volume_is_exact() {

@@ -16,7 +16,10 @@
 //! * [`wgpu::Features::DEPTH32FLOAT_STENCIL8`] (optional): reversed-Z with a float depth
 //!   buffer; without it the frame uses `Depth24PlusStencil8` (less depth precision far away);
 //! * [`wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS`] (optional): per-stage frame times
-//!   ([`crate::Renderer::draw_frame_timed`]).
+//!   ([`crate::Renderer::draw_frame_timed`]);
+//! * [`wgpu::Features::SHADER_EARLY_DEPTH_TEST`] (optional, Vulkan and GLES): the receiver
+//!   map's scatter tests the depth before its fragment shader, so hidden fragments cost no
+//!   shading (without it every fragment of the scene runs the shader's own depth test).
 //!
 //! Limits: the adapter's own (the largest scenes need large storage buffers).
 
@@ -116,8 +119,8 @@ impl HeadlessGpu {
     }
 }
 
-/// A device on `adapter` with `required` plus `DEPTH32FLOAT_STENCIL8` and the timestamp
-/// queries when offered, and the
+/// A device on `adapter` with `required` plus `DEPTH32FLOAT_STENCIL8`, the timestamp
+/// queries and `SHADER_EARLY_DEPTH_TEST` when offered, and the
 /// adapter's limits. Uncaptured errors are printed, never a panic (umbra's own calls run
 /// inside error scopes and report theirs as [`WgpuError::Wgpu`]).
 pub fn request_device(
@@ -127,11 +130,13 @@ pub fn request_device(
     let info = adapter.get_info();
     let available = adapter.features();
     check_features(&info.name, available, required, "umbra-wgpu's shadow volumes and frames")?;
-    // Optional: float depth with stencil; timestamps inside encoders (bench's stage times).
+    // Optional: float depth with stencil; timestamps inside encoders (bench's stage times);
+    // early depth tests for the receiver map's scatter.
     let optional = available
         & (wgpu::Features::DEPTH32FLOAT_STENCIL8
             | wgpu::Features::TIMESTAMP_QUERY
-            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
+            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+            | wgpu::Features::SHADER_EARLY_DEPTH_TEST);
     let descriptor = wgpu::DeviceDescriptor {
         label: Some("umbra-wgpu"),
         required_features: required | optional,

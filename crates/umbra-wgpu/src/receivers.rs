@@ -80,7 +80,16 @@ impl ReceiverPass {
 
     /// The pipeline for depth textures of `format`, and the buffers.
     pub(crate) fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
-        let module = Common::module(device, "receivers.wgsl", &["enable primitive_index;", SHADER]);
+        // With early depth tests the hidden fragments are rejected before the shader (depth
+        // EQUAL, as umbra-gl's `early_fragment_tests`); without, every fragment of the scene
+        // runs the shader's own test, the same samples at a higher cost.
+        let early = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+        let source = if early {
+            SHADER.replace("@fragment\nfn fs_scatter(", "@fragment @early_depth_test(force)\nfn fs_scatter(")
+        } else {
+            SHADER.to_string()
+        };
+        let module = Common::module(device, "receivers.wgsl", &["enable primitive_index;", &source]);
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("umbra receiver map"),
@@ -138,9 +147,10 @@ impl ReceiverPass {
                 format,
                 // Reason: the host's depth is final; it is only read (attachment and texture).
                 depth_write_enabled: Some(false),
-                // Reason: the shader tests the depth itself (see shaders/receivers.wgsl): a
-                // test after the shader would not undo its atomic write.
-                depth_compare: Some(wgpu::CompareFunction::Always),
+                // Reason: forced before the shader, EQUAL lets exactly the visible surface
+                // through (bit-identical depths); otherwise the shader tests the depth itself
+                // (see shaders/receivers.wgsl), since a test after it would not undo its write.
+                depth_compare: Some(if early { wgpu::CompareFunction::Equal } else { wgpu::CompareFunction::Always }),
                 // Reason: the stencil is neither tested nor written.
                 stencil: wgpu::StencilState { front: keep, back: keep, read_mask: 0, write_mask: 0 },
                 bias: wgpu::DepthBiasState::default(),

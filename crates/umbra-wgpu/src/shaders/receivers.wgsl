@@ -6,9 +6,12 @@
 // shadow volumes, Lloyd et al., EGSR 2004; docs/exactness.md, "Volumes clamped to their
 // receivers").
 //
-// Drawn with the host's depth as a read-only attachment and as a texture. WGSL cannot ask for
-// the depth test before the fragment shader, and the atomic write happens whether or not a
-// later test fails, so the shader tests the depth itself: a fragment is a visible sample when
+// Drawn with the host's depth as a read-only attachment and as a texture. Where the device has
+// SHADER_EARLY_DEPTH_TEST, receivers.rs puts `@early_depth_test(force)` on fs_scatter and the
+// pipeline tests depth EQUAL, so hidden fragments never run it (as umbra-gl's
+// early_fragment_tests). Standard WGSL cannot ask for that, and the atomic write happens
+// whether or not a later test fails, so the shader also tests the depth itself (the only test
+// without the feature): a fragment is a visible sample when
 // its depth is the stored one (reversed-Z: nearer is greater, so `>=` the stored depth less
 // `depth_slack`, which is 0 for a float depth, whose stored value is the fragment's very depth
 // from the same invariant expression as the host's depth pass). Any extra sample a slack lets
