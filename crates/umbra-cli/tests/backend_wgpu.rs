@@ -225,27 +225,38 @@ fn bench_interleaves_gl_and_wgpu_in_one_run() {
 
 /// `bench --backend wgpu --volume-cull both`: cpu-silhouette runs culled and as
 /// `cpu-silhouette@cull-off` in one schedule; both rows report `volume_triangles` and
-/// `volume_edges` (no `volume_fragments`: no pipeline statistics are asked of the device), the
-/// culled row has the `receivers` stage. `verify --backend wgpu` is exact both ways.
+/// `volume_edges`, and `volume_fragments` where the adapter has pipeline statistics (lavapipe
+/// does): the culled row's include its receiver map's scatter, the unculled row's equal
+/// cs-silhouette's (the same volume). The culled row has the `receivers` stage.
+/// `verify --backend wgpu` is exact both ways.
 #[test]
 fn volume_cull_on_wgpu_both_ways() {
     if !adapter() {
         return;
     }
-    let mut args = vec!["bench", "--backend", "wgpu", "--json", "--methods", "cpu-silhouette", "--frames", "1"];
+    let mut args =
+        vec!["bench", "--backend", "wgpu", "--json", "--methods", "cpu-silhouette,cs-silhouette", "--frames", "1"];
     args.extend(["--warmup", "0", "--stage-every", "1", "--volume-cull", "both", "--size", "96x64"]);
     let o = umbra(&args);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = json(&o);
     let rows = rows.as_array().expect("array");
-    assert_eq!(rows.len(), 2, "{rows:?}");
-    let (on, off) = (&rows[0], &rows[1]);
+    assert_eq!(rows.len(), 3, "{rows:?}");
+    let (on, off, cs) = (&rows[0], &rows[1], &rows[2]);
     assert_eq!((on["volume_cull"].as_bool(), off["volume_cull"].as_bool()), (Some(true), Some(false)), "{rows:?}");
     for row in [on, off] {
         assert_eq!(row["method"], "cpu-silhouette", "{row}");
         assert!(row["volume_triangles"].as_f64().unwrap_or(0.0) > 0.0, "{row}");
         assert!(row["volume_edges"].as_f64().unwrap_or(0.0) > 0.0, "{row}");
-        assert!(row.get("volume_fragments").is_none_or(|v| v.is_null()), "{row}");
+    }
+    if let Some(unculled) = off["volume_fragments"].as_f64() {
+        assert_eq!(off["volume_fragments_query"], "fragment_shader_invocations", "{off}");
+        assert_eq!(cs["volume_fragments"].as_f64(), Some(unculled), "the same volume: {cs}");
+        // Nothing of the default scene is dropped: culled, the scatter comes on top.
+        let culled = on["volume_fragments"].as_f64().expect("counted both ways");
+        assert!(culled > unculled, "culled {culled} against {unculled}");
+    } else {
+        eprintln!("no pipeline statistics on this adapter: volume_fragments absent");
     }
     assert!(on["stages"].get("receivers").is_some(), "{on}");
     assert!(off["stages"].get("receivers").is_none(), "{off}");

@@ -19,7 +19,9 @@
 //!   ([`crate::Renderer::draw_frame_timed`]);
 //! * [`wgpu::Features::SHADER_EARLY_DEPTH_TEST`] (optional, Vulkan and GLES): the receiver
 //!   map's scatter tests the depth before its fragment shader, so hidden fragments cost no
-//!   shading (without it every fragment of the scene runs the shader's own depth test).
+//!   shading (without it every fragment of the scene runs the shader's own depth test);
+//! * [`wgpu::Features::PIPELINE_STATISTICS_QUERY`] (optional): the fragments the volume passes
+//!   rasterize ([`crate::Renderer::set_count_volume_fragments`], `bench`'s `volume_fragments`).
 //!
 //! Limits: the adapter's own (the largest scenes need large storage buffers).
 
@@ -120,7 +122,7 @@ impl HeadlessGpu {
 }
 
 /// A device on `adapter` with `required` plus `DEPTH32FLOAT_STENCIL8`, the timestamp
-/// queries and `SHADER_EARLY_DEPTH_TEST` when offered, and the
+/// queries, `SHADER_EARLY_DEPTH_TEST` and `PIPELINE_STATISTICS_QUERY` when offered, and the
 /// adapter's limits. Uncaptured errors are printed, never a panic (umbra's own calls run
 /// inside error scopes and report theirs as [`WgpuError::Wgpu`]).
 pub fn request_device(
@@ -131,12 +133,14 @@ pub fn request_device(
     let available = adapter.features();
     check_features(&info.name, available, required, "umbra-wgpu's shadow volumes and frames")?;
     // Optional: float depth with stencil; timestamps inside encoders (bench's stage times);
-    // early depth tests for the receiver map's scatter.
+    // early depth tests for the receiver map's scatter; pipeline statistics (bench's
+    // `volume_fragments`).
     let optional = available
         & (wgpu::Features::DEPTH32FLOAT_STENCIL8
             | wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
-            | wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+            | wgpu::Features::SHADER_EARLY_DEPTH_TEST
+            | wgpu::Features::PIPELINE_STATISTICS_QUERY);
     let descriptor = wgpu::DeviceDescriptor {
         label: Some("umbra-wgpu"),
         required_features: required | optional,

@@ -63,6 +63,7 @@ mod builders;
 mod common;
 pub mod device;
 pub mod error;
+mod fragments;
 pub mod image;
 pub mod methods;
 mod readback;

@@ -15,6 +15,7 @@ use umbra_geom::{Aabb, Light};
 use crate::builders::storage_entry;
 use crate::common::Common;
 use crate::error::WgpuError;
+use crate::fragments::FragmentQueries;
 use crate::scene::SceneGpu;
 use crate::view::View;
 
@@ -196,7 +197,8 @@ impl ReceiverPass {
     }
 
     /// The map of `light` over the visible samples of `depth` (drawn by the host with `view`
-    /// and submitted), read back. `bounds`: the scene's box (a directional light's grid
+    /// and submitted), read back, and with `count` the fragments the scatter shaded (`None`
+    /// where the device cannot count). `bounds`: the scene's box (a directional light's grid
     /// spans it).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
@@ -208,8 +210,10 @@ impl ReceiverPass {
         light: Light,
         bounds: Aabb,
         depth: &wgpu::Texture,
-    ) -> Result<ReceiverMap, WgpuError> {
+        count: bool,
+    ) -> Result<(ReceiverMap, Option<u64>), WgpuError> {
         check_depth(device, depth)?;
+        let queries = if count { FragmentQueries::new(device, "umbra receiver map fragments", 1) } else { None };
         let grid = ReceiverGrid::new(light, bounds, RECEIVER_SIDE);
         let cells = grid.cells() as u64;
         let mut uniform = ScatterUniform {
@@ -277,16 +281,27 @@ impl ReceiverPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            if let Some(q) = &queries {
+                pass.begin_pipeline_statistics_query(&q.set, 0);
+            }
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.set_vertex_buffer(0, scene.position_buffer().slice(..));
             pass.set_index_buffer(scene.index_buffer().slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..scene.index_count(), 0, 0..1);
+            if queries.is_some() {
+                pass.end_pipeline_statistics_query();
+            }
         }
         encoder.copy_buffer_to_buffer(&self.map, 0, &self.readback, 0, 4 * cells);
+        if let Some(q) = &queries {
+            q.resolve(&mut encoder);
+        }
         queue.submit([encoder.finish()]);
         let words: Vec<u32> = crate::readback::read_buffer(device, &self.readback, "receiver map")?;
-        ReceiverMap::from_encoded(grid, &words[..cells as usize])
-            .ok_or_else(|| WgpuError::InvalidParams("receiver map: read back a map of the wrong size".into()))
+        let fragments = queries.map(|q| q.read(device)).transpose()?.map(|v| v[0]);
+        let map = ReceiverMap::from_encoded(grid, &words[..cells as usize])
+            .ok_or_else(|| WgpuError::InvalidParams("receiver map: read back a map of the wrong size".into()))?;
+        Ok((map, fragments))
     }
 }

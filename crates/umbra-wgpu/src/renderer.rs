@@ -53,6 +53,10 @@ pub struct Renderer {
     frame_uniform: wgpu::Buffer,
     lights_uniform: Option<(wgpu::Buffer, wgpu::BindGroup, usize)>,
     target: Option<Target>,
+    /// Count the fragments of every volume pass ([`Renderer::set_count_volume_fragments`]).
+    count_volume_fragments: bool,
+    /// Per light of the last counted frame.
+    last_volume_fragments: Vec<Option<u64>>,
 }
 
 impl Renderer {
@@ -105,7 +109,15 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        Self { depth_format, pipelines, frame_uniform, lights_uniform: None, target: None }
+        Self {
+            depth_format,
+            pipelines,
+            frame_uniform,
+            lights_uniform: None,
+            target: None,
+            count_volume_fragments: false,
+            last_volume_fragments: Vec::new(),
+        }
     }
 
     /// The per-light lighting uniforms (one 256-byte slot per light), grown as needed.
@@ -136,6 +148,7 @@ impl Renderer {
         let view = View::from_camera(&params.camera, params.width, params.height)?;
         let pending =
             scoped(device, "frame", || self.encode(device, queue, scene, volumes, params, &view, true, None))?;
+        self.read_fragments(device, &pending, volumes, params.lights.len())?;
         let read = |r: &Option<Readback>| -> Result<Option<Vec<u8>>, WgpuError> {
             r.as_ref().map(|r| r.read::<u8>(device)).transpose()
         };
@@ -182,7 +195,9 @@ impl Renderer {
         let params = FrameParams { capture: CaptureFlags::default(), ..params.clone() };
         validate(&params)?;
         let view = View::from_camera(&params.camera, params.width, params.height)?;
-        scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, None))?;
+        let pending =
+            scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, None))?;
+        self.read_fragments(device, &pending, volumes, params.lights.len())?;
         Ok(())
     }
 
@@ -216,6 +231,7 @@ impl Renderer {
         });
         let pending =
             scoped(device, "frame", || self.encode(device, queue, scene, volumes, &params, &view, false, Some(&set)))?;
+        self.read_fragments(device, &pending, volumes, params.lights.len())?;
         let Some((labels, readback)) = pending.stamps else { return Ok(None) };
         let ticks: Vec<u64> = crate::readback::read_buffer(device, &readback, "timestamps")?;
         let period = f64::from(queue.get_timestamp_period());
@@ -228,5 +244,41 @@ impl Renderer {
             }
         }
         Ok(Some(stages))
+    }
+}
+
+impl Renderer {
+    /// Count the fragments every volume pass rasterizes from the next frame on, where the
+    /// device has `PIPELINE_STATISTICS_QUERY` (`FRAGMENT_SHADER_INVOCATIONS`; the volume
+    /// shaders write their depth, so every rasterized fragment runs them), the receiver map's
+    /// scatter of a culled volume included. A counted frame waits for its counts.
+    pub fn set_count_volume_fragments(&mut self, on: bool) {
+        self.count_volume_fragments = on;
+        self.last_volume_fragments.clear();
+    }
+
+    /// Per light of the last counted frame: its volume pass's fragments plus its receiver
+    /// scatter's ([`Renderer::set_count_volume_fragments`]); `None` where the device cannot
+    /// count, or for a method that draws no volumes (shadow maps, ray-bvh).
+    pub fn last_volume_fragments(&self) -> &[Option<u64>] {
+        &self.last_volume_fragments
+    }
+
+    /// Reads the last frame's fragment counts (a wait) when counting.
+    fn read_fragments(
+        &mut self,
+        device: &wgpu::Device,
+        pending: &encode::Pending,
+        volumes: &ShadowVolumes,
+        lights: usize,
+    ) -> Result<(), WgpuError> {
+        self.last_volume_fragments.clear();
+        if !self.count_volume_fragments {
+            return Ok(());
+        }
+        let counts = pending.fragments.as_ref().map(|q| q.read(device)).transpose()?;
+        self.last_volume_fragments
+            .extend((0..lights).map(|i| counts.as_ref().map(|c| c[i] + volumes.own_fragments(i).unwrap_or(0))));
+        Ok(())
     }
 }

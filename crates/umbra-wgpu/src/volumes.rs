@@ -125,6 +125,21 @@ impl ShadowVolumes {
         self.method.culls_volumes()
     }
 
+    /// Count the fragments of the method's own passes (the receiver map's scatter) from the
+    /// next [`ShadowVolumes::prepare`] on, where the device has `PIPELINE_STATISTICS_QUERY`
+    /// (each count waits for its pass).
+    pub fn set_count_fragments(&mut self, on: bool) {
+        self.method.set_count_fragments(on);
+    }
+
+    /// The fragments light `light`'s own passes shaded in the last counted
+    /// [`ShadowVolumes::prepare`] (the receiver map's scatter of a culled volume); `None` when
+    /// not counted, not culled or not countable. The volume pass itself is the caller's to
+    /// count (it owns the pass; [`crate::Renderer::set_count_volume_fragments`] does).
+    pub fn own_fragments(&self, light: usize) -> Option<u64> {
+        self.method.own_fragments(light)
+    }
+
     /// What light `light`'s volume drew in the last [`ShadowVolumes::prepare`]: triangles kept,
     /// silhouette edges, whether culled and clamped. `None` for methods that decide their
     /// volume on the GPU.

@@ -93,20 +93,25 @@ impl Driver for WgpuDriver {
     }
 
     fn volume_counts(&mut self, method: usize, cam: Keyframe) -> Result<Option<VolumeCounts>, String> {
-        if !self.instances[method].culls_volumes() {
-            // Only cpu-silhouette knows its volume on the CPU; the others report nothing.
+        if !self.instances[method].counts_volumes() {
+            // No volume pass to count (shadow maps, ray-bvh): no frame drawn.
             return Ok(None);
         }
         self.set_camera(method, cam);
         let s = &mut self.session;
         let (device, queue) = (&s.gpu.device, &s.gpu.queue);
         let v = &mut self.instances[method];
-        s.renderer.draw_frame(device, queue, &s.scene, v, &self.params).map_err(|e| e.to_string())?;
-        device.poll(umbra_wgpu::wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
-        let drawn = (0..self.params.lights.len())
-            .try_fold((0, 0), |(t, e), i| v.drawn_volume(i).map(|d| (t + d.triangles, e + d.edges)));
-        // Fragments: wgpu's pipeline statistics are not asked of the device (absent).
-        Ok(Some(VolumeCounts { fragments: None, query: None, drawn }))
+        s.renderer.set_count_volume_fragments(true);
+        let drawn = s.renderer.draw_frame(device, queue, &s.scene, v, &self.params);
+        let fragments = s.renderer.last_volume_fragments().iter().copied().sum::<Option<u64>>();
+        s.renderer.set_count_volume_fragments(false);
+        drawn.map_err(|e| e.to_string())?;
+        let lights = self.params.lights.len();
+        // Triangles and edges: the methods that extract on the CPU (cpu-silhouette) know them.
+        let drawn = (0..lights).try_fold((0, 0), |(t, e), i| v.drawn_volume(i).map(|d| (t + d.triangles, e + d.edges)));
+        // Fragment-shader invocations: wgpu's pipeline statistics, where the device has them.
+        let query = fragments.map(|_| umbra_gl::VolumeFragmentQuery::FragmentShaderInvocations);
+        Ok(Some(VolumeCounts { fragments, query, drawn }))
     }
 
     fn volume_cull(&self, method: usize) -> bool {

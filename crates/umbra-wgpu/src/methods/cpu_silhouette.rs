@@ -85,6 +85,8 @@ struct PerLight {
     count: u32,
     /// What the last frame's volume drew.
     drawn: DrawnVolume,
+    /// The fragments its receiver map's scatter shaded, when counted.
+    scatter_fragments: Option<u64>,
 }
 
 /// See the module documentation.
@@ -97,6 +99,8 @@ pub struct CpuSilhouette {
     receivers: Option<ReceiverPass>,
     /// The last culled light's kept triangles and far ends (reused across lights).
     clamp: VolumeClamp,
+    /// Count the scatter's fragments ([`Method::set_count_fragments`]).
+    count_fragments: bool,
 }
 
 impl CpuSilhouette {
@@ -123,7 +127,14 @@ impl CpuSilhouette {
                 wgpu::FrontFace::Ccw,
             )
         });
-        Self { pipelines, prepared: None, lights: Vec::new(), receivers: None, clamp: VolumeClamp::default() }
+        Self {
+            pipelines,
+            prepared: None,
+            lights: Vec::new(),
+            receivers: None,
+            clamp: VolumeClamp::default(),
+            count_fragments: false,
+        }
     }
 }
 
@@ -165,6 +176,7 @@ impl Method for CpuSilhouette {
                 buffer: StreamBuffer { buffer: None },
                 count: 0,
                 drawn: DrawnVolume::default(),
+                scatter_fragments: None,
             });
         }
         let light = frame.data.light;
@@ -173,12 +185,15 @@ impl Method for CpuSilhouette {
         let (mesh, adjacency, slots) = (scene.mesh(), scene.adjacency(), scene.slots()?);
         // The receiver map, and from it the triangles kept and their far ends.
         let mut culled = None;
+        let mut scatter_fragments = None;
         if let (Some(depth), Some(bounds)) = (frame.receivers, scene.bounds()) {
             if self.receivers.as_ref().is_none_or(|r| r.format() != depth.format()) {
                 self.receivers = Some(ReceiverPass::new(device, depth.format()));
             }
             let pass = self.receivers.as_ref().expect("made above");
-            let mut map: ReceiverMap = pass.build(device, queue, scene, frame.view, light, bounds, depth)?;
+            let (mut map, fragments): (ReceiverMap, _) =
+                pass.build(device, queue, scene, frame.view, light, bounds, depth, self.count_fragments)?;
+            scatter_fragments = fragments;
             // z-pass starts every count at the eye's near rectangle with the eye's winding: the
             // near pyramid's cells are raised to its farthest point, so no count inside it
             // changes (clamp.rs). Where the map cannot bound it, this light is drawn unculled.
@@ -200,6 +215,7 @@ impl Method for CpuSilhouette {
             }
         }
         let l = &mut self.lights[frame.slot];
+        l.scatter_fragments = scatter_fragments;
         let (clamped, triangles) = match culled {
             Some((stats, clip)) => {
                 let fill = Some(&clip);
@@ -256,6 +272,14 @@ impl Method for CpuSilhouette {
 
     fn culls_volumes(&self) -> bool {
         true
+    }
+
+    fn set_count_fragments(&mut self, on: bool) {
+        self.count_fragments = on;
+    }
+
+    fn own_fragments(&self, slot: usize) -> Option<u64> {
+        self.lights.get(slot).and_then(|l| l.scatter_fragments)
     }
 
     fn drawn_volume(&self, slot: usize) -> Option<DrawnVolume> {

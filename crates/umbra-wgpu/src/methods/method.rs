@@ -79,6 +79,14 @@ pub(crate) trait Method {
     fn culls_volumes(&self) -> bool {
         false
     }
+    /// Count the fragments of the method's own passes from the next frame on
+    /// ([`Method::own_fragments`]); nothing to count by default.
+    fn set_count_fragments(&mut self, _on: bool) {}
+    /// The fragments light `slot`'s own passes shaded in the last counted frame (the receiver
+    /// map's scatter); `None` when not counted or nothing was drawn.
+    fn own_fragments(&self, _slot: usize) -> Option<u64> {
+        None
+    }
     /// What light `slot`'s volume of the last frame drew (culled or not); `None` for methods
     /// that do not know it on the CPU.
     fn drawn_volume(&self, _slot: usize) -> Option<DrawnVolume> {

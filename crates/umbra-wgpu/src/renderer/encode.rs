@@ -7,6 +7,7 @@ use umbra_geom::FrameParams;
 
 use crate::builders::LIGHT_SLOT_BYTES;
 use crate::error::WgpuError;
+use crate::fragments::FragmentQueries;
 use crate::readback::Readback;
 use crate::scene::SceneGpu;
 use crate::view::{View, VolumeFrame, ZMode};
@@ -110,6 +111,13 @@ impl Renderer {
         // maps are built from it and read back before the volumes are extracted): then the
         // depth pass is submitted on its own, and every light's work follows it.
         let cull = params.volume_cull && volumes.culls_volumes();
+        // Fragment counts (bench's `volume_fragments`): the volume passes' here, the receiver
+        // scatter's by the method; only for methods that count volumes.
+        volumes.set_count_fragments(self.count_volume_fragments);
+        let lights = params.lights.len() as u32;
+        let fragments = (self.count_volume_fragments && volumes.counts_volumes())
+            .then(|| FragmentQueries::new(device, "umbra volume fragments", lights))
+            .flatten();
         let zmode = ZMode { zpass: params.zpass, auto_zpass: params.auto_zpass };
         let mut plans = Vec::new();
         if !cull {
@@ -181,7 +189,13 @@ impl Renderer {
             {
                 // Reason: the scene's depth, read by the volumes' depth test, never written.
                 let mut pass = begin_pass(&mut encoder, "umbra volumes", &[], &depth, Load, Clear(plan.stencil_clear));
+                if let Some(q) = &fragments {
+                    pass.begin_pipeline_statistics_query(&q.set, i as u32);
+                }
                 volumes.draw(&mut pass, i);
+                if fragments.is_some() {
+                    pass.end_pipeline_statistics_query();
+                }
             }
             if params.capture.stencil.includes(i) {
                 let r =
@@ -209,6 +223,9 @@ impl Renderer {
             }
         }
         stamp(&mut encoder, "end");
+        if let Some(q) = &fragments {
+            q.resolve(&mut encoder);
+        }
         let stamps = timestamps.map(|set| {
             let n = labels.len() as u32;
             let bytes = 8 * u64::from(n);
@@ -242,6 +259,7 @@ impl Renderer {
                 .then(|| Readback::copy(device, &mut encoder, &target.triangle_id, all, 4, "triangle id")),
             stencil,
             lit_masks,
+            fragments,
         };
         queue.submit([encoder.finish()]);
         Ok(pending)
@@ -257,4 +275,6 @@ pub(super) struct Pending {
     pub(super) triangle_id: Option<Readback>,
     pub(super) stencil: Vec<(usize, Readback)>,
     pub(super) lit_masks: Vec<(usize, Readback)>,
+    /// One fragment counter per light's volume pass, when counted.
+    pub(super) fragments: Option<FragmentQueries>,
 }
