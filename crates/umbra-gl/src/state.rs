@@ -11,7 +11,7 @@
 use glow::HasContext;
 
 use crate::camera::{DepthConvention, DepthConventionGl};
-use crate::renderer::Receivers;
+use umbra_geom::frame::Receivers;
 
 /// One face's stencil function and operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -13,7 +13,7 @@
 use glow::HasContext;
 
 use crate::camera::DepthConvention;
-use crate::methods::VolumeFrame;
+use crate::methods::method::VolumeFrame;
 
 /// The shared GLSL (no `#version`; after `shared/multiplicity.glsl` and `shared/depth.glsl`):
 /// `umbra_window_depth_plane`, `umbra_side_depth_plane`, `umbra_face_depth_*`; it declares

@@ -42,7 +42,7 @@
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::methods::{Classification, ShadowMethod, VolumeFrame};
+use crate::methods::method::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::{GlState, StencilFace};

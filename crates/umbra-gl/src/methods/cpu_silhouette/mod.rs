@@ -35,8 +35,8 @@ use umbra_geom::silhouette::{
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
+use crate::methods::method::{DrawnVolume, ShadowMethod, VolumeFrame};
 use crate::methods::receivers::ReceiverPass;
-use crate::methods::{DrawnVolume, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 

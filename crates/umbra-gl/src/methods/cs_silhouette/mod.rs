@@ -39,7 +39,7 @@ use glow::HasContext;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
-use crate::methods::{ShadowMethod, VolumeFrame};
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 

@@ -39,12 +39,12 @@ use glow::HasContext;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::DepthUniforms;
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::methods::silhouette_caps::{fragment_source, with_prelude, SilhouetteCaps, THREE_EDGE_DEFINE};
 use crate::methods::ts_silhouette::patches::{
     choose_capacity, gs_capacity_limit, EdgePatches, MIN_MAX_GEOMETRY_OUTPUT_VERTICES,
     MIN_MAX_GEOMETRY_TOTAL_OUTPUT_COMPONENTS,
 };
-use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 

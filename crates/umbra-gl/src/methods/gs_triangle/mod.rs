@@ -24,7 +24,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, FACE_DEPTH_COMPONENTS, SIDE_PLANE_GLSL};
-use crate::methods::{ShadowMethod, VolumeFrame};
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::GlState;

@@ -43,7 +43,7 @@ pub use work::WorkCounter;
 use glow::HasContext;
 
 use crate::error::GlError;
-use crate::methods::VolumeFrame;
+use crate::methods::method::VolumeFrame;
 use crate::program::uniform;
 use crate::scene::SceneGpu;
 use crate::state::GlState;

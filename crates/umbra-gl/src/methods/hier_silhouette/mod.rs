@@ -93,7 +93,7 @@ use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, checked_size, BufferApi, BufferData};
 use crate::methods::hier::layout::Layout;
 use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms, WorkCounter};
-use crate::methods::{Classification, ShadowMethod, VolumeFrame};
+use crate::methods::method::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{SceneGpu, SceneId};
 use layout::{Counts, Faces, FALLBACK_STEPS, MAX_OPPOSITES_PER_RECORD};

@@ -87,7 +87,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::methods::hier::{self, FrameObjects, LightUniforms, Passes, SharedPrograms, WorkCounter};
-use crate::methods::{Classification, ShadowMethod, VolumeFrame};
+use crate::methods::method::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::uniform;
 use crate::scene::{SceneGpu, SceneId};
 use layout::{Jobs, Layout};

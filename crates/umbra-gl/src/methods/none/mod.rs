@@ -4,7 +4,7 @@
 //! ambient + lighting passes only) and the reference for "what does lighting alone look like".
 
 use crate::error::GlError;
-use crate::methods::{ShadowMethod, VolumeFrame};
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::scene::{SceneGpu, SceneId};
 
 /// Registry name.

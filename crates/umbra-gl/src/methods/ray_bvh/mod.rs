@@ -43,7 +43,7 @@ use umbra_geom::ray_bvh::{self, RayBvh};
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, BufferApi, BufferData};
-use crate::methods::{Classification, ShadowMethod, VolumeFrame};
+use crate::methods::method::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::GlState;

@@ -14,7 +14,7 @@ use umbra_geom::receivers::{ReceiverGrid, ReceiverMap, RECEIVER_SIDE};
 use umbra_geom::{Aabb, Light};
 
 use crate::error::GlError;
-use crate::methods::VolumeFrame;
+use crate::methods::method::VolumeFrame;
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::SceneGpu;
 use crate::state::GlState;

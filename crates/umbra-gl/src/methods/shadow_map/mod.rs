@@ -53,7 +53,7 @@ use umbra_geom::{Aabb, Light};
 
 use crate::camera::DepthConventionGl;
 use crate::error::{drain_get_error, GlError};
-use crate::methods::{Classification, ShadowMethod, VolumeFrame};
+use crate::methods::method::{Classification, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::{GlState, StencilFace};

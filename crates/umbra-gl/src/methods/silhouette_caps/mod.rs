@@ -23,7 +23,7 @@ use glow::HasContext;
 
 use crate::error::GlError;
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
-use crate::methods::VolumeFrame;
+use crate::methods::method::VolumeFrame;
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::SceneGpu;
 

@@ -42,8 +42,8 @@ use umbra_geom::EdgeAdjacency;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::DepthUniforms;
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::methods::silhouette_caps::{fragment_source, variant_defines, with_prelude, SilhouetteCaps};
-use crate::methods::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 

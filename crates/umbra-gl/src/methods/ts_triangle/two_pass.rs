@@ -20,7 +20,7 @@ use glow::HasContext;
 use super::{draw_triangle_patches, require_tess_level, with_shared, PATCH_VERT, SIDE_DEPTH_FRAG, VOLUME_FRAG};
 use crate::error::GlError;
 use crate::methods::face_depth::DepthUniforms;
-use crate::methods::{ShadowMethod, VolumeFrame};
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 

@@ -52,7 +52,7 @@ use crate::camera::DepthConvention;
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_with_data, BufferApi, BufferData};
 use crate::methods::face_depth::{DepthUniforms, FACE_DEPTH_FRAG_GLSL, SIDE_PLANE_GLSL};
-use crate::methods::{ShadowMethod, VolumeFrame};
+use crate::methods::method::{ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 use crate::state::GlState;
