@@ -25,7 +25,7 @@ mod verify;
 mod view;
 mod window;
 
-pub use bench::{BenchConfig, BenchMode, CULL_OFF};
+pub use bench::{split_cull_off, BenchConfig, BenchMode};
 pub use checked::{Checked, Listing};
 pub use export::ExportConfig;
 pub use info::InfoConfig;

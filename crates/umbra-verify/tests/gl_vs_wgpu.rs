@@ -16,9 +16,12 @@
 //!
 //! Skipped with a message when no Vulkan/Metal/DX12 adapter exists (CI installs lavapipe).
 
+mod common;
+
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use common::wgpu_gpu;
 use umbra_geom::scene::{cuboid, ground_plane, uv_sphere};
 use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh, WeldedMesh};
@@ -28,17 +31,6 @@ use umbra_gl::{
 
 const W: u32 = 200;
 const H: u32 = 150;
-
-fn gpu() -> Option<umbra_wgpu::HeadlessGpu> {
-    match umbra_wgpu::HeadlessGpu::new() {
-        Ok(g) => Some(g),
-        Err(e @ umbra_wgpu::WgpuError::NoAdapter { .. }) => {
-            eprintln!("SKIPPED: {e}");
-            None
-        }
-        Err(e) => panic!("wgpu device: {e}"),
-    }
-}
 
 fn output_dir() -> PathBuf {
     std::env::var_os("UMBRA_TEST_OUTPUT")
@@ -76,7 +68,7 @@ struct Frame {
 }
 
 fn compare(frame: Frame) {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = wgpu_gpu() else { return };
     let mesh = scene();
     let ctx = HeadlessContext::with_options(ContextOptions { api: GlApi::Gl45Core, debug: true })
         .unwrap_or_else(|e| panic!("no headless GL 4.5 context: {e}"));

@@ -9,22 +9,11 @@ mod common;
 
 use std::sync::Arc;
 
-use common::for_each_shared_scene_default_view;
+use common::{for_each_shared_scene_default_view, wgpu_gpu};
 use umbra_geom::camera::Camera;
 use umbra_geom::scene::{cuboid, ground_plane};
 use umbra_geom::weld::weld;
 use umbra_geom::{Light, Mesh};
-
-fn gpu() -> Option<umbra_wgpu::HeadlessGpu> {
-    match umbra_wgpu::HeadlessGpu::new() {
-        Ok(g) => Some(g),
-        Err(e @ umbra_wgpu::WgpuError::NoAdapter { .. }) => {
-            eprintln!("SKIPPED: {e}");
-            None
-        }
-        Err(e) => panic!("wgpu device: {e}"),
-    }
-}
 
 /// What one run decided: samples outside the band, and per light the volume drawn.
 struct Run {
@@ -63,7 +52,7 @@ fn two_boxes() -> (Mesh, Camera) {
 
 #[test]
 fn culled_volumes_are_exact_and_drop_what_no_visible_sample_lies_behind() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = wgpu_gpu() else { return };
     let (mesh, camera) = two_boxes();
     let triangles = weld(&mesh).triangles.len() as u64;
     let lights: [Light; 2] = [[1.5, 6.0, -1.0, 1.0], [0.4, 1.0, -0.3, 0.0]];
@@ -97,7 +86,7 @@ fn culled_volumes_are_exact_and_drop_what_no_visible_sample_lies_behind() {
 /// test is then the only one, and the cull is as exact and drops the same far box.
 #[test]
 fn culled_without_early_depth_tests_is_exact() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = wgpu_gpu() else { return };
     let features = gpu.adapter.features()
         & (umbra_wgpu::device::frame_features() | umbra_wgpu::wgpu::Features::DEPTH32FLOAT_STENCIL8);
     let descriptor = umbra_wgpu::wgpu::DeviceDescriptor {
@@ -128,7 +117,7 @@ fn culled_without_early_depth_tests_is_exact() {
 /// The eye inside the near box's shadow volume: z-fail, a clamped volume around the eye.
 #[test]
 fn eye_inside_a_culled_volume_is_exact() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = wgpu_gpu() else { return };
     let (mesh, _) = two_boxes();
     let camera = Camera { eye: [-0.3, 0.5, 1.2], target: [-1.5, 0.0, 4.0], near: 0.01, ..Camera::default() };
     let params = umbra_wgpu::FrameParams {
@@ -149,7 +138,7 @@ fn eye_inside_a_culled_volume_is_exact() {
 /// and the cull keeps fewer triangles than the scene has.
 #[test]
 fn shared_scenes_culled_are_exact() {
-    let Some(gpu) = gpu() else { return };
+    let Some(gpu) = wgpu_gpu() else { return };
     for_each_shared_scene_default_view(|file, mesh, camera, light| {
         let triangles = weld(mesh).triangles.len() as u64;
         for light in [light, [0.3, 1.0, 0.2, 0.0]] {

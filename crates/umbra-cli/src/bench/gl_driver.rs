@@ -7,7 +7,7 @@ use super::driver::Driver;
 use super::flythrough::Keyframe;
 use super::options::MeasureOptions;
 use super::stats::VolumeCounts;
-use crate::config::{ViewConfig, CULL_OFF};
+use crate::config::{split_cull_off, ViewConfig};
 use crate::error::CliError;
 use crate::methods::{choose_counter, counter_label, make_method, report_counter};
 use crate::session::Session;
@@ -105,10 +105,7 @@ impl GlDriver {
         let mut instances = Vec::new();
         let mut cull = Vec::new();
         for m in methods {
-            let (name, off) = match m.strip_suffix(CULL_OFF) {
-                Some(name) => (name, true),
-                None => (m.as_str(), false),
-            };
+            let (name, off) = split_cull_off(m);
             instances.push(make_method(name, &o.sm, "--methods")?);
             cull.push(o.volume_cull && !off);
         }

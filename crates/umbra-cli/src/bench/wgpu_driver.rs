@@ -10,7 +10,7 @@ use super::flythrough::Keyframe;
 use super::options::MeasureOptions;
 use super::stats::VolumeCounts;
 use crate::backend::Backend;
-use crate::config::{ViewConfig, CULL_OFF};
+use crate::config::{split_cull_off, ViewConfig};
 use crate::error::CliError;
 use crate::wgpu_backend::{check_counter, WgpuSession};
 
@@ -34,10 +34,7 @@ impl WgpuDriver {
         let mut instances = Vec::new();
         let mut cull = Vec::new();
         for m in methods {
-            let (name, off) = match m.strip_suffix(CULL_OFF) {
-                Some(name) => (name, true),
-                None => (m.as_str(), false),
-            };
+            let (name, off) = split_cull_off(m);
             instances.push(session.volumes(name, &o.sm, "--methods")?);
             cull.push(o.volume_cull && !off);
         }

@@ -49,6 +49,15 @@ pub struct BenchConfig {
 /// The suffix of a method measured with its volumes unculled (`--volume-cull both`).
 pub const CULL_OFF: &str = "@cull-off";
 
+/// A `--methods` entry as a driver makes it: the method's name, and whether it is the unculled
+/// twin (`NAME@cull-off`) that `--volume-cull both` added.
+pub fn split_cull_off(entry: &str) -> (&str, bool) {
+    match entry.strip_suffix(CULL_OFF) {
+        Some(name) => (name, true),
+        None => (entry, false),
+    }
+}
+
 pub enum BenchMode {
     Path {
         /// Methods every backend asked for has.

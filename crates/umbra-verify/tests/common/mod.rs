@@ -17,6 +17,19 @@ use umbra_oracle::{Metrics, SampleClass};
 use umbra_verify::{verify_method, view_reference, ViewReference};
 
 /// A debug GL 4.5 core context; no context is a test failure.
+/// A headless wgpu device, or `None` (with a SKIPPED message) where no adapter exists; any
+/// other failure panics.
+pub fn wgpu_gpu() -> Option<umbra_wgpu::HeadlessGpu> {
+    match umbra_wgpu::HeadlessGpu::new() {
+        Ok(g) => Some(g),
+        Err(e @ umbra_wgpu::WgpuError::NoAdapter { .. }) => {
+            eprintln!("SKIPPED: {e}");
+            None
+        }
+        Err(e) => panic!("wgpu device: {e}"),
+    }
+}
+
 pub fn context() -> HeadlessContext {
     HeadlessContext::with_options(ContextOptions { api: GlApi::Gl45Core, debug: true })
         .unwrap_or_else(|e| panic!("no headless GL 4.5 context: {e}"))
