@@ -156,7 +156,7 @@ before(async () => {
     // A shared scene through OBJLoader (gzip), drawn at w x h from `view` ({ eye, target, up,
     // fov, near }) with a point and a directional light; returns each light's mask (latin1) and
     // the frame's info.
-    window.sharedFrame = async (url, w, h, view, pointAt, sunFrom) => {
+    window.sharedFrame = async (url, w, h, view, pointAt, sunFrom, options = {}) => {
       const THREE = await import('three/webgpu');
       const { UmbraShadows } = await import('umbra-three/webgpu');
       const { OBJLoader } = await import('three/addons/loaders/OBJLoader.js');
@@ -173,7 +173,7 @@ before(async () => {
       renderer.setPixelRatio(1);
       renderer.setSize(w, h, false);
       renderer.shadowMap.enabled = true;
-      const umbra = await UmbraShadows.create(renderer);
+      const umbra = await UmbraShadows.create(renderer, options);
       const target = new THREE.RenderTarget(w, h);
       renderer.setRenderTarget(target);
       const scene = new THREE.Scene();
@@ -300,7 +300,11 @@ test('WebGPURenderer: a point and a directional light, a mirrored and an instanc
 // The decision is the count AND the seen side's facing (passes.js, the facing pass): without the
 // facing, samples on triangles whose unlit side the camera sees rested on their own volume's
 // sides and fell outside the band (Crytek Sponza 640x360: 59).
-test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at 640x360 and 1280x720, a point and a directional light (Sibenik\'s eye inside 4 volumes): every mask 0 samples outside the band', { timeout: 1_800_000 }, async (t) => {
+/**
+ * Each of `scenes` through OBJLoader at each of `sizes` from its default view, with its default
+ * point light and a directional one, UmbraShadows made with `options`: every mask judged.
+ */
+async function sharedScenesJudged(t, scenes, sizes, options) {
   const why = sharedSkip();
   if (why) {
     console.log(`SKIP: ${why}`);
@@ -308,7 +312,7 @@ test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at
   }
   const sun = [0.3, 1, 0.2];
   const outside = [];
-  for (const s of SHARED) {
+  for (const s of scenes) {
     const scene = path.join(SCENES_DIR, s);
     // The scene's default view and light, as `umbra export` writes them (the view verify judges by default).
     const dir = path.join(tmp, `export-${s}`);
@@ -316,8 +320,8 @@ test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at
     const { camera, light } = JSON.parse(await readFile(path.join(dir, 'manifest.json'), 'utf8'));
     await rm(dir, { recursive: true, force: true });
     const view = { eye: camera.eye, target: camera.target, up: camera.up, fov: camera.fov_y_degrees, near: camera.near };
-    for (const [w, h] of [[640, 360], [1280, 720]]) {
-      const f = await page.evaluate(([url, ww, hh, v, p, d]) => window.sharedFrame(url, ww, hh, v, p, d), [`/scenes/${s}`, w, h, view, light.slice(0, 3), sun]);
+    for (const [w, h] of sizes) {
+      const f = await page.evaluate(([url, ww, hh, v, p, d, o]) => window.sharedFrame(url, ww, hh, v, p, d, o), [`/scenes/${s}`, w, h, view, light.slice(0, 3), sun, options]);
       assert.deepEqual(f.errors, [], `${s}: no mesh refused`);
       for (const [k, l] of [[0, light.slice(0, 3)], [1, [...sun, 0]]]) {
         const gray = Buffer.from(f.masks[k], 'latin1');
@@ -328,7 +332,7 @@ test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at
         await writeFile(png, encodePng(w, h, rgba));
         const extra = ['--eye', view.eye.join(','), '--target', view.target.join(','), '--up', view.up.join(','), '--fov', String(view.fov), '--light', l.join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)];
         const r = judge(umbraBin, { scene, size: `${w}x${h}`, maskPng: png, extra, explain: 20, diff: process.env.UMBRA_DIFF_DIR ? path.join(process.env.UMBRA_DIFF_DIR, `${s}-${w}-${k}.png`) : null });
-        console.log(JSON.stringify({ scene: s, size: `${w}x${h}`, light: k ? 'directional' : 'point', outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, triangles: f.info.triangles, cpuMs: f.info.cpuMs }));
+        console.log(JSON.stringify({ scene: s, method: f.info.method, size: `${w}x${h}`, light: k ? 'directional' : 'point', outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, triangles: f.info.triangles, cpuMs: f.info.cpuMs }));
         // The sun reaches into Sponza's atrium only (Conference and Sibenik are closed rooms).
         if (k === 0 || s === 'crytek-sponza.obj.gz') assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, `${s} ${w}x${h} light ${k}: shadow and light in view`);
         if (r.browser.mismatches_outside_band !== 0) outside.push(`${s} ${w}x${h} light ${k}: ${r.browser.mismatches_outside_band} (${r.explained.slice(0, 3).join('; ')})`);
@@ -337,4 +341,61 @@ test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at
   }
   // Every row judged before the verdict, so that the log has them all.
   assert.deepEqual(outside, [], 'samples outside the band');
+}
+
+test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at 640x360 and 1280x720, a point and a directional light (Sibenik\'s eye inside 4 volumes): every mask 0 samples outside the band', { timeout: 1_800_000 }, async (t) => {
+  await sharedScenesJudged(t, SHARED, [[640, 360], [1280, 720]], {});
+});
+
+// ray-bvh in the page (rays.js): native ray-bvh's walk (umbra-wgpu's ray_bvh.wgsl) over the
+// wasm's BVH of the casters, judged as the volumes are.
+test('WebGPURenderer, method ray-bvh: the world of the first test (point and directional light, mirrored and instanced casters, the eye outside and inside a shadow) and Sibenik at 640x360: every mask 0 samples outside the band', { timeout: 900_000 }, async (t) => {
+  if (skip) return t.skip(skip);
+  const refused = await page.evaluate(async () => {
+    const THREE = await import('three/webgpu');
+    const { UmbraShadows } = await import('umbra-three/webgpu');
+    try {
+      await UmbraShadows.create(new THREE.WebGPURenderer(), { method: 'ray-bvh-typo' });
+      return null;
+    } catch (e) {
+      return e.message;
+    }
+  });
+  assert.match(refused ?? '', /unknown method 'ray-bvh-typo' \(expected 'cs-silhouette' or 'ray-bvh'\)/);
+  await page.evaluate(() => window.makeWorld({ method: 'ray-bvh' }));
+  for (const [name, eye] of [['rays-outside', [0, 5, 7]], ['rays-inside', [-1.5, 0.25, 0.25]]]) {
+    const { rows, frame } = await judged(name, eye);
+    console.log(JSON.stringify({ name, rows: rows.map((r) => ({ outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, dark: r.dark })), info: frame.info, errors: frame.errors }));
+    assert.deepEqual(frame.errors, [], 'no mesh refused');
+    assert.equal(frame.info.method, 'ray-bvh');
+    assert.equal(frame.info.silhouettes, null);
+    assert.ok(frame.info.bvh.nodes > 1 && frame.info.bvh.bytes > 0, `a BVH was built: ${JSON.stringify(frame.info.bvh)}`);
+    rows.forEach((r, k) => {
+      assert.equal(r.browser.mismatches_outside_band, 0, `${name}, light ${k}: 0 outside the band: ${r.explained.join('; ')}`);
+      assert.ok(r.browser.shadowed_reference > 500, `${name}, light ${k}: the casters shadow something`);
+    });
+  }
+  // A caster that moves: the BVH is built again (no stale hierarchy), and the mask follows.
+  const moved = await page.evaluate(async () => {
+    const { box, camera } = window.T;
+    camera.position.set(0, 5, 7);
+    camera.lookAt(0, 0, 0);
+    camera.updateMatrixWorld();
+    box.position.x += 0.5;
+    box.updateMatrixWorld();
+    return window.T.frame().then((f) => ({ obj: f.obj, masks: f.masks }));
+  });
+  await writeFile(path.join(tmp, 'rays-moved.obj'), moved.obj);
+  const gray = Buffer.from(moved.masks[0], 'latin1');
+  const rgba = new Uint8Array(4 * W * H);
+  for (let i = 0; i < gray.length; i++) rgba.set([gray[i], gray[i], gray[i], 255], 4 * i);
+  await writeFile(path.join(tmp, 'rays-moved.png'), encodePng(W, H, rgba));
+  const light = await page.evaluate(() => window.T.point.position.toArray());
+  const r = judge(umbraBin, { scene: path.join(tmp, 'rays-moved.obj'), size: `${W}x${H}`, maskPng: path.join(tmp, 'rays-moved.png'), extra: ['--eye', '0,5,7', '--target', '0,0,0', '--fov', '50', '--light', light.join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)], explain: 20 });
+  assert.equal(r.browser.mismatches_outside_band, 0, `after the box moved: 0 outside the band: ${r.explained.join('; ')}`);
+  await page.evaluate(() => {
+    window.T.box.position.x -= 0.5;
+    window.T.box.updateMatrixWorld();
+  });
+  await sharedScenesJudged(t, ['sibenik.obj.gz'], [[640, 360]], { method: 'ray-bvh' });
 });

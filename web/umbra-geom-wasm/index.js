@@ -15,7 +15,7 @@
 // Build the .wasm: node ../build-wasm.mjs.
 
 /** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
-const ABI_VERSION = 3;
+const ABI_VERSION = 4;
 
 /** Buffer numbers of `umbra_result_buffer_ptr` and the typed arrays they are read as. */
 const BUFFERS = [
@@ -337,6 +337,44 @@ export async function loadUmbraGeom(source) {
     }
   }
 
+  /**
+   * The BVH native `ray-bvh` walks (umbra_geom::ray_bvh::build; crates/umbra-wasm/src/ray_bvh.rs)
+   * of world `positions` (x y z per vertex) and `indices` (3 per triangle): { nodes,
+   * triangles (Float32Array vec4s), nodeCount, depth, eps (the reference's, as f32), constants
+   * (the WGSL the shared walk is prepended with) }. Throws UmbraGeomError on bad input.
+   */
+  function rayBvh(positions, indices) {
+    const blocks = [];
+    let handle = 0;
+    try {
+      const positionsPtr = alloc(4 * Math.max(1, positions.length));
+      blocks.push([positionsPtr, 4 * Math.max(1, positions.length)]);
+      const indicesPtr = alloc(4 * Math.max(1, indices.length));
+      blocks.push([indicesPtr, 4 * Math.max(1, indices.length)]);
+      new Float32Array(w.memory.buffer, positionsPtr, positions.length).set(positions);
+      new Uint32Array(w.memory.buffer, indicesPtr, indices.length).set(indices);
+      handle = u(w.umbra_ray_bvh_build(positionsPtr, positions.length, indicesPtr, indices.length));
+      if (handle === 0) throw new UmbraGeomError('umbra-wasm: out of memory building a BVH');
+      const out = w.memory.buffer;
+      const errorLength = u(w.umbra_ray_bvh_error_len(handle));
+      if (errorLength) throw new UmbraGeomError(decoder.decode(new Uint8Array(out, u(w.umbra_ray_bvh_error_ptr(handle)), errorLength)));
+      const bytes = (which) => new Uint8Array(out, u(w.umbra_ray_bvh_buffer_ptr(handle, which)), u(w.umbra_ray_bvh_buffer_len(handle, which))).slice();
+      const floats = (which) => new Float32Array(bytes(which).buffer);
+      const eps = new Float32Array(new Uint32Array([u(w.umbra_ray_bvh_figure(handle, 2))]).buffer)[0];
+      return {
+        nodes: floats(0),
+        triangles: floats(1),
+        constants: decoder.decode(bytes(2)),
+        nodeCount: u(w.umbra_ray_bvh_figure(handle, 0)),
+        depth: u(w.umbra_ray_bvh_figure(handle, 1)),
+        eps,
+      };
+    } finally {
+      if (handle) w.umbra_ray_bvh_free(handle);
+      for (const [ptr, n] of blocks) w.umbra_free(ptr, n);
+    }
+  }
+
   return {
     prepare,
     /** A new receiver map (one light's; crates/umbra-wasm/src/cull.rs), freed by its free(). */
@@ -345,6 +383,7 @@ export async function loadUmbraGeom(source) {
     samples: samplesBuffer,
     /** The z-pass test of the union of casters that share one space (crates/umbra-wasm/src/clearance.rs), freed by its free(). */
     union: unionOf,
+    rayBvh,
     /** Bytes of the module's linear memory (it grows, never shrinks). */
     memoryBytes: () => w.memory.buffer.byteLength,
   };

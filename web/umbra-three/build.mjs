@@ -27,7 +27,7 @@ const here = path.dirname(fileURLToPath(import.meta.url));
 const methods = path.join(here, '..', '..', 'crates', 'umbra-gl', 'src', 'methods');
 const wgslDir = path.join(here, '..', '..', 'crates', 'umbra-wgpu', 'src', 'shaders');
 
-/** umbra-wgpu's WGSL files the WebGPU drawer uses, by the name src/webgpu/passes.js reads. */
+/** umbra-wgpu's WGSL files the WebGPU drawer uses, by the name src/webgpu/passes.js and rays.js read. */
 export const WGSL_FILES = {
   volume: 'volume.wgsl',
   multiplicity: 'multiplicity.wgsl',
@@ -35,6 +35,7 @@ export const WGSL_FILES = {
   csSides: 'cs_sides.wgsl',
   transform: 'transform.wgsl',
   resolve: 'resolve.wgsl',
+  rayBvh: 'ray_bvh.wgsl',
 };
 
 /** esbuild plugin: the virtual module `umbra:wgsl` (umbra-wgpu's shader text, by name). */

@@ -10,8 +10,12 @@ export type { UmbraError };
 export interface UmbraWebGPUInfo {
   /** Always 'webgpu'. */
   backend: 'webgpu';
-  /** Always 'compute': every frame's silhouettes come from compute shaders (umbra-wgpu's cs-silhouette WGSL). */
-  silhouettes: 'compute';
+  /** The method deciding the lights (UmbraWebGPUOptions.method). */
+  method: UmbraWebGPUMethod;
+  /** 'compute' with 'cs-silhouette' (every frame's silhouettes from compute shaders, umbra-wgpu's WGSL); null with 'ray-bvh'. */
+  silhouettes: 'compute' | null;
+  /** With 'ray-bvh', the last BVH built (when the drawn geometry changed): its nodes, depth, build milliseconds (wasm, main thread) and GPU bytes; else null. */
+  bvh: { nodes: number; depth: number; buildMs: number; bytes: number } | null;
   /** Shadow-casting lights umbra shadowed in the last frame (PointLight, SpotLight as a point light, DirectionalLight). */
   lights: number;
   /** Casters of the last frame: meshes with castShadow, each drawn instance of an InstancedMesh. */
@@ -34,9 +38,19 @@ export interface UmbraWebGPUInfo {
   depthFormat: string;
 }
 
+/**
+ * How the lights are decided, by native umbra's `--method` names: 'cs-silhouette' (shadow
+ * volumes from compute-shader silhouettes, z-fail counting) or 'ray-bvh' (one shadow ray per
+ * visible sample through a BVH of the casters, built in the wasm when the drawn geometry
+ * changes). Both are exact; 'ray-bvh' costs more per pixel and nothing per caster edge.
+ */
+export type UmbraWebGPUMethod = 'cs-silhouette' | 'ray-bvh';
+
 export interface UmbraWebGPUOptions {
   /** umbra_wasm.wasm: a URL, Response, bytes or compiled Module (default: beside this module). */
   wasm?: string | URL | Response | ArrayBuffer | ArrayBufferView | WebAssembly.Module;
+  /** Default 'cs-silhouette'; any other value is refused by create() with the valid names. */
+  method?: UmbraWebGPUMethod;
 }
 
 /**

@@ -28,6 +28,8 @@
 //!
 //! z-pass for casters that share a world matrix: [`umbra_union_new`] asks the test of their
 //! union ([`Clearance::union`]), which [`umbra_union_free`] frees.
+//!
+//! `ray-bvh` in a page: [`crate::ray_bvh`]'s `umbra_ray_bvh_*` functions.
 
 use std::alloc::{alloc, dealloc, Layout};
 
@@ -40,7 +42,7 @@ use crate::cull::Screen;
 use crate::{prepare_welded, CasterCull, Clearance, PrepareError, Prepared, Receivers, Silhouette};
 
 /// Version of this interface; the JavaScript module refuses any other.
-pub const ABI_VERSION: u32 = 3;
+pub const ABI_VERSION: u32 = 4;
 
 /// Alignment of every [`umbra_alloc`] block (enough for f32, u32 and f64).
 const ALIGN: usize = 8;

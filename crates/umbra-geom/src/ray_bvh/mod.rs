@@ -65,6 +65,25 @@ pub const FROM_CHILD: u32 = 2;
 /// Bins per axis of the SAH build.
 pub const BINS: usize = 16;
 
+/// Walk steps per shader invocation where one invocation walks the whole hierarchy (the WGSL
+/// walk, umbra-wgpu's `ray_bvh.wgsl`): each step is at most 1 + 4 loop iterations, below
+/// lavapipe's 65,535 loop iterations per invocation.
+pub const WGSL_BUDGET: u32 = 12_000;
+
+/// The constants `ray_bvh.wgsl` is prepended with, in WGSL: this module's layout, [`Ray::TINY`]
+/// and [`WGSL_BUDGET`]. One text for every host of the shader (umbra-wgpu natively, the
+/// WebAssembly module for umbra-three's WebGPU path), so that the walk reads the buffers
+/// [`build`] wrote.
+pub fn wgsl_constants() -> String {
+    format!(
+        "const NODE_VEC4S: u32 = {NODE_VEC4S}u;\nconst TRIANGLE_VEC4S: u32 = {TRIANGLE_VEC4S}u;\n\
+         const LEAF_COUNT_BITS: u32 = {LEAF_COUNT_BITS}u;\nconst LEAF_BIT: u32 = {LEAF_BIT}u;\n\
+         const FROM_PARENT: u32 = {FROM_PARENT}u;\nconst FROM_SIBLING: u32 = {FROM_SIBLING}u;\n\
+         const FROM_CHILD: u32 = {FROM_CHILD}u;\nconst TINY: f32 = {:e};\nconst BUDGET: u32 = {WGSL_BUDGET}u;\n",
+        Ray::TINY,
+    )
+}
+
 /// The flattened hierarchy; see the module documentation.
 #[derive(Clone, Debug, Default)]
 pub struct RayBvh {

@@ -1,6 +1,7 @@
 //! `ray-bvh` on wgpu: one shadow ray per view sample through a BVH of the scene, the twin of
 //! umbra-gl's `ray-bvh` (the same BVH, [`umbra_geom::ray_bvh`], built on the CPU once per scene
-//! and uploaded once; the same walk and watertight test, shaders/ray_bvh.wgsl).
+//! and uploaded once; the same walk and watertight test, shaders/ray_bvh.wgsl, which
+//! umbra-three's WebGPU path shares; the resolve entry: shaders/ray_bvh_resolve.wgsl).
 //!
 //! The rays are traced where the decision is resolved into the caller's stencil (cleared to
 //! 1, 0 where the ray meets nothing), like the shadow maps' resolve: the scene drawn with depth
@@ -24,12 +25,12 @@ use crate::scene::{buffer_init, SceneGpu, SceneId};
 /// Registry name.
 pub const NAME: &str = "ray-bvh";
 
-/// Walk steps per fragment: each at most 1 + 4 loop iterations, below lavapipe's 65,535 loop
-/// iterations per shader invocation.
-pub const BUDGET: u32 = 12_000;
+/// Walk steps per fragment ([`ray_bvh::WGSL_BUDGET`]).
+pub const BUDGET: u32 = ray_bvh::WGSL_BUDGET;
 
 const VOLUME: &str = include_str!("../shaders/volume.wgsl");
-const SHADER: &str = include_str!("../shaders/ray_bvh.wgsl");
+const WALK: &str = include_str!("../shaders/ray_bvh.wgsl");
+const SHADER: &str = include_str!("../shaders/ray_bvh_resolve.wgsl");
 
 /// The shader's `Params`.
 #[repr(C)]
@@ -69,23 +70,11 @@ impl RayBvhMethod {
             wgpu::Features::PRIMITIVE_INDEX,
             "ray-bvh (the triangle id of each sample, to skip its own triangle)",
         )?;
-        let constants = format!(
-            "const NODE_VEC4S: u32 = {}u;\nconst TRIANGLE_VEC4S: u32 = {}u;\nconst LEAF_COUNT_BITS: u32 = {}u;\n\
-             const LEAF_BIT: u32 = {}u;\nconst FROM_PARENT: u32 = {}u;\nconst FROM_SIBLING: u32 = {}u;\n\
-             const FROM_CHILD: u32 = {}u;\nconst TINY: f32 = {:e};\nconst BUDGET: u32 = {BUDGET}u;\n",
-            ray_bvh::NODE_VEC4S,
-            ray_bvh::TRIANGLE_VEC4S,
-            ray_bvh::LEAF_COUNT_BITS,
-            ray_bvh::LEAF_BIT,
-            ray_bvh::FROM_PARENT,
-            ray_bvh::FROM_SIBLING,
-            ray_bvh::FROM_CHILD,
-            ray_bvh::Ray::TINY,
-        );
+        let constants = ray_bvh::wgsl_constants();
         let module = Common::module(
             device,
             "ray_bvh.wgsl",
-            &["enable clip_distances;\nenable primitive_index;", VOLUME, RESOLVE_VERTEX, &constants, SHADER],
+            &["enable clip_distances;\nenable primitive_index;", VOLUME, RESOLVE_VERTEX, &constants, WALK, SHADER],
         );
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -1,13 +1,17 @@
-// ray-bvh on wgpu: one shadow ray per view sample through the scene's BVH (built on the CPU,
-// umbra_geom::ray_bvh; RayBvh::walk is this walk and test in Rust), the twin of umbra-gl's
-// ray_bvh/trace.comp.glsl, traced where the decision is resolved into the caller's stencil:
-// the scene drawn with depth EQUAL against the caller's depth (the same invariant expression
-// as every other scene pass), so each fragment is the visible sample of its pixel (its
-// interpolated world position and primitive_index, the triangle id); a fragment whose ray
-// meets nothing survives and sets the stencil to 0 (lit), the others are discarded (the
-// stencil was cleared to 1). Prepended: `enable primitive_index;`, volume.wgsl (the light slot
-// `u`), and the constants NODE_VEC4S, TRIANGLE_VEC4S, LEAF_COUNT_BITS, LEAF_BIT, FROM_PARENT,
-// FROM_SIBLING, FROM_CHILD, TINY, BUDGET.
+// ray-bvh's shadow ray, shared by native umbra-wgpu (ray_bvh_resolve.wgsl, the resolve pass of
+// methods/ray_bvh.rs) and umbra-three's WebGPU path (its wgsl/ray.wgsl, read from this file by
+// the package's build): one shadow ray per view sample through the scene's BVH (built on the
+// CPU, umbra_geom::ray_bvh; RayBvh::walk is this walk and test in Rust), the twin of
+// umbra-gl's ray_bvh/trace.comp.glsl. `sample_occluded(p, triangle)` answers for the visible
+// sample `p` on triangle `triangle`.
+//
+// The including module declares the storage it reads (order-free in WGSL): `nodes` and `tris`
+// (the BVH, array<vec4<f32>>), `positions` (array<f32>, x y z per vertex) and `indices`
+// (array<u32>, 3 per triangle) of the triangles the BVH was built from, `params` (Params
+// below), and the light slot `u` (volume.wgsl). Prepended: the constants NODE_VEC4S,
+// TRIANGLE_VEC4S, LEAF_COUNT_BITS, LEAF_BIT, FROM_PARENT, FROM_SIBLING, FROM_CHILD, TINY,
+// BUDGET (umbra_geom::ray_bvh's, written out by the host: methods/ray_bvh.rs natively, the
+// wasm's umbra_ray_bvh_constants in the page).
 //
 // The reference's rule, as in trace.comp.glsl: the segment from the sample to the light (the
 // ray towards a directional light) meets another triangle, closed and two-sided, farther than
@@ -29,12 +33,6 @@ struct Params {
     nodes: u32,
     pad: u32,
 }
-
-@group(1) @binding(0) var<storage, read> nodes: array<vec4<f32>>;
-@group(1) @binding(1) var<storage, read> tris: array<vec4<f32>>;
-@group(1) @binding(2) var<storage, read> positions: array<f32>;
-@group(1) @binding(3) var<storage, read> indices: array<u32>;
-@group(1) @binding(4) var<uniform> params: Params;
 
 fn vertex_at(i: u32) -> vec3<f32> {
     return vec3<f32>(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
@@ -212,12 +210,13 @@ fn occluded(r: Ray, d: vec3<f32>, t_end: f32, len: f32, point: bool, own: u32) -
     return false;
 }
 
-@fragment
-fn fs_resolve(v: ResolveVertex, @builtin(primitive_index) triangle: u32) {
+// Whether the shadow ray of the visible sample `p` on triangle `triangle` is blocked: the
+// light slot's light; a BVH of no node blocks nothing.
+fn sample_occluded(p: vec3<f32>, triangle: u32) -> bool {
     if params.nodes == 0u {
-        return;
+        return false;
     }
-    let o = on_own_plane(v.world_pos, triangle);
+    let o = on_own_plane(p, triangle);
     let point = u.light.w != 0.0;
     var d = normalize(u.light.xyz);
     if point {
@@ -226,10 +225,8 @@ fn fs_resolve(v: ResolveVertex, @builtin(primitive_index) triangle: u32) {
     let len = select(1.0, length(d), point);
     // A sample within 2 eps of a point light: the segment is empty, it is lit.
     if point && !(len > 2.0 * params.eps) {
-        return;
+        return false;
     }
     let t_end = select(3.4e38, 1.0, point);
-    if occluded(make_ray(o, d), d, t_end, len, point, triangle) {
-        discard;
-    }
+    return occluded(make_ray(o, d), d, t_end, len, point, triangle);
 }

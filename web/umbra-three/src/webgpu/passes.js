@@ -21,6 +21,8 @@
 //      white where the count is 0, lit; the mask was cleared to black, shadowed), then the
 //      seen side's facing on the depth pass's surface where the count is 0 (surface.wgsl
 //      fs_facing: lit = count 0 AND the seen side faces the light, native umbra's decision).
+// With `rays` set (UmbraShadows' method 'ray-bvh', rays.js), step 2 is instead one render pass
+// per light that traces each visible sample's shadow ray.
 // Every light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity, light
 // caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
 // passes use at a time (clip positions, orientations, caps, quads, commands) are shared by the
@@ -224,6 +226,8 @@ export class WebGPUVolumes {
     this.lightSlots = 0;
     this.scene = null;
     this.target = null;
+    /** The ray-bvh drawer (rays.js) when the lights are decided by shadow rays, else null. */
+    this.rays = null;
   }
 
   /** A buffer of at least 16 bytes (WebGPU binds no empty buffer), filled with `data` if given. */
@@ -243,6 +247,7 @@ export class WebGPUVolumes {
     if (this.scene) n += this.scene.bytes;
     if (this.uniforms) n += this.uniforms.size;
     if (this.target) n += this.target.bytes;
+    if (this.rays) n += this.rays.gpuBytes;
     return n;
   }
 
@@ -357,6 +362,11 @@ export class WebGPUVolumes {
     const casting = s && s.triangles > 0;
     lights.forEach((_, k) => {
       const offset = [k * LIGHT_SLOT_BYTES];
+      if (this.rays) {
+        // ray-bvh (rays.js): the light's decision from its shadow rays, no volumes.
+        this.rays.encodeLight(encoder, k, offset, masks[k]);
+        return;
+      }
       if (casting) {
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.sidesCommand, 0, 16);
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.capsCommand, 0, 16);
@@ -438,6 +448,7 @@ export class WebGPUVolumes {
 
   dispose() {
     this.disposeScene();
+    if (this.rays) this.rays.dispose();
     if (this.target) this.target.texture.destroy();
     if (this.uniforms) this.uniforms.destroy();
     for (const b of [this.commandTemplate, this.sidesCommand, this.capsCommand, this.fanCommands]) b.destroy();

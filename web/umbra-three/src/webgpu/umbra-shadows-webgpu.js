@@ -7,7 +7,9 @@
 //      its geometry changed;
 //   2. webgpu/passes.js draws umbra's depth pass and, per light, the silhouettes and the
 //      z-fail count into umbra's own depth-stencil target, and the decision into the light's
-//      mask (a three.js RenderTarget, r8unorm, 255 lit / 0 shadowed);
+//      mask (a three.js RenderTarget, r8unorm, 255 lit / 0 shadowed); with the option
+//      `method: 'ray-bvh'`, each visible sample's shadow ray through a BVH of the casters
+//      instead (webgpu/rays.js);
 //   3. renderer.render(scene, camera): each light's shadow is its shadow node
 //      (light.shadow.shadowNode, set here), which reads the mask at the fragment's pixel, so
 //      every lit node material and a user's TSL receive umbra's decision.
@@ -19,6 +21,7 @@ import { Topology, TopologyError, meshName, positionArray } from '../topology.js
 import { gatherLights } from '../lights.js';
 import { infinitePerspectiveReversedZ, mul } from '../camera.js';
 import { WebGPUVolumes } from './passes.js';
+import { WebGPURays } from './rays.js';
 import { reportOnce } from '../report.js';
 import { casterRecords, mergeParts, worldPositions } from './world.js';
 
@@ -46,6 +49,16 @@ function indicesOf(geometry, vertices, name) {
   return out;
 }
 
+/** The methods of this path, by their native `--method` names. */
+export const METHODS = ['cs-silhouette', 'ray-bvh'];
+
+/** options.method checked (default 'cs-silhouette'); throws naming the valid ones. */
+function methodOf(options) {
+  const method = options.method ?? 'cs-silhouette';
+  if (!METHODS.includes(method)) throw new Error(`umbra-three/webgpu: unknown method '${method}' (expected ${METHODS.map((m) => `'${m}'`).join(' or ')})`);
+  return method;
+}
+
 /** Whether every value is finite. */
 function finite(a) {
   for (let i = 0; i < a.length; i++) if (!Number.isFinite(a[i])) return false;
@@ -66,6 +79,7 @@ export class UmbraShadows {
     if (!renderer.backend?.isWebGPUBackend || !renderer.backend.device) {
       throw new Error('umbra-three/webgpu: the WebGPURenderer runs on its WebGL 2 backend (this browser gave no WebGPU adapter); umbra\'s WebGPU path needs compute shaders. Use a WebGLRenderer and UmbraShadows from \'umbra-three\' there');
     }
+    methodOf(options);
     const topology = await Topology.load(options.wasm);
     return new UmbraShadows(renderer, topology, options);
   }
@@ -82,6 +96,8 @@ export class UmbraShadows {
     } catch (e) {
       throw new Error(`umbra-three/webgpu: WebGPU set-up failed: ${e.message}`);
     }
+    const method = methodOf(options);
+    if (method === 'ray-bvh') this.volumes.rays = new WebGPURays(this.volumes, topology.geom);
     this.enabled = true;
     this.disposed = false;
     this.errors = [];
@@ -92,7 +108,7 @@ export class UmbraShadows {
     this.lastKey = null;
     this.masks = new Map(); // light -> { target: RenderTarget, node }
     this.info = {
-      backend: 'webgpu', silhouettes: 'compute', lights: 0, casters: 0, triangles: 0, casterTriangles: 0, records: 0,
+      backend: 'webgpu', method, silhouettes: method === 'ray-bvh' ? null : 'compute', bvh: null, lights: 0, casters: 0, triangles: 0, casterTriangles: 0, records: 0,
       zpass: [], prepareMs: 0, cpuMs: 0, gpuBytes: 0, depthFormat,
     };
   }
@@ -263,6 +279,10 @@ export class UmbraShadows {
     if (key !== this.lastKey) {
       const merged = mergeParts(parts);
       this.volumes.setScene(merged);
+      if (this.volumes.rays) {
+        this.volumes.rays.setScene(merged);
+        this.info.bvh = { ...this.volumes.rays.figures };
+      }
       this.lastKey = key;
       this.info.triangles = merged.triangles;
       this.info.casterTriangles = merged.casterTriangles;
