@@ -119,7 +119,7 @@ async function maskOf(query, name) {
     assert.equal(differ, 0, 'pixels where the mask view differs from readMask');
     const shadowed = bytes.filter((v) => v === 0).length;
     const lit = bytes.filter((v) => v === 255).length;
-    return { png, shadowed, lit };
+    return { png, shadowed, lit, info: page0.info };
   } finally {
     await page.close();
   }
@@ -131,12 +131,16 @@ const CASES = [
   { name: 'obj', query: 'model=/models/canopy.obj&light=0.5,3,1.5', scene: () => objFile, flags: ['--light', '0.5,3,1.5'] },
   { name: 'default FrontSide', query: 'side=front', scene: () => MODEL, flags: ['--receivers', 'front'] },
   { name: 'default FrontSide mirrored', query: 'side=front&mirror=1', scene: () => mirroredModelFile, flags: ['--receivers', 'front'] },
+  // method=ray-bvh: the package's shadow rays (rays.js) instead of the volumes.
+  { name: 'ray-bvh', query: 'method=ray-bvh', scene: () => MODEL, flags: [], method: 'ray-bvh' },
+  { name: 'ray-bvh directional', query: 'method=ray-bvh&light=-0.4,1,0.5,0', scene: () => MODEL, flags: ['--light', '-0.4,1,0.5,0'], method: 'ray-bvh' },
 ];
 
 for (const c of CASES) {
   test(`webgpu: ${c.name}: the example's mask has 0 samples outside the band`, async (t) => {
     if (skip) return t.skip(skip);
     const m = await maskOf(c.query, `webgpu-${c.name}`);
+    assert.equal(m.info.method, c.method ?? 'cs-silhouette', 'the method the page asked for');
     // A mask with both decisions in it: a test that can fail both ways.
     assert.ok(m.shadowed > 100 && m.lit > 100, `shadowed ${m.shadowed}, lit ${m.lit}`);
     assert.equal(m.shadowed + m.lit, W * H, 'every pixel is 0 or 255');

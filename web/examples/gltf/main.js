@@ -12,7 +12,8 @@
 // (WebGL 2: the package's options zpass: false, volumeCull: false and silhouettes, as the
 // viewer's parameters), renderer=webgpu (three.js's WebGPURenderer
 // and umbra-three/webgpu instead of WebGLRenderer and umbra-three; the import map in
-// index.html follows it) and offscreen=1 (WebGPU only: every frame drawn into a RenderTarget
+// index.html follows it), method=ray-bvh (WebGPU only: the package's option `method`, shadow
+// rays through a BVH instead of the volumes) and offscreen=1 (WebGPU only: every frame drawn into a RenderTarget
 // and copied to the canvas through the CPU, for headless Chromium, which cannot present a
 // WebGPU canvas).
 // On WebGPU the orthographic camera (O, ortho=1) is refused with a warning and the view stays
@@ -35,7 +36,7 @@
 // ortho (umbra.info.ortho: the orthographic frame's near and far planes, or null), view,
 // animations (the
 // model's clips), umbraInfo (casters, mapCasters, silhouettes, volumeCull, zpass, volumes, cpuMs, gpuBytes of
-// umbra.info after the last frame), light (the first light's position once dragged), errors (meshes
+// umbra.info after the last frame; on WebGPU also backend, method, bvh, lights, triangles), light (the first light's position once dragged), errors (meshes
 // umbra refused), readMask() (the first light's decision, rows top-down, 255 lit / 0
 // shadowed, as a latin1 string; on WebGPU a Promise of it), readMaskAsync() (a Promise of it on
 // both), readCanvas() (a frame drawn and its red channel read back the same way; on WebGPU a
@@ -180,7 +181,9 @@ async function start() {
     renderer.shadowMap.enabled = true;
     renderer.shadowMap.type = THREE.PCFShadowMap;
     try {
-      umbra = await UmbraShadows.create(renderer);
+      // method=ray-bvh: the package's option `method` (shadow rays through a BVH instead of
+      // the volumes); default cs-silhouette.
+      umbra = await UmbraShadows.create(renderer, params.get('method') ? { method: params.get('method') } : {});
     } catch (e) {
       throw new Error(`renderer=webgpu: ${e.message}\n(Without WebGPU, leave renderer out: the WebGL 2 path.)`);
     }
@@ -207,6 +210,7 @@ async function start() {
     status.subpixelBits = gl.getParameter(gl.SUBPIXEL_BITS);
     // zpass=0, cull=0, silhouettes=gpu|wasm: the package's options `zpass: false`,
     // `volumeCull: false` and `silhouettes` (the viewer's parameters), for the tests.
+    if (params.get('method')) warn(`method=${params.get('method')}: the WebGL 2 path draws shadow volumes only; method is an option of renderer=webgpu`);
     umbra = await UmbraShadows.create(renderer, {
       zpass: params.get('zpass') !== '0',
       volumeCull: params.get('cull') === '0' ? false : 'auto',
@@ -375,7 +379,7 @@ async function start() {
     status.state = 'ready';
     status.ortho = umbra.info.ortho ?? null;
     status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, zpass: umbra.info.zpass, volumes: umbra.info.volumes, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
-    if (webgpu) Object.assign(status.umbraInfo, { backend: umbra.info.backend, lights: umbra.info.lights, triangles: umbra.info.triangles });
+    if (webgpu) Object.assign(status.umbraInfo, { backend: umbra.info.backend, method: umbra.info.method, bvh: umbra.info.bvh, lights: umbra.info.lights, triangles: umbra.info.triangles });
     document.body.dataset.state = 'ready';
     if (animating) redraw();
   };
