@@ -39,15 +39,16 @@
 //             http://127.0.0.1 page), three.js's WebGPURenderer with no shadows (gpunone), with
 //             its 2048 PointLight map (gpumap2048) and 2048 DirectionalLight map (gpudir2048),
 //             and umbra-three/webgpu with the point light (gpuumbra) and the directional one
-//             (gpuumbradir); beside them, in a second Chromium with the --impl flags, the WebGL
-//             2 rows none, map2048 and umbra for reference. Default --modes: all eight. Each
-//             frame timed twice: the GPU frame (WebGPU: from the render call to the queue's
-//             onSubmittedWorkDone; WebGL: to a 1-pixel readPixels) and the main thread's ms in
-//             the render call; medians, ratios against the 2048 map of the same light; with
-//             --passes 1, one more frame per view and WebGPU row with a timestamp query around
-//             every pass (umbra's depth, compute and volume passes, three.js's shadow and main
-//             passes). With --flythrough N along the fly-through as above, else --warmup and
-//             --frames rounds of the default view. No --orbit.
+//             (gpuumbradir), and with its method 'ray-bvh' (gpurays, gpuraysdir); beside them,
+//             in a second Chromium with the --impl flags, the WebGL 2 rows none, map2048 and
+//             umbra for reference. Default --modes: all ten. Each frame timed twice: the GPU
+//             frame (WebGPU: from the render call to the queue's onSubmittedWorkDone; WebGL: to
+//             a 1-pixel readPixels) and the main thread's ms in the render call; medians,
+//             ratios against the 2048 map of the same light; with --passes 1, one more frame
+//             per view and WebGPU row with a timestamp query around every pass (umbra's depth,
+//             compute and volume or ray passes, three.js's shadow and main passes). With
+//             --flythrough N along the fly-through as above, else --warmup and --frames rounds
+//             of the default view. No --orbit.
 //             node bench/run.mjs --webgpu --flythrough 4 --sizes 640x360,1280x720 --out r.json
 // Needs /usr/bin/chromium (or UMBRA_CHROMIUM), `npm ci` in web/ and the package built.
 import { mkdtemp, mkdir, rm, writeFile } from 'node:fs/promises';

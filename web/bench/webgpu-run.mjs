@@ -26,12 +26,14 @@ export const GPU_LABELS = {
   gpudir2048: 'WebGPU: DirectionalLight shadow 2048',
   gpuumbra: 'WebGPU: umbra-three, point light',
   gpuumbradir: 'WebGPU: umbra-three, directional light',
+  gpurays: 'WebGPU: umbra-three ray-bvh, point light',
+  gpuraysdir: 'WebGPU: umbra-three ray-bvh, directional light',
 };
 /** The rows of the WebGL 2 page this mode draws for reference. */
 export const GL_ROWS = ['none', 'map2048', 'umbra'];
 export const DEFAULT_MODES = [...GL_ROWS, ...Object.keys(GPU_LABELS)];
 /** Each umbra row and the three.js map it is held against (same run, same light). */
-const AGAINST = { gpuumbra: 'gpumap2048', gpuumbradir: 'gpudir2048', umbra: 'map2048' };
+const AGAINST = { gpuumbra: 'gpumap2048', gpuumbradir: 'gpudir2048', gpurays: 'gpumap2048', gpuraysdir: 'gpudir2048', umbra: 'map2048' };
 
 /** Median, mean, nearest-rank p95, min of `ms`. */
 function stats(ms) {
@@ -40,7 +42,7 @@ function stats(ms) {
   return { median: n % 2 ? s[(n - 1) / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]), mean: s.reduce((a, b) => a + b, 0) / n, p95: s[Math.min(n - 1, Math.ceil(0.95 * n) - 1)], min: s[0], n };
 }
 
-/** A frame's timestamped passes, grouped: umbra's depth, compute and volume passes, three.js's shadow passes and main pass (the last it ran). */
+/** A frame's timestamped passes, grouped: umbra's depth, compute and volume passes (or its ray passes, method ray-bvh), three.js's shadow passes and main pass (the last it ran). */
 function groupPasses(passes) {
   const g = { 'umbra depth': 0, 'umbra compute': 0, 'umbra volumes + mask': 0, 'three.js shadow maps': 0, 'three.js main pass': 0, 'passes in all': 0 };
   const three = passes.filter((p) => !p.label.startsWith('umbra')).sort((a, b) => a.at - b.at);
@@ -49,6 +51,7 @@ function groupPasses(passes) {
     if (p.label === 'umbra depth') g['umbra depth'] += p.ms;
     else if (/^umbra light \d+ silhouettes$/.test(p.label)) g['umbra compute'] += p.ms;
     else if (/^umbra light \d+ volumes$/.test(p.label)) g['umbra volumes + mask'] += p.ms;
+    else if (/^umbra light \d+ rays$/.test(p.label)) g['umbra rays'] = (g['umbra rays'] || 0) + p.ms;
     else if (p.label.startsWith('umbra')) g['umbra, other passes'] = (g['umbra, other passes'] || 0) + p.ms;
   }
   three.forEach((p, i) => {
@@ -156,7 +159,7 @@ export async function runWebGPU(o) {
             }
             console.error(`  passes: ${gpuModes.map((m) => `${m} ${Object.entries(run.passes[m].at(-1).groups).filter(([, x]) => x > 0).map(([k, x]) => `${k} ${fmt(x)}`).join(' / ')}`).join('; ')}`);
           }
-          for (const m of gpuModes.filter((x) => x.startsWith('gpuumbra'))) (record.info ??= {})[m] = await pages.gpu.evaluate((x) => window.bench.info(x), m);
+          for (const m of gpuModes.filter((x) => x.startsWith('gpuumbra') || x.startsWith('gpurays'))) (record.info ??= {})[m] = await pages.gpu.evaluate((x) => window.bench.info(x), m);
           run.views.push(record);
         }
         run.summary = Object.fromEntries(modes.map((m) => [m, { frame: stats(run.samples[m].map((x) => x.frame)), cpu: stats(run.samples[m].map((x) => x.cpu)) }]));
@@ -210,14 +213,15 @@ function markdown(r, modes, label, fmt) {
   const withPasses = r.runs.filter((run) => Object.keys(run.passSummary || {}).length);
   if (withPasses.length) {
     const other = withPasses.some((run) => Object.values(run.passSummary).some((x) => x['umbra, other passes']));
-    const keys = ['umbra depth', 'umbra compute', 'umbra volumes + mask', ...(other ? ['umbra, other passes'] : []), 'three.js shadow maps', 'three.js main pass', 'passes in all', 'frame (wall)'];
+    const rays = withPasses.some((run) => Object.values(run.passSummary).some((x) => x['umbra rays']));
+    const keys = ['umbra depth', 'umbra compute', 'umbra volumes + mask', ...(rays ? ['umbra rays'] : []), ...(other ? ['umbra, other passes'] : []), 'three.js shadow maps', 'three.js main pass', 'passes in all', 'frame (wall)'];
     lines.push('Where the WebGPU frame goes: GPU ms per pass group (timestamp queries, one more frame per view, mean over the views):', '');
     lines.push(`| scene | size | row | ${keys.join(' | ')} |`, `| --- | --- | --- |${keys.map(() => ' ---: |').join('')}`);
     for (const run of withPasses) for (const m of gpuModes) if (run.passSummary[m]) lines.push(`| ${run.scene} | ${run.size} | ${label(m)} | ${keys.map((k) => (run.passSummary[m][k] ? fmt(run.passSummary[m][k]) : '-')).join(' | ')} |`);
     lines.push('');
   }
   table('First frame, ms (set-up included: the wasm, the casters\' preprocessing, pipelines; the model\'s loading excluded):', (run, m) => fmt(run.first[m]));
-  const umbraRows = modes.filter((m) => m === 'umbra' || m.startsWith('gpuumbra'));
+  const umbraRows = modes.filter((m) => m === 'umbra' || m.startsWith('gpuumbra') || m.startsWith('gpurays'));
   if (umbraRows.length) {
     lines.push('GPU memory after the last frame, MiB (umbra.info.gpuBytes; in brackets against three.js\'s own vertex and index buffers of the model):', '');
     lines.push(`| scene | size | three.js buffers | ${umbraRows.map(label).join(' | ')} |`, `| --- | --- | ---: |${umbraRows.map(() => ' ---: |').join('')}`);

@@ -6,6 +6,8 @@
 //                the model (examples/gltf/main.js's directional light)
 //   gpuumbra     umbra-three/webgpu (UmbraShadows of 'umbra-three/webgpu'), the point light
 //   gpuumbradir  the same with the directional light
+//   gpurays      umbra-three/webgpu with method 'ray-bvh' (shadow rays through a BVH), the point light
+//   gpuraysdir   the same with the directional light
 // Every mesh gets a MeshLambertNodeMaterial, both faces drawn, as bench.js. The camera and the
 // point light are `umbra render`'s defaults for the file (examples/gltf/view.js); the
 // directional light comes from (-0.45, 1, 0.6), the glTF example's second light. Each row has
@@ -34,7 +36,7 @@ const say = (t) => {
   document.getElementById('status').textContent = t;
 };
 
-export const ROWS = ['gpunone', 'gpumap2048', 'gpudir2048', 'gpuumbra', 'gpuumbradir'];
+export const ROWS = ['gpunone', 'gpumap2048', 'gpudir2048', 'gpuumbra', 'gpuumbradir', 'gpurays', 'gpuraysdir'];
 
 async function start() {
   if (!navigator.gpu) throw new Error('no navigator.gpu: this browser has no WebGPU (flags: testlib/exactness.mjs IMPLEMENTATIONS.webgpu, a http://127.0.0.1 page)');
@@ -113,7 +115,7 @@ async function start() {
     light.castShadow = true;
     return light;
   };
-  const lights = { gpunone: point(false), gpumap2048: point(true), gpudir2048: directional(), gpuumbra: point(true), gpuumbradir: directional() };
+  const lights = { gpunone: point(false), gpumap2048: point(true), gpudir2048: directional(), gpuumbra: point(true), gpuumbradir: directional(), gpurays: point(true), gpuraysdir: directional() };
   for (const l of Object.values(lights)) {
     scene.add(l);
     if (l.isDirectionalLight) scene.add(l.target);
@@ -132,6 +134,14 @@ async function start() {
     gpuumbradir: async () => {
       const { UmbraShadows } = await import('umbra-three/webgpu');
       umbras.gpuumbradir = await UmbraShadows.create(renderer);
+    },
+    gpurays: async () => {
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      umbras.gpurays = await UmbraShadows.create(renderer, { method: 'ray-bvh' });
+    },
+    gpuraysdir: async () => {
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      umbras.gpuraysdir = await UmbraShadows.create(renderer, { method: 'ray-bvh' });
     },
   };
   const draw = (mode) => {
