@@ -51,7 +51,7 @@ function groupPasses(passes) {
     if (p.label === 'umbra depth') g['umbra depth'] += p.ms;
     else if (/^umbra light \d+ silhouettes$/.test(p.label)) g['umbra compute'] += p.ms;
     else if (/^umbra light \d+ volumes$/.test(p.label)) g['umbra volumes + mask'] += p.ms;
-    else if (/^umbra light \d+ rays$/.test(p.label)) g['umbra rays'] = (g['umbra rays'] || 0) + p.ms;
+    else if (/^umbra (light \d+ rays|ray-bvh samples)$/.test(p.label)) g['umbra rays'] = (g['umbra rays'] || 0) + p.ms;
     else if (p.label.startsWith('umbra')) g['umbra, other passes'] = (g['umbra, other passes'] || 0) + p.ms;
   }
   three.forEach((p, i) => {

@@ -21,8 +21,8 @@
 //      white where the count is 0, lit; the mask was cleared to black, shadowed), then the
 //      seen side's facing on the depth pass's surface where the count is 0 (surface.wgsl
 //      fs_facing: lit = count 0 AND the seen side faces the light, native umbra's decision).
-// With `rays` set (UmbraShadows' method 'ray-bvh', rays.js), step 2 is instead one render pass
-// per light that traces each visible sample's shadow ray.
+// With `rays` set (UmbraShadows' method 'ray-bvh', rays.js), step 2 is instead a pass that keeps
+// each pixel's visible sample, then per light one pass that walks each sample's shadow ray.
 // Every light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity, light
 // caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
 // passes use at a time (clip positions, orientations, caps, quads, commands) are shared by the
@@ -364,6 +364,7 @@ export class WebGPUVolumes {
       const offset = [k * LIGHT_SLOT_BYTES];
       if (this.rays) {
         // ray-bvh (rays.js): the light's decision from its shadow rays, no volumes.
+        if (k === 0) this.rays.encodeSamples(encoder);
         this.rays.encodeLight(encoder, k, offset, masks[k]);
         return;
       }

@@ -44,22 +44,22 @@ fn vs_surface(@builtin(vertex_index) vertex: u32) -> SurfaceVertex {
     return o;
 }
 
-// Whether the seen side faces the light (false for a triangle without area): native
-// umbra-wgpu's faces_light (scene.wgsl umbra_shade), the normal flipped to the side the camera
-// sees by front_facing (decided from the same clip-space vertices as coverage; the pipeline's
-// front face is counter-clockwise, the normal's winding, in world space, so a mirroring world
-// matrix needs nothing more). Also ray.wgsl's.
-fn seen_side_faces_light(v: SurfaceVertex, front: bool) -> bool {
-    var n = normals[v.triangle].xyz;
+// Whether the seen side of triangle `triangle` faces the light at `p` (false for a triangle
+// without area): native umbra-wgpu's faces_light (scene.wgsl umbra_shade), the normal flipped
+// to the side the camera sees by `front` (front_facing, decided from the same clip-space
+// vertices as coverage; the pipeline's front face is counter-clockwise, the normal's winding,
+// in world space, so a mirroring world matrix needs nothing more). Also ray.wgsl's.
+fn faces_light(p: vec3<f32>, triangle: u32, front: bool) -> bool {
+    var n = normals[triangle].xyz;
     if !front {
         n = -n;
     }
-    let l = normalize(u.light.xyz - v.world_pos * u.light.w);
+    let l = normalize(u.light.xyz - p * u.light.w);
     return dot(n, l) > 0.0;
 }
 
 // 1 where the seen side faces the light, 0 where it faces away (or the triangle has no area).
 @fragment
 fn fs_facing(v: SurfaceVertex, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    return vec4<f32>(select(0.0, 1.0, seen_side_faces_light(v, front)));
+    return vec4<f32>(select(0.0, 1.0, faces_light(v.world_pos, v.triangle, front)));
 }
