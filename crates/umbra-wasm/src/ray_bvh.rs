@@ -26,10 +26,10 @@ struct Built {
 
 /// The BVH of `positions` (x y z per vertex) and `indices` (3 per triangle), or why not.
 pub fn build_page_bvh(positions: &[f32], indices: &[u32]) -> Result<(RayBvh, f32), String> {
-    if positions.len() % 3 != 0 {
+    if !positions.len().is_multiple_of(3) {
         return Err(format!("ray-bvh: {} position floats, not a multiple of 3", positions.len()));
     }
-    if indices.len() % 3 != 0 {
+    if !indices.len().is_multiple_of(3) {
         return Err(format!("ray-bvh: {} indices, not a multiple of 3", indices.len()));
     }
     let vertices: Vec<[f32; 3]> = positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
