@@ -6,6 +6,7 @@
 //                the model (examples/gltf/main.js's directional light)
 //   gpuumbra     umbra-three/webgpu (UmbraShadows of 'umbra-three/webgpu'), the point light
 //   gpuumbradir  the same with the directional light
+//   gpuzfail     umbra-three/webgpu with zpass: false (every light z-fail), the point light
 //   gpurays      umbra-three/webgpu with method 'ray-bvh' (shadow rays through a BVH), the point light
 //   gpuraysdir   the same with the directional light
 // Every mesh gets a MeshLambertNodeMaterial, both faces drawn, as bench.js. The camera and the
@@ -36,7 +37,7 @@ const say = (t) => {
   document.getElementById('status').textContent = t;
 };
 
-export const ROWS = ['gpunone', 'gpumap2048', 'gpudir2048', 'gpuumbra', 'gpuumbradir', 'gpurays', 'gpuraysdir'];
+export const ROWS = ['gpunone', 'gpumap2048', 'gpudir2048', 'gpuumbra', 'gpuumbradir', 'gpuzfail', 'gpurays', 'gpuraysdir'];
 
 async function start() {
   if (!navigator.gpu) throw new Error('no navigator.gpu: this browser has no WebGPU (flags: testlib/exactness.mjs IMPLEMENTATIONS.webgpu, a http://127.0.0.1 page)');
@@ -115,7 +116,7 @@ async function start() {
     light.castShadow = true;
     return light;
   };
-  const lights = { gpunone: point(false), gpumap2048: point(true), gpudir2048: directional(), gpuumbra: point(true), gpuumbradir: directional(), gpurays: point(true), gpuraysdir: directional() };
+  const lights = { gpunone: point(false), gpumap2048: point(true), gpudir2048: directional(), gpuumbra: point(true), gpuumbradir: directional(), gpuzfail: point(true), gpurays: point(true), gpuraysdir: directional() };
   for (const l of Object.values(lights)) {
     scene.add(l);
     if (l.isDirectionalLight) scene.add(l.target);
@@ -134,6 +135,10 @@ async function start() {
     gpuumbradir: async () => {
       const { UmbraShadows } = await import('umbra-three/webgpu');
       umbras.gpuumbradir = await UmbraShadows.create(renderer);
+    },
+    gpuzfail: async () => {
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      umbras.gpuzfail = await UmbraShadows.create(renderer, { zpass: false });
     },
     gpurays: async () => {
       const { UmbraShadows } = await import('umbra-three/webgpu');

@@ -243,9 +243,13 @@ async function judged(name, eye) {
 test('WebGPURenderer: a point and a directional light, a mirrored and an instanced caster, the eye outside and inside a shadow: every mask 0 samples outside the band, and the node materials receive it', async (t) => {
   if (skip) return t.skip(skip);
   await page.evaluate(() => window.makeWorld({}));
-  // The second view: the eye under the box, inside its shadow volumes.
+  // The second view: the eye under the box, inside its shadow volumes. Lights counted z-pass
+  // where the eye's count is proven (zpass.js), from that count: 0 outside, 2 (the box's two
+  // faces) under the box.
+  const zpassViews = [];
   for (const [name, eye] of [['outside', [0, 5, 7]], ['inside', [-1.5, 0.25, 0.25]]]) {
     const { rows, frame } = await judged(name, eye);
+    zpassViews.push(frame.info.zpass);
     console.log(JSON.stringify({ name, rows: rows.map((r) => ({ outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, dark: r.dark })), info: frame.info, errors: frame.errors }));
     assert.deepEqual(frame.errors, [], 'no mesh refused');
     assert.equal(frame.info.casters, 5, 'floor, box, mirrored cone and two instances cast');
@@ -276,6 +280,8 @@ test('WebGPURenderer: a point and a directional light, a mirrored and an instanc
       assert.ok(shadowedSum / shadowedN < 0.5 * (litSum / litN), `pixels both lights leave shadowed are darker (${(shadowedSum / shadowedN).toFixed(1)}) than those both light (${(litSum / litN).toFixed(1)})`);
     }
   }
+  console.log(`z-pass per view and light: ${JSON.stringify(zpassViews)}`);
+  assert.ok(zpassViews.flat().some((z) => z === true), 'some light of some view was counted z-pass');
   // A frame umbra does not draw (disabled; an OrthographicCamera, refused with an entry in
   // `errors`) is shaded unshadowed: the masks the shadow nodes read are cleared to lit.
   const off = await page.evaluate(async () => {
@@ -332,7 +338,7 @@ async function sharedScenesJudged(t, scenes, sizes, options) {
         await writeFile(png, encodePng(w, h, rgba));
         const extra = ['--eye', view.eye.join(','), '--target', view.target.join(','), '--up', view.up.join(','), '--fov', String(view.fov), '--light', l.join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)];
         const r = judge(umbraBin, { scene, size: `${w}x${h}`, maskPng: png, extra, explain: 20, diff: process.env.UMBRA_DIFF_DIR ? path.join(process.env.UMBRA_DIFF_DIR, `${s}-${w}-${k}.png`) : null });
-        console.log(JSON.stringify({ scene: s, method: f.info.method, size: `${w}x${h}`, light: k ? 'directional' : 'point', outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, triangles: f.info.triangles, cpuMs: f.info.cpuMs }));
+        console.log(JSON.stringify({ scene: s, method: f.info.method, zpass: f.info.zpass[k], size: `${w}x${h}`, light: k ? 'directional' : 'point', outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, triangles: f.info.triangles, cpuMs: f.info.cpuMs }));
         // The sun reaches into Sponza's atrium only (Conference and Sibenik are closed rooms).
         if (k === 0 || s === 'crytek-sponza.obj.gz') assert.ok(r.browser.shadowed_reference > 1000 && r.browser.samples - r.browser.shadowed_reference > 1000, `${s} ${w}x${h} light ${k}: shadow and light in view`);
         if (r.browser.mismatches_outside_band !== 0) outside.push(`${s} ${w}x${h} light ${k}: ${r.browser.mismatches_outside_band} (${r.explained.slice(0, 3).join('; ')})`);
@@ -345,6 +351,25 @@ async function sharedScenesJudged(t, scenes, sizes, options) {
 
 test('WebGPURenderer: Crytek Sponza, Conference and Sibenik through OBJLoader at 640x360 and 1280x720, a point and a directional light (Sibenik\'s eye inside 4 volumes): every mask 0 samples outside the band', { timeout: 1_800_000 }, async (t) => {
   await sharedScenesJudged(t, SHARED, [[640, 360], [1280, 720]], {});
+});
+
+// A known defect, kept running (a todo: reported, not failing the suite): the eye just below the
+// mirrored cone's base, inside its point-light shadow. A few samples on the base's triangles,
+// 0.0015-0.009 pixel from the rim, come out lit against a shadowed reference, z-pass and z-fail
+// alike (so not the count): SwiftShader's depth pass shows another surface there than the
+// oracle's band allows for.
+test('WebGPURenderer: the eye just below the mirrored cone (known defect: samples at the base\'s rim outside the band)', { todo: 'samples at the rim of a base seen from just below fall outside the band (docs/web.md, "On WebGPU")' }, async (t) => {
+  if (skip) return t.skip(skip);
+  const outside = {};
+  for (const method of ['cs-silhouette', 'ray-bvh']) {
+    await page.evaluate((m) => window.makeWorld({ method: m }), method);
+    for (const [name, eye] of [['under-mirrored-a', [1.11, 0.2, -1.46]], ['under-mirrored-b', [1.13, 0.1, -1.51]]]) {
+      const { rows, frame } = await judged(`${method}-${name}`, eye);
+      outside[`${method} ${name} (z-pass ${frame.info.zpass})`] = rows.map((r) => r.browser.mismatches_outside_band);
+    }
+  }
+  console.log(JSON.stringify(outside));
+  assert.ok(Object.values(outside).flat().every((n) => n === 0), `samples outside the band: ${JSON.stringify(outside)}`);
 });
 
 // ray-bvh in the page (rays.js): native ray-bvh's walk (umbra-wgpu's ray_bvh.wgsl) over the

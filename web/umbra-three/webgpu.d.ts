@@ -26,7 +26,7 @@ export interface UmbraWebGPUInfo {
   casterTriangles: number;
   /** The casters' edge records (one side quad per unit of multiplicity when a silhouette). */
   records: number;
-  /** Per light: false, every light is counted z-fail on this path. */
+  /** Per light: whether it was counted z-pass in the last frame (the eye's count proven for its whole near pyramid; always false with 'ray-bvh', which counts nothing). */
   zpass: boolean[];
   /** Total milliseconds spent preparing topologies (wasm) so far. */
   prepareMs: number;
@@ -51,6 +51,8 @@ export interface UmbraWebGPUOptions {
   wasm?: string | URL | Response | ArrayBuffer | ArrayBufferView | WebAssembly.Module;
   /** Default 'cs-silhouette'; any other value is refused by create() with the valid names. */
   method?: UmbraWebGPUMethod;
+  /** false: every light counted z-fail. Default true: a light is counted z-pass (no caps, the eye's count as the start) where the casters' tests prove the eye's count for its whole near pyramid. */
+  zpass?: boolean;
 }
 
 /**

@@ -25,6 +25,7 @@ import { createUniforms, patchMaterial } from './materials.js';
 import { WebGLDrawer, MAX_LIGHTS } from './webgl/drawer.js';
 import { sidesOf, culledCapRanges, weldedTriangleCounts } from './sides.js';
 import { infiniteProjection, orthographicProjection, clipFromObject, mul, nearPyramidPoints, transformPoints } from './camera.js';
+import { UnionCache, zpassStart } from './zpass.js';
 
 const CHANNEL_SELECT = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]];
 
@@ -37,9 +38,6 @@ function alphaTested(mesh) {
   const materials = Array.isArray(mesh.material) ? mesh.material : [mesh.material];
   return materials.some((m) => m && (m.alphaTest > 0 || m.alphaHash === true));
 }
-
-/** Frames a z-pass union (unionOf) is kept after the last frame that asked for it. */
-const UNION_FRAMES = 600;
 
 /** Instances of an InstancedMesh or BatchedMesh that keep their own silhouettes (`cache`); the others' are computed every frame. */
 const INSTANCE_SLOTS = 16;
@@ -82,41 +80,6 @@ function boxOf(positions) {
     }
   }
   return [...min, ...max].every(Number.isFinite) ? { min, max } : null;
-}
-
-/**
- * The stencil start of light `k` under z-pass, sum(W0) mod 256 (8-bit stencil, wrapping
- * counts), when every caster's test proves one count W0 for the eye's whole near pyramid;
- * null (z-fail) when any caster cannot (or has no points: z-pass off, projective matrix).
- * Casters that share a world matrix (`group`, one space) are asked together when one of them
- * cannot answer alone: the test of their union (`unionOf(tests)`, crates/umbra-wasm/src/
- * clearance.rs), whose W0 is the sum the stencil counts (a loader's groups of one model have
- * open borders that the union closes).
- */
-function zpassStart(tests, k, unionOf) {
-  const groups = new Map();
-  for (const t of tests) {
-    if (!t.points) return null;
-    if (!groups.has(t.group)) groups.set(t.group, []);
-    groups.get(t.group).push(t);
-  }
-  let sum = 0;
-  for (const group of groups.values()) {
-    let w = 0;
-    for (const t of group) {
-      const w0 = t.caster.nearWinding(t.points, t.lights[k]);
-      if (w0 === null) {
-        w = null;
-        break;
-      }
-      w += w0;
-    }
-    // The same matrix: the same points and light in the group's space.
-    if (w === null && group.length > 1) w = unionOf(group).nearWinding(group[0].points, group[0].lights[k]);
-    if (w === null) return null;
-    sum += w;
-  }
-  return sum % 256;
 }
 
 /** Whether two values of a frame's inputs are equal: typed arrays and arrays element by element, others by identity. */
@@ -197,7 +160,7 @@ export class UmbraShadows {
     this.owned = new Set(); // GL objects and wasm caster handles to free on dispose
     this.reported = new Set();
     this.channels = new Map(); // light -> channel of the last frame
-    this.unions = new Map(); // z-pass tests of casters sharing a world matrix, by their keys
+    this.unions = new UnionCache(topology.geom); // z-pass tests of casters sharing a world matrix
     this.frameCount = 0;
     // The inputs of the last frame whose decisions are in the mask target (null: none): a frame
     // with the same ones reuses them (`cache`).
@@ -363,18 +326,6 @@ export class UmbraShadows {
     if (!c.degenerate) return null;
     c.weldedBefore ??= weldedTriangleCounts(geometryPositions(geometry, ''), geometry.index ? geometry.index.array.subarray(0, geometry.index.count) : null);
     return c.weldedBefore;
-  }
-
-  /** The z-pass test of the union of `tests`' casters (one space), built once per set of geometry versions. */
-  unionOf(tests) {
-    const key = tests.map((t) => t.key).sort().join('|');
-    let u = this.unions.get(key);
-    if (!u) {
-      u = { union: this.topology.geom.union(tests.map((t) => t.caster)), frame: this.frameCount };
-      this.unions.set(key, u);
-    }
-    u.frame = this.frameCount;
-    return u.union;
   }
 
   /**
@@ -756,16 +707,8 @@ export class UmbraShadows {
     const t0 = timing ? performance.now() : 0;
     cpu.scene = performance.now() - tc;
     tc = performance.now();
-    const zpass = lights.map((_, k) => zpassStart(tests, k, (group) => this.unionOf(group)));
-    // Unions no group asked for in the last UNION_FRAMES frames are freed (a moving camera
-    // needs a group's union in one frame and not the next: building it again cost Sponza
-    // 50-160 ms of main thread a time).
-    for (const [key, u] of this.unions) {
-      if (this.frameCount - u.frame >= UNION_FRAMES) {
-        u.union.free();
-        this.unions.delete(key);
-      }
-    }
+    const zpass = lights.map((_, k) => zpassStart(tests, k, (group) => this.unions.of(group, this.frameCount)));
+    this.unions.prune(this.frameCount);
     this.frameCount++;
     zpass.forEach((z, k) => (zpassOf[k] = z));
     if (timing) timing.clearance = performance.now() - t0;
@@ -911,7 +854,6 @@ export class UmbraShadows {
     this.owned.clear();
     for (const r of this.receivers) r.free();
     this.receivers = [];
-    for (const u of this.unions.values()) u.union.free();
     this.unions.clear();
     this.samples?.free();
     this.samples = null;

@@ -23,8 +23,10 @@
 //      fs_facing: lit = count 0 AND the seen side faces the light, native umbra's decision).
 // With `rays` set (UmbraShadows' method 'ray-bvh', rays.js), step 2 is instead a pass that keeps
 // each pixel's visible sample, then per light one pass that walks each sample's shadow ray.
-// Every light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity, light
-// caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
+// A light counts z-pass where zpass.js proved the eye's count W0 for the eye's whole near
+// pyramid (the stencil cleared to W0, the sides alone counted in front of the sample, no caps);
+// every other light counts z-fail (exact wherever the eye is: closed volumes, caps at infinity,
+// light caps pushed to the far plane and clipped at the near plane). Buffers that only one light's
 // passes use at a time (clip positions, orientations, caps, quads, commands) are shared by the
 // lights: the queue runs one light's passes after the other's.
 import WGSL from 'umbra:wgsl';
@@ -109,6 +111,8 @@ export class WebGPUVolumes {
     const compute = (m, entryPoint, g1, g2) => device.createComputePipeline({ label: `umbra ${entryPoint}`, layout: layout(g1, g2), compute: { module: m, entryPoint } });
     this.transformPipeline = compute(transform, 'transform', this.transformLayout);
     this.orientPipeline = compute(orient, 'orient_and_caps', this.orientLayout);
+    // z-pass lights: the orientations alone (no caps: z-pass counts the sides only).
+    this.orientOnlyPipeline = compute(orient, 'orient', this.orientLayout);
     this.sidesPipeline = compute(sides, 'sides', this.sidesLayout);
     this.classifyPipeline = compute(classify, 'classify_polygons', this.classifyLayout, this.classifyUniformLayout);
 
@@ -131,9 +135,9 @@ export class WebGPUVolumes {
       },
     });
 
-    // The counting pipelines (the twin of umbra-wgpu's Common::counting_pipeline, z-fail).
-    const counting = (depthFailOp) => ({ compare: 'always', failOp: 'keep', depthFailOp, passOp: 'keep' });
-    const volume = (entryPoint) => device.createRenderPipeline({
+    // The counting pipelines (the twin of umbra-wgpu's Common::counting_pipeline).
+    const counting = (depthFailOp, passOp) => ({ compare: 'always', failOp: 'keep', depthFailOp, passOp });
+    const volume = (entryPoint, zpass) => device.createRenderPipeline({
       label: `umbra ${entryPoint}`,
       layout: layout(this.fanLayout),
       vertex: { module: fan, entryPoint },
@@ -159,17 +163,20 @@ export class WebGPUVolumes {
         // (depth 0) fails at every sample, background included, and z-fail counts it everywhere.
         depthCompare: 'greater',
         // z-fail: faces behind the sample; a back face +1 (the ray leaves a volume after the
-        // sample), a front face -1. Wrapping: the count is exact modulo 256.
-        stencilFront: counting('decrement-wrap'),
-        stencilBack: counting('increment-wrap'),
+        // sample), a front face -1. z-pass (a light whose eye's count zpassStart proved): faces
+        // in front of the sample; a front face +1 (the ray enters a volume before the sample),
+        // a back face -1, from the eye's count. Wrapping: the count is exact modulo 256.
+        stencilFront: zpass ? counting('keep', 'increment-wrap') : counting('decrement-wrap', 'keep'),
+        stencilBack: zpass ? counting('keep', 'decrement-wrap') : counting('increment-wrap', 'keep'),
         stencilReadMask: 0xff,
         stencilWriteMask: 0xff,
         // Reason: an offset would move volume faces against the scene's depth.
         depthBias: 0,
       },
     });
-    this.insideDraw = volume('vs_inside');
-    this.crossingDraw = volume('vs_crossing');
+    // [z-fail, z-pass] each.
+    this.insideDraw = [volume('vs_inside', false), volume('vs_inside', true)];
+    this.crossingDraw = [volume('vs_crossing', false), volume('vs_crossing', true)];
 
     // The decision: one triangle over the viewport, white where the count is the start (0).
     this.maskPipeline = device.createRenderPipeline({
@@ -321,10 +328,11 @@ export class WebGPUVolumes {
 
   /**
    * Draws the frame: `clipFromWorld` (Float32Array(16), column-major, reversed-Z, infinite far
-   * plane), `lights` ([x, y, z, w] world space: w 1 point, 0 directional from xyz) and their
-   * masks (GPUTexture views, r8unorm, the target's size).
+   * plane), `lights` ([x, y, z, w] world space: w 1 point, 0 directional from xyz), their
+   * masks (GPUTexture views, r8unorm, the target's size) and `zpass`: per light the eye's
+   * count W0 when z-pass is proven for it (zpass.js zpassStart), null (or absent) for z-fail.
    */
-  draw(clipFromWorld, lights, masks) {
+  draw(clipFromWorld, lights, masks, zpass = []) {
     const s = this.scene;
     this.ensureLights(lights.length);
     const slots = new ArrayBuffer(LIGHT_SLOT_BYTES * Math.max(1, lights.length));
@@ -362,6 +370,8 @@ export class WebGPUVolumes {
     const casting = s && s.triangles > 0;
     lights.forEach((_, k) => {
       const offset = [k * LIGHT_SLOT_BYTES];
+      const w0 = this.rays ? null : zpass[k] ?? null;
+      const counted = w0 === null ? 0 : 1;
       if (this.rays) {
         // ray-bvh (rays.js): the light's decision from its shadow rays, no volumes.
         if (k === 0) this.rays.encodeSamples(encoder);
@@ -378,7 +388,8 @@ export class WebGPUVolumes {
         pass.setPipeline(this.transformPipeline);
         pass.setBindGroup(1, s.transformGroup);
         pass.dispatchWorkgroups(...dispatchSize(s.vertices));
-        pass.setPipeline(this.orientPipeline);
+        // z-pass: no caps (the caps command stays at 0 vertices, so classify lists none).
+        pass.setPipeline(w0 === null ? this.orientPipeline : this.orientOnlyPipeline);
         pass.setBindGroup(1, s.orientGroup);
         pass.dispatchWorkgroups(...dispatchSize(s.triangles));
         if (s.recordCount > 0) {
@@ -397,15 +408,16 @@ export class WebGPUVolumes {
         label: `umbra light ${k} volumes`,
         // Cleared to 0, shadowed: the mask pass writes the lit pixels.
         colorAttachments: [{ view: masks[k], clearValue: { r: 0, g: 0, b: 0, a: 0 }, loadOp: 'clear', storeOp: 'store' }],
-        // The scene's depth kept; the count starts at 0 for every light (z-fail's start).
-        depthStencilAttachment: { view: t.view, depthLoadOp: 'load', depthStoreOp: 'store', stencilClearValue: 0, stencilLoadOp: 'clear', stencilStoreOp: 'discard' },
+        // The scene's depth kept; the count starts at 0 (z-fail) or at the eye's count W0 mod
+        // 256 (z-pass).
+        depthStencilAttachment: { view: t.view, depthLoadOp: 'load', depthStoreOp: 'store', stencilClearValue: w0 === null ? 0 : ((w0 % 256) + 256) % 256, stencilLoadOp: 'clear', stencilStoreOp: 'discard' },
       });
       if (casting) {
         pass.setBindGroup(0, this.lightGroup, offset);
-        pass.setPipeline(this.insideDraw);
+        pass.setPipeline(this.insideDraw[counted]);
         pass.setBindGroup(1, s.insideGroup);
         pass.drawIndirect(this.fanCommands, 0);
-        pass.setPipeline(this.crossingDraw);
+        pass.setPipeline(this.crossingDraw[counted]);
         pass.setBindGroup(1, s.crossingGroup);
         pass.drawIndirect(this.fanCommands, 16);
       }

@@ -15,11 +15,12 @@
 //      every lit node material and a user's TSL receive umbra's decision.
 // Nothing thrown inside render(): a refused mesh or light is an entry in `errors` (and
 // onError), and three.js draws the frame all the same.
-import { NearestFilter, RedFormat, RenderTarget, UnsignedByteType, Vector2, Vector3 } from 'three/webgpu';
+import { Matrix4, NearestFilter, RedFormat, RenderTarget, UnsignedByteType, Vector2, Vector3 } from 'three/webgpu';
 import { screenUV, texture } from 'three/tsl';
 import { Topology, TopologyError, meshName, positionArray } from '../topology.js';
 import { gatherLights } from '../lights.js';
-import { infinitePerspectiveReversedZ, mul } from '../camera.js';
+import { infinitePerspectiveReversedZ, mul, nearPyramidPoints, transformPoints } from '../camera.js';
+import { UnionCache, zpassStart } from '../zpass.js';
 import { WebGPUVolumes } from './passes.js';
 import { WebGPURays } from './rays.js';
 import { reportOnce } from '../report.js';
@@ -107,6 +108,8 @@ export class UmbraShadows {
     this.parts = new Map(); // mesh uuid + instance -> { key, part }
     this.lastKey = null;
     this.masks = new Map(); // light -> { target: RenderTarget, node }
+    this.casters = new Set(); // the wasm's caster handles of the prepared geometries (their z-pass tests)
+    this.unions = new UnionCache(topology.geom); // z-pass tests of casters sharing a world matrix
     this.info = {
       backend: 'webgpu', method, silhouettes: method === 'ray-bvh' ? null : 'compute', bvh: null, lights: 0, casters: 0, triangles: 0, casterTriangles: 0, records: 0,
       zpass: [], prepareMs: 0, cpuMs: 0, gpuBytes: 0, depthFormat,
@@ -151,6 +154,10 @@ export class UmbraShadows {
       if (cached.error) throw cached.error;
       return cached;
     }
+    if (cached?.caster) {
+      this.casters.delete(cached.caster);
+      cached.caster.free();
+    }
     const name = meshName(mesh);
     let entry;
     try {
@@ -158,9 +165,10 @@ export class UmbraShadows {
       if (caster) {
         const t0 = performance.now();
         const p = this.topology.prepare(geometry, name);
-        p.caster.free();
         const { records, slots } = casterRecords(p.recordVertices, p.edgeTriangles, p.maxMult);
-        entry = { key, positions: p.positions, indices: p.indices, records, slots };
+        // The caster handle stays for its z-pass test (zpass.js), freed with this entry.
+        entry = { key, positions: p.positions, indices: p.indices, records, slots, caster: p.caster, uuid: geometry.uuid };
+        this.casters.add(p.caster);
         this.info.prepareMs += performance.now() - t0;
       } else {
         const positions = positionArray(pos);
@@ -181,6 +189,8 @@ export class UmbraShadows {
     const casters = [];
     const others = [];
     const keys = [];
+    // Per caster instance: its handle and world matrix, for the z-pass test (zpassOf).
+    const tests = [];
     scene.traverseVisible((o) => {
       if (!o.isMesh || !o.layers.test(camera.layers)) return;
       const name = meshName(o);
@@ -221,11 +231,12 @@ export class UmbraShadows {
         }
         p.frame = this.frame;
         keys.push(key, partKey);
+        if (data.caster) tests.push({ caster: data.caster, world: e, key: `${data.uuid}/${data.key}` });
         (data.records ? casters : others).push(p.part);
       });
     });
     for (const [k, p] of this.parts) if (p.frame !== this.frame) this.parts.delete(k);
-    return { parts: [...casters, ...others], key: keys.join(';'), casters: casters.length };
+    return { parts: [...casters, ...others], key: keys.join(';'), casters: casters.length, tests };
   }
 
   /** Draws `scene` from `camera` with umbra's shadows (or plainly when umbra cannot). */
@@ -275,7 +286,7 @@ export class UmbraShadows {
     const target = this.renderer.getRenderTarget();
     const size = target ? new Vector2(target.width, target.height) : this.renderer.getDrawingBufferSize(new Vector2());
     const lights = gatherLights(scene, camera).filter((l) => l.castShadow && (l.isPointLight || l.isSpotLight || l.isDirectionalLight));
-    const { parts, key, casters } = this.gather(scene, camera);
+    const { parts, key, casters, tests } = this.gather(scene, camera);
     if (key !== this.lastKey) {
       const merged = mergeParts(parts);
       this.volumes.setScene(merged);
@@ -301,13 +312,52 @@ export class UmbraShadows {
     // umbra's camera: the camera's fov, aspect and near, an infinite far plane, reversed-Z
     // (WebGPU's depth range is [0, 1]: depth near / d, exactly 0 at infinity).
     const projection = infinitePerspectiveReversedZ(camera.getEffectiveFOV(), camera.aspect, camera.near);
-    const clipFromWorld = new Float32Array(mul(projection, camera.matrixWorldInverse.elements));
-    this.volumes.draw(clipFromWorld, lightWorld, views);
+    const clipFromWorldF64 = mul(projection, camera.matrixWorldInverse.elements);
+    const clipFromWorld = new Float32Array(clipFromWorldF64);
+    const zpass = this.volumes.rays ? lights.map(() => null) : this.zpassOf(clipFromWorldF64, camera, lightWorld, tests);
+    this.volumes.draw(clipFromWorld, lightWorld, views, zpass);
     this.info.lights = lights.length;
     this.info.casters = casters;
-    this.info.zpass = lights.map(() => false);
+    this.info.zpass = zpass.map((z) => z !== null);
     this.info.gpuBytes = this.volumes.gpuBytes + masks.reduce((a, m) => a + m.width * m.height, 0);
     return true;
+  }
+
+  /**
+   * Per light, the eye's count W0 when z-pass is proven for it, else null (z-fail): the eye's
+   * near pyramid (umbra's own camera: reversed-Z, infinite far plane) tested against every
+   * caster instance in its own space, and against the union of those that share a world matrix
+   * where one alone cannot answer (zpass.js). Refused (z-fail) with options.zpass false, and
+   * for every light when an instance's world matrix is projective. A mirroring matrix needs
+   * nothing more: a point's count is the number of triangles between it and the light (each
+   * triangle's volume is turned by its orientation towards the light), which an affine map
+   * keeps, though this path builds its volumes from the world-space triangles.
+   */
+  zpassOf(clipFromWorld, camera, lightWorld, tests) {
+    const none = lightWorld.map(() => null);
+    if (this.options.zpass === false || tests.length === 0) {
+      this.unions.prune(this.frame);
+      return none;
+    }
+    const eye = new Vector3().setFromMatrixPosition(camera.matrixWorld);
+    const worldFromClip = new Matrix4().fromArray(clipFromWorld).invert().elements;
+    const pyramid = nearPyramidPoints(worldFromClip, [eye.x, eye.y, eye.z], true);
+    const inverse = new Matrix4();
+    const asked = tests.map((t) => {
+      const w = t.world;
+      const m = inverse.fromArray(w);
+      const det = m.determinant();
+      const usable = affine(w) && det !== 0 && Number.isFinite(det);
+      const e = m.invert().elements;
+      const toObject = (v) => new Float32Array([0, 1, 2, 3].map((r) => e[r] * v[0] + e[4 + r] * v[1] + e[8 + r] * v[2] + e[12 + r] * v[3]));
+      return {
+        caster: t.caster, key: t.key, group: Array.prototype.join.call(w, ','),
+        points: usable ? transformPoints(e, pyramid) : null, lights: lightWorld.map(toObject),
+      };
+    });
+    const zpass = lightWorld.map((_, k) => zpassStart(asked, k, (group) => this.unions.of(group, this.frame)));
+    this.unions.prune(this.frame);
+    return zpass;
   }
 
   /** Light `light`'s decision of the last frame: rows top-down, 255 lit / 0 shadowed (Uint8Array). */
@@ -325,6 +375,9 @@ export class UmbraShadows {
       m.target.dispose();
     }
     this.masks.clear();
+    this.unions.clear();
+    for (const c of this.casters) c.free();
+    this.casters.clear();
     this.volumes.dispose();
   }
 }
