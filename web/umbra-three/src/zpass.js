@@ -75,6 +75,11 @@ export class UnionCache {
     }
   }
 
+  /** How many unions are kept. */
+  get size() {
+    return this.unions.size;
+  }
+
   /** Frees every union. */
   clear() {
     for (const u of this.unions.values()) u.union.free();
