@@ -400,6 +400,9 @@ test('WebGPURenderer, method ray-bvh: the world of the first test (point and dir
       assert.ok(r.browser.shadowed_reference > 500, `${name}, light ${k}: the casters shadow something`);
     });
   }
+  // No volume buffers on this path: the surface's three and the BVH's alone.
+  const owned = await page.evaluate(() => window.T.umbra.volumes.scene.owned);
+  assert.deepEqual(owned, ['positions', 'indices', 'normals'], 'the ray path makes no volume buffers');
   // A caster that moves: the BVH is built again (no stale hierarchy), and the mask follows.
   const moved = await page.evaluate(async () => {
     const { box, camera } = window.T;

@@ -258,7 +258,11 @@ export class WebGPUVolumes {
     return n;
   }
 
-  /** Uploads the frame's merged geometry (world.js mergeParts) and makes the buffers sized to it. */
+  /**
+   * Uploads the frame's merged geometry (world.js mergeParts) and makes the buffers sized to it:
+   * the surface's (positions, indices, normals) always, the volumes' only when the lights are
+   * decided by volumes (not with `rays`, which reads the surface's alone).
+   */
   setScene(merged) {
     this.disposeScene();
     const S = U.STORAGE;
@@ -267,45 +271,51 @@ export class WebGPUVolumes {
       indices: this.buffer('umbra indices', 4 * merged.indices.length, S, merged.indices),
       // The facing pass's flat normals (world.js triangleNormals), over every drawn triangle.
       normals: this.buffer('umbra normals', 4 * 4 * merged.triangles, S, triangleNormals(merged.positions, merged.indices)),
-      records: this.buffer('umbra edge records', 4 * merged.records.length, S, merged.records),
-      slots: this.buffer('umbra slots', 4 * merged.slots.length, S, merged.slots),
-      clip: this.buffer('umbra clip positions', 32 * merged.casterVertices, S),
-      orientation: this.buffer('umbra orientations', 4 * merged.casterTriangles, S),
-      caps: this.buffer('umbra caps', 12 * merged.casterTriangles, S),
-      // Σ|m| <= Σk: at most one quad per slot.
-      quads: this.buffer('umbra quads', 8 * merged.slots.length, S),
-      // The classify pass's lists: at most every side quad, light cap and dark cap, each; the
-      // crossing list starts at a 256-byte boundary (a storage binding's offset alignment).
-      polygons: merged.slots.length + 2 * merged.casterTriangles,
       indexCount: merged.indices.length,
       vertices: merged.casterVertices,
       triangles: merged.casterTriangles,
       recordCount: merged.records.length / 4,
+      owned: ['positions', 'indices', 'normals'],
     };
-    s.crossingFirst = Math.max(64, Math.ceil(s.polygons / 64) * 64);
-    s.lists = this.buffer('umbra polygon lists', 4 * 2 * s.crossingFirst, S);
-    s.classifyUniform = this.buffer('umbra classify uniform', 16, U.UNIFORM, new Uint32Array([s.crossingFirst, 0, 0, 0]));
-    s.bytes = [s.positions, s.indices, s.normals, s.records, s.slots, s.clip, s.orientation, s.caps, s.quads, s.lists, s.classifyUniform].reduce((a, b) => a + b.size, 0);
     const bind = (layout, buffers) => this.device.createBindGroup({ layout, entries: buffers.map((buffer, binding) => ({ binding, resource: { buffer } })) });
-    s.transformGroup = bind(this.transformLayout, [s.positions, s.clip]);
     s.surfaceGroup = bind(this.surfaceLayout, [s.positions, s.indices, s.normals]);
-    s.orientGroup = bind(this.orientLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps]);
-    s.sidesGroup = bind(this.sidesLayout, [s.records, s.slots, s.orientation, this.sidesCommand, s.quads]);
-    s.classifyGroup = bind(this.classifyLayout, [s.clip, s.quads, s.caps, this.sidesCommand, this.capsCommand, this.fanCommands, s.lists]);
-    s.classifyUniformGroup = bind(this.classifyUniformLayout, [s.classifyUniform]);
-    const fanGroup = (offset) => this.device.createBindGroup({
-      layout: this.fanLayout,
-      entries: [s.clip, s.quads, s.caps].map((buffer, binding) => ({ binding, resource: { buffer } }))
-        .concat([{ binding: 3, resource: { buffer: s.lists, offset: 4 * offset, size: 4 * s.crossingFirst } }]),
-    });
-    s.insideGroup = fanGroup(0);
-    s.crossingGroup = fanGroup(s.crossingFirst);
+    if (!this.rays) {
+      Object.assign(s, {
+        records: this.buffer('umbra edge records', 4 * merged.records.length, S, merged.records),
+        slots: this.buffer('umbra slots', 4 * merged.slots.length, S, merged.slots),
+        clip: this.buffer('umbra clip positions', 32 * merged.casterVertices, S),
+        orientation: this.buffer('umbra orientations', 4 * merged.casterTriangles, S),
+        caps: this.buffer('umbra caps', 12 * merged.casterTriangles, S),
+        // Σ|m| <= Σk: at most one quad per slot.
+        quads: this.buffer('umbra quads', 8 * merged.slots.length, S),
+        // The classify pass's lists: at most every side quad, light cap and dark cap, each; the
+        // crossing list starts at a 256-byte boundary (a storage binding's offset alignment).
+        polygons: merged.slots.length + 2 * merged.casterTriangles,
+      });
+      s.crossingFirst = Math.max(64, Math.ceil(s.polygons / 64) * 64);
+      s.lists = this.buffer('umbra polygon lists', 4 * 2 * s.crossingFirst, S);
+      s.classifyUniform = this.buffer('umbra classify uniform', 16, U.UNIFORM, new Uint32Array([s.crossingFirst, 0, 0, 0]));
+      s.owned.push('records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform');
+      s.transformGroup = bind(this.transformLayout, [s.positions, s.clip]);
+      s.orientGroup = bind(this.orientLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps]);
+      s.sidesGroup = bind(this.sidesLayout, [s.records, s.slots, s.orientation, this.sidesCommand, s.quads]);
+      s.classifyGroup = bind(this.classifyLayout, [s.clip, s.quads, s.caps, this.sidesCommand, this.capsCommand, this.fanCommands, s.lists]);
+      s.classifyUniformGroup = bind(this.classifyUniformLayout, [s.classifyUniform]);
+      const fanGroup = (offset) => this.device.createBindGroup({
+        layout: this.fanLayout,
+        entries: [s.clip, s.quads, s.caps].map((buffer, binding) => ({ binding, resource: { buffer } }))
+          .concat([{ binding: 3, resource: { buffer: s.lists, offset: 4 * offset, size: 4 * s.crossingFirst } }]),
+      });
+      s.insideGroup = fanGroup(0);
+      s.crossingGroup = fanGroup(s.crossingFirst);
+    }
+    s.bytes = s.owned.reduce((a, k) => a + s[k].size, 0);
     this.scene = s;
   }
 
   disposeScene() {
     if (!this.scene) return;
-    for (const k of ['positions', 'indices', 'normals', 'records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform']) this.scene[k].destroy();
+    for (const k of this.scene.owned) this.scene[k].destroy();
     this.scene = null;
   }
 
