@@ -243,9 +243,9 @@ async function judged(name, eye) {
 test('WebGPURenderer: a point and a directional light, a mirrored and an instanced caster, the eye outside and inside a shadow: every mask 0 samples outside the band, and the node materials receive it', async (t) => {
   if (skip) return t.skip(skip);
   await page.evaluate(() => window.makeWorld({}));
-  // The second view: the eye under the box, inside its shadow volumes. Lights counted z-pass
-  // where the eye's count is proven (zpass.js), from that count: 0 outside, 2 (the box's two
-  // faces) under the box.
+  // The second view: the eye under the box, inside its shadow volumes. Lights are counted
+  // z-pass where the eye's count is proven (zpass.js), from that count, which under the box is
+  // not 0.
   const zpassViews = [];
   for (const [name, eye] of [['outside', [0, 5, 7]], ['inside', [-1.5, 0.25, 0.25]]]) {
     const { rows, frame } = await judged(name, eye);
