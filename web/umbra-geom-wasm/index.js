@@ -338,7 +338,7 @@ export async function loadUmbraGeom(source) {
   }
 
   /**
-   * The BVH native `ray-bvh` walks (umbra_geom::ray_bvh::build; crates/umbra-wasm/src/ray_bvh.rs)
+   * The BVH native `ray-bvh` walks (umbra_geom::ray_bvh::build; crates/umbra-wasm/src/ffi/ray_bvh.rs)
    * of world `positions` (x y z per vertex) and `indices` (3 per triangle): { nodes,
    * triangles (Float32Array vec4s), nodeCount, depth, eps (the reference's, as f32), constants
    * (the WGSL the shared walk is prepended with) }. Throws UmbraGeomError on bad input.
@@ -347,10 +347,10 @@ export async function loadUmbraGeom(source) {
     const blocks = [];
     let handle = 0;
     try {
-      const positionsPtr = alloc(4 * Math.max(1, positions.length));
-      blocks.push([positionsPtr, 4 * Math.max(1, positions.length)]);
-      const indicesPtr = alloc(4 * Math.max(1, indices.length));
-      blocks.push([indicesPtr, 4 * Math.max(1, indices.length)]);
+      const positionsPtr = alloc(4 * positions.length);
+      blocks.push([positionsPtr, 4 * positions.length]);
+      const indicesPtr = alloc(4 * indices.length);
+      blocks.push([indicesPtr, 4 * indices.length]);
       new Float32Array(w.memory.buffer, positionsPtr, positions.length).set(positions);
       new Uint32Array(w.memory.buffer, indicesPtr, indices.length).set(indices);
       handle = u(w.umbra_ray_bvh_build(positionsPtr, positions.length, indicesPtr, indices.length));

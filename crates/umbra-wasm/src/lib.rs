@@ -27,7 +27,6 @@ use umbra_geom::{Mesh, WeldedMesh};
 mod clearance;
 pub mod cull;
 pub mod ffi;
-pub mod ray_bvh;
 mod silhouette;
 
 pub use clearance::Clearance;

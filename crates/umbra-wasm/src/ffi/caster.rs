@@ -3,7 +3,7 @@
 
 use umbra_geom::sides_data::record_ranges;
 
-use super::{slice, PrepareResult};
+use super::{near_winding, slice, PrepareResult};
 use crate::cull::Screen;
 use crate::{CasterCull, Clearance, Receivers, Silhouette};
 
@@ -63,10 +63,7 @@ pub unsafe extern "C" fn umbra_caster_near_winding(
     light: *const f32,
 ) -> i32 {
     // SAFETY: guaranteed by the caller.
-    let (c, flat, light) = unsafe { (&*c, slice(points, points_len), slice(light, 4)) };
-    let (Ok(light), 0) = (<[f32; 4]>::try_from(light), flat.len() % 3) else { return -1 };
-    let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-    c.clearance.near_winding(&points, light).and_then(|w| i32::try_from(w).ok()).unwrap_or(-1)
+    unsafe { near_winding(&(*c).clearance, points, points_len, light) }
 }
 
 /// [`crate::Silhouette::compute`] towards the light at `light` (4 f32, the geometry's own

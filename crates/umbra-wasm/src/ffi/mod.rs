@@ -29,17 +29,19 @@
 //! z-pass for casters that share a world matrix: [`umbra_union_new`] asks the test of their
 //! union ([`crate::Clearance::union`]), which [`umbra_union_free`] frees.
 //!
-//! `ray-bvh` in a page: [`crate::ray_bvh`]'s `umbra_ray_bvh_*` functions.
+//! `ray-bvh` in a page: [`umbra_ray_bvh_build`] and its accessors (`ray_bvh.rs`).
 
 use std::alloc::{alloc, dealloc, Layout};
 
 mod caster;
 mod prepare;
+mod ray_bvh;
 mod receivers;
 mod union;
 
 pub use caster::*;
 pub use prepare::*;
+pub use ray_bvh::*;
 pub use receivers::*;
 pub use union::*;
 
@@ -82,6 +84,20 @@ pub unsafe extern "C" fn umbra_free(ptr: *mut u8, len: usize) {
         // SAFETY: the caller passes a block of umbra_alloc(len), which used this layout.
         unsafe { dealloc(ptr, layout) }
     }
+}
+
+/// [`Clearance::near_winding`](crate::Clearance::near_winding) of `c` asked through the
+/// exports: `points_len` f64 at `points` (x, y, z per point), the light as 4 f32 at `light`.
+/// `W0`, or -1 when it is unknown, above `i32::MAX`, or the input is malformed.
+///
+/// # Safety
+/// `points` points to `points_len` initialised, aligned f64 and `light` to 4 f32.
+unsafe fn near_winding(c: &crate::Clearance, points: *const f64, points_len: usize, light: *const f32) -> i32 {
+    // SAFETY: guaranteed by the caller.
+    let (flat, light) = unsafe { (slice(points, points_len), slice(light, 4)) };
+    let (Ok(light), 0) = (<[f32; 4]>::try_from(light), flat.len() % 3) else { return -1 };
+    let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    c.near_winding(&points, light).and_then(|w| i32::try_from(w).ok()).unwrap_or(-1)
 }
 
 /// A slice of `len` elements at `ptr`; empty for `len` 0, whatever `ptr` is.

@@ -1,6 +1,6 @@
 //! The z-pass test of the union of casters that share one space ([`umbra_union_new`]).
 
-use super::{slice, Caster};
+use super::{near_winding, slice, Caster};
 use crate::Clearance;
 
 /// The z-pass test of the union of `n` casters that share one space ([`Clearance::union`]):
@@ -32,10 +32,7 @@ pub unsafe extern "C" fn umbra_union_near_winding(
     light: *const f32,
 ) -> i32 {
     // SAFETY: guaranteed by the caller.
-    let (u, flat, light) = unsafe { (&*u, slice(points, points_len), slice(light, 4)) };
-    let (Ok(light), 0) = (<[f32; 4]>::try_from(light), flat.len() % 3) else { return -1 };
-    let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-    u.near_winding(&points, light).and_then(|w| i32::try_from(w).ok()).unwrap_or(-1)
+    unsafe { near_winding(&*u, points, points_len, light) }
 }
 
 /// Frees a handle of [`umbra_union_new`].

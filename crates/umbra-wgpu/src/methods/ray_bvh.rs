@@ -9,7 +9,7 @@
 //! triangle id (`primitive_index`: the device needs [`wgpu::Features::PRIMITIVE_INDEX`]). The
 //! host API's protocol hands a method no frame size before the caller's passes, so there is no
 //! compute pass over the samples here; and no pass to resume a walk in: one fragment walks at
-//! most [`BUDGET`] steps (lavapipe's loop limit, see the shader).
+//! most [`ray_bvh::WGSL_BUDGET`] steps (lavapipe's loop limit, see the shader).
 //!
 //! Per scene: the BVH's two storage buffers and a uniform of the eps; per light: the light slot;
 //! in the caller's pass, the resolve draw.
@@ -24,9 +24,6 @@ use crate::scene::{buffer_init, SceneGpu, SceneId};
 
 /// Registry name.
 pub const NAME: &str = "ray-bvh";
-
-/// Walk steps per fragment ([`ray_bvh::WGSL_BUDGET`]).
-pub const BUDGET: u32 = ray_bvh::WGSL_BUDGET;
 
 const VOLUME: &str = include_str!("../shaders/volume.wgsl");
 const WALK: &str = include_str!("../shaders/ray_bvh.wgsl");

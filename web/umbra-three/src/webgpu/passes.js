@@ -380,14 +380,14 @@ export class WebGPUVolumes {
     const casting = s && s.triangles > 0;
     lights.forEach((_, k) => {
       const offset = [k * LIGHT_SLOT_BYTES];
-      const w0 = this.rays ? null : zpass[k] ?? null;
-      const counted = w0 === null ? 0 : 1;
       if (this.rays) {
         // ray-bvh (rays.js): the light's decision from its shadow rays, no volumes.
         if (k === 0) this.rays.encodeSamples(encoder);
         this.rays.encodeLight(encoder, k, offset, masks[k]);
         return;
       }
+      const w0 = zpass[k] ?? null;
+      const counted = w0 === null ? 0 : 1;
       if (casting) {
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.sidesCommand, 0, 16);
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.capsCommand, 0, 16);

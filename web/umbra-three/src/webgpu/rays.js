@@ -2,7 +2,7 @@
 // ray per visible sample through a BVH of the casters, native ray-bvh's walk and watertight
 // test (umbra-wgpu's shaders/ray_bvh.wgsl, through the virtual module `umbra:wgsl`) over the
 // hierarchy native ray-bvh builds (umbra_geom::ray_bvh::build, in the wasm: crates/umbra-wasm/
-// src/ray_bvh.rs). No silhouettes and no stencil. After passes.js's depth pass, once per frame,
+// src/ffi/ray_bvh.rs). No silhouettes and no stencil. After passes.js's depth pass, once per frame,
 // every triangle is drawn again on the depth pass's surface (depth EQUAL, the facing pass's
 // vertex stage, surface.wgsl vs_surface) into a samples texture (each pixel's world position,
 // triangle and seen side: wgsl/ray.wgsl fs_sample); then per light one triangle over the
@@ -15,6 +15,7 @@
 // taken over every drawn position, as the oracle takes it over the scene it judges.
 import WGSL from 'umbra:wgsl';
 import SURFACE from './wgsl/surface.wgsl';
+import MASK from './wgsl/mask.wgsl';
 import RAY from './wgsl/ray.wgsl';
 
 /** Bytes of ray_bvh.wgsl's Params (eps, eps_near, nodes, pad). */
@@ -51,7 +52,7 @@ export class WebGPURays {
   pipelinesFor(constants) {
     if (this.pipelines && this.constants === constants) return this.pipelines;
     const v = this.volumes;
-    const module = this.device.createShaderModule({ label: 'umbra ray-bvh', code: ['enable clip_distances;', WGSL.volume, SURFACE, constants, WGSL.rayBvh, RAY].join('\n') });
+    const module = this.device.createShaderModule({ label: 'umbra ray-bvh', code: ['enable clip_distances;', WGSL.volume, SURFACE, MASK, constants, WGSL.rayBvh, RAY].join('\n') });
     const layout = (groups) => this.device.createPipelineLayout({ bindGroupLayouts: groups });
     this.pipelines = {
       // Pass 1: the visible samples. Reason for a layout without group 2: the samples texture
@@ -79,7 +80,7 @@ export class WebGPURays {
       ray: this.device.createRenderPipeline({
         label: 'umbra ray-bvh rays',
         layout: layout([v.lightLayout, v.surfaceLayout, this.layout]),
-        vertex: { module, entryPoint: 'vs_viewport' },
+        vertex: { module, entryPoint: 'vs_mask' },
         fragment: { module, entryPoint: 'fs_ray', targets: [{ format: v.maskFormat }] },
         primitive: { topology: 'triangle-list', cullMode: 'none' },
       }),

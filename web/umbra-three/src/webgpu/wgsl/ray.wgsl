@@ -14,7 +14,8 @@
 //      sample is lit, as where no volume counts.
 // Prepended: `enable clip_distances;`, volume.wgsl (the light slot `u`), surface.wgsl (the
 // storage `positions`, `indices` and `normals`, group 1, which the walk and the facing read),
-// the wasm's constants, ray_bvh.wgsl.
+// mask.wgsl (vs_mask: one triangle over the viewport, pass 2's vertex stage), the wasm's
+// constants, ray_bvh.wgsl.
 
 // The BVH (umbra_geom::ray_bvh's vec4 layout), the walk's Params (ray_bvh.wgsl) and the
 // samples of pass 1.
@@ -31,14 +32,6 @@ const BACK_SEEN: u32 = 0x80000000u;
 @fragment
 fn fs_sample(v: SurfaceVertex, @builtin(front_facing) front: bool) -> @location(0) vec4<u32> {
     return vec4<u32>(bitcast<vec3<u32>>(v.world_pos), v.triangle | select(BACK_SEEN, 0u, front));
-}
-
-@vertex
-fn vs_viewport(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    // Vertices (-1, -1), (3, -1), (-1, 3): the viewport and beyond, one triangle (mask.wgsl).
-    let x = f32((i << 1u) & 2u) * 2.0 - 1.0;
-    let y = f32(i & 2u) * 2.0 - 1.0;
-    return vec4<f32>(x, y, 0.0, 1.0);
 }
 
 @fragment

@@ -13,6 +13,8 @@
 
 use umbra_geom::ray_bvh::{self, RayBvh};
 
+use super::slice;
+
 /// What [`umbra_ray_bvh_build`] returns.
 pub struct PageBvh {
     result: Result<Built, String>,
@@ -55,8 +57,8 @@ pub fn build_page_bvh(positions: &[f32], indices: &[u32]) -> Result<(RayBvh, f32
 /// memory.
 ///
 /// # Safety
-/// `positions` points to `positions_len` f32 and `indices` to `indices_len` u32 (either may be
-/// dangling when its length is 0).
+/// `positions` points to `positions_len` initialised, aligned f32 and `indices` to
+/// `indices_len` u32 (either may be anything when its length is 0).
 #[no_mangle]
 pub unsafe extern "C" fn umbra_ray_bvh_build(
     positions: *const f32,
@@ -64,8 +66,8 @@ pub unsafe extern "C" fn umbra_ray_bvh_build(
     indices: *const u32,
     indices_len: usize,
 ) -> *mut PageBvh {
-    let positions = if positions_len == 0 { &[][..] } else { std::slice::from_raw_parts(positions, positions_len) };
-    let indices = if indices_len == 0 { &[][..] } else { std::slice::from_raw_parts(indices, indices_len) };
+    // SAFETY: guaranteed by the caller.
+    let (positions, indices) = unsafe { (slice(positions, positions_len), slice(indices, indices_len)) };
     let result = build_page_bvh(positions, indices).map(|(bvh, eps)| Built { bvh, eps });
     Box::into_raw(Box::new(PageBvh { result, constants: ray_bvh::wgsl_constants() }))
 }
