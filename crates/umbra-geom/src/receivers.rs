@@ -165,6 +165,111 @@ impl ReceiverGrid {
         (self.faces() * self.side() * self.side()) as usize
     }
 
+    /// The cells the directions (point light) or the across-light coordinates (directional)
+    /// of the convex hull of `points` may cover, widened by [`RECEIVER_MARGIN`] of the grid:
+    /// `(face, [i0, i1, j0, j1])`; `None` for a point light when the hull's cone does not lie
+    /// within one cube face by 4 cells (or reaches the light), so that the samples in it may
+    /// lie on another face. The central projection of a hull onto a face is the hull of the
+    /// projected points, so the rectangle of the points bounds it.
+    pub fn cells_of(&self, points: &[[f64; 3]]) -> Option<(u32, [u32; 4])> {
+        match *self {
+            ReceiverGrid::Cube { light, side } => {
+                let l = f64x3(light);
+                let c = points.iter().fold([0.0; 3], |acc, &p| {
+                    let d = sub(p, l);
+                    [acc[0] + d[0], acc[1] + d[1], acc[2] + d[2]]
+                });
+                let m = major(c.map(f64::abs));
+                let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
+                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                for &p in points {
+                    let d = sub(p, l);
+                    let den = s * d[m];
+                    if den.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                        return None;
+                    }
+                    let uv = [d[(m + 1) % 3] / den, d[(m + 2) % 3] / den];
+                    for j in 0..2 {
+                        lo[j] = lo[j].min(uv[j]);
+                        hi[j] = hi[j].max(uv[j]);
+                    }
+                }
+                // Strictly inside the face by 4 cells: every direction of the cone has
+                // coordinate m as its largest by far more than a sample's rounding, so the
+                // samples in the cone lie on this face.
+                let limit = 1.0 - 4.0 / side as f64;
+                if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
+                    return None;
+                }
+                let scale = 0.5 * side as f64;
+                let margin = 2.0 * RECEIVER_MARGIN;
+                let rect = [
+                    cell_f64(lo[0] - margin, -1.0, scale, side),
+                    cell_f64(hi[0] + margin, -1.0, scale, side),
+                    cell_f64(lo[1] - margin, -1.0, scale, side),
+                    cell_f64(hi[1] + margin, -1.0, scale, side),
+                ];
+                Some((2 * m as u32 + u32::from(s < 0.0), rect))
+            }
+            ReceiverGrid::Flat { origin, u, v, lo: glo, scale, side, .. } => {
+                let o = f64x3(origin);
+                let (u, v) = (f64x3(u), f64x3(v));
+                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+                for &p in points {
+                    let rel = sub(p, o);
+                    let uv = [dot(rel, u), dot(rel, v)];
+                    for j in 0..2 {
+                        lo[j] = lo[j].min(uv[j]);
+                        hi[j] = hi[j].max(uv[j]);
+                    }
+                }
+                let glo = [glo[0] as f64, glo[1] as f64];
+                let scale = [scale[0] as f64, scale[1] as f64];
+                let extent = [0, 1].map(|j| side as f64 / scale[j]);
+                let margin = [0, 1].map(|j| (2.0 * extent[j] + 2.0 * glo[j].abs()) * RECEIVER_MARGIN);
+                let rect = [
+                    cell_f64(lo[0] - margin[0], glo[0], scale[0], side),
+                    cell_f64(hi[0] + margin[0], glo[0], scale[0], side),
+                    cell_f64(lo[1] - margin[1], glo[1], scale[1], side),
+                    cell_f64(hi[1] + margin[1], glo[1], scale[1], side),
+                ];
+                Some((0, rect))
+            }
+        }
+    }
+
+    /// What [`ReceiverMap::raise_hull`] raises for the convex hull of `points`: the face, its
+    /// cell rectangle ([`ReceiverGrid::cells_of`]) and the value every cell there must reach
+    /// (the farthest point's, rounded up as a sample's twice over, then up to f32); `None`
+    /// when the grid cannot bound the hull. Hosts that build the map on the GPU raise these
+    /// cells there.
+    pub fn hull_raise(&self, points: &[[f64; 3]]) -> Option<(u32, [u32; 4], f32)> {
+        let (face, rect) = self.cells_of(points)?;
+        // The farthest point's value, rounded up as a sample's (twice over).
+        let value = match *self {
+            ReceiverGrid::Cube { light, .. } => {
+                let l = f64x3(light);
+                let far = points.iter().map(|&p| norm(sub(p, l))).fold(0.0, f64::max);
+                far * (1.0 + 2.0 * RECEIVER_ROUND_UP as f64)
+            }
+            ReceiverGrid::Flat { origin, travel, .. } => {
+                let (o, t) = (f64x3(origin), f64x3(travel));
+                let far = points.iter().map(|&p| dot(sub(p, o), t)).fold(f64::MIN, f64::max);
+                let magnitude =
+                    points.iter().map(|&p| sub(p, o).iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
+                far + 2.0 * magnitude * RECEIVER_ROUND_UP as f64
+            }
+        };
+        if !value.is_finite() {
+            return None;
+        }
+        let mut value32 = value as f32;
+        if (value32 as f64) < value {
+            value32 = value32.next_up();
+        }
+        Some((face, rect, value32))
+    }
+
     /// The cell and the value of a visible sample at `p`, in f32, the very expressions of the
     /// GPU scatter: `None` for a sample at a point light (lit by it).
     pub fn sample_cell(&self, p: [f32; 3]) -> Option<(usize, f32)> {
@@ -316,79 +421,6 @@ impl ReceiverMap {
         r
     }
 
-    /// The cells the directions (point light) or the across-light coordinates (directional)
-    /// of the convex hull of `points` may cover, widened by [`RECEIVER_MARGIN`] of the grid:
-    /// `(face, [i0, i1, j0, j1])`; `None` for a point light when the hull's cone does not lie
-    /// within one cube face by 4 cells (or reaches the light), so that the samples in it may
-    /// lie on another face. The central projection of a hull onto a face is the hull of the
-    /// projected points, so the rectangle of the points bounds it.
-    fn cells_of(&self, points: &[[f64; 3]]) -> Option<(u32, [u32; 4])> {
-        match self.grid {
-            ReceiverGrid::Cube { light, side } => {
-                let l = f64x3(light);
-                let c = points.iter().fold([0.0; 3], |acc, &p| {
-                    let d = sub(p, l);
-                    [acc[0] + d[0], acc[1] + d[1], acc[2] + d[2]]
-                });
-                let m = major(c.map(f64::abs));
-                let s = if c[m] < 0.0 { -1.0 } else { 1.0 };
-                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-                for &p in points {
-                    let d = sub(p, l);
-                    let den = s * d[m];
-                    if den.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                        return None;
-                    }
-                    let uv = [d[(m + 1) % 3] / den, d[(m + 2) % 3] / den];
-                    for j in 0..2 {
-                        lo[j] = lo[j].min(uv[j]);
-                        hi[j] = hi[j].max(uv[j]);
-                    }
-                }
-                // Strictly inside the face by 4 cells: every direction of the cone has
-                // coordinate m as its largest by far more than a sample's rounding, so the
-                // samples in the cone lie on this face.
-                let limit = 1.0 - 4.0 / side as f64;
-                if lo[0] < -limit || lo[1] < -limit || hi[0] > limit || hi[1] > limit {
-                    return None;
-                }
-                let scale = 0.5 * side as f64;
-                let margin = 2.0 * RECEIVER_MARGIN;
-                let rect = [
-                    cell_f64(lo[0] - margin, -1.0, scale, side),
-                    cell_f64(hi[0] + margin, -1.0, scale, side),
-                    cell_f64(lo[1] - margin, -1.0, scale, side),
-                    cell_f64(hi[1] + margin, -1.0, scale, side),
-                ];
-                Some((2 * m as u32 + u32::from(s < 0.0), rect))
-            }
-            ReceiverGrid::Flat { origin, u, v, lo: glo, scale, side, .. } => {
-                let o = f64x3(origin);
-                let (u, v) = (f64x3(u), f64x3(v));
-                let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-                for &p in points {
-                    let rel = sub(p, o);
-                    let uv = [dot(rel, u), dot(rel, v)];
-                    for j in 0..2 {
-                        lo[j] = lo[j].min(uv[j]);
-                        hi[j] = hi[j].max(uv[j]);
-                    }
-                }
-                let glo = [glo[0] as f64, glo[1] as f64];
-                let scale = [scale[0] as f64, scale[1] as f64];
-                let extent = [0, 1].map(|j| side as f64 / scale[j]);
-                let margin = [0, 1].map(|j| (2.0 * extent[j] + 2.0 * glo[j].abs()) * RECEIVER_MARGIN);
-                let rect = [
-                    cell_f64(lo[0] - margin[0], glo[0], scale[0], side),
-                    cell_f64(hi[0] + margin[0], glo[0], scale[0], side),
-                    cell_f64(lo[1] - margin[1], glo[1], scale[1], side),
-                    cell_f64(hi[1] + margin[1], glo[1], scale[1], side),
-                ];
-                Some((0, rect))
-            }
-        }
-    }
-
     /// Raises every cell that the convex hull of `points` may cover to at least the farthest
     /// of them, so that every point of the hull keeps the count it has in the unclamped
     /// volumes (z-pass starts counting at the eye's near rectangle, [`ReceiverMap::cull_and_clamp`]
@@ -396,30 +428,8 @@ impl ReceiverMap {
     /// light's cone of it across cube faces, or the light inside it): then nothing may be
     /// clamped for this light.
     pub fn raise_hull(&mut self, points: &[[f64; 3]]) -> bool {
-        let Some((face, [i0, i1, j0, j1])) = self.cells_of(points) else { return false };
-        // The farthest point's value, rounded up as a sample's (twice over).
-        let value = match self.grid {
-            ReceiverGrid::Cube { light, .. } => {
-                let l = f64x3(light);
-                let far = points.iter().map(|&p| norm(sub(p, l))).fold(0.0, f64::max);
-                far * (1.0 + 2.0 * RECEIVER_ROUND_UP as f64)
-            }
-            ReceiverGrid::Flat { origin, travel, .. } => {
-                let (o, t) = (f64x3(origin), f64x3(travel));
-                let far = points.iter().map(|&p| dot(sub(p, o), t)).fold(f64::MIN, f64::max);
-                let magnitude =
-                    points.iter().map(|&p| sub(p, o).iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
-                far + 2.0 * magnitude * RECEIVER_ROUND_UP as f64
-            }
-        };
-        if !value.is_finite() {
-            return false;
-        }
-        // Rounded up to f32, then raised through every level of the pyramid.
-        let mut value32 = value as f32;
-        if (value32 as f64) < value {
-            value32 = value32.next_up();
-        }
+        let Some((face, [i0, i1, j0, j1], value32)) = self.grid.hull_raise(points) else { return false };
+        // Raised through every level of the pyramid.
         for (level, cells) in self.levels.iter_mut().enumerate() {
             let side = (self.grid.side() >> level) as usize;
             let base = face as usize * side * side;
@@ -445,7 +455,7 @@ impl ReceiverMap {
                 q.iter().map(|&p| dot(sub(p, o), t)).fold(f64::MAX, f64::min)
             }
         };
-        let r = match self.cells_of(&q) {
+        let r = match self.grid.cells_of(&q) {
             Some((face, rect)) => self.max_over(face, rect),
             None => self
                 .levels

@@ -1,9 +1,10 @@
-//! umbra-wgpu's `cpu-silhouette` with its volumes culled and clamped against the receivers
-//! (docs/exactness.md, "Volumes clamped to their receivers"), judged by the ray-traced
-//! reference: exact culled and unculled, z-pass and z-fail, point and directional lights, and
-//! the cull really drops the triangles no visible sample lies behind (a cull that silently
-//! kept everything would pass every exactness check). The torture suite runs every case both
-//! ways too (torture.rs, `run_wgpu`).
+//! umbra-wgpu's culled volumes, judged by the ray-traced reference: `cpu-silhouette` culled and
+//! clamped against the receivers on the CPU (docs/exactness.md, "Volumes clamped to their
+//! receivers") and `cs-silhouette` culled on the GPU ("Volumes culled on the GPU"). Exact
+//! culled and unculled, z-pass and z-fail, point and directional lights, and the cull really
+//! drops the triangles no visible sample lies behind (a cull that silently kept everything
+//! would pass every exactness check). The torture suite runs every case both ways too
+//! (torture.rs, `run_wgpu`).
 
 mod common;
 
@@ -22,20 +23,24 @@ struct Run {
     drawn: Vec<umbra_wgpu::methods::DrawnVolume>,
 }
 
-/// `cpu-silhouette` on `mesh` with `params`, culled or not, against the reference.
-fn run(gpu: &umbra_wgpu::HeadlessGpu, mesh: &Mesh, params: &umbra_wgpu::FrameParams) -> [Run; 2] {
+/// The methods that cull on wgpu.
+const CULLING: [&str; 2] = ["cpu-silhouette", "cs-silhouette"];
+
+/// `method` on `mesh` with `params`, culled or not, against the reference.
+fn run(gpu: &umbra_wgpu::HeadlessGpu, method: &str, mesh: &Mesh, params: &umbra_wgpu::FrameParams) -> [Run; 2] {
     let (device, queue) = (&gpu.device, &gpu.queue);
     let scene = umbra_wgpu::SceneGpu::upload(device, Arc::new(weld(mesh))).expect("upload");
     let mut renderer = umbra_wgpu::Renderer::new(device).expect("renderer");
     let view = umbra_verify::wgpu::view_reference(device, queue, &mut renderer, &scene, params).expect("reference");
     [true, false].map(|cull| {
-        let mut volumes = renderer.volumes(device, "cpu-silhouette").expect("method");
+        let mut volumes = renderer.volumes(device, method).expect("method");
         assert!(volumes.culls_volumes());
         let p = umbra_wgpu::FrameParams { volume_cull: cull, ..params.clone() };
         let report = umbra_verify::wgpu::verify_method(device, queue, &mut renderer, &scene, &mut volumes, &p, &view)
-            .unwrap_or_else(|e| panic!("volume cull {cull}: {e}"));
-        let drawn =
-            (0..params.lights.len()).map(|i| volumes.drawn_volume(i).expect("cpu-silhouette reports")).collect();
+            .unwrap_or_else(|e| panic!("{method}, volume cull {cull}: {e}"));
+        let drawn = (0..params.lights.len())
+            .map(|i| volumes.read_drawn_volume(device, queue, i).expect("read back").expect("the method reports"))
+            .collect();
         Run { outside_band: report.metrics.mismatches_outside_band, shadowed: report.metrics.shadowed_reference, drawn }
     })
 }
@@ -56,7 +61,7 @@ fn culled_volumes_are_exact_and_drop_what_no_visible_sample_lies_behind() {
     let (mesh, camera) = two_boxes();
     let triangles = weld(&mesh).triangles.len() as u64;
     let lights: [Light; 2] = [[1.5, 6.0, -1.0, 1.0], [0.4, 1.0, -0.3, 0.0]];
-    for light in lights {
+    for (method, light) in CULLING.iter().flat_map(|m| lights.map(|l| (*m, l))) {
         // Automatic z-pass (the eye is outside every volume: z-pass) and forced z-fail.
         for auto_zpass in [true, false] {
             let params = umbra_wgpu::FrameParams {
@@ -67,8 +72,8 @@ fn culled_volumes_are_exact_and_drop_what_no_visible_sample_lies_behind() {
                 auto_zpass,
                 ..umbra_wgpu::FrameParams::default()
             };
-            let [culled, unculled] = run(&gpu, &mesh, &params);
-            let what = format!("light {light:?}, auto z-pass {auto_zpass}");
+            let [culled, unculled] = run(&gpu, method, &mesh, &params);
+            let what = format!("{method}, light {light:?}, auto z-pass {auto_zpass}");
             assert!(culled.shadowed > 0, "{what}: the reference has no shadow to test");
             assert_eq!(culled.outside_band, 0, "{what}: culled");
             assert_eq!(unculled.outside_band, 0, "{what}: unculled");
@@ -99,18 +104,20 @@ fn culled_without_early_depth_tests_is_exact() {
     let gpu = umbra_wgpu::HeadlessGpu { device, queue, ..gpu };
     let (mesh, camera) = two_boxes();
     let triangles = weld(&mesh).triangles.len() as u64;
-    for light in [[1.5, 6.0, -1.0, 1.0], [0.4, 1.0, -0.3, 0.0]] {
-        let params = umbra_wgpu::FrameParams {
-            camera,
-            width: 240,
-            height: 180,
-            lights: vec![light],
-            ..umbra_wgpu::FrameParams::default()
-        };
-        let [culled, unculled] = run(&gpu, &mesh, &params);
-        assert_eq!((culled.outside_band, unculled.outside_band), (0, 0), "light {light:?}");
-        let c = culled.drawn[0];
-        assert!(c.culled && c.triangles + 12 <= triangles, "light {light:?}: {c:?}");
+    for method in CULLING {
+        for light in [[1.5, 6.0, -1.0, 1.0], [0.4, 1.0, -0.3, 0.0]] {
+            let params = umbra_wgpu::FrameParams {
+                camera,
+                width: 240,
+                height: 180,
+                lights: vec![light],
+                ..umbra_wgpu::FrameParams::default()
+            };
+            let [culled, unculled] = run(&gpu, method, &mesh, &params);
+            assert_eq!((culled.outside_band, unculled.outside_band), (0, 0), "{method}, light {light:?}");
+            let c = culled.drawn[0];
+            assert!(c.culled && c.triangles + 12 <= triangles, "{method}, light {light:?}: {c:?}");
+        }
     }
 }
 
@@ -127,11 +134,13 @@ fn eye_inside_a_culled_volume_is_exact() {
         lights: vec![[0.5, 4.0, -1.5, 1.0]],
         ..umbra_wgpu::FrameParams::default()
     };
-    let [culled, unculled] = run(&gpu, &mesh, &params);
-    assert!(culled.shadowed > 0, "the reference has no shadow to test");
-    assert_eq!(culled.outside_band, 0, "culled");
-    assert_eq!(unculled.outside_band, 0, "unculled");
-    assert!(culled.drawn[0].culled);
+    for method in CULLING {
+        let [culled, unculled] = run(&gpu, method, &mesh, &params);
+        assert!(culled.shadowed > 0, "the reference has no shadow to test");
+        assert_eq!(culled.outside_band, 0, "{method}: culled");
+        assert_eq!(unculled.outside_band, 0, "{method}: unculled");
+        assert!(culled.drawn[0].culled, "{method}");
+    }
 }
 
 /// The shared scenes' default views at 320 x 180, point and directional light: exact culled,
@@ -141,7 +150,7 @@ fn shared_scenes_culled_are_exact() {
     let Some(gpu) = wgpu_gpu() else { return };
     for_each_shared_scene_default_view(|file, mesh, camera, light| {
         let triangles = weld(mesh).triangles.len() as u64;
-        for light in [light, [0.3, 1.0, 0.2, 0.0]] {
+        for (method, light) in CULLING.iter().flat_map(|m| [(*m, light), (*m, [0.3, 1.0, 0.2, 0.0])]) {
             let params = umbra_wgpu::FrameParams {
                 camera,
                 width: 320,
@@ -149,15 +158,15 @@ fn shared_scenes_culled_are_exact() {
                 lights: vec![light],
                 ..umbra_wgpu::FrameParams::default()
             };
-            let [culled, unculled] = run(&gpu, mesh, &params);
+            let [culled, unculled] = run(&gpu, method, mesh, &params);
             let d = culled.drawn[0];
             println!(
-                "{file} light {light:?}: kept {} of {triangles} triangles, {} edges (unculled {}), clamped {}",
+                "{file} {method} light {light:?}: kept {} of {triangles} triangles, {} edges (unculled {}), clamped {}",
                 d.triangles, d.edges, unculled.drawn[0].edges, d.clamped
             );
-            assert_eq!(culled.outside_band, 0, "{file}, light {light:?}: culled");
-            assert_eq!(unculled.outside_band, 0, "{file}, light {light:?}: unculled");
-            assert!(d.culled && d.triangles < triangles, "{file}, light {light:?}: {d:?} of {triangles}");
+            assert_eq!(culled.outside_band, 0, "{file}, {method}, light {light:?}: culled");
+            assert_eq!(unculled.outside_band, 0, "{file}, {method}, light {light:?}: unculled");
+            assert!(d.culled && d.triangles < triangles, "{file}, {method}, light {light:?}: {d:?} of {triangles}");
         }
     });
 }

@@ -176,11 +176,7 @@ impl ReceiverPass {
             format,
             pipeline,
             layout,
-            uniform: buffer(
-                "umbra receiver map uniform",
-                std::mem::size_of::<ScatterUniform>() as u64,
-                U::UNIFORM | U::COPY_DST,
-            ),
+            uniform: buffer("umbra receiver map uniform", Self::uniform_bytes(), U::UNIFORM | U::COPY_DST),
             map: buffer("umbra receiver map", bytes, U::STORAGE | U::COPY_SRC | U::COPY_DST),
             readback: buffer("umbra receiver map readback", bytes, U::MAP_READ | U::COPY_DST),
         }
@@ -212,9 +208,58 @@ impl ReceiverPass {
         depth: &wgpu::Texture,
         count: bool,
     ) -> Result<(ReceiverMap, Option<u64>), WgpuError> {
-        check_depth(device, depth)?;
         let queries = if count { FragmentQueries::new(device, "umbra receiver map fragments", 1) } else { None };
         let grid = ReceiverGrid::new(light, bounds, RECEIVER_SIDE);
+        let cells = grid.cells() as u64;
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("umbra receiver map") });
+        self.record(
+            device,
+            queue,
+            &mut encoder,
+            scene,
+            view,
+            light,
+            &grid,
+            depth,
+            &self.uniform,
+            &self.map,
+            queries.as_ref(),
+        )?;
+        encoder.copy_buffer_to_buffer(&self.map, 0, &self.readback, 0, 4 * cells);
+        if let Some(q) = &queries {
+            q.resolve(&mut encoder);
+        }
+        queue.submit([encoder.finish()]);
+        let words: Vec<u32> = crate::readback::read_buffer(device, &self.readback, "receiver map")?;
+        let fragments = queries.map(|q| q.read(device)).transpose()?.map(|v| v[0]);
+        let map = ReceiverMap::from_encoded(grid, &words[..cells as usize])
+            .ok_or_else(|| WgpuError::InvalidParams("receiver map: read back a map of the wrong size".into()))?;
+        Ok((map, fragments))
+    }
+
+    /// Records into `encoder` the scatter of `depth`'s visible samples (drawn by the host with
+    /// `view` and submitted before `encoder` is) into the first [`ReceiverGrid::cells`] words
+    /// of `map`, cleared first: `light`'s map of `grid`. `uniform` (a buffer of
+    /// [`ReceiverPass::uniform_bytes`], `UNIFORM | COPY_DST`) is written through `queue` and
+    /// must not be shared by two scatters of one submission. With `queries`, counter 0
+    /// counts the fragments shaded.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &SceneGpu,
+        view: &View,
+        light: Light,
+        grid: &ReceiverGrid,
+        depth: &wgpu::Texture,
+        uniform_buffer: &wgpu::Buffer,
+        map: &wgpu::Buffer,
+        queries: Option<&FragmentQueries>,
+    ) -> Result<(), WgpuError> {
+        check_depth(device, depth)?;
         let cells = grid.cells() as u64;
         let mut uniform = ScatterUniform {
             clip_from_world: view.clip_from_world_f32(),
@@ -237,7 +282,7 @@ impl ReceiverPass {
             },
             pad: [0; 2],
         };
-        if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, .. } = grid {
+        if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, .. } = *grid {
             let w = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
             uniform.origin = w(origin);
             uniform.u = w(u);
@@ -245,7 +290,7 @@ impl ReceiverPass {
             uniform.travel = w(travel);
             uniform.lo_scale = [lo[0], lo[1], scale[0], scale[1]];
         }
-        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        queue.write_buffer(uniform_buffer, 0, bytemuck::bytes_of(&uniform));
         let attachment = depth.create_view(&wgpu::TextureViewDescriptor::default());
         let sampled = depth.create_view(&wgpu::TextureViewDescriptor {
             label: Some("umbra receiver map depth"),
@@ -256,52 +301,44 @@ impl ReceiverPass {
             label: Some("umbra receiver map"),
             layout: &self.layout,
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.uniform.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 0, resource: uniform_buffer.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: scene.normal_buffer().as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: self.map.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: map.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&sampled) },
             ],
         });
-        let mut encoder =
-            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("umbra receiver map") });
         // Reason: every cell starts empty (the word 0 is below every encoded value).
-        encoder.clear_buffer(&self.map, 0, Some(4 * cells));
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("umbra receiver map scatter"),
-                color_attachments: &[],
-                // Reason: read-only depth (and stencil): the pass needs an attachment of the
-                // frame's size, and the same texture is read as a texture in it.
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &attachment,
-                    depth_ops: None,
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if let Some(q) = &queries {
-                pass.begin_pipeline_statistics_query(&q.set, 0);
-            }
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.set_vertex_buffer(0, scene.position_buffer().slice(..));
-            pass.set_index_buffer(scene.index_buffer().slice(..), wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..scene.index_count(), 0, 0..1);
-            if queries.is_some() {
-                pass.end_pipeline_statistics_query();
-            }
+        encoder.clear_buffer(map, 0, Some(4 * cells));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("umbra receiver map scatter"),
+            color_attachments: &[],
+            // Reason: read-only depth (and stencil): the pass needs an attachment of the
+            // frame's size, and the same texture is read as a texture in it.
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &attachment,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        if let Some(q) = queries {
+            pass.begin_pipeline_statistics_query(&q.set, 0);
         }
-        encoder.copy_buffer_to_buffer(&self.map, 0, &self.readback, 0, 4 * cells);
-        if let Some(q) = &queries {
-            q.resolve(&mut encoder);
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.set_vertex_buffer(0, scene.position_buffer().slice(..));
+        pass.set_index_buffer(scene.index_buffer().slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..scene.index_count(), 0, 0..1);
+        if queries.is_some() {
+            pass.end_pipeline_statistics_query();
         }
-        queue.submit([encoder.finish()]);
-        let words: Vec<u32> = crate::readback::read_buffer(device, &self.readback, "receiver map")?;
-        let fragments = queries.map(|q| q.read(device)).transpose()?.map(|v| v[0]);
-        let map = ReceiverMap::from_encoded(grid, &words[..cells as usize])
-            .ok_or_else(|| WgpuError::InvalidParams("receiver map: read back a map of the wrong size".into()))?;
-        Ok((map, fragments))
+        Ok(())
+    }
+
+    /// Bytes of the scatter's uniform buffer.
+    pub(crate) fn uniform_bytes() -> u64 {
+        std::mem::size_of::<ScatterUniform>() as u64
     }
 }

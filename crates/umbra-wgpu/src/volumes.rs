@@ -265,9 +265,34 @@ impl ShadowVolumes {
         queue: &wgpu::Queue,
         light: usize,
     ) -> Result<Option<(u32, u32)>, WgpuError> {
+        Ok(self.read_counts(device, queue, light)?.map(|w| (w[0], w[4])))
+    }
+
+    /// What light `light`'s volume drew in the last frame: [`ShadowVolumes::drawn_volume`]
+    /// where the CPU knows it, otherwise read back from the GPU's counts (`cs-silhouette`; a
+    /// wait, for tests and statistics); `None` for methods that know neither.
+    pub fn read_drawn_volume(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        light: usize,
+    ) -> Result<Option<crate::methods::DrawnVolume>, WgpuError> {
+        if let Some(d) = self.method.drawn_volume(light) {
+            return Ok(Some(d));
+        }
+        Ok(self.read_counts(device, queue, light)?.and_then(|w| self.method.drawn_from_counts(light, &w)))
+    }
+
+    /// The words of [`Method::copy_counts`] for `light`, read back.
+    fn read_counts(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        light: usize,
+    ) -> Result<Option<Vec<u32>>, WgpuError> {
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("umbra volume counts"),
-            size: 32,
+            size: 48,
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -277,8 +302,7 @@ impl ShadowVolumes {
             return Ok(None);
         }
         queue.submit([encoder.finish()]);
-        let words: Vec<u32> = crate::readback::read_buffer(device, &readback, "volume counts")?;
-        Ok(Some((words[0], words[4])))
+        Ok(Some(crate::readback::read_buffer(device, &readback, "volume counts")?))
     }
 
     /// The stencil test of "lit" after [`ShadowVolumes::draw`]: `Equal` against reference 0

@@ -43,7 +43,8 @@
 //! and its per-thread scratch), `extract.rs` ([`extract`]), `indexed.rs` ([`extract_indexed`],
 //! [`IndexedVolume`]), `slots.rs` ([`TriangleSlots`]), `fill.rs` ([`estimate_fill`]: a clamped volume's screen area against the unclamped one's),
 //! `regions.rs` ([`keep_whole_regions`]: the cull widened to whole
-//! regions of one orientation), `tests.rs` (both outputs against the
+//! regions of one orientation), `components.rs` ([`caster_pieces`]: the light-independent
+//! pieces the GPU methods cull whole), `tests.rs` (both outputs against the
 //! serial emission).
 //!
 //! [`comp_multiplicity`]: crate::multiplicity::comp_multiplicity
@@ -56,6 +57,7 @@ use crate::weld::WeldedMesh;
 use crate::Light;
 
 mod clamp;
+mod components;
 mod emit;
 mod extract;
 mod fill;
@@ -67,6 +69,7 @@ mod slots;
 mod volume;
 
 pub use clamp::{travel, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
+pub use components::caster_pieces;
 pub use extract::extract;
 pub use fill::{estimate_fill, FillEstimate, ScreenClip};
 pub use indexed::{extract_clamped, extract_indexed, is_degenerate_cap, IndexedVolume};

@@ -31,6 +31,13 @@
 //!    same bits (the same reason as the orientation pass, for positions);
 //! 5. in the caller's pass: two indirect draws (shaders/cs_draw.wgsl) with the counting state.
 //!
+//! Given the caller's depth ([`crate::VolumeFrame::receivers`]), the volume is culled on the
+//! GPU before step 2 (`gpu_cull.rs`, shaders/cull.wgsl): the visible samples scattered into
+//! the light's receiver map, and every piece of the caster (triangles joined across shared
+//! edges) that no visible sample lies behind marked unneeded; the orientation pass
+//! (`orient_kept` entries) gives its triangles orientation 0, so they cast no side and no cap.
+//! Nothing is read back: the frame stays one submission after the depth.
+//!
 //! Buffers per light, sized for the worst case: orientation 4 bytes per triangle, quads 8
 //! bytes per opposite vertex (`Σ|m| <= Σk`), caps 12 bytes per triangle, two 16-byte commands,
 //! clip positions 32 bytes per vertex.
@@ -41,7 +48,8 @@ use umbra_geom::EdgeAdjacency;
 use crate::builders::{buffers_group, compute_pipeline, dispatch_size, storage_entry};
 use crate::common::{Common, LightPlan};
 use crate::error::WgpuError;
-use crate::methods::method::{LightFrame, Method, MethodKind};
+use crate::methods::gpu_cull::{CullMesh, GpuCull};
+use crate::methods::method::{DrawnVolume, LightFrame, Method, MethodKind};
 use crate::methods::transform::{ClipPositions, Transform};
 use crate::scene::{buffer_init, buffer_zeroed, SceneGpu, SceneId};
 
@@ -80,6 +88,8 @@ struct Mesh {
     slots: wgpu::Buffer,
     record_count: u32,
     opposites: u64,
+    /// The caster's pieces and their flags, for the GPU cull.
+    cull: CullMesh,
 }
 
 /// One light's outputs.
@@ -91,26 +101,44 @@ struct PerLight {
     caps: wgpu::Buffer,
     clip: ClipPositions,
     orient_group: wgpu::BindGroup,
+    /// The orientation pass's bindings with the cull's pieces and flags.
+    orient_kept_group: wgpu::BindGroup,
     sides_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
+    /// The triangles kept by the last frame's cull (one word, copied from the flags).
+    kept: wgpu::Buffer,
+    /// Whether the last frame culled this light's volume, and the scene's triangles.
+    culled: bool,
+    triangles: u32,
 }
 
 impl PerLight {
     fn bytes(&self) -> u64 {
-        [&self.orientation, &self.sides_command, &self.caps_command, &self.quads, &self.caps, &self.clip.buffer]
-            .iter()
-            .map(|b| b.size())
-            .sum()
+        [
+            &self.orientation,
+            &self.sides_command,
+            &self.caps_command,
+            &self.quads,
+            &self.caps,
+            &self.clip.buffer,
+            &self.kept,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
     }
 }
 
 /// See the module documentation.
 pub struct CsSilhouette {
     orient_layout: wgpu::BindGroupLayout,
+    orient_kept_layout: wgpu::BindGroupLayout,
     sides_layout: wgpu::BindGroupLayout,
     draw_layout: wgpu::BindGroupLayout,
     orient: wgpu::ComputePipeline,
     orient_and_caps: wgpu::ComputePipeline,
+    orient_kept: wgpu::ComputePipeline,
+    orient_kept_and_caps: wgpu::ComputePipeline,
     sides: wgpu::ComputePipeline,
     transform: Transform,
     /// [z-fail, z-pass].
@@ -120,6 +148,8 @@ pub struct CsSilhouette {
     reset: wgpu::Buffer,
     mesh: Option<Mesh>,
     lights: Vec<PerLight>,
+    /// The GPU cull (made on the first culled frame).
+    cull: Option<GpuCull>,
 }
 
 impl CsSilhouette {
@@ -136,6 +166,11 @@ impl CsSilhouette {
         };
         // positions, indices, orientation, caps command, caps
         let orient_layout = layout("cs-silhouette orientation", &[(true,), (true,), (false,), (false,), (false,)]);
+        // ... and the cull's pieces and flags (the orient_kept entries).
+        let orient_kept_layout = layout(
+            "cs-silhouette orientation after the cull",
+            &[(true,), (true,), (false,), (false,), (false,), (true,), (false,)],
+        );
         // records, slots, orientation, sides command, quads
         let sides_layout = layout("cs-silhouette sides", &[(true,), (true,), (true,), (false,), (false,)]);
         let vertex = wgpu::ShaderStages::VERTEX;
@@ -152,6 +187,17 @@ impl CsSilhouette {
         let orient = compute_pipeline(device, "cs-silhouette orient", &orient_pl, &orient_module, "orient");
         let orient_and_caps =
             compute_pipeline(device, "cs-silhouette orient+caps", &orient_pl, &orient_module, "orient_and_caps");
+        let kept_pl =
+            common.pipeline_layout(device, "cs-silhouette orientation after the cull", &[&orient_kept_layout]);
+        let orient_kept =
+            compute_pipeline(device, "cs-silhouette orient kept", &kept_pl, &orient_module, "orient_kept");
+        let orient_kept_and_caps = compute_pipeline(
+            device,
+            "cs-silhouette orient kept+caps",
+            &kept_pl,
+            &orient_module,
+            "orient_kept_and_caps",
+        );
         let sides_pl = common.pipeline_layout(device, "cs-silhouette sides", &[&sides_layout]);
         let sides = compute_pipeline(device, "cs-silhouette sides", &sides_pl, &sides_module, "sides");
         let draw_pl = common.pipeline_layout(device, "cs-silhouette draw", &[&draw_layout]);
@@ -171,16 +217,20 @@ impl CsSilhouette {
         Self {
             transform: Transform::new(device, common),
             orient_layout,
+            orient_kept_layout,
             sides_layout,
             draw_layout,
             orient,
             orient_and_caps,
+            orient_kept,
+            orient_kept_and_caps,
             sides,
             draw_sides,
             draw_caps,
             reset,
             mesh: None,
             lights: Vec::new(),
+            cull: None,
         }
     }
 
@@ -214,6 +264,22 @@ impl CsSilhouette {
             &self.orient_layout,
             &[scene.position_buffer(), scene.index_buffer(), &orientation, &caps_command, &caps],
         );
+        let orient_kept_group = buffers_group(
+            device,
+            "cs-silhouette orientation after the cull",
+            &self.orient_kept_layout,
+            &[
+                scene.position_buffer(),
+                scene.index_buffer(),
+                &orientation,
+                &caps_command,
+                &caps,
+                &mesh.cull.piece,
+                &mesh.cull.needed,
+            ],
+        );
+        let kept =
+            buffer("cs-silhouette triangles kept", 4, wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC)?;
         let sides_group = buffers_group(
             device,
             "cs-silhouette sides",
@@ -230,8 +296,12 @@ impl CsSilhouette {
             caps,
             clip,
             orient_group,
+            orient_kept_group,
             sides_group,
             draw_group,
+            kept,
+            culled: false,
+            triangles: scene.triangle_count() as u32,
         })
     }
 }
@@ -270,6 +340,7 @@ impl Method for CsSilhouette {
             slots: buffer_init(device, "cs-silhouette slots", bytemuck::cast_slice(slots.slots()), storage)?,
             record_count: records.len() as u32,
             opposites,
+            cull: CullMesh::new(device, scene)?,
         });
         Ok(())
     }
@@ -284,34 +355,62 @@ impl Method for CsSilhouette {
         frame: &LightFrame,
     ) -> Result<(), WgpuError> {
         self.per_light(device, scene, frame.slot)?;
-        let (Some(mesh), Some(l)) = (&self.mesh, self.lights.get(frame.slot)) else {
+        let Some(mesh) = &self.mesh else {
             return Err(WgpuError::InvalidParams("cs-silhouette: prepare_light before prepare_scene".into()));
         };
         let mut data = frame.data;
         data.records = mesh.record_count;
         common.write_slot(queue, frame.slot, &data);
+        // The cull first (its scatter is a render pass of its own), where the caller gave its
+        // depth; a light it cannot cull exactly is drawn whole.
+        let culled = match (frame.receivers, scene.bounds()) {
+            (Some(depth), Some(bounds)) => {
+                if self.cull.is_none() {
+                    self.cull = Some(GpuCull::new(device, common)?);
+                }
+                let cull = self.cull.as_mut().expect("made above");
+                cull.record(device, queue, encoder, scene, common, frame, depth, bounds, &mesh.cull)?
+            }
+            _ => false,
+        };
+        let l = &mut self.lights[frame.slot];
+        l.culled = culled;
         for command in [&l.sides_command, &l.caps_command] {
             encoder.copy_buffer_to_buffer(&self.reset, 0, command, 0, COMMAND_BYTES);
         }
         let caps = !frame.plan.zpass;
-        let mut pass = encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("cs-silhouette"), timestamp_writes: None });
-        common.bind_slot_compute(&mut pass, frame.slot);
-        // Orientation once per triangle (and the caps under z-fail); each dispatch is its own
-        // synchronisation scope in WebGPU, so the sides below see every orientation.
-        if data.triangles > 0 {
-            pass.set_pipeline(if caps { &self.orient_and_caps } else { &self.orient });
-            pass.set_bind_group(1, &l.orient_group, &[]);
-            let (x, y) = dispatch_size(data.triangles);
-            pass.dispatch_workgroups(x, y, 1);
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("cs-silhouette"),
+                timestamp_writes: None,
+            });
+            common.bind_slot_compute(&mut pass, frame.slot);
+            // Orientation once per triangle (and the caps under z-fail); each dispatch is its
+            // own synchronisation scope in WebGPU, so the sides below see every orientation.
+            if data.triangles > 0 {
+                let pipeline = match (culled, caps) {
+                    (false, false) => &self.orient,
+                    (false, true) => &self.orient_and_caps,
+                    (true, false) => &self.orient_kept,
+                    (true, true) => &self.orient_kept_and_caps,
+                };
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(1, if culled { &l.orient_kept_group } else { &l.orient_group }, &[]);
+                let (x, y) = dispatch_size(data.triangles);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            if mesh.record_count > 0 {
+                pass.set_pipeline(&self.sides);
+                pass.set_bind_group(1, &l.sides_group, &[]);
+                let (x, y) = dispatch_size(mesh.record_count);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            self.transform.dispatch(&mut pass, &l.clip, data.vertices);
         }
-        if mesh.record_count > 0 {
-            pass.set_pipeline(&self.sides);
-            pass.set_bind_group(1, &l.sides_group, &[]);
-            let (x, y) = dispatch_size(mesh.record_count);
-            pass.dispatch_workgroups(x, y, 1);
+        if culled {
+            // The count of the triangles kept, before the next light's cull clears it.
+            encoder.copy_buffer_to_buffer(&mesh.cull.needed, 0, &l.kept, 0, 4);
         }
-        self.transform.dispatch(&mut pass, &l.clip, data.vertices);
         Ok(())
     }
 
@@ -331,11 +430,27 @@ impl Method for CsSilhouette {
         let Some(l) = self.lights.get(slot) else { return false };
         encoder.copy_buffer_to_buffer(&l.sides_command, 0, readback, 0, COMMAND_BYTES);
         encoder.copy_buffer_to_buffer(&l.caps_command, 0, readback, COMMAND_BYTES, COMMAND_BYTES);
+        encoder.copy_buffer_to_buffer(&l.kept, 0, readback, 2 * COMMAND_BYTES, 4);
+        true
+    }
+
+    fn drawn_from_counts(&self, slot: usize, words: &[u32]) -> Option<DrawnVolume> {
+        let l = self.lights.get(slot)?;
+        Some(DrawnVolume {
+            triangles: u64::from(if l.culled { words[8] } else { l.triangles }),
+            // Six vertices per side quad, one quad per unit of |m|.
+            edges: u64::from(words[0] / 6),
+            culled: l.culled,
+            clamped: false,
+        })
+    }
+
+    fn culls_volumes(&self) -> bool {
         true
     }
 
     fn gpu_bytes(&self) -> u64 {
-        let mesh = self.mesh.as_ref().map_or(0, |m| m.records.size() + m.slots.size());
-        mesh + self.lights.iter().map(PerLight::bytes).sum::<u64>()
+        let mesh = self.mesh.as_ref().map_or(0, |m| m.records.size() + m.slots.size() + m.cull.bytes());
+        mesh + self.lights.iter().map(PerLight::bytes).sum::<u64>() + self.cull.as_ref().map_or(0, GpuCull::bytes)
     }
 }

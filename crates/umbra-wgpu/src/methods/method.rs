@@ -69,10 +69,15 @@ pub(crate) trait Method {
     /// Bytes of GPU memory the method holds.
     fn gpu_bytes(&self) -> u64;
     /// Records a copy of light `slot`'s side and cap vertex counts, as the GPU decided them,
-    /// into `readback` (32 bytes, two draw-indirect commands); false for methods whose counts
-    /// the CPU knows.
+    /// into `readback` (two draw-indirect commands, then one word: the triangles its cull
+    /// kept; 36 bytes); false for methods whose counts the CPU knows.
     fn copy_counts(&self, _encoder: &mut wgpu::CommandEncoder, _slot: usize, _readback: &wgpu::Buffer) -> bool {
         false
+    }
+    /// What light `slot`'s volume drew, from the words [`Method::copy_counts`] copied; `None`
+    /// by default.
+    fn drawn_from_counts(&self, _slot: usize, _words: &[u32]) -> Option<DrawnVolume> {
+        None
     }
     /// Whether the method culls and clamps its volumes against the receivers when the frame
     /// gives it the caller's depth ([`crate::VolumeFrame::receivers`]); false by default.

@@ -8,6 +8,7 @@ use crate::error::WgpuError;
 
 pub mod cpu_silhouette;
 pub mod cs_silhouette;
+mod gpu_cull;
 mod method;
 pub mod none;
 pub mod ray_bvh;

@@ -12,7 +12,10 @@
 //                    umbra-gl's cs_silhouette/caps.comp.glsl): an edge-on triangle
 //                    (orientation 0) gets no cap, every other one writes its three vertex
 //                    indices wound to face the light, reserved with one atomicAdd on the caps
-//                    draw command's vertex count (vertices_per_cap per cap).
+//                    draw command's vertex count (vertices_per_cap per cap);
+//   orient_kept, orient_kept_and_caps: the same after the GPU cull (cull.wgsl): a triangle
+//                    of a piece no visible sample needs gets orientation 0 (no side, no cap),
+//                    and the triangles kept are counted.
 // Prepended: volume.wgsl (the light slot `u`: light and u.triangles; umbra_item,
 // DrawCommand), multiplicity.wgsl.
 
@@ -23,34 +26,35 @@
 @group(1) @binding(3) var<storage, read_write> caps_command: DrawCommand;
 // Per cap: 3 vertex indices, the light cap's counter-clockwise order.
 @group(1) @binding(4) var<storage, read_write> caps: array<u32>;
+// The cull's (orient_kept entries only): per triangle its piece; word 0 the triangles kept,
+// word 1 + p whether piece p is needed (cull.wgsl).
+@group(1) @binding(5) var<storage, read> piece: array<u32>;
+@group(1) @binding(6) var<storage, read_write> needed: array<atomic<u32>>;
 
 fn umbra_position(i: u32) -> vec3<f32> {
     return vec3<f32>(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]);
 }
 
-fn umbra_orient(t: u32) -> i32 {
+fn umbra_orient(t: u32, kept: bool) -> i32 {
     let tri = vec3<u32>(indices[3u * t], indices[3u * t + 1u], indices[3u * t + 2u]);
-    let o = umbra_triangle_orientation(umbra_position(tri.x), umbra_position(tri.y), umbra_position(tri.z), u.light);
+    var o = umbra_triangle_orientation(umbra_position(tri.x), umbra_position(tri.y), umbra_position(tri.z), u.light);
+    if !kept {
+        o = 0;
+    }
     orientation[t] = o;
     return o;
 }
 
-@compute @workgroup_size(256)
-fn orient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let t = umbra_item(gid, groups);
-    if t >= u.triangles {
-        return;
+// Whether triangle t's piece is needed, counting it when it is.
+fn umbra_kept(t: u32) -> bool {
+    if atomicLoad(&needed[1u + piece[t]]) == 0u {
+        return false;
     }
-    _ = umbra_orient(t);
+    atomicAdd(&needed[0], 1u);
+    return true;
 }
 
-@compute @workgroup_size(256)
-fn orient_and_caps(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let t = umbra_item(gid, groups);
-    if t >= u.triangles {
-        return;
-    }
-    let o = umbra_orient(t);
+fn umbra_cap(t: u32, o: i32) {
     if o == 0 {
         return;
     }
@@ -61,4 +65,40 @@ fn orient_and_caps(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_w
     caps[slot] = wound.x;
     caps[slot + 1u] = wound.y;
     caps[slot + 2u] = wound.z;
+}
+
+@compute @workgroup_size(256)
+fn orient(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = umbra_item(gid, groups);
+    if t >= u.triangles {
+        return;
+    }
+    _ = umbra_orient(t, true);
+}
+
+@compute @workgroup_size(256)
+fn orient_and_caps(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = umbra_item(gid, groups);
+    if t >= u.triangles {
+        return;
+    }
+    umbra_cap(t, umbra_orient(t, true));
+}
+
+@compute @workgroup_size(256)
+fn orient_kept(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = umbra_item(gid, groups);
+    if t >= u.triangles {
+        return;
+    }
+    _ = umbra_orient(t, umbra_kept(t));
+}
+
+@compute @workgroup_size(256)
+fn orient_kept_and_caps(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = umbra_item(gid, groups);
+    if t >= u.triangles {
+        return;
+    }
+    umbra_cap(t, umbra_orient(t, umbra_kept(t)));
 }
