@@ -223,11 +223,12 @@ fn bench_interleaves_gl_and_wgpu_in_one_run() {
     assert!(stderr(&o).contains("expected gl, wgpu or gl,wgpu"), "{}", stderr(&o));
 }
 
-/// `bench --backend wgpu --volume-cull both`: cpu-silhouette runs culled and as
-/// `cpu-silhouette@cull-off` in one schedule; both rows report `volume_triangles` and
-/// `volume_edges`, and `volume_fragments` where the adapter has pipeline statistics (lavapipe
-/// does): the culled row's include its receiver map's scatter, the unculled row's equal
-/// cs-silhouette's (the same volume). The culled row has the `receivers` stage.
+/// `bench --backend wgpu --volume-cull both`: cpu-silhouette and cs-silhouette run culled and
+/// as `NAME@cull-off` in one schedule; every row reports `volume_triangles` and
+/// `volume_edges` (cs-silhouette's read back from the GPU), and `volume_fragments` where the
+/// adapter has pipeline statistics (lavapipe does): the culled row's include its receiver
+/// map's scatter, the unculled rows' are equal (the same volume). The culled rows have the
+/// `receivers` stage.
 /// `verify --backend wgpu` is exact both ways.
 #[test]
 fn volume_cull_on_wgpu_both_ways() {
@@ -241,13 +242,19 @@ fn volume_cull_on_wgpu_both_ways() {
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = json(&o);
     let rows = rows.as_array().expect("array");
-    assert_eq!(rows.len(), 3, "{rows:?}");
-    let (on, off, cs) = (&rows[0], &rows[1], &rows[2]);
-    assert_eq!((on["volume_cull"].as_bool(), off["volume_cull"].as_bool()), (Some(true), Some(false)), "{rows:?}");
-    for row in [on, off] {
-        assert_eq!(row["method"], "cpu-silhouette", "{row}");
+    assert_eq!(rows.len(), 4, "{rows:?}");
+    let (on, off, cs_on, cs) = (&rows[0], &rows[1], &rows[2], &rows[3]);
+    for (row, method, cull) in [
+        (on, "cpu-silhouette", true),
+        (off, "cpu-silhouette", false),
+        (cs_on, "cs-silhouette", true),
+        (cs, "cs-silhouette", false),
+    ] {
+        assert_eq!(row["method"], method, "{row}");
+        assert_eq!(row["volume_cull"].as_bool(), Some(cull), "{row}");
         assert!(row["volume_triangles"].as_f64().unwrap_or(0.0) > 0.0, "{row}");
         assert!(row["volume_edges"].as_f64().unwrap_or(0.0) > 0.0, "{row}");
+        assert_eq!(row["stages"].get("receivers").is_some(), cull, "{row}");
     }
     if let Some(unculled) = off["volume_fragments"].as_f64() {
         assert_eq!(off["volume_fragments_query"], "fragment_shader_invocations", "{off}");
@@ -258,14 +265,11 @@ fn volume_cull_on_wgpu_both_ways() {
     } else {
         eprintln!("no pipeline statistics on this adapter: volume_fragments absent");
     }
-    assert!(on["stages"].get("receivers").is_some(), "{on}");
-    assert!(off["stages"].get("receivers").is_none(), "{off}");
-    for cull in ["on", "off"] {
-        let mut args =
-            vec!["verify", "--backend", "wgpu", "--method", "cpu-silhouette", "--json", "--volume-cull", cull];
+    for (method, cull) in ["cpu-silhouette", "cs-silhouette"].iter().flat_map(|m| [(*m, "on"), (*m, "off")]) {
+        let mut args = vec!["verify", "--backend", "wgpu", "--method", method, "--json", "--volume-cull", cull];
         args.extend(["--size", "96x64"]);
         let o = umbra(&args);
         assert!(o.status.success(), "{}", stderr(&o));
-        assert_eq!(json(&o)[0]["mismatches_outside_band"], 0, "--volume-cull {cull}");
+        assert_eq!(json(&o)[0]["mismatches_outside_band"], 0, "{method} --volume-cull {cull}");
     }
 }

@@ -52,13 +52,15 @@ fn json_has_one_object_per_method_with_the_contract_keys() {
 
 /// The volume passes' work: `volume_cull`, `volume_fragments` (fragment-shader invocations,
 /// counted in the stage-timed rounds), `volume_triangles` and `volume_edges`, for
-/// cpu-silhouette both ways; on the shared Sponza fly-through the cull draws fewer triangles,
-/// edges and fragments (a count of the algorithm's work, not a timing). `none` draws no
-/// volume fragments and reports no triangles.
+/// cpu-silhouette (culled on the CPU) and cs-silhouette (culled on the GPU, its counts read
+/// back) both ways; on the shared Sponza view the cull draws fewer triangles, edges and
+/// fragments (a count of the algorithm's work, not a timing). `none` draws no volume
+/// fragments and reports no triangles.
 #[test]
 fn volume_counts_are_reported_both_ways() {
     let rows = |scene: &[&str], cull: &str| {
-        let mut args = vec!["bench", "--json", "--methods", "cpu-silhouette,none", "--frames", "1", "--warmup", "0"];
+        let methods = "cpu-silhouette,none,cs-silhouette";
+        let mut args = vec!["bench", "--json", "--methods", methods, "--frames", "1", "--warmup", "0"];
         args.extend(["--stage-every", "1", "--size", "160x90", "--volume-cull", cull]);
         args.extend(scene);
         let o = umbra(&args);
@@ -67,9 +69,11 @@ fn volume_counts_are_reported_both_ways() {
     };
     let on = rows(&["--scene", "default"], "on");
     let off = rows(&["--scene", "default"], "off");
-    assert_eq!(on[0]["volume_cull"], true, "{}", on[0]);
-    assert_eq!(off[0]["volume_cull"], false, "{}", off[0]);
-    for row in [&on[0], &off[0]] {
+    for m in [0, 2] {
+        assert_eq!(on[m]["volume_cull"], true, "{}", on[m]);
+        assert_eq!(off[m]["volume_cull"], false, "{}", off[m]);
+    }
+    for row in [&on[0], &off[0], &on[2], &off[2]] {
         for key in ["volume_fragments", "volume_triangles", "volume_edges"] {
             let x = row[key].as_f64().unwrap_or_else(|| panic!("{key} in {row}"));
             assert!(x > 0.0, "{key} = {x}");
@@ -89,9 +93,17 @@ fn volume_counts_are_reported_both_ways() {
     let sponza = sponza.to_string_lossy().to_string();
     let scene = ["--scene", sponza.as_str()];
     let (on, off) = (rows(&scene, "on"), rows(&scene, "off"));
-    let f = |rows: &[serde_json::Value], key: &str| rows[0][key].as_f64().unwrap_or(f64::NAN);
-    for key in ["volume_fragments", "volume_triangles", "volume_edges"] {
-        assert!(f(&on, key) < f(&off, key), "{key}: culled {} against {}", f(&on, key), f(&off, key));
+    for m in [0, 2] {
+        let f = |rows: &[serde_json::Value], key: &str| rows[m][key].as_f64().unwrap_or(f64::NAN);
+        for key in ["volume_fragments", "volume_triangles", "volume_edges"] {
+            assert!(
+                f(&on, key) < f(&off, key),
+                "{}: {key}: culled {} against {}",
+                on[m]["method"],
+                f(&on, key),
+                f(&off, key)
+            );
+        }
     }
 }
 

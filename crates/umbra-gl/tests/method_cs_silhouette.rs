@@ -79,8 +79,10 @@ fn render_with(
 fn render_cs(ctx: &HeadlessContext, mesh: &Arc<WeldedMesh>, p: &FrameParams) -> Rendered {
     let gl = ctx.gl();
     let mut m = CsSilhouette::new();
-    // z-fail, so the caps are drawn and counted (auto z-pass would skip them; auto_zpass.rs).
-    let p = &FrameParams { auto_zpass: false, ..p.clone() };
+    // z-fail, so the caps are drawn and counted (auto z-pass would skip them; auto_zpass.rs);
+    // unculled, as cpu-silhouette's counts below: the GPU cull keeps every visible sample's
+    // decision, not every pixel's count (docs/exactness.md).
+    let p = &FrameParams { auto_zpass: false, volume_cull: false, ..p.clone() };
     let mut out = render_with(ctx, mesh, &mut m, p);
     out.counts = m.last_counts(gl);
     m.destroy(gl);

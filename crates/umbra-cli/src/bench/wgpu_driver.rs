@@ -104,8 +104,12 @@ impl Driver for WgpuDriver {
         s.renderer.set_count_volume_fragments(false);
         drawn.map_err(|e| e.to_string())?;
         let lights = self.params.lights.len();
-        // Triangles and edges: the methods that extract on the CPU (cpu-silhouette) know them.
-        let drawn = (0..lights).try_fold((0, 0), |(t, e), i| v.drawn_volume(i).map(|d| (t + d.triangles, e + d.edges)));
+        // Triangles and edges: known on the CPU (cpu-silhouette) or read back (cs-silhouette).
+        let mut drawn = Some((0, 0));
+        for i in 0..lights {
+            let d = v.read_drawn_volume(device, queue, i).map_err(|e| e.to_string())?;
+            drawn = drawn.zip(d).map(|((t, e), d)| (t + d.triangles, e + d.edges));
+        }
         // Fragment-shader invocations: wgpu's pipeline statistics, where the device has them.
         let query = fragments.map(|_| umbra_gl::VolumeFragmentQuery::FragmentShaderInvocations);
         Ok(Some(VolumeCounts { fragments, query, drawn }))

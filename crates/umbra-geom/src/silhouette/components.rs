@@ -55,6 +55,21 @@ pub fn caster_pieces(triangles: usize, adj: &EdgeAdjacency, slots: &TriangleSlot
     (piece, count)
 }
 
+/// Per edge of `adj`, the piece of its triangles (all in one piece; [`caster_pieces`]'s
+/// `piece`); 0 for an edge without triangles, which casts nothing.
+pub fn edge_pieces(adj: &EdgeAdjacency, slots: &TriangleSlots, piece: &[u32]) -> Vec<u32> {
+    (0..adj.len())
+        .map(|e| {
+            let first = adj.opposite_start[e] as usize;
+            if first < adj.opposite_start[e + 1] as usize {
+                piece[(slots.slots[first] >> 1) as usize]
+            } else {
+                0
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -76,6 +91,18 @@ mod tests {
         let (piece, count) = pieces_of(&m);
         assert_eq!(count, 2);
         assert!(piece[..12].iter().all(|&p| p == 0) && piece[12..].iter().all(|&p| p == 1), "{piece:?}");
+        // Every edge's piece is that of each of its triangles.
+        let w = weld(&m);
+        let adj = EdgeAdjacency::build(&w);
+        let slots = TriangleSlots::build(&w, &adj).expect("slots");
+        let edges = edge_pieces(&adj, &slots, &piece);
+        for (e, &[a, b]) in adj.edges.iter().enumerate() {
+            for (t, tri) in w.triangles.iter().enumerate() {
+                if tri.contains(&a) && tri.contains(&b) {
+                    assert_eq!(edges[e], piece[t], "edge {e}, triangle {t}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -69,7 +69,7 @@ mod slots;
 mod volume;
 
 pub use clamp::{travel, VolumeClamp, CLAMP_LIMIT, CLAMP_MARGIN};
-pub use components::caster_pieces;
+pub use components::{caster_pieces, edge_pieces};
 pub use extract::extract;
 pub use fill::{estimate_fill, FillEstimate, ScreenClip};
 pub use indexed::{extract_clamped, extract_indexed, is_degenerate_cap, IndexedVolume};

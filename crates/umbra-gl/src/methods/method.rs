@@ -261,6 +261,11 @@ pub trait ShadowMethod {
     fn drawn_volume(&self) -> Option<DrawnVolume> {
         None
     }
+    /// [`ShadowMethod::drawn_volume`], or where only the GPU knows it, read back (a stall: the
+    /// renderer asks only when it counts fragments).
+    fn read_drawn_volume(&self, _gl: &glow::Context) -> Option<DrawnVolume> {
+        self.drawn_volume()
+    }
     /// Bytes of GPU memory the method holds (buffers, textures).
     fn gpu_bytes(&self) -> usize;
 

@@ -30,6 +30,7 @@ pub mod all_edges_invert;
 pub mod cpu_silhouette;
 pub mod cs_silhouette;
 pub mod face_depth;
+mod gpu_cull;
 pub mod gs_silhouette;
 pub mod gs_triangle;
 pub mod hier;

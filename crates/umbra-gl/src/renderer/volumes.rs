@@ -185,11 +185,13 @@ impl Renderer {
             let wireframe = self.volume_state_override.is_some();
             let query =
                 if self.count_volume_fragments && fills && !wireframe { self.begin_fragment_count(gl) } else { None };
+            let counting = query.is_some();
             let drawn = method.draw_volumes(gl, scene, &mut frame);
             let fragments = query.map(|q| self.end_fragment_count(gl, q));
             if !wireframe {
                 set_at(&mut self.last_volume_fragments, light_index, fragments);
-                set_at(&mut self.last_drawn, light_index, method.drawn_volume());
+                let d = if counting { method.read_drawn_volume(gl) } else { method.drawn_volume() };
+                set_at(&mut self.last_drawn, light_index, d);
             }
             if near_clip {
                 // SAFETY: as above; off again whatever the method returned.

@@ -22,7 +22,13 @@ layout(std430, binding = 3) coherent buffer CapsCommand {
 // Per cap: 3 vertex indices, the light cap's counter-clockwise order.
 layout(std430, binding = 4) writeonly buffer Caps { uint caps[]; };
 
+// The GPU cull (gpu_cull/cull.comp.glsl), when u_cull != 0: per triangle its piece, and word
+// 1 + p whether piece p is needed; a triangle of a dropped piece has no cap.
+layout(std430, binding = 5) readonly buffer Pieces { uint piece[]; };
+layout(std430, binding = 6) readonly buffer Needed { uint needed[]; };
+
 uniform vec4 u_light;
+uniform uint u_cull;
 uniform uint u_first_triangle;
 uniform uint u_triangle_count;
 // 6 (light cap + dark cap) for a point light, 3 (light cap only) for a directional light.
@@ -34,7 +40,7 @@ vec3 umbra_position(uint i) {
 
 void main() {
     uint t = u_first_triangle + gl_GlobalInvocationID.x;
-    if (t >= u_triangle_count) {
+    if (t >= u_triangle_count || (u_cull != 0u && needed[1u + piece[t]] == 0u)) {
         return;
     }
     uvec3 tri = uvec3(indices[3u * t], indices[3u * t + 1u], indices[3u * t + 2u]);

@@ -32,14 +32,21 @@
 //! 5. "sides", "caps": two `glDrawArraysIndirect` with the counting state; the vertex
 //!    shaders pull records and positions from shader storage (`gl_VertexID`).
 //!
-//! Stages reported: "silhouette", "cap-orientation", "sides", "caps".
+//! With [`VolumeFrame::volume_cull`], the volume is culled on the GPU before step 2
+//! (`gpu_cull/`, the twin of umbra-wgpu's): the visible samples scattered into the light's
+//! receiver map, and every piece of the caster (triangles joined across shared edges) that no
+//! visible sample lies behind marked unneeded; the silhouette pass skips the records of its
+//! edges and the cap pass its triangles. Nothing is read back.
+//!
+//! Stages reported: "receivers" (the cull), "silhouette", "cap-orientation", "sides", "caps".
 
 use glow::HasContext;
 
 use crate::error::GlError;
 use crate::gpu_buffer::{buffer_store, checked_size, BufferApi, BufferData};
 use crate::methods::face_depth::{face_depth_fragment, DepthUniforms, SIDE_PLANE_GLSL};
-use crate::methods::method::{ShadowMethod, VolumeFrame};
+use crate::methods::gpu_cull::{GpuCull, Pieces};
+use crate::methods::method::{DrawnVolume, ShadowMethod, VolumeFrame};
 use crate::program::{link_program, uniform, ShaderSource};
 use crate::scene::{SceneGpu, SceneId};
 
@@ -72,6 +79,11 @@ const QUADS: u32 = 5;
 const INDICES: u32 = 2;
 const CAPS_COMMAND: u32 = 3;
 const CAPS: u32 = 4;
+// The cull's: per edge record its piece (sides), per triangle its piece (caps), the flags.
+const RECORD_PIECES: u32 = 6;
+const SIDES_NEEDED: u32 = 7;
+const TRIANGLE_PIECES: u32 = 5;
+const CAPS_NEEDED: u32 = 6;
 
 /// Bytes of one DrawArraysIndirectCommand (count, instanceCount, first, baseInstance).
 const COMMAND_BYTES: usize = 16;
@@ -151,11 +163,43 @@ struct Gpu {
     max_groups: u32,
 }
 
+/// The GPU cull of the prepared scene (made on the first culled frame).
+struct Cull {
+    gpu: GpuCull,
+    /// Per edge record, its piece.
+    record_pieces: glow::Buffer,
+    /// Per triangle, its piece.
+    triangle_pieces: glow::Buffer,
+}
+
 /// See the module documentation.
 #[derive(Default)]
 pub struct CsSilhouette {
     prepared: Option<SceneId>,
     gpu: Option<Gpu>,
+    cull: Option<Cull>,
+    /// Whether the last frame's volume was culled, and what it drew (with `report`).
+    last_culled: bool,
+    triangles: usize,
+}
+
+/// The edge records of `adj`: `(edge, [A, B, first opposite, count])`, at least one per
+/// edge, an edge split every [`MAX_OPPOSITES_PER_RECORD`] opposites.
+fn edge_records(adj: &umbra_geom::EdgeAdjacency) -> Vec<(usize, [u32; 4])> {
+    let mut records = Vec::with_capacity(adj.len());
+    for (e, &[a, b]) in adj.edges.iter().enumerate() {
+        let (mut start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
+        // At least one record per edge (an edge without opposites contributes nothing).
+        loop {
+            let n = (end - start).min(MAX_OPPOSITES_PER_RECORD);
+            records.push((e, [a, b, start, n]));
+            start += n;
+            if start >= end {
+                break;
+            }
+        }
+    }
+    records
 }
 
 fn u32_bytes(v: &[u32]) -> &[u8] {
@@ -193,6 +237,35 @@ impl CsSilhouette {
         }
         let word = |i: usize| u32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]]);
         Some((word(0), word(4)))
+    }
+
+    /// The GPU cull of `scene` (prepared): its programs, pyramid and the pieces.
+    fn make_cull(&self, gl: &glow::Context, scene: &SceneGpu) -> Result<Cull, GlError> {
+        let max_groups = self.gpu.as_ref().map_or(1, |g| g.max_groups);
+        let pieces = Pieces::new(scene)?;
+        let per_record: Vec<u32> =
+            edge_records(scene.adjacency()).into_iter().map(|(e, _)| pieces.per_edge[e]).collect();
+        let buffers = crate::methods::hier::buffers::allocate_buffers(
+            gl,
+            &[4 * per_record.len().max(1), 4 * pieces.per_triangle.len().max(1)],
+            &["cs-silhouette record pieces", "cs-silhouette triangle pieces"],
+        )?;
+        // SAFETY: uploads into our own buffers, sized above.
+        unsafe {
+            gl.named_buffer_sub_data_u8_slice(buffers[0], 0, u32_bytes(&per_record));
+            gl.named_buffer_sub_data_u8_slice(buffers[1], 0, u32_bytes(&pieces.per_triangle));
+        }
+        match GpuCull::new(gl, &pieces, max_groups) {
+            Ok(gpu) => Ok(Cull { gpu, record_pieces: buffers[0], triangle_pieces: buffers[1] }),
+            Err(e) => {
+                // SAFETY: our own buffers, never handed out.
+                unsafe {
+                    gl.delete_buffer(buffers[0]);
+                    gl.delete_buffer(buffers[1]);
+                }
+                Err(e)
+            }
+        }
     }
 
     fn link_all(gl: &glow::Context) -> Result<Programs, GlError> {
@@ -286,7 +359,7 @@ impl ShadowMethod for CsSilhouette {
     }
 
     fn stages(&self) -> &'static [&'static str] {
-        &["silhouette", "cap-orientation", "sides", "caps"]
+        &["receivers", "silhouette", "cap-orientation", "sides", "caps"]
     }
 
     fn prepare(&mut self, gl: &glow::Context, scene: &SceneGpu) -> Result<(), GlError> {
@@ -307,19 +380,7 @@ impl ShadowMethod for CsSilhouette {
         }
         let max_groups = max_groups.clamp(1, i32::MAX) as u32;
 
-        let mut edge_words = Vec::with_capacity(4 * adj.len());
-        for (e, &[a, b]) in adj.edges.iter().enumerate() {
-            let (mut start, end) = (adj.opposite_start[e], adj.opposite_start[e + 1]);
-            // At least one record per edge (an edge without opposites contributes nothing).
-            loop {
-                let n = (end - start).min(MAX_OPPOSITES_PER_RECORD);
-                edge_words.extend_from_slice(&[a, b, start, n]);
-                start += n;
-                if start >= end {
-                    break;
-                }
-            }
-        }
+        let edge_words: Vec<u32> = edge_records(adj).into_iter().flat_map(|(_, r)| r).collect();
         let layout = Layout {
             edges: adj.len(),
             records: edge_words.len() / 4,
@@ -420,6 +481,21 @@ impl ShadowMethod for CsSilhouette {
         scene: &SceneGpu,
         frame: &mut VolumeFrame<'_>,
     ) -> Result<(), GlError> {
+        frame.mark(gl, "receivers");
+        self.triangles = scene.mesh().triangles.len();
+        // The cull, where asked (an orthographic view draws every volume: its far ends cannot
+        // lie at infinity, docs/exactness.md "Orthographic views", and this method has no
+        // finite ones); a light it cannot cull exactly is drawn whole.
+        self.last_culled = false;
+        if let (true, false, Some(bounds)) = (frame.volume_cull, frame.is_orthographic(), scene.bounds()) {
+            if self.cull.is_none() {
+                self.cull = Some(self.make_cull(gl, scene)?);
+            }
+            let cull = self.cull.as_ref().expect("made above");
+            self.last_culled = cull.gpu.run(gl, scene, frame, bounds)?;
+        }
+        let culled = self.last_culled;
+        let cull = self.cull.as_ref();
         let g = self
             .gpu
             .as_ref()
@@ -465,6 +541,11 @@ impl ShadowMethod for CsSilhouette {
                     COMMAND_BYTES as i32,
                 );
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, QUADS, Some(g.quads));
+                gl.uniform_1_u32(uniform(gl, p.sides_comp, "u_cull").as_ref(), u32::from(culled));
+                if let (true, Some(c)) = (culled, cull) {
+                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, RECORD_PIECES, Some(c.record_pieces));
+                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, SIDES_NEEDED, Some(c.gpu.needed));
+                }
                 Self::dispatch(gl, p.sides_comp, "u_first_edge", l.records, g.max_groups);
             }
         }
@@ -486,6 +567,11 @@ impl ShadowMethod for CsSilhouette {
                     COMMAND_BYTES as i32,
                 );
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, CAPS, Some(g.caps));
+                gl.uniform_1_u32(uniform(gl, p.caps_comp, "u_cull").as_ref(), u32::from(culled));
+                if let (true, Some(c)) = (culled, cull) {
+                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, TRIANGLE_PIECES, Some(c.triangle_pieces));
+                    gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, CAPS_NEEDED, Some(c.gpu.needed));
+                }
                 Self::dispatch(gl, p.caps_comp, "u_first_triangle", l.triangles, g.max_groups);
             }
             // Barrier 2 (compute results -> draws):
@@ -534,7 +620,7 @@ impl ShadowMethod for CsSilhouette {
             // Leave no binding of ours behind (the caller's indexed bindings 1-5 and the
             // indirect binding are not restored: the renderer does not use them).
             gl.bind_buffer(glow::DRAW_INDIRECT_BUFFER, None);
-            for b in [POSITIONS, EDGES, OPPOSITES, SIDES_COMMAND, QUADS] {
+            for b in [POSITIONS, EDGES, OPPOSITES, SIDES_COMMAND, QUADS, RECORD_PIECES, SIDES_NEEDED] {
                 gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, b, None);
             }
             gl.bind_vertex_array(None);
@@ -542,11 +628,36 @@ impl ShadowMethod for CsSilhouette {
         Ok(())
     }
 
+    fn culls_volumes(&self) -> bool {
+        true
+    }
+
+    fn read_drawn_volume(&self, gl: &glow::Context) -> Option<DrawnVolume> {
+        let (sides, _) = self.last_counts(gl)?;
+        let triangles = match (self.last_culled, &self.cull) {
+            (true, Some(c)) => c.gpu.kept(gl) as u64,
+            _ => self.triangles as u64,
+        };
+        // Six vertices per side quad, one quad per unit of |m|.
+        Some(DrawnVolume { triangles, edges: u64::from(sides / 6), culled: self.last_culled, clamped: false })
+    }
+
     fn gpu_bytes(&self) -> usize {
         self.gpu.as_ref().map_or(0, |g| g.layout.total_bytes())
+            + self.cull.as_ref().map_or(0, |c| {
+                c.gpu.gpu_bytes() + 4 * (self.gpu.as_ref().map_or(0, |g| g.layout.records + g.layout.triangles))
+            })
     }
 
     fn destroy(&mut self, gl: &glow::Context) {
+        if let Some(c) = self.cull.take() {
+            c.gpu.destroy(gl);
+            // SAFETY: our own buffers, not used afterwards.
+            unsafe {
+                gl.delete_buffer(c.record_pieces);
+                gl.delete_buffer(c.triangle_pieces);
+            }
+        }
         if let Some(g) = self.gpu.take() {
             // SAFETY: our own objects, not used afterwards.
             unsafe {

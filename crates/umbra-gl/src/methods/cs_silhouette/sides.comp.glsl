@@ -40,7 +40,14 @@ layout(std430, binding = 4) coherent buffer SidesCommand {
 // (m > 0: X = A, Y = B; m < 0: X = B, Y = A: the project's side convention).
 layout(std430, binding = 5) writeonly buffer Quads { uvec2 quads[]; };
 
+// The GPU cull (gpu_cull/cull.comp.glsl), when u_cull != 0: per edge record its piece, and
+// word 1 + p whether piece p is needed. An edge's triangles are all in one piece, so an edge
+// of a dropped piece loses all of them (m = 0) and every other edge none.
+layout(std430, binding = 6) readonly buffer RecordPieces { uint record_piece[]; };
+layout(std430, binding = 7) readonly buffer Needed { uint needed[]; };
+
 uniform vec4 u_light;
+uniform uint u_cull;
 uniform uint u_first_edge;  // several dispatches when the edges exceed one dispatch's groups
 uniform uint u_edge_count;  // edge records
 
@@ -51,6 +58,9 @@ vec3 umbra_position(uint i) {
 void main() {
     uint e = u_first_edge + gl_GlobalInvocationID.x;
     if (e >= u_edge_count) {
+        return;
+    }
+    if (u_cull != 0u && needed[1u + record_piece[e]] == 0u) {
         return;
     }
     uvec4 edge = edges[e];

@@ -76,8 +76,27 @@ impl ReceiverPass {
         frame: &VolumeFrame<'_>,
         bounds: Aabb,
     ) -> Result<ReceiverMap, GlError> {
+        let grid = ReceiverGrid::new(frame.light, bounds, RECEIVER_SIDE);
+        self.scatter(gl, scene, frame, &grid, self.buffer);
+        // The barrier before the read is read_words' own.
+        let words = crate::methods::hier::buffers::read_words(gl, self.buffer, 0, grid.cells());
+        ReceiverMap::from_encoded(grid, &words)
+            .ok_or_else(|| GlError::InvalidParams("receiver map: read back a map of the wrong size".into()))
+    }
+
+    /// Scatters the frame's visible samples (the depth buffer bound with the frame's target)
+    /// into the first [`ReceiverGrid::cells`] words of `buffer` (at least
+    /// [`ReceiverPass::gpu_bytes`] long), cleared first: `frame.light`'s map of `grid`. The
+    /// caller orders its own reads after it (a shader-storage barrier).
+    pub(crate) fn scatter(
+        &self,
+        gl: &glow::Context,
+        scene: &SceneGpu,
+        frame: &VolumeFrame<'_>,
+        grid: &ReceiverGrid,
+        buffer: glow::Buffer,
+    ) {
         let light: Light = frame.light;
-        let grid = ReceiverGrid::new(light, bounds, RECEIVER_SIDE);
         let cells = grid.cells();
         GlState::visible_samples(frame.receivers).apply(gl);
         // Reason: the scene's vertex shader writes no gl_ClipDistance, and the renderer may
@@ -102,7 +121,7 @@ impl ReceiverPass {
         unsafe {
             // Reason: every cell starts empty (the word 0 is below every encoded value).
             // (glClearBufferData is not among the entry points glow loads: an upload of zeros.)
-            gl.named_buffer_sub_data_u8_slice(self.buffer, 0, &self.zeros[..4 * cells]);
+            gl.named_buffer_sub_data_u8_slice(buffer, 0, &self.zeros[..4 * cells]);
             // Reason: the clear must land before the fragment shader's atomics.
             gl.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, frame.target_framebuffer);
@@ -116,7 +135,7 @@ impl ReceiverPass {
             );
             gl.uniform_4_f32_slice(uniform(gl, p, "u_light").as_ref(), &light);
             gl.uniform_1_u32(uniform(gl, p, "u_side").as_ref(), grid.side());
-            if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, .. } = grid {
+            if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, .. } = *grid {
                 gl.uniform_3_f32_slice(uniform(gl, p, "u_origin").as_ref(), &origin);
                 gl.uniform_3_f32_slice(uniform(gl, p, "u_u").as_ref(), &u);
                 gl.uniform_3_f32_slice(uniform(gl, p, "u_v").as_ref(), &v);
@@ -125,7 +144,7 @@ impl ReceiverPass {
                 gl.uniform_2_f32_slice(uniform(gl, p, "u_scale").as_ref(), &scale);
             }
             gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 0, Some(scene.normal_buffer()));
-            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, RECEIVERS_BINDING, Some(self.buffer));
+            gl.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, RECEIVERS_BINDING, Some(buffer));
             gl.bind_vertex_array(Some(scene.vertex_array()));
         }
         scene.draw_triangles(gl);
@@ -142,10 +161,6 @@ impl ReceiverPass {
                 }
             }
         }
-        // The barrier before the read is read_words' own.
-        let words = crate::methods::hier::buffers::read_words(gl, self.buffer, 0, cells);
-        ReceiverMap::from_encoded(grid, &words)
-            .ok_or_else(|| GlError::InvalidParams("receiver map: read back a map of the wrong size".into()))
     }
 
     /// Frees the program and buffer.
