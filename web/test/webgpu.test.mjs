@@ -149,7 +149,7 @@ before(async () => {
         umbra.render(scene, camera);
         const masks = [latin1(await umbra.readMaskAsync(point)), latin1(await umbra.readMaskAsync(sun))];
         const colour = await renderer.readRenderTargetPixelsAsync(target, 0, 0, w, h);
-        return { ...out, masks, colour: latin1(colour), errors: umbra.errors.slice(), info: { ...umbra.info } };
+        return { ...out, masks, colour: latin1(colour), errors: umbra.errors.slice(), info: { ...umbra.info }, volumes: await umbra.readVolumesAsync() };
       };
       window.T = { THREE, umbra, scene, camera, point, sun, meshes, box, frame };
     };
@@ -197,7 +197,7 @@ before(async () => {
         return s;
       };
       const masks = [latin1(await umbra.readMaskAsync(point)), latin1(await umbra.readMaskAsync(sun))];
-      const info = { ...umbra.info };
+      const info = { ...umbra.info, volumes: await umbra.readVolumesAsync() };
       const errors = umbra.errors.slice();
       umbra.dispose();
       target.dispose();
@@ -214,13 +214,13 @@ after(async () => {
 });
 
 /** The page's frame from `eye`, each light's mask judged by `umbra verify --external-mask`. */
-async function judged(name, eye) {
-  const f = await page.evaluate(async (e) => {
+async function judged(name, eye, target = [0, 0, 0]) {
+  const f = await page.evaluate(async ([e, at]) => {
     window.T.camera.position.set(...e);
-    window.T.camera.lookAt(0, 0, 0);
+    window.T.camera.lookAt(...at);
     window.T.camera.updateMatrixWorld();
     return window.T.frame();
-  }, eye);
+  }, [eye, target]);
   const obj = path.join(tmp, `${name}.obj`);
   await writeFile(obj, f.obj);
   const lights = await page.evaluate(() => [[...window.T.point.position.toArray()], [...window.T.sun.position.toArray(), 0]]);
@@ -231,7 +231,7 @@ async function judged(name, eye) {
     for (let i = 0; i < gray.length; i++) rgba.set([gray[i], gray[i], gray[i], 255], 4 * i);
     const png = path.join(tmp, `${name}-${k}.png`);
     await writeFile(png, encodePng(W, H, rgba));
-    const extra = ['--eye', eye.join(','), '--target', '0,0,0', '--fov', '50', '--light', lights[k].join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)];
+    const extra = ['--eye', eye.join(','), '--target', target.join(','), '--fov', '50', '--light', lights[k].join(','), '--subpixel-bits', String(WEBGPU_SUBPIXEL_BITS)];
     const r = judge(umbraBin, { scene: obj, size: `${W}x${H}`, maskPng: png, extra, explain: 20 });
     let dark = 0;
     for (let i = 0; i < gray.length; i++) dark += gray[i] === 0;
@@ -242,42 +242,61 @@ async function judged(name, eye) {
 
 test('WebGPURenderer: a point and a directional light, a mirrored and an instanced caster, the eye outside and inside a shadow: every mask 0 samples outside the band, and the node materials receive it', async (t) => {
   if (skip) return t.skip(skip);
-  await page.evaluate(() => window.makeWorld({}));
-  // The second view: the eye under the box, inside its shadow volumes. Lights are counted
-  // z-pass where the eye's count is proven (zpass.js), from that count, which under the box is
-  // not 0.
+  // Culled on the GPU (the default) and drawn whole (`volumeCull: false`): both exact.
   const zpassViews = [];
-  for (const [name, eye] of [['outside', [0, 5, 7]], ['inside', [-1.5, 0.25, 0.25]]]) {
-    const { rows, frame } = await judged(name, eye);
-    zpassViews.push(frame.info.zpass);
-    console.log(JSON.stringify({ name, rows: rows.map((r) => ({ outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, dark: r.dark })), info: frame.info, errors: frame.errors }));
-    assert.deepEqual(frame.errors, [], 'no mesh refused');
-    assert.equal(frame.info.casters, 5, 'floor, box, mirrored cone and two instances cast');
-    rows.forEach((r, k) => {
-      assert.equal(r.browser.mismatches_outside_band, 0, `${name}, light ${k}: 0 outside the band: ${r.explained.join('; ')}`);
-      assert.ok(r.browser.shadowed_reference > 500, `${name}, light ${k}: the casters shadow something`);
-    });
-    if (name === 'outside') {
-      // The decision reaches three.js's shading: among floor pixels both lights light, the
-      // darkest and the brightest differ by more than the ambient term alone would allow.
-      const colour = Buffer.from(frame.colour, 'latin1');
-      const [m0, m1] = frame.masks.map((s) => Buffer.from(s, 'latin1'));
-      let shadowedSum = 0;
-      let shadowedN = 0;
-      let litSum = 0;
-      let litN = 0;
-      for (let i = 0; i < W * H; i++) {
-        const g = colour[4 * i + 1];
-        if (m0[i] === 0 && m1[i] === 0) {
-          shadowedSum += g;
-          shadowedN++;
-        } else if (m0[i] === 255 && m1[i] === 255) {
-          litSum += g;
-          litN++;
+  for (const volumeCull of [true, false]) {
+    await page.evaluate((o) => window.makeWorld(o), { volumeCull });
+    // The second view: the eye under the box, inside its shadow volumes. Lights are counted
+    // z-pass where the eye's count is proven (zpass.js), from that count, which under the box
+    // is not 0.
+    // The third view: a corner of the floor that no caster's shadow reaches.
+    for (const [name, eye, target] of [['outside', [0, 5, 7]], ['inside', [-1.5, 0.25, 0.25]], ['corner', [4, 1, 4], [4.8, 0, 4.8]]]) {
+      const { rows, frame } = await judged(`${name}-${volumeCull}`, eye, target);
+      zpassViews.push(frame.info.zpass);
+      console.log(JSON.stringify({ name, volumeCull, rows: rows.map((r) => ({ outside: r.browser.mismatches_outside_band, band: r.browser.band_samples, samples: r.browser.samples, shadowed: r.browser.shadowed_reference, dark: r.dark })), info: frame.info, volumes: frame.volumes, errors: frame.errors }));
+      assert.deepEqual(frame.errors, [], 'no mesh refused');
+      assert.equal(frame.info.casters, 5, 'floor, box, mirrored cone and two instances cast');
+      rows.forEach((r, k) => {
+        assert.equal(r.browser.mismatches_outside_band, 0, `${name}, volumeCull ${volumeCull}, light ${k}: 0 outside the band: ${r.explained.join('; ')}`);
+        if (name !== 'corner') assert.ok(r.browser.shadowed_reference > 500, `${name}, light ${k}: the casters shadow something`);
+      });
+      // What the volumes drew. At the floor's corner, where no caster's shadow reaches, a culled
+      // light keeps the floor alone (2 triangles, kept by its own samples, which lie in its cells
+      // beyond it): no other caster's volume is drawn.
+      assert.equal(frame.volumes.length, 2);
+      frame.volumes.forEach((v, k) => {
+        assert.equal(v.culled, volumeCull && frame.info.culled[k], `${name}, light ${k}: ${JSON.stringify(v)}`);
+        if (!volumeCull) assert.equal(v.triangles, frame.info.casterTriangles, `${name}, light ${k}`);
+        else if (name === 'corner' && v.culled) assert.ok(v.triangles <= 2, `${name}, light ${k}: the cull keeps ${v.triangles} of ${frame.info.casterTriangles}`);
+        else assert.ok(v.triangles <= frame.info.casterTriangles, `${name}, light ${k}`);
+        if (name !== 'corner') assert.ok(v.edges > 0, `${name}, light ${k}: side quads drawn`);
+      });
+      // Culled unless z-pass needs the eye's near pyramid raised and the point light's map
+      // cannot bound it (at the corner, a pyramid across cube faces: drawn whole).
+      if (volumeCull && name !== 'corner') assert.deepEqual(frame.info.culled, [true, true], `${name}: both lights culled`);
+      if (volumeCull && name === 'corner') assert.ok(frame.info.culled[1], 'the directional light is culled at the corner');
+      if (name === 'outside') {
+        // The decision reaches three.js's shading: among floor pixels both lights light, the
+        // darkest and the brightest differ by more than the ambient term alone would allow.
+        const colour = Buffer.from(frame.colour, 'latin1');
+        const [m0, m1] = frame.masks.map((s) => Buffer.from(s, 'latin1'));
+        let shadowedSum = 0;
+        let shadowedN = 0;
+        let litSum = 0;
+        let litN = 0;
+        for (let i = 0; i < W * H; i++) {
+          const g = colour[4 * i + 1];
+          if (m0[i] === 0 && m1[i] === 0) {
+            shadowedSum += g;
+            shadowedN++;
+          } else if (m0[i] === 255 && m1[i] === 255) {
+            litSum += g;
+            litN++;
+          }
         }
+        assert.ok(shadowedN > 100 && litN > 100, `both kinds of pixel are seen (${shadowedN} shadowed by both, ${litN} lit by both)`);
+        assert.ok(shadowedSum / shadowedN < 0.5 * (litSum / litN), `pixels both lights leave shadowed are darker (${(shadowedSum / shadowedN).toFixed(1)}) than those both light (${(litSum / litN).toFixed(1)})`);
       }
-      assert.ok(shadowedN > 100 && litN > 100, `both kinds of pixel are seen (${shadowedN} shadowed by both, ${litN} lit by both)`);
-      assert.ok(shadowedSum / shadowedN < 0.5 * (litSum / litN), `pixels both lights leave shadowed are darker (${(shadowedSum / shadowedN).toFixed(1)}) than those both light (${(litSum / litN).toFixed(1)})`);
     }
   }
   console.log(`z-pass per view and light: ${JSON.stringify(zpassViews)}`);

@@ -15,7 +15,7 @@
 // Build the .wasm: node ../build-wasm.mjs.
 
 /** ABI version of crates/umbra-wasm/src/ffi.rs this module speaks. */
-const ABI_VERSION = 4;
+const ABI_VERSION = 5;
 
 /** Buffer numbers of `umbra_result_buffer_ptr` and the typed arrays they are read as. */
 const BUFFERS = [
@@ -132,6 +132,17 @@ export async function loadUmbraGeom(source) {
       raise(points) {
         check();
         return w.umbra_receivers_raise_hull(live, scratchPoints(points), points.length) !== 0;
+      },
+      /**
+       * The GPU cull's uniform for the grid (umbra_geom::receivers::gpu_cull_words: 52 u32, a
+       * copy), with the cells of `points` (world x y z per point, f64: z-pass's near pyramid)
+       * raised, or none raised for null; null without a grid or when the grid cannot bound them.
+       */
+      gpuCull(points = null) {
+        check();
+        const n = points ? points.length : 0;
+        const at = u(w.umbra_receivers_gpu_cull(live, n ? scratchPoints(points) : 0, n));
+        return at ? Uint32Array.from(new Uint32Array(w.memory.buffer, at, 52)) : null;
       },
       free() {
         if (!live) return;

@@ -36,6 +36,8 @@ export const WGSL_FILES = {
   transform: 'transform.wgsl',
   resolve: 'resolve.wgsl',
   rayBvh: 'ray_bvh.wgsl',
+  receiverCell: 'receiver_cell.wgsl',
+  cull: 'cull.wgsl',
 };
 
 /** esbuild plugin: the virtual module `umbra:wgsl` (umbra-wgpu's shader text, by name). */

@@ -307,6 +307,65 @@ impl ReceiverGrid {
     }
 }
 
+/// Words of the GPU cull's uniform ([`gpu_cull_words`]).
+pub const GPU_CULL_WORDS: usize = 52;
+
+/// Word offset of every level of a GPU max pyramid over a point light's six faces of `side`
+/// cells a side (a directional light's one face uses face 0 of each level), then the words
+/// of the whole pyramid: `log2(side) + 2` numbers.
+pub fn gpu_cull_level_offsets(side: u32) -> Vec<u32> {
+    let levels = side.trailing_zeros() + 1;
+    let mut offsets = vec![0];
+    for k in 0..levels {
+        let s = side >> k;
+        offsets.push(offsets[k as usize] + 6 * s * s);
+    }
+    offsets
+}
+
+/// The uniform of the GPU cull (`CullGrid` of umbra-wgpu's shaders/cull.wgsl, std140, 208
+/// bytes), for `grid` and, under z-pass, the near pyramid's cells to raise
+/// ([`ReceiverGrid::hull_raise`]): one layout for umbra-wgpu and for the page's WebGPU path
+/// (umbra-wasm), so that neither writes it by hand. Words: origin, u, v, travel (xyz, 0),
+/// lo and scale, the rectangle's widening along u and v (twice [`ReceiverGrid::cells_of`]'s,
+/// f32 bits), the raised rectangle, its face and encoded value, side, faces, the coarsest
+/// level's number, 3 of padding, and 16 level offsets ([`gpu_cull_level_offsets`]). The
+/// side must be at most 2^15 (16 levels).
+pub fn gpu_cull_words(grid: &ReceiverGrid, raise: Option<(u32, [u32; 4], f32)>) -> [u32; GPU_CULL_WORDS] {
+    let mut w = [0u32; GPU_CULL_WORDS];
+    let mut put = |at: usize, v: &[f32]| {
+        for (k, x) in v.iter().enumerate() {
+            w[at + k] = x.to_bits();
+        }
+    };
+    if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, side } = *grid {
+        put(0, &origin);
+        put(4, &u);
+        put(8, &v);
+        put(12, &travel);
+        put(16, &[lo[0], lo[1], scale[0], scale[1]]);
+        let margin = |j: usize| {
+            let extent = f64::from(side) / f64::from(scale[j]);
+            ((4.0 * extent + 4.0 * f64::from(lo[j]).abs()) * RECEIVER_MARGIN) as f32
+        };
+        put(20, &[margin(0), margin(1)]);
+    }
+    if let Some((face, rect, value)) = raise {
+        w[24..28].copy_from_slice(&rect);
+        w[28] = face;
+        w[29] = encode(value);
+    }
+    let side = grid.side();
+    w[30] = side;
+    w[31] = grid.faces();
+    w[32] = side.trailing_zeros();
+    let offsets = gpu_cull_level_offsets(side);
+    for (k, &o) in offsets.iter().take(16).enumerate() {
+        w[36 + k] = o;
+    }
+    w
+}
+
 /// Order-preserving f32 -> u32 (a larger float gives a larger word; 0 is below every float):
 /// the GPU scatter's atomicMax works on these words.
 pub fn encode(x: f32) -> u32 {

@@ -45,7 +45,7 @@
 //! or clamped.
 
 use umbra_geom::adjacency::EdgeAdjacency;
-use umbra_geom::receivers::{encode, CullStats, ReceiverGrid, ReceiverMap};
+use umbra_geom::receivers::{encode, gpu_cull_words, CullStats, ReceiverGrid, ReceiverMap, GPU_CULL_WORDS};
 use umbra_geom::silhouette::{extrude, TriangleSlots, VolumeClamp};
 use umbra_geom::{Aabb, Light, WeldedMesh};
 
@@ -64,6 +64,7 @@ pub struct Receivers {
     map: Option<ReceiverMap>,
     cells: Vec<f32>,
     params: [f32; GRID_PARAMS],
+    gpu_cull: Vec<u32>,
 }
 
 fn finite(values: &[f32]) -> bool {
@@ -190,6 +191,22 @@ impl Receivers {
             self.map = None;
         }
         raised
+    }
+
+    /// The uniform of the GPU cull for this grid (`umbra_geom::receivers::gpu_cull_words`,
+    /// what umbra-three's WebGPU path binds for umbra-wgpu's cull.wgsl), with the cells of
+    /// world-space `points` (z-pass: the eye's near pyramid) raised when given; `None` without
+    /// a grid, or when the grid cannot bound the points (then this light may not be culled).
+    pub fn gpu_cull(&mut self, points: Option<&[[f64; 3]]>) -> Option<&[u32]> {
+        let grid = self.grid.as_ref()?;
+        let raise = match points {
+            Some(p) if p.iter().flatten().all(|x| x.is_finite()) && !p.is_empty() => Some(grid.hull_raise(p)?),
+            Some(_) => return None,
+            None => None,
+        };
+        self.gpu_cull = gpu_cull_words(grid, raise).to_vec();
+        debug_assert_eq!(self.gpu_cull.len(), GPU_CULL_WORDS);
+        Some(&self.gpu_cull)
     }
 
     /// The built map.

@@ -20,6 +20,7 @@ use crate::scene::SceneGpu;
 use crate::view::View;
 
 const SHADER: &str = include_str!("shaders/receivers.wgsl");
+const RECEIVER_CELL: &str = include_str!("shaders/receiver_cell.wgsl");
 
 /// The scatter's uniform (`Scatter` of shaders/receivers.wgsl).
 #[repr(C)]
@@ -90,7 +91,7 @@ impl ReceiverPass {
         } else {
             SHADER.to_string()
         };
-        let module = Common::module(device, "receivers.wgsl", &["enable primitive_index;", &source]);
+        let module = Common::module(device, "receivers.wgsl", &["enable primitive_index;", RECEIVER_CELL, &source]);
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("umbra receiver map"),

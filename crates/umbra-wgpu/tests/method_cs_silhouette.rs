@@ -135,10 +135,15 @@ fn worst_case_output_fills_the_buffer_exactly() {
     let (sides, caps) = cs.counts[0].expect("counts");
     assert_eq!(sides as usize, 6 * adj.opposites.len(), "every opposite contributes a quad: Σ|m| = Σk");
     assert_eq!(caps as usize, 6 * mesh.triangles.len());
-    // Records 16 e + slots 4 Σk, per light: orientation 4 t + quads 8 Σk + caps 12 t + two
-    // 16-byte commands + clip positions 32 v (every buffer at least 16 bytes).
+    // Records 16 e + slots 4 Σk + the cull's pieces 4 t and flags 4 (1 + pieces) (here every
+    // triangle is a piece of its own), per light: orientation 4 t + quads 8 Σk + caps 12 t +
+    // two 16-byte commands + the kept count (16) + clip positions 32 v (every buffer at least
+    // 16 bytes).
     let expected = 16 * adj.len()
         + 4 * adj.opposites.len()
+        + 4 * mesh.triangles.len()
+        + 4 * (1 + mesh.triangles.len())
+        + 16
         + 4 * mesh.triangles.len()
         + 8 * adj.opposites.len()
         + 12 * mesh.triangles.len()

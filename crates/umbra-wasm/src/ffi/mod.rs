@@ -46,7 +46,7 @@ pub use receivers::*;
 pub use union::*;
 
 /// Version of this interface; the JavaScript module refuses any other.
-pub const ABI_VERSION: u32 = 4;
+pub const ABI_VERSION: u32 = 5;
 
 /// Alignment of every [`umbra_alloc`] block (enough for f32, u32 and f64).
 const ALIGN: usize = 8;

@@ -119,3 +119,27 @@ pub unsafe extern "C" fn umbra_receivers_raise_hull(r: *mut Receivers, points: *
     let points: Vec<[f64; 3]> = flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
     u32::from(r.raise_hull(&points))
 }
+
+/// [`crate::Receivers::gpu_cull`]: the GPU cull's uniform for the grid
+/// ([`umbra_geom::receivers::GPU_CULL_WORDS`] u32, valid until the next call on `r`), with
+/// `points_len` f64 at `points` (x, y, z per point, world space: the near pyramid) raised, or
+/// none raised when `points_len` is 0. Null without a grid, or when the grid cannot bound the
+/// points.
+///
+/// # Safety
+/// `r` is a live handle of [`umbra_receivers_new`]; `points` points to `points_len` f64.
+#[no_mangle]
+pub unsafe extern "C" fn umbra_receivers_gpu_cull(
+    r: *mut Receivers,
+    points: *const f64,
+    points_len: usize,
+) -> *const u32 {
+    // SAFETY: guaranteed by the caller.
+    let (r, flat) = unsafe { (&mut *r, slice(points, points_len)) };
+    let points: Option<Vec<[f64; 3]>> = match (flat.len(), flat.len() % 3) {
+        (0, _) => None,
+        (_, 0) => Some(flat.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect()),
+        _ => return std::ptr::null(),
+    };
+    r.gpu_cull(points.as_deref()).map_or(std::ptr::null(), <[u32]>::as_ptr)
+}

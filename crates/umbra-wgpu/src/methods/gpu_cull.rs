@@ -14,7 +14,7 @@
 //! scatter's and the cull's uniforms; per mesh (the method's) the pieces and their flags.
 
 use umbra_geom::camera::{zpass_start_points, DepthConvention};
-use umbra_geom::receivers::{encode, ReceiverGrid, RECEIVER_MARGIN, RECEIVER_SIDE};
+use umbra_geom::receivers::{gpu_cull_level_offsets, gpu_cull_words, ReceiverGrid, GPU_CULL_WORDS, RECEIVER_SIDE};
 use umbra_geom::Aabb;
 
 use umbra_geom::silhouette::caster_pieces;
@@ -28,29 +28,10 @@ use crate::scene::{buffer_zeroed, SceneGpu};
 
 const VOLUME: &str = include_str!("../shaders/volume.wgsl");
 const SHADER: &str = include_str!("../shaders/cull.wgsl");
+const RECEIVER_CELL: &str = include_str!("../shaders/receiver_cell.wgsl");
 
 /// Levels of the pyramid: the map's side, halved down to one cell.
 const LEVELS: u32 = RECEIVER_SIDE.trailing_zeros() + 1;
-
-/// `CullGrid` of shaders/cull.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct CullGrid {
-    origin: [f32; 4],
-    u: [f32; 4],
-    v: [f32; 4],
-    travel: [f32; 4],
-    lo_scale: [f32; 4],
-    margin: [f32; 4],
-    raise_rect: [u32; 4],
-    raise_face: u32,
-    raise_word: u32,
-    side: u32,
-    faces: u32,
-    top: u32,
-    pad: [u32; 3],
-    level_offset: [[u32; 4]; 4],
-}
 
 /// `CullLevel` of shaders/cull.wgsl.
 #[repr(C)]
@@ -62,15 +43,9 @@ struct CullLevel {
     pad: u32,
 }
 
-/// Word offset of every level of the pyramid of a point light's six faces (a directional
-/// light's one face uses face 0 of each).
-fn level_offsets() -> [u32; LEVELS as usize + 1] {
-    let mut offsets = [0; LEVELS as usize + 1];
-    for k in 0..LEVELS as usize {
-        let side = RECEIVER_SIDE >> k;
-        offsets[k + 1] = offsets[k] + 6 * side * side;
-    }
-    offsets
+/// Word offset of every level of the pyramid, then its words ([`gpu_cull_level_offsets`]).
+fn level_offsets() -> Vec<u32> {
+    gpu_cull_level_offsets(RECEIVER_SIDE)
 }
 
 /// The pieces of one mesh and their flags, which the method's orientation pass reads.
@@ -145,7 +120,7 @@ impl GpuCull {
             label: Some("umbra cull level"),
             entries: &[uniform_entry(0, compute, true)],
         });
-        let module = Common::module(device, "cull.wgsl", &["enable clip_distances;", VOLUME, SHADER]);
+        let module = Common::module(device, "cull.wgsl", &["enable clip_distances;", VOLUME, RECEIVER_CELL, SHADER]);
         let pipeline_layout = common.pipeline_layout(device, "umbra cull", &[&layout, &level_layout]);
         let pipeline = |entry| compute_pipeline(device, "umbra cull", &pipeline_layout, &module, entry);
         let offsets = level_offsets();
@@ -240,54 +215,15 @@ impl GpuCull {
             };
             self.lights.push(CullLight {
                 scatter: uniform("umbra cull scatter", ReceiverPass::uniform_bytes()),
-                grid: uniform("umbra cull grid", std::mem::size_of::<CullGrid>() as u64),
+                grid: uniform("umbra cull grid", 4 * GPU_CULL_WORDS as u64),
             });
         }
         let l = &self.lights[frame.slot];
         let scatter = self.receivers.as_ref().expect("made above");
         scatter.record(device, queue, encoder, scene, view, light, &grid, depth, &l.scatter, &self.cells, None)?;
 
-        let offsets = level_offsets();
-        let mut level_offset = [[0u32; 4]; 4];
-        for (k, &o) in offsets.iter().take(LEVELS as usize).enumerate() {
-            level_offset[k / 4][k % 4] = o;
-        }
-        let mut g = CullGrid {
-            origin: [0.0; 4],
-            u: [0.0; 4],
-            v: [0.0; 4],
-            travel: [0.0; 4],
-            lo_scale: [0.0; 4],
-            margin: [0.0; 4],
-            raise_rect: [0; 4],
-            raise_face: 0,
-            raise_word: 0,
-            side: grid.side(),
-            faces: grid.faces(),
-            top: LEVELS - 1,
-            pad: [0; 3],
-            level_offset,
-        };
-        if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, side } = grid {
-            let w = |a: [f32; 3]| [a[0], a[1], a[2], 0.0];
-            g.origin = w(origin);
-            g.u = w(u);
-            g.v = w(v);
-            g.travel = w(travel);
-            g.lo_scale = [lo[0], lo[1], scale[0], scale[1]];
-            // Twice ReceiverMap::cells_of's widening.
-            let margin = |j: usize| {
-                let extent = f64::from(side) / f64::from(scale[j]);
-                ((4.0 * extent + 4.0 * f64::from(lo[j]).abs()) * RECEIVER_MARGIN) as f32
-            };
-            g.margin = [margin(0), margin(1), 0.0, 0.0];
-        }
-        if let Some((face, rect, value)) = raise {
-            g.raise_rect = rect;
-            g.raise_face = face;
-            g.raise_word = encode(value);
-        }
-        queue.write_buffer(&l.grid, 0, bytemuck::bytes_of(&g));
+        let words = gpu_cull_words(&grid, raise);
+        queue.write_buffer(&l.grid, 0, bytemuck::cast_slice(&words));
         let buffers = [&l.grid, &self.cells, scene.position_buffer(), scene.index_buffer(), &mesh.piece, &mesh.needed];
         let entries: Vec<_> = buffers
             .iter()

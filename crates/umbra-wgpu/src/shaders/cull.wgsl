@@ -25,7 +25,7 @@
 //           triangle whose frustum holds a point of it is kept: z-pass counts from there;
 //   reduce: one level of the max pyramid (once per level, coarsest last);
 //   need:   one invocation per triangle: its piece marked needed.
-// Prepended: volume.wgsl (the light slot `u`: light, triangles; umbra_item).
+// Prepended: volume.wgsl (the light slot `u`: light, triangles; umbra_item), receiver_cell.wgsl.
 
 struct CullGrid {
     // ReceiverGrid::Flat: origin, u, v, travel (xyz), lo (xy) and scale (zw).
@@ -111,14 +111,8 @@ fn reduce(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     atomicStore(&cells[level.dst + k], m);
 }
 
-// Order-preserving f32 -> u32, receivers.wgsl's receiver_encode.
-fn cull_encode(x: f32) -> u32 {
-    let b = bitcast<u32>(x);
-    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
-}
-
 fn cull_cell(x: f32, lo: f32, scale: f32) -> u32 {
-    return u32(clamp(floor((x - lo) * scale), 0.0, f32(g.side - 1u)));
+    return receiver_cell(x, lo, scale, g.side);
 }
 
 // The largest word of face `face`'s cells i0..=i1 x j0..=j1 (r = i0, i1, j0, j1), read at the
@@ -265,7 +259,7 @@ fn need(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) 
         let magnitude = max(a0.x + a0.y + a0.z, max(a1.x + a1.y + a1.z, a2.x + a2.y + a2.z));
         least = min(depth.x, min(depth.y, depth.z)) - magnitude / 262144.0;
     }
-    if word > cull_encode(least) {
+    if word > receiver_encode(least) {
         atomicOr(&needed[1u + piece[t]], 1u);
     }
 }

@@ -21,6 +21,14 @@
 //      white where the count is 0, lit; the mask was cleared to black, shadowed), then the
 //      seen side's facing on the depth pass's surface where the count is 0 (surface.wgsl
 //      fs_facing: lit = count 0 AND the seen side faces the light, native umbra's decision).
+// A light given a cull uniform (UmbraShadows' `volumeCull`) has its volume culled on the GPU
+// first, as native cs-silhouette's is (umbra-wgpu's methods/gpu_cull.rs, cull.wgsl; the proof:
+// docs/exactness.md, "Volumes culled on the GPU"): once per frame a samples pass keeps each
+// pixel's visible sample (wgsl/samples.wgsl), then per light its samples are scattered into
+// the light's receiver map (wgsl/scatter.wgsl), cull.wgsl raises the eye's near pyramid under
+// z-pass, builds the map's max pyramid and marks the caster pieces a visible sample may lie
+// behind, and the orientation pass (orient_kept entries) gives the other pieces' triangles
+// orientation 0: no side, no cap. No read-back.
 // With `rays` set (UmbraShadows' method 'ray-bvh', rays.js), step 2 is instead a pass that keeps
 // each pixel's visible sample, then per light one pass that walks each sample's shadow ray.
 // A light counts z-pass where zpass.js proved the eye's count W0 for the eye's whole near
@@ -35,7 +43,10 @@ import SURFACE from './wgsl/surface.wgsl';
 import POLYGON from './wgsl/polygon.wgsl';
 import CLASSIFY from './wgsl/classify.wgsl';
 import FAN from './wgsl/fan.wgsl';
-import { triangleNormals } from './world.js';
+import SAMPLE_BITS from './wgsl/sample_bits.wgsl';
+import SAMPLES from './wgsl/samples.wgsl';
+import SCATTER from './wgsl/scatter.wgsl';
+import { casterPieces, triangleNormals } from './world.js';
 
 /** Bytes of one light's uniform slot (UmbraLight in volume.wgsl, padded to 256: the largest uniform offset alignment WebGPU allows). */
 export const LIGHT_SLOT_BYTES = 256;
@@ -47,6 +58,13 @@ const GROUP = 256;
 const MAX_GROUPS = 65535;
 
 const ENABLE = 'enable clip_distances;\n';
+
+/** Cells along a side of the page's receiver maps (the WebGL path's side, PAGE_RECEIVER_SIDE). */
+export const CULL_SIDE = 128;
+/** u32 words of the cull's uniform (umbra_geom::receivers::GPU_CULL_WORDS, the wasm's gpuCull). */
+const CULL_WORDS = 52;
+/** The samples texture's "no sample" word (sample_bits.wgsl NO_SAMPLE). */
+const NO_SAMPLE = 0xffffffff;
 
 /** Device features the drawer needs, with why. */
 export const REQUIRED_FEATURES = {
@@ -115,6 +133,76 @@ export class WebGPUVolumes {
     this.orientOnlyPipeline = compute(orient, 'orient', this.orientLayout);
     this.sidesPipeline = compute(sides, 'sides', this.sidesLayout);
     this.classifyPipeline = compute(classify, 'classify_polygons', this.classifyLayout, this.classifyUniformLayout);
+
+    // The GPU cull (cull.wgsl, scatter.wgsl): group 1 the light's grid (a 256-byte slot per
+    // light) and the buffers, group 2 one pyramid level, group 3 the samples.
+    const cull = module('cull', [WGSL.volume, WGSL.receiverCell, WGSL.cull, SAMPLE_BITS, SCATTER]);
+    this.cullLayout = device.createBindGroupLayout({
+      label: 'umbra cull',
+      entries: [
+        { binding: 0, visibility: C, buffer: { type: 'uniform', hasDynamicOffset: true, minBindingSize: 4 * CULL_WORDS } },
+        { binding: 1, visibility: C, buffer: { type: 'storage' } },
+        { binding: 2, visibility: C, buffer: { type: 'read-only-storage' } },
+        { binding: 3, visibility: C, buffer: { type: 'read-only-storage' } },
+        { binding: 4, visibility: C, buffer: { type: 'read-only-storage' } },
+        { binding: 5, visibility: C, buffer: { type: 'storage' } },
+      ],
+    });
+    this.levelLayout = device.createBindGroupLayout({ label: 'umbra cull level', entries: [{ binding: 0, visibility: C, buffer: { type: 'uniform', hasDynamicOffset: true, minBindingSize: 16 } }] });
+    this.scatterLayout = device.createBindGroupLayout({
+      label: 'umbra scatter',
+      entries: [
+        { binding: 0, visibility: C, texture: { sampleType: 'uint' } },
+        { binding: 1, visibility: C, buffer: { type: 'read-only-storage' } },
+      ],
+    });
+    const cullLayout = device.createPipelineLayout({ bindGroupLayouts: [this.lightLayout, this.cullLayout, this.levelLayout] });
+    const scatterLayout = device.createPipelineLayout({ bindGroupLayouts: [this.lightLayout, this.cullLayout, this.levelLayout, this.scatterLayout] });
+    const cullPipeline = (entryPoint, l) => device.createComputePipeline({ label: `umbra ${entryPoint}`, layout: l, compute: { module: cull, entryPoint } });
+    this.scatterPipeline = cullPipeline('scatter_samples', scatterLayout);
+    this.raisePipeline = cullPipeline('raise', cullLayout);
+    this.reducePipeline = cullPipeline('reduce', cullLayout);
+    this.needPipeline = cullPipeline('need', cullLayout);
+    // The orientation after the cull: the pieces and their flags too (orientation.wgsl).
+    this.orientKeptLayout = group('orientation after the cull', C, ['r', 'r', 'w', 'w', 'w', 'r', 'w']);
+    this.orientKeptPipeline = compute(orient, 'orient_kept_and_caps', this.orientKeptLayout);
+    this.orientKeptOnlyPipeline = compute(orient, 'orient_kept', this.orientKeptLayout);
+    // The pyramid (six faces of CULL_SIDE cells, then each coarser level) and one level slot
+    // per level built: { finer level's offset, this level's offset, its side }.
+    this.cullOffsets = [0];
+    for (let side = CULL_SIDE; side >= 1; side /= 2) this.cullOffsets.push(this.cullOffsets.at(-1) + 6 * side * side);
+    this.cullLevels = this.cullOffsets.length - 1;
+    const levelSlots = new Uint32Array((LIGHT_SLOT_BYTES / 4) * (this.cullLevels - 1));
+    for (let k = 1; k < this.cullLevels; k++) levelSlots.set([this.cullOffsets[k - 1], this.cullOffsets[k], CULL_SIDE >> k, 0], (LIGHT_SLOT_BYTES / 4) * (k - 1));
+    this.cullLevelBuffer = this.buffer('umbra cull levels', levelSlots.byteLength, U.UNIFORM, levelSlots);
+    this.cullLevelGroup = device.createBindGroup({ layout: this.levelLayout, entries: [{ binding: 0, resource: { buffer: this.cullLevelBuffer, size: 16 } }] });
+    this.cells = this.buffer('umbra receiver pyramid', 4 * this.cullOffsets[this.cullLevels], U.STORAGE | U.COPY_DST);
+    this.cullUniforms = null;
+    // The samples pass (samples.wgsl): the depth pass's surface, each pixel's visible sample.
+    const samples = module('samples', [WGSL.volume, SURFACE, SAMPLE_BITS, SAMPLES]);
+    this.samplesPipeline = device.createRenderPipeline({
+      label: 'umbra samples',
+      layout: layout(this.surfaceLayout),
+      vertex: { module: samples, entryPoint: 'vs_surface' },
+      fragment: { module: samples, entryPoint: 'fs_sample', targets: [{ format: 'rgba32uint' }] },
+      // Reason: the depth pass's primitive state (the same coverage and depths; both faces).
+      primitive: { topology: 'triangle-list', cullMode: 'none', frontFace: 'ccw' },
+      depthStencil: {
+        format: depthFormat,
+        // Reason: the depth pass's surface is kept for the lights.
+        depthWriteEnabled: false,
+        // Reason: exactly the depth pass's visible surface (the same vertex stage and state),
+        // so what a pixel keeps is its visible sample.
+        depthCompare: 'equal',
+        // Reason: no count; the stencil is neither read nor written.
+        stencilReadMask: 0,
+        stencilWriteMask: 0,
+      },
+    });
+    this.samplesTexture = null;
+    // Per light of the last frame: [triangles the cull kept, side vertices] (readVolumes).
+    this.drawnCounts = null;
+    this.drawn = [];
 
     // The depth pass: depth only. Reason for vs_surface (vertices pulled from storage, a
     // non-indexed draw) rather than resolve.wgsl's vs_resolve: the facing pass needs each
@@ -225,7 +313,7 @@ export class WebGPUVolumes {
 
     // {0 vertices, 1 instance, 0, 0}: what each indirect command is reset to before its compute pass.
     this.commandTemplate = this.buffer('umbra command template', 16, U.COPY_SRC, new Uint32Array([0, 1, 0, 0]));
-    this.sidesCommand = this.buffer('umbra sides command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
+    this.sidesCommand = this.buffer('umbra sides command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST | U.COPY_SRC);
     this.capsCommand = this.buffer('umbra caps command', 16, U.STORAGE | U.INDIRECT | U.COPY_DST);
     // The classify pass's two draws: [0] inside polygons, [1] crossing ones.
     this.fanCommands = this.buffer('umbra fan commands', 32, U.STORAGE | U.INDIRECT | U.COPY_DST);
@@ -255,6 +343,8 @@ export class WebGPUVolumes {
     if (this.uniforms) n += this.uniforms.size;
     if (this.target) n += this.target.bytes;
     if (this.rays) n += this.rays.gpuBytes;
+    if (this.cullUniforms) n += this.cells.size + this.cullLevelBuffer.size + this.cullUniforms.size;
+    if (this.samplesTexture) n += this.samplesTexture.bytes;
     return n;
   }
 
@@ -295,9 +385,17 @@ export class WebGPUVolumes {
       s.crossingFirst = Math.max(64, Math.ceil(s.polygons / 64) * 64);
       s.lists = this.buffer('umbra polygon lists', 4 * 2 * s.crossingFirst, S);
       s.classifyUniform = this.buffer('umbra classify uniform', 16, U.UNIFORM, new Uint32Array([s.crossingFirst, 0, 0, 0]));
-      s.owned.push('records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform');
+      // The GPU cull's pieces (per caster triangle) and flags (word 0 the triangles kept, 1 + p
+      // piece p needed).
+      const { pieces, count } = casterPieces(merged.records, merged.slots, merged.casterTriangles);
+      s.pieces = this.buffer('umbra cull pieces', 4 * pieces.length, S, pieces);
+      s.needed = this.buffer('umbra cull needed', 4 * (1 + count), S | U.COPY_DST | U.COPY_SRC);
+      s.pieceCount = count;
+      s.bounds = merged.bounds;
+      s.owned.push('records', 'slots', 'clip', 'orientation', 'caps', 'quads', 'lists', 'classifyUniform', 'pieces', 'needed');
       s.transformGroup = bind(this.transformLayout, [s.positions, s.clip]);
       s.orientGroup = bind(this.orientLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps]);
+      s.orientKeptGroup = bind(this.orientKeptLayout, [s.positions, s.indices, s.orientation, this.capsCommand, s.caps, s.pieces, s.needed]);
       s.sidesGroup = bind(this.sidesLayout, [s.records, s.slots, s.orientation, this.sidesCommand, s.quads]);
       s.classifyGroup = bind(this.classifyLayout, [s.clip, s.quads, s.caps, this.sidesCommand, this.capsCommand, this.fanCommands, s.lists]);
       s.classifyUniformGroup = bind(this.classifyUniformLayout, [s.classifyUniform]);
@@ -323,6 +421,8 @@ export class WebGPUVolumes {
   setSize(width, height) {
     if (this.target && this.target.width === width && this.target.height === height) return;
     if (this.target) this.target.texture.destroy();
+    if (this.samplesTexture) this.samplesTexture.texture.destroy();
+    this.samplesTexture = null;
     const texture = this.device.createTexture({ label: 'umbra depth-stencil', size: [width, height], format: this.depthFormat, usage: GPUTextureUsage.RENDER_ATTACHMENT });
     this.target = { width, height, texture, view: texture.createView(), bytes: width * height * (this.depthFormat === 'depth32float-stencil8' ? 5 : 4) };
   }
@@ -340,9 +440,11 @@ export class WebGPUVolumes {
    * Draws the frame: `clipFromWorld` (Float32Array(16), column-major, reversed-Z, infinite far
    * plane), `lights` ([x, y, z, w] world space: w 1 point, 0 directional from xyz), their
    * masks (GPUTexture views, r8unorm, the target's size) and `zpass`: per light the eye's
-   * count W0 when z-pass is proven for it (zpass.js zpassStart), null (or absent) for z-fail.
+   * count W0 when z-pass is proven for it (zpass.js zpassStart), null (or absent) for z-fail;
+   * `cull`: per light the GPU cull's uniform (the wasm's receivers gpuCull: 52 u32, the near
+   * pyramid raised under z-pass) to cull its volume with, null (or absent) to draw it whole.
    */
-  draw(clipFromWorld, lights, masks, zpass = []) {
+  draw(clipFromWorld, lights, masks, zpass = [], cull = []) {
     const s = this.scene;
     this.ensureLights(lights.length);
     const slots = new ArrayBuffer(LIGHT_SLOT_BYTES * Math.max(1, lights.length));
@@ -378,6 +480,13 @@ export class WebGPUVolumes {
     }
     depth.end();
     const casting = s && s.triangles > 0;
+    const culled = lights.map((_, k) => !!(casting && !this.rays && cull[k]));
+    if (!this.drawnCounts || this.drawnCounts.size < 8 * lights.length) {
+      if (this.drawnCounts) this.drawnCounts.destroy();
+      this.drawnCounts = this.buffer('umbra drawn counts', 8 * Math.max(4, lights.length), U.COPY_DST | U.COPY_SRC);
+    }
+    this.drawn = lights.map((_, k) => ({ culled: culled[k], casting: !!casting && !this.rays, triangles: s ? s.triangles : 0 }));
+    if (culled.some(Boolean)) this.encodeSamples(encoder, lights, cull, culled);
     lights.forEach((_, k) => {
       const offset = [k * LIGHT_SLOT_BYTES];
       if (this.rays) {
@@ -393,20 +502,33 @@ export class WebGPUVolumes {
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.capsCommand, 0, 16);
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.fanCommands, 0, 16);
         encoder.copyBufferToBuffer(this.commandTemplate, 0, this.fanCommands, 16, 16);
-        const pass = encoder.beginComputePass({ label: `umbra light ${k} silhouettes` });
+        if (culled[k]) this.encodeCull(encoder, k, offset, cull[k], w0 !== null);
+        let pass = encoder.beginComputePass({ label: `umbra light ${k} silhouettes` });
         pass.setBindGroup(0, this.lightGroup, offset);
         pass.setPipeline(this.transformPipeline);
         pass.setBindGroup(1, s.transformGroup);
         pass.dispatchWorkgroups(...dispatchSize(s.vertices));
         // z-pass: no caps (the caps command stays at 0 vertices, so classify lists none).
-        pass.setPipeline(w0 === null ? this.orientPipeline : this.orientOnlyPipeline);
-        pass.setBindGroup(1, s.orientGroup);
+        if (culled[k]) {
+          pass.setPipeline(w0 === null ? this.orientKeptPipeline : this.orientKeptOnlyPipeline);
+          pass.setBindGroup(1, s.orientKeptGroup);
+        } else {
+          pass.setPipeline(w0 === null ? this.orientPipeline : this.orientOnlyPipeline);
+          pass.setBindGroup(1, s.orientGroup);
+        }
         pass.dispatchWorkgroups(...dispatchSize(s.triangles));
         if (s.recordCount > 0) {
           pass.setPipeline(this.sidesPipeline);
           pass.setBindGroup(1, s.sidesGroup);
           pass.dispatchWorkgroups(...dispatchSize(s.recordCount));
         }
+        // What the light's volume drew, for readVolumes: the triangles the cull kept and the
+        // side vertices (6 per quad), before the next light's passes reuse both buffers.
+        pass.end();
+        encoder.copyBufferToBuffer(s.needed, 0, this.drawnCounts, 8 * k, 4);
+        encoder.copyBufferToBuffer(this.sidesCommand, 0, this.drawnCounts, 8 * k + 4, 4);
+        pass = encoder.beginComputePass({ label: `umbra light ${k} polygons` });
+        pass.setBindGroup(0, this.lightGroup, offset);
         // Over every polygon there may be; each invocation past the compacted counts returns.
         pass.setPipeline(this.classifyPipeline);
         pass.setBindGroup(1, s.classifyGroup);
@@ -445,6 +567,117 @@ export class WebGPUVolumes {
     this.device.queue.submit([encoder.finish()]);
   }
 
+  /**
+   * The GPU cull's per-frame part: the lights' uniforms written (slot k of `cullUniforms`), then
+   * the samples pass into the samples texture (made at the target's size).
+   */
+  encodeSamples(encoder, lights, cull, culled) {
+    const s = this.scene;
+    const t = this.target;
+    if (!this.cullUniforms || this.cullUniforms.size < LIGHT_SLOT_BYTES * lights.length) {
+      if (this.cullUniforms) this.cullUniforms.destroy();
+      this.cullUniforms = this.buffer('umbra cull grids', LIGHT_SLOT_BYTES * Math.max(4, lights.length), U.UNIFORM | U.COPY_DST);
+      this.cullGroups = new Map();
+    }
+    const words = new Uint32Array((LIGHT_SLOT_BYTES / 4) * lights.length);
+    lights.forEach((_, k) => {
+      if (culled[k]) words.set(cull[k], (LIGHT_SLOT_BYTES / 4) * k);
+    });
+    this.device.queue.writeBuffer(this.cullUniforms, 0, words);
+    if (!this.samplesTexture) {
+      const texture = this.device.createTexture({ label: 'umbra samples', size: [t.width, t.height], format: 'rgba32uint', usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.TEXTURE_BINDING });
+      this.samplesTexture = { texture, view: texture.createView(), bytes: 16 * t.width * t.height, scene: null };
+    }
+    const st = this.samplesTexture;
+    // Bind groups of this scene and samples texture (made again when either changes).
+    if (s.cullGroup === undefined || s.cullUniforms !== this.cullUniforms) {
+      s.cullUniforms = this.cullUniforms;
+      s.cullGroup = this.device.createBindGroup({
+        layout: this.cullLayout,
+        entries: [
+          { binding: 0, resource: { buffer: this.cullUniforms, size: 4 * CULL_WORDS } },
+          ...[this.cells, s.positions, s.indices, s.pieces, s.needed].map((buffer, i) => ({ binding: i + 1, resource: { buffer } })),
+        ],
+      });
+    }
+    if (st.scene !== s) {
+      st.scene = s;
+      st.group = this.device.createBindGroup({ layout: this.scatterLayout, entries: [{ binding: 0, resource: st.view }, { binding: 1, resource: { buffer: s.normals } }] });
+    }
+    const pass = encoder.beginRenderPass({
+      label: 'umbra samples',
+      colorAttachments: [{ view: st.view, clearValue: { r: NO_SAMPLE, g: NO_SAMPLE, b: NO_SAMPLE, a: NO_SAMPLE }, loadOp: 'clear', storeOp: 'store' }],
+      // Reason: the depth pass's depth, read (depth EQUAL), not changed.
+      depthStencilAttachment: { view: t.view, depthReadOnly: true, stencilReadOnly: true },
+    });
+    pass.setPipeline(this.samplesPipeline);
+    pass.setBindGroup(0, this.lightGroup, [0]);
+    pass.setBindGroup(1, s.surfaceGroup);
+    pass.draw(s.indexCount);
+    pass.end();
+  }
+
+  /**
+   * Light `k`'s cull (`words`: its uniform): its samples scattered into the map, the near
+   * pyramid's cells raised under z-pass (`zpass`), the max pyramid built, the pieces needed
+   * marked.
+   */
+  encodeCull(encoder, k, offset, words, zpass) {
+    const s = this.scene;
+    const t = this.target;
+    // Reason: every cell empty (the word 0 is below every encoded value), no piece needed yet.
+    encoder.clearBuffer(this.cells, 0, 4 * this.cullOffsets[1]);
+    encoder.clearBuffer(s.needed);
+    const pass = encoder.beginComputePass({ label: `umbra light ${k} cull` });
+    const grid = [k * LIGHT_SLOT_BYTES];
+    pass.setBindGroup(0, this.lightGroup, offset);
+    pass.setBindGroup(1, s.cullGroup, grid);
+    pass.setBindGroup(2, this.cullLevelGroup, [0]);
+    pass.setBindGroup(3, this.samplesTexture.group);
+    pass.setPipeline(this.scatterPipeline);
+    pass.dispatchWorkgroups(...dispatchSize(t.width * t.height));
+    // Each dispatch is its own synchronisation scope: each step reads the one before.
+    if (zpass) {
+      const [i0, i1, j0, j1] = words.subarray(24, 28);
+      pass.setPipeline(this.raisePipeline);
+      pass.dispatchWorkgroups(...dispatchSize((i1 - i0 + 1) * (j1 - j0 + 1)));
+    }
+    const faces = words[31];
+    pass.setPipeline(this.reducePipeline);
+    for (let level = 1; level < this.cullLevels; level++) {
+      pass.setBindGroup(2, this.cullLevelGroup, [(level - 1) * LIGHT_SLOT_BYTES]);
+      const side = CULL_SIDE >> level;
+      pass.dispatchWorkgroups(...dispatchSize(faces * side * side));
+    }
+    pass.setBindGroup(2, this.cullLevelGroup, [0]);
+    pass.setPipeline(this.needPipeline);
+    pass.dispatchWorkgroups(...dispatchSize(s.triangles));
+    pass.end();
+  }
+
+  /**
+   * What each light's volume drew in the last frame, read back: [{ culled, triangles (kept by
+   * the cull, or all the casters' when not culled), edges (side quads, one per unit of |m|) }],
+   * as native umbra's DrawnVolume; empty with `rays`.
+   */
+  async readVolumes() {
+    if (this.rays || !this.drawnCounts || this.drawn.length === 0) return [];
+    const drawn = this.drawn;
+    const buffer = this.device.createBuffer({ label: 'umbra drawn counts read-back', size: 8 * drawn.length, usage: U.COPY_DST | U.MAP_READ });
+    const encoder = this.device.createCommandEncoder();
+    encoder.copyBufferToBuffer(this.drawnCounts, 0, buffer, 0, 8 * drawn.length);
+    this.device.queue.submit([encoder.finish()]);
+    await buffer.mapAsync(GPUMapMode.READ);
+    const words = Uint32Array.from(new Uint32Array(buffer.getMappedRange()));
+    buffer.unmap();
+    buffer.destroy();
+    return drawn.map((d, k) => ({
+      culled: d.culled,
+      triangles: d.culled ? words[2 * k] : d.triangles,
+      edges: d.casting ? words[2 * k + 1] / 6 : 0,
+    }));
+  }
+
   /** Clears every mask view to lit (a frame umbra did not draw). */
   clearMasks(views) {
     const encoder = this.device.createCommandEncoder({ label: 'umbra masks cleared' });
@@ -474,7 +707,10 @@ export class WebGPUVolumes {
     if (this.rays) this.rays.dispose();
     if (this.target) this.target.texture.destroy();
     if (this.uniforms) this.uniforms.destroy();
-    for (const b of [this.commandTemplate, this.sidesCommand, this.capsCommand, this.fanCommands]) b.destroy();
+    if (this.cullUniforms) this.cullUniforms.destroy();
+    if (this.drawnCounts) this.drawnCounts.destroy();
+    if (this.samplesTexture) this.samplesTexture.texture.destroy();
+    for (const b of [this.commandTemplate, this.sidesCommand, this.capsCommand, this.fanCommands, this.cells, this.cullLevelBuffer]) b.destroy();
     this.target = null;
     this.uniforms = null;
   }

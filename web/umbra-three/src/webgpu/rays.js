@@ -17,6 +17,8 @@ import WGSL from 'umbra:wgsl';
 import SURFACE from './wgsl/surface.wgsl';
 import MASK from './wgsl/mask.wgsl';
 import RAY from './wgsl/ray.wgsl';
+import SAMPLE_BITS from './wgsl/sample_bits.wgsl';
+import SAMPLES from './wgsl/samples.wgsl';
 
 /** Bytes of ray_bvh.wgsl's Params (eps, eps_near, nodes, pad). */
 const PARAMS_BYTES = 16;
@@ -52,7 +54,7 @@ export class WebGPURays {
   pipelinesFor(constants) {
     if (this.pipelines && this.constants === constants) return this.pipelines;
     const v = this.volumes;
-    const module = this.device.createShaderModule({ label: 'umbra ray-bvh', code: ['enable clip_distances;', WGSL.volume, SURFACE, MASK, constants, WGSL.rayBvh, RAY].join('\n') });
+    const module = this.device.createShaderModule({ label: 'umbra ray-bvh', code: ['enable clip_distances;', WGSL.volume, SURFACE, MASK, constants, WGSL.rayBvh, SAMPLE_BITS, SAMPLES, RAY].join('\n') });
     const layout = (groups) => this.device.createPipelineLayout({ bindGroupLayouts: groups });
     this.pipelines = {
       // Pass 1: the visible samples. Reason for a layout without group 2: the samples texture

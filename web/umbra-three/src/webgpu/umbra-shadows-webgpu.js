@@ -21,7 +21,7 @@ import { Topology, TopologyError, meshName, positionArray } from '../topology.js
 import { gatherLights } from '../lights.js';
 import { infinitePerspectiveReversedZ, mul, nearPyramidPoints, transformPoints } from '../camera.js';
 import { UnionCache, zpassStart } from '../zpass.js';
-import { WebGPUVolumes } from './passes.js';
+import { CULL_SIDE, WebGPUVolumes } from './passes.js';
 import { WebGPURays } from './rays.js';
 import { reportOnce } from '../report.js';
 import { casterRecords, mergeParts, worldPositions } from './world.js';
@@ -99,6 +99,10 @@ export class UmbraShadows {
     }
     const method = methodOf(options);
     if (method === 'ray-bvh') this.volumes.rays = new WebGPURays(this.volumes, topology.geom);
+    if (![undefined, true, false].includes(options.volumeCull)) throw new Error(`umbra-three/webgpu: volumeCull must be true or false, got ${JSON.stringify(options.volumeCull)}`);
+    // The GPU cull (passes.js): on by default; not with ray-bvh, which draws no volumes.
+    this.volumeCull = method !== 'ray-bvh' && options.volumeCull !== false;
+    this.receivers = []; // per light slot, its receiver grid in the wasm (the cull's uniform)
     this.enabled = true;
     this.disposed = false;
     this.errors = [];
@@ -112,7 +116,7 @@ export class UmbraShadows {
     this.unions = new UnionCache(topology.geom); // z-pass tests of casters sharing a world matrix
     this.info = {
       backend: 'webgpu', method, silhouettes: method === 'ray-bvh' ? null : 'compute', bvh: null, lights: 0, casters: 0, triangles: 0, casterTriangles: 0, records: 0,
-      zpass: [], prepareMs: 0, cpuMs: 0, gpuBytes: 0, depthFormat,
+      zpass: [], volumeCull: this.volumeCull, culled: [], prepareMs: 0, cpuMs: 0, gpuBytes: 0, depthFormat,
     };
   }
 
@@ -315,10 +319,12 @@ export class UmbraShadows {
     const clipFromWorldF64 = mul(projection, camera.matrixWorldInverse.elements);
     const clipFromWorld = new Float32Array(clipFromWorldF64);
     const zpass = this.volumes.rays ? lights.map(() => null) : this.zpassOf(clipFromWorldF64, camera, lightWorld, tests);
-    this.volumes.draw(clipFromWorld, lightWorld, views, zpass);
+    const cull = this.cullOf(clipFromWorldF64, camera, lightWorld, zpass);
+    this.volumes.draw(clipFromWorld, lightWorld, views, zpass, cull);
     this.info.lights = lights.length;
     this.info.casters = casters;
     this.info.zpass = zpass.map((z) => z !== null);
+    this.info.culled = cull.map((c) => c !== null);
     this.info.gpuBytes = this.volumes.gpuBytes + masks.reduce((a, m) => a + m.width * m.height, 0);
     return true;
   }
@@ -360,6 +366,40 @@ export class UmbraShadows {
     return zpass;
   }
 
+  /**
+   * Per light, the GPU cull's uniform (the wasm's gpuCull over the box of every drawn position;
+   * under z-pass the eye's near pyramid raised into the map), or null where the light is drawn
+   * whole: `volumeCull` off, no caster, or a z-pass light whose near pyramid no one face of a
+   * point light's map bounds (docs/exactness.md, "Volumes culled on the GPU").
+   */
+  cullOf(clipFromWorld, camera, lightWorld, zpass) {
+    const s = this.volumes.scene;
+    const none = lightWorld.map(() => null);
+    if (!this.volumeCull || !s || !s.triangles || !s.bounds || !finite(s.bounds)) return none;
+    let pyramid = null;
+    if (zpass.some((z) => z !== null)) {
+      const eye = new Vector3().setFromMatrixPosition(camera.matrixWorld);
+      const worldFromClip = new Matrix4().fromArray(clipFromWorld).invert().elements;
+      pyramid = nearPyramidPoints(worldFromClip, [eye.x, eye.y, eye.z], true);
+    }
+    const box = Float32Array.from(s.bounds);
+    while (this.receivers.length < lightWorld.length) this.receivers.push(this.topology.geom.receivers());
+    return lightWorld.map((l, k) => {
+      const r = this.receivers[k];
+      if (!r.setGrid(Float32Array.from(l), box, CULL_SIDE)) return null;
+      return r.gpuCull(zpass[k] !== null ? pyramid : null);
+    });
+  }
+
+  /**
+   * What each light's volumes drew in the last frame (in the order of info.culled), read back
+   * from the GPU: [{ culled, triangles, edges }], the caster triangles kept (all when not
+   * culled) and the side quads drawn; [] with ray-bvh.
+   */
+  async readVolumesAsync() {
+    return this.volumes.readVolumes();
+  }
+
   /** Light `light`'s decision of the last frame: rows top-down, 255 lit / 0 shadowed (Uint8Array). */
   async readMaskAsync(light) {
     const m = this.masks.get(light);
@@ -378,6 +418,8 @@ export class UmbraShadows {
     this.unions.clear();
     for (const c of this.casters) c.free();
     this.casters.clear();
+    for (const r of this.receivers) r.free();
+    this.receivers = [];
     this.volumes.dispose();
   }
 }

@@ -58,7 +58,7 @@ export function casterRecords(recordVertices, edgeTriangles, maxMult) {
 /**
  * The merged frame: `parts` in order, each { positions (world, f32 x y z), indices (into its
  * own positions), records?, slots? } with the casters (those with records) first. Returns {
- * positions, indices, records, slots, casterVertices, casterTriangles, triangles }: the
+ * positions, indices, records, slots, casterVertices, casterTriangles, triangles, bounds }: the
  * casters' vertices and triangles are the first casterVertices / casterTriangles of the merged
  * arrays (what the compute passes visit); the rest are drawn only (depth).
  */
@@ -91,6 +91,8 @@ export function mergeParts(parts) {
     casterVertices,
     casterTriangles,
     triangles: indices / 3,
+    // The world box of every drawn position (min x y z, max x y z): every sample lies in it.
+    bounds: [Infinity, Infinity, Infinity, -Infinity, -Infinity, -Infinity],
   };
   let v = 0;
   let i = 0;
@@ -99,6 +101,12 @@ export function mergeParts(parts) {
   for (const p of parts) {
     const t = i / 3;
     out.positions.set(p.positions, 3 * v);
+    for (let k = 0; k < p.positions.length; k++) {
+      const x = p.positions[k];
+      const axis = k % 3;
+      if (x < out.bounds[axis]) out.bounds[axis] = x;
+      if (x > out.bounds[3 + axis]) out.bounds[3 + axis] = x;
+    }
     for (let k = 0; k < p.indices.length; k++) out.indices[i + k] = p.indices[k] + v;
     if (p.records) {
       for (let k = 0; k < p.records.length; k += 4) {
@@ -116,6 +124,47 @@ export function mergeParts(parts) {
     i += p.indices.length;
   }
   return out;
+}
+
+/**
+ * The pieces of the merged casters (umbra_geom::silhouette::caster_pieces, the unit in which
+ * umbra-wgpu's GPU cull drops volumes): triangles joined across every edge they share. From
+ * `records` and `slots` (mergeParts'): the triangles of one record's slots, and of every record
+ * of the same two vertices, are one piece. Returns { pieces: Uint32Array (per caster triangle,
+ * numbered by each piece's first triangle), count }.
+ */
+export function casterPieces(records, slots, triangles) {
+  const parent = new Uint32Array(triangles);
+  for (let t = 0; t < triangles; t++) parent[t] = t;
+  const find = (x) => {
+    while (parent[x] !== x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  };
+  const join = (a, b) => {
+    const ra = find(a);
+    const rb = find(b);
+    if (ra !== rb) parent[Math.max(ra, rb)] = Math.min(ra, rb);
+  };
+  // The first triangle of each edge (A, B), over the records that split it.
+  const firstOf = new Map();
+  for (let r = 0; r < records.length; r += 4) {
+    const [a, b, first, count] = [records[r], records[r + 1], records[r + 2], records[r + 3]];
+    if (count === 0) continue;
+    const key = `${a},${b}`;
+    const t0 = firstOf.get(key) ?? slots[first] >>> 1;
+    firstOf.set(key, t0);
+    for (let k = 0; k < count; k++) join(t0, slots[first + k] >>> 1);
+  }
+  const pieces = new Uint32Array(triangles);
+  let count = 0;
+  for (let t = 0; t < triangles; t++) {
+    const r = find(t);
+    pieces[t] = r === t ? count++ : pieces[r];
+  }
+  return { pieces, count };
 }
 
 /**

@@ -12,7 +12,7 @@
 
 use glow::HasContext;
 use umbra_geom::camera::zpass_start_points;
-use umbra_geom::receivers::{encode, ReceiverGrid, RECEIVER_MARGIN, RECEIVER_SIDE};
+use umbra_geom::receivers::{encode, gpu_cull_level_offsets, gpu_cull_words, ReceiverGrid, RECEIVER_SIDE};
 use umbra_geom::silhouette::{caster_pieces, edge_pieces, TriangleSlots};
 use umbra_geom::Aabb;
 
@@ -38,15 +38,9 @@ const INDICES: u32 = 2;
 const PIECES: u32 = 3;
 const NEEDED: u32 = 4;
 
-/// Word offset of every level of the pyramid of a point light's six faces (a directional
-/// light's one face uses face 0 of each).
-fn level_offsets() -> [u32; LEVELS as usize + 1] {
-    let mut offsets = [0; LEVELS as usize + 1];
-    for k in 0..LEVELS as usize {
-        let side = RECEIVER_SIDE >> k;
-        offsets[k + 1] = offsets[k] + 6 * side * side;
-    }
-    offsets
+/// Word offset of every level of the pyramid, then its words.
+fn level_offsets() -> Vec<u32> {
+    gpu_cull_level_offsets(RECEIVER_SIDE)
 }
 
 /// The pieces of one mesh, per triangle and per edge.
@@ -270,17 +264,15 @@ impl GpuCull {
             }
             common(need);
             gl.uniform_4_f32_slice(uniform(gl, need, "u_light").as_ref(), &light);
-            if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, side } = grid {
+            if let ReceiverGrid::Flat { origin, u, v, travel, lo, scale, .. } = grid {
                 gl.uniform_3_f32_slice(uniform(gl, need, "u_origin").as_ref(), &origin);
                 gl.uniform_3_f32_slice(uniform(gl, need, "u_u").as_ref(), &u);
                 gl.uniform_3_f32_slice(uniform(gl, need, "u_v").as_ref(), &v);
                 gl.uniform_3_f32_slice(uniform(gl, need, "u_travel").as_ref(), &travel);
                 gl.uniform_4_f32_slice(uniform(gl, need, "u_lo_scale").as_ref(), &[lo[0], lo[1], scale[0], scale[1]]);
-                // Twice ReceiverMap::cells_of's widening.
-                let margin = |j: usize| {
-                    let extent = f64::from(side) / f64::from(scale[j]);
-                    ((4.0 * extent + 4.0 * f64::from(lo[j]).abs()) * RECEIVER_MARGIN) as f32
-                };
+                // Twice ReceiverMap::cells_of's widening, as umbra-wgpu's uniform has it.
+                let words = gpu_cull_words(&grid, None);
+                let margin = |j: usize| f32::from_bits(words[20 + j]);
                 gl.uniform_2_f32_slice(uniform(gl, need, "u_margin").as_ref(), &[margin(0), margin(1)]);
             }
             self.dispatch(gl, need, triangles);

@@ -15,7 +15,7 @@
 // Prepended: `enable clip_distances;`, volume.wgsl (the light slot `u`), surface.wgsl (the
 // storage `positions`, `indices` and `normals`, group 1, which the walk and the facing read),
 // mask.wgsl (vs_mask: one triangle over the viewport, pass 2's vertex stage), the wasm's
-// constants, ray_bvh.wgsl.
+// constants, ray_bvh.wgsl, sample_bits.wgsl and samples.wgsl (pass 1: fs_sample).
 
 // The BVH (umbra_geom::ray_bvh's vec4 layout), the walk's Params (ray_bvh.wgsl) and the
 // samples of pass 1.
@@ -23,16 +23,6 @@
 @group(2) @binding(1) var<storage, read> tris: array<vec4<f32>>;
 @group(2) @binding(2) var<uniform> params: Params;
 @group(2) @binding(3) var samples: texture_2d<u32>;
-
-// A pixel without a sample: pass 1's target is cleared to it (no triangle has this number).
-const NO_SAMPLE: u32 = 0xffffffffu;
-// The top bit of a sample's triangle word: its back side is the one seen.
-const BACK_SEEN: u32 = 0x80000000u;
-
-@fragment
-fn fs_sample(v: SurfaceVertex, @builtin(front_facing) front: bool) -> @location(0) vec4<u32> {
-    return vec4<u32>(bitcast<vec3<u32>>(v.world_pos), v.triangle | select(BACK_SEEN, 0u, front));
-}
 
 @fragment
 fn fs_ray(@builtin(position) pixel: vec4<f32>) -> @location(0) vec4<f32> {
