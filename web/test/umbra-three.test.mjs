@@ -13,7 +13,7 @@ import * as THREE from 'three';
 import { WebGLLights } from 'three/src/renderers/webgl/WebGLLights.js';
 import { gatherLights, lightSlots } from '../umbra-three/src/lights.js';
 import { Topology, TopologyError, flatTriangles, positionArray } from '../umbra-three/src/topology.js';
-import { triangleNormals } from '../umbra-three/src/webgpu/world.js';
+import { casterPieces, triangleNormals } from '../umbra-three/src/webgpu/world.js';
 import { patchedLightsChunk, patchMaterial, createUniforms, isReceiverMaterial } from '../umbra-three/src/materials.js';
 import { clipFromObject, infiniteProjection, mul } from '../umbra-three/src/camera.js';
 import { sidesOf, culledCapRanges, weldedTriangleCounts, CULL_NONE, CULL_BACK, CULL_FRONT } from '../umbra-three/src/sides.js';
@@ -236,4 +236,19 @@ test('webgpu world.js triangleNormals: the flat normal per triangle as topology.
   for (let t = 0; t < 4; t++) assert.deepEqual([...n.subarray(4 * t, 4 * t + 4)], [...flat.subarray(9 * t, 9 * t + 3), 0], `triangle ${t}`);
   assert.deepEqual(Array.from(n.subarray(0, 4), (x) => x + 0), [0, 1, 0, 0]); // -0 + 0 is 0
   assert.deepEqual([...n.subarray(12, 16)], [0, 0, 0, 0]);
+});
+
+test('webgpu world.js casterPieces: triangles joined across the edges they share (umbra_geom caster_pieces), records of one edge split over several joined too, numbered by first triangle', () => {
+  // Triangles 0-1 share edge (0, 1); 2 is alone; 3 and 4 share edge (5, 6) through two records
+  // of that edge (a split edge).
+  const records = new Uint32Array([
+    0, 1, 0, 2,
+    2, 3, 2, 1,
+    5, 6, 3, 1,
+    5, 6, 4, 1,
+  ]);
+  const slots = new Uint32Array([0 << 1, (1 << 1) | 1, 2 << 1, 3 << 1, (4 << 1) | 1]);
+  const { pieces, count } = casterPieces(records, slots, 6);
+  assert.equal(count, 4);
+  assert.deepEqual(Array.from(pieces), [0, 0, 1, 2, 2, 3], 'triangle 5 is in no record: a piece of its own');
 });

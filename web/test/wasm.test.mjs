@@ -288,6 +288,23 @@ test('receiver cull through the glue: a map of one cell culls and clamps, z-pass
   // A projective world matrix is not culled either.
   assert.ok(r.build());
   assert.equal(p.caster.cull(r, at([1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]), light), null);
+  // The GPU cull's uniform (umbra_geom::receivers::gpu_cull_words): the grid's side, faces,
+  // coarsest level and level offsets; under z-pass the near pyramid's rectangle and its
+  // farthest value raised (order-preserving encoding: above any positive float's word of a
+  // smaller value); none raised for null; null where the cube cannot bound the points.
+  const words = r.gpuCull(null);
+  assert.equal(words.length, 52);
+  assert.deepEqual(Array.from(words.subarray(30, 33)), [128, 6, 7], 'side, faces, top');
+  assert.deepEqual(Array.from(words.subarray(36, 40)), [0, 6 * 128 * 128, 6 * (128 * 128 + 64 * 64), 6 * (128 * 128 + 64 * 64 + 32 * 32)]);
+  assert.deepEqual(Array.from(words.subarray(24, 30)), [0, 0, 0, 0, 0, 0], 'nothing raised');
+  const raised = r.gpuCull([0.5, 0.5, 0.5, 0.45, 0.4, 0.45, 0.55, 0.4, 0.45, 0.55, 0.4, 0.55, 0.45, 0.4, 0.55]);
+  const [i0, i1, j0, j1, face, word] = raised.subarray(24, 30);
+  assert.equal(face, 3, 'below the light: face -y');
+  assert.ok(i0 <= 64 && 64 <= i1 && j0 <= 64 && 64 <= j1, `the rectangle ${[i0, i1, j0, j1]} holds the cell under the light`);
+  const encode = (x) => new Uint32Array(Float32Array.of(x).buffer)[0] | 0x80000000;
+  assert.ok(word >>> 0 > encode(3.6) >>> 0, 'raised to beyond the farthest point (3.6 from the light)');
+  assert.equal(r.gpuCull([0.5, 4, 0.5, 0.5, 4, 0.5, 0.5, 4, 0.5]), null, 'the points at the light: no face bounds them');
+  assert.equal(r.gpuCull([1, 2]), null, 'not x y z triples');
   r.free();
   r.free();
   assert.throws(() => r.build(), UmbraGeomError);

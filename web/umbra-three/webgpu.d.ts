@@ -28,6 +28,10 @@ export interface UmbraWebGPUInfo {
   records: number;
   /** Per light: whether it was counted z-pass in the last frame (the eye's count proven for its whole near pyramid; always false with 'ray-bvh', which counts nothing). */
   zpass: boolean[];
+  /** UmbraWebGPUOptions.volumeCull as in force (false with 'ray-bvh'). */
+  volumeCull: boolean;
+  /** Per light: whether its volume was culled on the GPU in the last frame (false where volumeCull is off, or for a z-pass light whose receiver map cannot bound the eye's near pyramid: drawn whole). */
+  culled: boolean[];
   /** Total milliseconds spent preparing topologies (wasm) so far. */
   prepareMs: number;
   /** Main-thread milliseconds umbra spent in the last render() before three.js's own frame. */
@@ -53,6 +57,23 @@ export interface UmbraWebGPUOptions {
   method?: UmbraWebGPUMethod;
   /** false: every light counted z-fail. Default true: a light is counted z-pass (no caps, the eye's count as the start) where the casters' tests prove the eye's count for its whole near pyramid. */
   zpass?: boolean;
+  /**
+   * Default true: each light's volumes are culled on the GPU before they are drawn, every
+   * caster piece (triangles joined across shared edges) that no visible sample lies behind is
+   * dropped (native cs-silhouette's cull, umbra-wgpu's cull.wgsl; exact, no read-back). false:
+   * every volume drawn whole. Ignored with 'ray-bvh'; anything but a boolean is refused.
+   */
+  volumeCull?: boolean;
+}
+
+/** What one light's volumes drew in the last frame (UmbraShadows.readVolumesAsync). */
+export interface UmbraDrawnVolume {
+  /** Whether the volume was culled (info.culled). */
+  culled: boolean;
+  /** Caster triangles kept by the cull (all of them when not culled). */
+  triangles: number;
+  /** Side quads drawn, one per unit of an edge's multiplicity. */
+  edges: number;
 }
 
 /**
@@ -83,6 +104,8 @@ export class UmbraShadows {
   render(scene: Object3D, camera: Camera): void;
   /** The light's decision of the last frame: rows top-down, 255 lit / 0 shadowed. */
   readMaskAsync(light: Light): Promise<Uint8Array>;
+  /** Per light of the last frame (info.culled's order), what its volumes drew, read back from the GPU; [] with 'ray-bvh'. */
+  readVolumesAsync(): Promise<UmbraDrawnVolume[]>;
   /** The light's mask texture (r8unorm, 1 lit / 0 shadowed, the frame's size), or null before its first frame. */
   maskTexture(light: Light): Texture | null;
   /** Frees umbra's GPU objects and removes the shadow nodes it set. */

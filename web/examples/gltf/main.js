@@ -182,8 +182,10 @@ async function start() {
     renderer.shadowMap.type = THREE.PCFShadowMap;
     try {
       // method=ray-bvh: the package's option `method` (shadow rays through a BVH instead of
-      // the volumes); default cs-silhouette.
-      umbra = await UmbraShadows.create(renderer, params.get('method') ? { method: params.get('method') } : {});
+      // the volumes); default cs-silhouette. cull=0: `volumeCull: false` (every volume whole).
+      const options = params.get('method') ? { method: params.get('method') } : {};
+      if (params.get('cull') === '0') options.volumeCull = false;
+      umbra = await UmbraShadows.create(renderer, options);
     } catch (e) {
       throw new Error(`renderer=webgpu: ${e.message}\n(Without WebGPU, leave renderer out: the WebGL 2 path.)`);
     }
@@ -379,7 +381,7 @@ async function start() {
     status.state = 'ready';
     status.ortho = umbra.info.ortho ?? null;
     status.umbraInfo = { casters: umbra.info.casters, mapCasters: umbra.info.mapCasters, silhouettes: umbra.info.silhouettes, volumeCull: umbra.info.volumeCull, zpass: umbra.info.zpass, volumes: umbra.info.volumes, cpuMs: umbra.info.cpuMs, gpuBytes: umbra.info.gpuBytes };
-    if (webgpu) Object.assign(status.umbraInfo, { backend: umbra.info.backend, method: umbra.info.method, bvh: umbra.info.bvh, lights: umbra.info.lights, triangles: umbra.info.triangles });
+    if (webgpu) Object.assign(status.umbraInfo, { backend: umbra.info.backend, method: umbra.info.method, bvh: umbra.info.bvh, lights: umbra.info.lights, triangles: umbra.info.triangles, culled: umbra.info.culled });
     document.body.dataset.state = 'ready';
     if (animating) redraw();
   };

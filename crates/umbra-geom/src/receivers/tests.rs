@@ -311,3 +311,40 @@ fn volumes_clamped_beyond_the_box_are_finite_and_hold_every_point_of_the_box_the
         assert!(pairs > 200, "the scene must exercise the check: {pairs} pairs");
     }
 }
+
+/// The GPU cull's uniform: the grid's parameters and side, faces, coarsest level and level
+/// offsets where cull.wgsl reads them; the raised rectangle, face and value as
+/// `hull_raise` gives them; a directional grid's widening twice `cells_of`'s.
+#[test]
+fn gpu_cull_words_lay_out_the_grid_the_raise_and_the_levels() {
+    let bounds = Aabb { min: [-5.0, 0.0, -5.0], max: [5.0, 2.0, 5.0] };
+    let cube = ReceiverGrid::new([0.5, 4.0, 0.5, 1.0], bounds, 256);
+    let w = gpu_cull_words(&cube, None);
+    assert_eq!(w[30..33], [256, 6, 8]);
+    let offsets = gpu_cull_level_offsets(256);
+    assert_eq!(offsets.len(), 10);
+    assert_eq!(offsets[1], 6 * 256 * 256);
+    assert_eq!(offsets[9], offsets[8] + 6, "the coarsest level: one cell per face");
+    assert_eq!(w[36..45], offsets[..9]);
+    assert_eq!(w[24..30], [0; 6], "nothing raised");
+    let near = [[0.4, 1.0, 0.4], [0.6, 1.0, 0.4], [0.6, 1.0, 0.6], [0.4, 1.0, 0.6], [0.5, 1.2, 0.5]];
+    let raise = cube.hull_raise(&near).expect("below the light: face -y bounds it");
+    let w = gpu_cull_words(&cube, Some(raise));
+    assert_eq!(w[24..28], raise.1);
+    assert_eq!((w[28], decode(w[29])), (raise.0, Some(raise.2)));
+    assert_eq!(raise.0, 3, "face -y");
+    assert!(raise.2 > 3.0, "beyond the farthest point, 3.0 from the light");
+    let flat = ReceiverGrid::new([0.3, 1.0, 0.2, 0.0], bounds, 128);
+    let w = gpu_cull_words(&flat, None);
+    assert_eq!(w[30..33], [128, 1, 7]);
+    let ReceiverGrid::Flat { origin, travel, lo, scale, .. } = flat else { panic!("a directional grid") };
+    assert_eq!(w[0..3], origin.map(f32::to_bits));
+    assert_eq!(w[12..15], travel.map(f32::to_bits));
+    assert_eq!(w[16..20], [lo[0], lo[1], scale[0], scale[1]].map(f32::to_bits));
+    for j in 0..2 {
+        let margin = f32::from_bits(w[20 + j]) as f64;
+        let extent = 128.0 / scale[j] as f64;
+        let cpu = (2.0 * extent + 2.0 * (lo[j] as f64).abs()) * RECEIVER_MARGIN;
+        assert!((margin / cpu - 2.0).abs() < 1e-6, "axis {j}: {margin} against twice {cpu}");
+    }
+}
