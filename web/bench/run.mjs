@@ -39,9 +39,10 @@
 //             http://127.0.0.1 page), three.js's WebGPURenderer with no shadows (gpunone), with
 //             its 2048 PointLight map (gpumap2048) and 2048 DirectionalLight map (gpudir2048),
 //             and umbra-three/webgpu with the point light (gpuumbra) and the directional one
-//             (gpuumbradir), with zpass: false (gpuzfail) and with its method 'ray-bvh'
+//             (gpuumbradir), both culled on the GPU (its default), with volumeCull: false
+//             (gpunocull, gpunoculldir), with zpass: false (gpuzfail) and with its method 'ray-bvh'
 //             (gpurays, gpuraysdir); beside them, in a second Chromium with the --impl flags,
-//             the WebGL 2 rows none, map2048 and umbra for reference. Default --modes: all 11. Each frame timed twice: the GPU
+//             the WebGL 2 rows none, map2048 and umbra for reference. Default --modes: all 13. Each frame timed twice: the GPU
 //             frame (WebGPU: from the render call to the queue's onSubmittedWorkDone; WebGL: to
 //             a 1-pixel readPixels) and the main thread's ms in the render call; medians,
 //             ratios against the 2048 map of the same light; with --passes 1, one more frame

@@ -26,6 +26,8 @@ export const GPU_LABELS = {
   gpudir2048: 'WebGPU: DirectionalLight shadow 2048',
   gpuumbra: 'WebGPU: umbra-three, point light',
   gpuumbradir: 'WebGPU: umbra-three, directional light',
+  gpunocull: 'WebGPU: umbra-three volumeCull off, point light',
+  gpunoculldir: 'WebGPU: umbra-three volumeCull off, directional light',
   gpuzfail: 'WebGPU: umbra-three z-fail only, point light',
   gpurays: 'WebGPU: umbra-three ray-bvh, point light',
   gpuraysdir: 'WebGPU: umbra-three ray-bvh, directional light',
@@ -34,7 +36,7 @@ export const GPU_LABELS = {
 export const GL_ROWS = ['none', 'map2048', 'umbra'];
 export const DEFAULT_MODES = [...GL_ROWS, ...Object.keys(GPU_LABELS)];
 /** Each umbra row and the three.js map it is held against (same run, same light). */
-const AGAINST = { gpuumbra: 'gpumap2048', gpuumbradir: 'gpudir2048', gpuzfail: 'gpumap2048', gpurays: 'gpumap2048', gpuraysdir: 'gpudir2048', umbra: 'map2048' };
+const AGAINST = { gpuumbra: 'gpumap2048', gpuumbradir: 'gpudir2048', gpunocull: 'gpumap2048', gpunoculldir: 'gpudir2048', gpuzfail: 'gpumap2048', gpurays: 'gpumap2048', gpuraysdir: 'gpudir2048', umbra: 'map2048' };
 
 /** Median, mean, nearest-rank p95, min of `ms`. */
 function stats(ms) {
@@ -160,7 +162,7 @@ export async function runWebGPU(o) {
             }
             console.error(`  passes: ${gpuModes.map((m) => `${m} ${Object.entries(run.passes[m].at(-1).groups).filter(([, x]) => x > 0).map(([k, x]) => `${k} ${fmt(x)}`).join(' / ')}`).join('; ')}`);
           }
-          for (const m of gpuModes.filter((x) => x.startsWith('gpuumbra') || x.startsWith('gpurays') || x === 'gpuzfail')) (record.info ??= {})[m] = await pages.gpu.evaluate((x) => window.bench.info(x), m);
+          for (const m of gpuModes.filter((x) => x.startsWith('gpuumbra') || x.startsWith('gpunocull') || x.startsWith('gpurays') || x === 'gpuzfail')) (record.info ??= {})[m] = await pages.gpu.evaluate((x) => window.bench.info(x), m);
           run.views.push(record);
         }
         run.summary = Object.fromEntries(modes.map((m) => [m, { frame: stats(run.samples[m].map((x) => x.frame)), cpu: stats(run.samples[m].map((x) => x.cpu)) }]));
@@ -222,7 +224,7 @@ function markdown(r, modes, label, fmt) {
     lines.push('');
   }
   table('First frame, ms (set-up included: the wasm, the casters\' preprocessing, pipelines; the model\'s loading excluded):', (run, m) => fmt(run.first[m]));
-  const umbraRows = modes.filter((m) => m === 'umbra' || m.startsWith('gpuumbra') || m.startsWith('gpurays') || m === 'gpuzfail');
+  const umbraRows = modes.filter((m) => m === 'umbra' || m.startsWith('gpuumbra') || m.startsWith('gpunocull') || m.startsWith('gpurays') || m === 'gpuzfail');
   if (umbraRows.length) {
     lines.push('GPU memory after the last frame, MiB (umbra.info.gpuBytes; in brackets against three.js\'s own vertex and index buffers of the model):', '');
     lines.push(`| scene | size | three.js buffers | ${umbraRows.map(label).join(' | ')} |`, `| --- | --- | ---: |${umbraRows.map(() => ' ---: |').join('')}`);

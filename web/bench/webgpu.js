@@ -6,6 +6,9 @@
 //                the model (examples/gltf/main.js's directional light)
 //   gpuumbra     umbra-three/webgpu (UmbraShadows of 'umbra-three/webgpu'), the point light
 //   gpuumbradir  the same with the directional light
+//   gpuumbra and gpuumbradir draw the package's defaults: volumes culled on the GPU
+//   gpunocull    umbra-three/webgpu with volumeCull: false (every volume whole), the point light
+//   gpunoculldir the same with the directional light
 //   gpuzfail     umbra-three/webgpu with zpass: false (every light z-fail), the point light
 //   gpurays      umbra-three/webgpu with method 'ray-bvh' (shadow rays through a BVH), the point light
 //   gpuraysdir   the same with the directional light
@@ -37,7 +40,7 @@ const say = (t) => {
   document.getElementById('status').textContent = t;
 };
 
-export const ROWS = ['gpunone', 'gpumap2048', 'gpudir2048', 'gpuumbra', 'gpuumbradir', 'gpuzfail', 'gpurays', 'gpuraysdir'];
+export const ROWS = ['gpunone', 'gpumap2048', 'gpudir2048', 'gpuumbra', 'gpuumbradir', 'gpunocull', 'gpunoculldir', 'gpuzfail', 'gpurays', 'gpuraysdir'];
 
 async function start() {
   if (!navigator.gpu) throw new Error('no navigator.gpu: this browser has no WebGPU (flags: testlib/exactness.mjs IMPLEMENTATIONS.webgpu, a http://127.0.0.1 page)');
@@ -116,7 +119,7 @@ async function start() {
     light.castShadow = true;
     return light;
   };
-  const lights = { gpunone: point(false), gpumap2048: point(true), gpudir2048: directional(), gpuumbra: point(true), gpuumbradir: directional(), gpuzfail: point(true), gpurays: point(true), gpuraysdir: directional() };
+  const lights = { gpunone: point(false), gpumap2048: point(true), gpudir2048: directional(), gpuumbra: point(true), gpuumbradir: directional(), gpunocull: point(true), gpunoculldir: directional(), gpuzfail: point(true), gpurays: point(true), gpuraysdir: directional() };
   for (const l of Object.values(lights)) {
     scene.add(l);
     if (l.isDirectionalLight) scene.add(l.target);
@@ -135,6 +138,14 @@ async function start() {
     gpuumbradir: async () => {
       const { UmbraShadows } = await import('umbra-three/webgpu');
       umbras.gpuumbradir = await UmbraShadows.create(renderer);
+    },
+    gpunocull: async () => {
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      umbras.gpunocull = await UmbraShadows.create(renderer, { volumeCull: false });
+    },
+    gpunoculldir: async () => {
+      const { UmbraShadows } = await import('umbra-three/webgpu');
+      umbras.gpunoculldir = await UmbraShadows.create(renderer, { volumeCull: false });
     },
     gpuzfail: async () => {
       const { UmbraShadows } = await import('umbra-three/webgpu');
@@ -245,7 +256,7 @@ async function start() {
     }
     return { three, umbra: Object.fromEntries(Object.entries(umbras).map(([k, u]) => [k, u.info.gpuBytes])) };
   };
-  bench.info = (mode) => ({ ...umbras[mode].info });
+  bench.info = async (mode) => ({ ...umbras[mode].info, volumes: await umbras[mode].readVolumesAsync() });
   bench.view = (eye, target) => {
     camera.position.set(...eye);
     camera.lookAt(...target);
