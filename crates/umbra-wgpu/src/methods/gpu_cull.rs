@@ -15,9 +15,8 @@
 
 use umbra_geom::camera::{zpass_start_points, DepthConvention};
 use umbra_geom::receivers::{gpu_cull_level_offsets, gpu_cull_words, ReceiverGrid, GPU_CULL_WORDS, RECEIVER_SIDE};
-use umbra_geom::Aabb;
-
 use umbra_geom::silhouette::caster_pieces;
+use umbra_geom::Aabb;
 
 use crate::builders::{compute_pipeline, dispatch_size, storage_entry, uniform_entry, LIGHT_SLOT_BYTES};
 use crate::common::Common;
